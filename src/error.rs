@@ -1,0 +1,60 @@
+//! Errors of the library: bad input names the field, the value and the valid range;
+//! numerical failures name the simulated time and the cause.
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// Every failure the library reports. None of them is a panic.
+#[derive(Debug)]
+pub enum Error {
+    /// A scene value outside its valid range (or missing / not a number).
+    Invalid {
+        /// Dotted path of the field, e.g. `joints.clearance[0].clearance_mm`.
+        field: String,
+        /// The offending value as written.
+        value: String,
+        /// The valid range or the rule it breaks.
+        expected: String,
+    },
+    /// A file that could not be parsed (TOML syntax, unknown key, wrong type).
+    Parse { path: PathBuf, message: String },
+    /// A file that could not be read or written.
+    Io { path: PathBuf, source: std::io::Error },
+    /// The integrator failed (step size underflow, non-finite state, step limit).
+    Integration { time: f64, cause: String },
+    /// Rendering a figure failed.
+    Plot { path: PathBuf, message: String },
+}
+
+/// Library-wide result type.
+pub type Result<T> = std::result::Result<T, Error>;
+
+impl Error {
+    /// Shorthand for a validation error.
+    pub fn invalid(field: impl Into<String>, value: impl fmt::Display, expected: impl Into<String>) -> Self {
+        Error::Invalid { field: field.into(), value: value.to_string(), expected: expected.into() }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::Invalid { field, value, expected } => {
+                write!(f, "invalid value for `{field}`: {value} (expected {expected})")
+            }
+            Error::Parse { path, message } => write!(f, "cannot parse {}: {message}", path.display()),
+            Error::Io { path, source } => write!(f, "{}: {source}", path.display()),
+            Error::Integration { time, cause } => write!(f, "integration failed at t = {time:.6e} s: {cause}"),
+            Error::Plot { path, message } => write!(f, "cannot render {}: {message}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for Error {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Error::Io { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
