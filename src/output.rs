@@ -1,1 +1,123 @@
-//! (in progress)
+//! Atomic outputs (CSV tables and figures).
+//!
+//! Every output is written to a temporary file in the same directory and renamed into place,
+//! so a failed run never leaves a half-written CSV or PNG behind: the target either keeps its
+//! previous content or receives the complete new one.
+
+use std::ffi::OsString;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use crate::{Error, Result};
+
+fn io_error(path: &Path, source: std::io::Error) -> Error {
+    Error::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// Hidden temporary sibling of `path` that keeps the extension (`dir/.name.tmp.png` for
+/// `dir/name.png`), so writers that pick the format from the extension still work.
+fn temp_path(path: &Path) -> PathBuf {
+    let stem = path.file_stem().unwrap_or(path.as_os_str());
+    let mut name = OsString::from(".");
+    name.push(stem);
+    name.push(".tmp");
+    if let Some(ext) = path.extension() {
+        name.push(".");
+        name.push(ext);
+    }
+    path.with_file_name(name)
+}
+
+/// Writes `path` atomically: creates the parent directory, lets `write` produce the content
+/// at a temporary path next to `path`, then renames it into place. On failure the temporary
+/// file is removed and `path` is left untouched.
+pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    if path.file_name().is_none() {
+        return Err(io_error(
+            path,
+            std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "output path has no file name",
+            ),
+        ));
+    }
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        fs::create_dir_all(dir).map_err(|e| io_error(dir, e))?;
+    }
+    let tmp = temp_path(path);
+    let result = write(&tmp).and_then(|()| fs::rename(&tmp, path).map_err(|e| io_error(path, e)));
+    if result.is_err() {
+        // Best effort: the writer may have failed before creating the file.
+        let _ = fs::remove_file(&tmp);
+    }
+    result
+}
+
+fn csv_error(path: &Path, err: csv::Error) -> Error {
+    let message = err.to_string();
+    match err.into_kind() {
+        csv::ErrorKind::Io(source) => io_error(path, source),
+        _ => Error::Parse {
+            path: path.to_path_buf(),
+            message,
+        },
+    }
+}
+
+/// Writes equally long `columns` under `header` as CSV, atomically. Numbers are written in the
+/// shortest form that parses back to the identical `f64` (e.g. `1.25e-9`).
+pub fn write_csv(path: &Path, header: &[&str], columns: &[&[f64]]) -> Result<()> {
+    let field = |what: &str| format!("{} {what}", path.display());
+    if header.len() != columns.len() {
+        return Err(Error::invalid(
+            field("header"),
+            format!("{} names", header.len()),
+            format!("one name per column ({} columns)", columns.len()),
+        ));
+    }
+    let rows = columns.first().map_or(0, |c| c.len());
+    if let Some((i, c)) = columns.iter().enumerate().find(|(_, c)| c.len() != rows) {
+        return Err(Error::invalid(
+            field(&format!("column `{}`", header[i])),
+            format!("{} values", c.len()),
+            format!("{rows} values, like column `{}`", header[0]),
+        ));
+    }
+    write_atomic(path, |tmp| {
+        let mut w = csv::Writer::from_path(tmp).map_err(|e| csv_error(tmp, e))?;
+        w.write_record(header).map_err(|e| csv_error(tmp, e))?;
+        let mut record = Vec::with_capacity(columns.len());
+        for row in 0..rows {
+            record.clear();
+            record.extend(columns.iter().map(|c| format!("{:e}", c[row])));
+            w.write_record(&record).map_err(|e| csv_error(tmp, e))?;
+        }
+        w.flush().map_err(|e| io_error(tmp, e))
+    })
+}
+
+/// Reads a CSV written by [`write_csv`]: returns the header and the columns.
+pub fn read_csv(path: &Path) -> Result<(Vec<String>, Vec<Vec<f64>>)> {
+    let mut r = csv::Reader::from_path(path).map_err(|e| csv_error(path, e))?;
+    let header: Vec<String> = r
+        .headers()
+        .map_err(|e| csv_error(path, e))?
+        .iter()
+        .map(str::to_owned)
+        .collect();
+    let mut columns = vec![Vec::new(); header.len()];
+    for (line, record) in r.records().enumerate() {
+        let record = record.map_err(|e| csv_error(path, e))?;
+        for (column, field) in columns.iter_mut().zip(record.iter()) {
+            let value = field.trim().parse().map_err(|_| Error::Parse {
+                path: path.to_path_buf(),
+                message: format!("data row {}: `{field}` is not a number", line + 1),
+            })?;
+            column.push(value);
+        }
+    }
+    Ok((header, columns))
+}
