@@ -19,7 +19,10 @@ pub enum Error {
     /// A file that could not be parsed (TOML syntax, unknown key, wrong type).
     Parse { path: PathBuf, message: String },
     /// A file that could not be read or written.
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     /// The integrator failed (step size underflow, non-finite state, step limit).
     Integration { time: f64, cause: String },
     /// Rendering a figure failed.
@@ -31,21 +34,42 @@ pub type Result<T> = std::result::Result<T, Error>;
 
 impl Error {
     /// Shorthand for a validation error.
-    pub fn invalid(field: impl Into<String>, value: impl fmt::Display, expected: impl Into<String>) -> Self {
-        Error::Invalid { field: field.into(), value: value.to_string(), expected: expected.into() }
+    pub fn invalid(
+        field: impl Into<String>,
+        value: impl fmt::Display,
+        expected: impl Into<String>,
+    ) -> Self {
+        Error::Invalid {
+            field: field.into(),
+            value: value.to_string(),
+            expected: expected.into(),
+        }
     }
 }
 
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Error::Invalid { field, value, expected } => {
-                write!(f, "invalid value for `{field}`: {value} (expected {expected})")
+            Error::Invalid {
+                field,
+                value,
+                expected,
+            } => {
+                write!(
+                    f,
+                    "invalid value for `{field}`: {value} (expected {expected})"
+                )
             }
-            Error::Parse { path, message } => write!(f, "cannot parse {}: {message}", path.display()),
+            Error::Parse { path, message } => {
+                write!(f, "cannot parse {}: {message}", path.display())
+            }
             Error::Io { path, source } => write!(f, "{}: {source}", path.display()),
-            Error::Integration { time, cause } => write!(f, "integration failed at t = {time:.6e} s: {cause}"),
-            Error::Plot { path, message } => write!(f, "cannot render {}: {message}", path.display()),
+            Error::Integration { time, cause } => {
+                write!(f, "integration failed at t = {time:.6e} s: {cause}")
+            }
+            Error::Plot { path, message } => {
+                write!(f, "cannot render {}: {message}", path.display())
+            }
         }
     }
 }

@@ -8,9 +8,17 @@
 //! All quantities inside the library are SI (m, kg, s, N, Pa, rad). Engineering units of
 //! the scene files (mm, r/min, GPa, deg) are converted once, in [`scene`].
 
+pub mod analysis;
+pub mod contact;
 pub mod error;
+pub mod figures;
+pub mod friction;
 pub mod integrator;
+pub mod mechanism;
 pub mod output;
 pub mod plot;
+pub mod scene;
+pub mod simulation;
+pub mod wear;
 
 pub use error::{Error, Result};

@@ -1,0 +1,272 @@
+//! Normal contact force of a clearance revolute joint (paper eq. 1-3).
+//!
+//! ```text
+//! F_n = K δ^n + D δ̇   (δ ≥ 0),   F_n = 0   (δ < 0)                          (1)
+//! K   = (π/8) E* sqrt( 2δ (3ΔR + 2δ)² / (ΔR + δ)³ ),   ΔR = R_i − R_j        (2)
+//! D   = 3 K (1 − c_e²) e^{2(1 − c_e)} δ^n / (4 δ̇⁻)                           (3)
+//! ```
+//! `K` is exactly dF/dδ of the improved elastic-foundation law
+//! `F_EF = (π/2) E* δ sqrt(δ / (2(ΔR + δ)))` ([`elastic_foundation_force`]); the hybrid law
+//! keeps the Lankarani-Nikravesh exponent n = 1.5, so it is not dimensionally consistent and
+//! is only meaningful in SI units (as the paper uses it).
+//!
+//! The alternative [`NormalForceModel::LankaraniNikravesh`] is the classical Hertz law for
+//! internal cylinders, `K = (4/3) E* sqrt(R*)`, `R* = R_i R_j / ΔR`, with damping
+//! `D = 3K(1 − c_e²) δ^n / (4 δ̇⁻)`.
+//!
+//! Compound modulus: `1/E* = (1 − ν_i²)/E_i + (1 − ν_j²)/E_j` (so two equal steels give
+//! `E* = E / (2(1 − ν²))`).
+//!
+//! **Grazing contact.** `D ∝ 1/δ̇⁻` explodes when a contact starts with almost no normal
+//! velocity. The impact velocity is floored at `grazing_velocity` (scene parameter), and the
+//! total force is clamped at zero because a contact cannot pull (no adhesion). The floor's
+//! effect on the results is measured in the calibration study, not assumed.
+
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+/// Which normal force law a clearance joint uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum NormalForceModel {
+    /// The paper's law: eq. 2 stiffness (improved elastic foundation) with eq. 3 damping.
+    Hybrid,
+    /// Hertz/Lankarani-Nikravesh with constant stiffness, for comparison.
+    LankaraniNikravesh,
+}
+
+/// Compound elastic modulus E* (Pa) of two bodies, `1/E* = Σ (1 − ν²)/E`.
+pub fn compound_modulus(e_i: f64, nu_i: f64, e_j: f64, nu_j: f64) -> f64 {
+    1.0 / ((1.0 - nu_i * nu_i) / e_i + (1.0 - nu_j * nu_j) / e_j)
+}
+
+/// Improved elastic-foundation force (N) whose derivative is eq. 2's K.
+pub fn elastic_foundation_force(e_star: f64, delta_r: f64, delta: f64) -> f64 {
+    0.5 * PI * e_star * delta * (delta / (2.0 * (delta_r + delta))).sqrt()
+}
+
+/// A normal force law with its constants resolved once (the hot path only multiplies).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactLaw {
+    model: NormalForceModel,
+    e_star: f64,
+    exponent: f64,
+    /// `3(1 − c_e²)/4`, times `e^{2(1 − c_e)}` for the hybrid law.
+    damping_factor: f64,
+    /// Lankarani-Nikravesh stiffness (N/m^n) for the unworn radii.
+    k_ln: f64,
+    grazing_velocity: f64,
+}
+
+impl ContactLaw {
+    /// `e_star` Pa, radii m, `restitution` in (0, 1], `grazing_velocity` m/s (> 0).
+    pub fn new(
+        model: NormalForceModel,
+        e_star: f64,
+        r_bearing: f64,
+        r_journal: f64,
+        exponent: f64,
+        restitution: f64,
+        grazing_velocity: f64,
+    ) -> Self {
+        let ce = restitution;
+        let base = 0.75 * (1.0 - ce * ce);
+        let damping_factor = match model {
+            NormalForceModel::Hybrid => base * (2.0 * (1.0 - ce)).exp(),
+            NormalForceModel::LankaraniNikravesh => base,
+        };
+        let r_star = r_bearing * r_journal / (r_bearing - r_journal);
+        ContactLaw {
+            model,
+            e_star,
+            exponent,
+            damping_factor,
+            k_ln: 4.0 / 3.0 * e_star * r_star.sqrt(),
+            grazing_velocity,
+        }
+    }
+
+    /// Stiffness K (N/m^n) at penetration `delta` (m) for radial clearance `delta_r` (m).
+    #[inline]
+    pub fn stiffness(&self, delta: f64, delta_r: f64) -> f64 {
+        match self.model {
+            NormalForceModel::Hybrid => {
+                let a = 3.0 * delta_r + 2.0 * delta;
+                let b = delta_r + delta;
+                0.125 * PI * self.e_star * (2.0 * delta * a * a / (b * b * b)).sqrt()
+            }
+            NormalForceModel::LankaraniNikravesh => self.k_ln,
+        }
+    }
+
+    /// Elastic part K δ^n (N).
+    #[inline]
+    pub fn elastic_force(&self, delta: f64, delta_r: f64) -> f64 {
+        self.stiffness(delta, delta_r) * self.power(delta)
+    }
+
+    /// Normal force (N) at penetration `delta` ≥ 0, its rate `delta_dot` (m/s) and the normal
+    /// velocity captured at the onset of this contact, `impact_velocity` (m/s).
+    #[inline]
+    pub fn force(&self, delta: f64, delta_dot: f64, impact_velocity: f64, delta_r: f64) -> f64 {
+        if delta < 0.0 {
+            return 0.0;
+        }
+        let v0 = impact_velocity.max(self.grazing_velocity);
+        let f = self.elastic_force(delta, delta_r) * (1.0 + self.damping_factor * delta_dot / v0);
+        f.max(0.0)
+    }
+
+    /// `δ^n` with a fast path for the usual n = 1.5.
+    #[inline]
+    fn power(&self, delta: f64) -> f64 {
+        if self.exponent == 1.5 {
+            delta * delta.sqrt()
+        } else {
+            delta.powf(self.exponent)
+        }
+    }
+
+    /// Elastic energy (J) stored at penetration `delta`: ∫₀^δ K(x) x^n dx, by 8-point
+    /// Gauss-Legendre on the substitution x = δ s² (smooth integrand); used by energy checks.
+    pub fn elastic_energy(&self, delta: f64, delta_r: f64) -> f64 {
+        if delta <= 0.0 {
+            return 0.0;
+        }
+        const NODES: [(f64, f64); 4] = [
+            (0.183_434_642_495_649_8, 0.362_683_783_378_362),
+            (0.525_532_409_916_329, 0.313_706_645_877_887_3),
+            (0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
+            (0.960_289_856_497_536_3, 0.101_228_536_290_376_3),
+        ];
+        // x = δ s², dx = 2δ s ds, s ∈ [0, 1]
+        let mut sum = 0.0;
+        for (node, w) in NODES {
+            for s in [0.5 * (1.0 - node), 0.5 * (1.0 + node)] {
+                let x = delta * s * s;
+                sum += 0.5 * w * self.elastic_force(x, delta_r) * 2.0 * delta * s;
+            }
+        }
+        sum
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    const E_STAR: f64 = 207e9 / (2.0 * (1.0 - 0.09));
+
+    fn hybrid(ce: f64) -> ContactLaw {
+        ContactLaw::new(
+            NormalForceModel::Hybrid,
+            E_STAR,
+            10e-3,
+            9.98e-3,
+            1.5,
+            ce,
+            1e-4,
+        )
+    }
+
+    #[test]
+    fn stiffness_is_derivative_of_elastic_foundation_law() {
+        let law = hybrid(0.9);
+        for dr in [2e-5, 2e-4, 5e-4] {
+            for delta in [1e-8, 1e-7, 1e-6, 5e-6, 2e-5] {
+                let h = delta * 1e-5;
+                let numeric = (elastic_foundation_force(E_STAR, dr, delta + h)
+                    - elastic_foundation_force(E_STAR, dr, delta - h))
+                    / (2.0 * h);
+                assert_relative_eq!(law.stiffness(delta, dr), numeric, max_relative = 1e-8);
+            }
+        }
+    }
+
+    #[test]
+    fn compound_modulus_of_equal_steels() {
+        assert_relative_eq!(
+            compound_modulus(207e9, 0.3, 207e9, 0.3),
+            E_STAR,
+            max_relative = 1e-14
+        );
+    }
+
+    #[test]
+    fn forty_newtons_at_one_micrometre_for_the_standard_joint() {
+        // The reproduction notes' sanity figure: about 40 N at δ = 1 µm, c = 0.02 mm.
+        let f = hybrid(0.9).force(1e-6, 0.0, 0.1, 2e-5);
+        assert!((35.0..45.0).contains(&f), "{f}");
+    }
+
+    #[test]
+    fn no_force_without_penetration_and_none_pulling() {
+        let law = hybrid(0.5);
+        assert_eq!(law.force(-1e-9, -1.0, 0.1, 2e-5), 0.0);
+        // Fast separation with strong damping would pull: clamped at zero.
+        assert_eq!(law.force(1e-7, -10.0, 0.01, 2e-5), 0.0);
+    }
+
+    #[test]
+    fn elastic_restitution_has_no_damping() {
+        let law = hybrid(1.0);
+        assert_relative_eq!(
+            law.force(1e-6, 0.3, 0.3, 2e-5),
+            law.elastic_force(1e-6, 2e-5)
+        );
+    }
+
+    #[test]
+    fn damping_uses_the_grazing_floor() {
+        let law = hybrid(0.9);
+        let floored = law.force(1e-6, 1e-3, 0.0, 2e-5);
+        let at_floor = law.force(1e-6, 1e-3, 1e-4, 2e-5);
+        assert_relative_eq!(floored, at_floor);
+        assert!(floored.is_finite());
+    }
+
+    #[test]
+    fn lankarani_nikravesh_is_hertz_for_internal_cylinders() {
+        let law = ContactLaw::new(
+            NormalForceModel::LankaraniNikravesh,
+            E_STAR,
+            10e-3,
+            9.98e-3,
+            1.5,
+            1.0,
+            1e-4,
+        );
+        let r_star: f64 = 10e-3 * 9.98e-3 / 2e-5;
+        assert_relative_eq!(
+            law.force(1e-6, 0.0, 1.0, 2e-5),
+            4.0 / 3.0 * E_STAR * r_star.sqrt() * 1e-9,
+            max_relative = 1e-12
+        );
+    }
+
+    #[test]
+    fn elastic_energy_is_the_integral_of_the_force() {
+        let law = ContactLaw::new(
+            NormalForceModel::LankaraniNikravesh,
+            E_STAR,
+            10e-3,
+            9.98e-3,
+            1.5,
+            1.0,
+            1e-4,
+        );
+        let delta: f64 = 3e-6;
+        assert_relative_eq!(
+            law.elastic_energy(delta, 2e-5),
+            law.k_ln * delta.powf(2.5) / 2.5,
+            max_relative = 1e-10
+        );
+        // Hybrid: derivative of the energy is the force.
+        let hy = hybrid(1.0);
+        let h = 1e-11;
+        let de =
+            (hy.elastic_energy(delta + h, 2e-5) - hy.elastic_energy(delta - h, 2e-5)) / (2.0 * h);
+        assert_relative_eq!(de, hy.elastic_force(delta, 2e-5), max_relative = 1e-6);
+    }
+}

@@ -1,0 +1,615 @@
+//! Scene files: a mechanism, its joints, materials, driver and run settings as TOML data.
+//!
+//! Scene files use engineering units, spelled in each key (`_mm`, `_deg`, `_rpm`, `_gpa`,
+//! `_kg`, `_s`, `_m_s`, `_per_pa`); [`Scene::load`] converts them once to SI and validates
+//! every value: a bad scene is an [`Error`] naming the field, the value and the valid range.
+//! Unknown keys are rejected. Angles are counter-clockwise from +x; point coordinates are in
+//! the body frame, whose origin is the body's centre of mass. The shipped scenes in
+//! `data/scenes/` document every key.
+
+use crate::contact::{compound_modulus, ContactLaw, NormalForceModel};
+use crate::friction::FrictionModel;
+use crate::integrator::{Method, Tolerances};
+use crate::mechanism::{
+    Body, BodyIndex, BodyPoint, ClearanceJoint, Driver, Mechanism, Revolute, Translational,
+};
+use crate::simulation::RunSettings;
+use crate::wear::{PressureModel, WearLaw, WearProfile};
+use crate::{Error, Result};
+use nalgebra::Vector2;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+const MM: f64 = 1e-3;
+const GPA: f64 = 1e9;
+
+/// A scene file as written (engineering units).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Free text shown on figures and summaries.
+    pub title: String,
+    /// Gravitational acceleration (m/s²), e.g. `[0.0, -9.81]`.
+    pub gravity_m_s2: [f64; 2],
+    /// Named materials used by clearance joints.
+    pub materials: BTreeMap<String, MaterialSpec>,
+    /// Named points fixed to the ground (mm).
+    pub ground: GroundSpec,
+    pub bodies: Vec<BodySpec>,
+    #[serde(default)]
+    pub revolute: Vec<RevoluteSpec>,
+    #[serde(default)]
+    pub translational: Vec<TranslationalSpec>,
+    pub driver: DriverSpec,
+    #[serde(default)]
+    pub clearance: Vec<ClearanceSpec>,
+    pub run: RunSpec,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// Young's modulus (GPa), (0, 10000].
+    pub youngs_modulus_gpa: f64,
+    /// Poisson's ratio, [0, 0.5).
+    pub poisson_ratio: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroundSpec {
+    pub points_mm: BTreeMap<String, [f64; 2]>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    pub name: String,
+    /// Mass (kg), > 0.
+    pub mass_kg: f64,
+    /// Moment of inertia about the centre of mass (kg m²), > 0.
+    pub inertia_kg_m2: f64,
+    /// Initial guess of the centre of mass (mm); assembled exactly at load.
+    pub position_mm: [f64; 2],
+    /// Initial guess of the body angle (deg).
+    pub angle_deg: f64,
+    /// Named points in the body frame (mm).
+    pub points_mm: BTreeMap<String, [f64; 2]>,
+}
+
+/// Ideal revolute joint between two points, written `"body.point"` (`"ground.O"`).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RevoluteSpec {
+    pub a: String,
+    pub b: String,
+}
+
+/// Ideal translational joint: point `a` slides along the line through point `b` whose
+/// direction is `axis_deg` in `b`'s body frame; the bodies keep their relative angle.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TranslationalSpec {
+    pub a: String,
+    pub b: String,
+    pub axis_deg: f64,
+}
+
+/// Constant-speed driver of one body's absolute angle.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DriverSpec {
+    pub body: String,
+    /// Speed (r/min), non-zero, |speed| ≤ 100000; positive is counter-clockwise.
+    pub speed_rpm: f64,
+    /// Angle at t = 0 (deg).
+    pub angle_deg: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClearanceSpec {
+    pub name: String,
+    /// Journal centre, `"body.point"`.
+    pub journal: String,
+    /// Bearing centre, `"body.point"`; the bearing is the part that wears.
+    pub bearing: String,
+    /// Unworn bearing radius R_i (mm), (0, 10000].
+    pub bearing_radius_mm: f64,
+    /// Radial clearance c = R_i − R_j (mm), [0, R_i).
+    pub clearance_mm: f64,
+    pub journal_material: String,
+    pub bearing_material: String,
+    pub contact: ContactSpec,
+    /// Friction law (velocities in m/s); `{ model = "none" }` computes no friction.
+    pub friction: FrictionModel,
+    /// Absent: the scene computes no wear.
+    pub wear: Option<WearSpec>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    pub model: NormalForceModel,
+    /// Coefficient of restitution c_e, (0, 1].
+    pub restitution: f64,
+    /// Exponent n, [1, 3]; the paper uses 1.5.
+    pub exponent: f64,
+    /// Floor of the captured impact velocity (m/s), (0, 10].
+    pub grazing_velocity_m_s: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WearSpec {
+    /// Archard coefficient over hardness k/H (1/Pa), [0, 1e-6].
+    pub k_over_h_per_pa: f64,
+    pub pressure: PressureModel,
+    /// Bearing length L (mm), (0, 10000].
+    pub length_mm: f64,
+    /// Number of sectors of the bearing profile, [8, 36000].
+    pub sectors: usize,
+}
+
+/// Integration method of a scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MethodSpec {
+    Dopri5,
+    Dop853,
+    Rk4,
+    Rosenbrock,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSpec {
+    /// Driver rotations to simulate, [1, 1000000].
+    pub rotations: u32,
+    /// How many of the last rotations to record as time series, [0, rotations].
+    pub record_rotations: u32,
+    /// Recording grid spacing (s), (0, 1].
+    pub record_interval_s: f64,
+    /// Rotation counts after which the wear profile is saved, each in [1, rotations].
+    #[serde(default)]
+    pub wear_snapshots: Vec<u32>,
+    pub method: MethodSpec,
+    /// Relative tolerance, [1e-13, 1].
+    pub rtol: f64,
+    /// Absolute tolerance, (0, 1].
+    pub atol: f64,
+    /// Largest step (s), (0, 1].
+    pub max_step_s: f64,
+    /// Step of `rk4` (s), required by it, (0, 1].
+    pub fixed_step_s: Option<f64>,
+    /// Baumgarte stabilisation α = β (1/s), [0, 1e6].
+    pub baumgarte_per_s: f64,
+    /// Integrate the energy balance (driver, contact and friction work).
+    #[serde(default)]
+    pub energy_accounting: bool,
+}
+
+/// A validated scene in SI units, ready to simulate.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub title: String,
+    pub mechanism: Mechanism,
+    /// Initial guess of the coordinates, `(x, y, φ)` per body (m, rad).
+    pub guess: Vec<f64>,
+    pub run: RunSettings,
+}
+
+/// Checks that `value` is finite and inside `[lo, hi]`.
+fn check(field: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
+    if value.is_finite() && value >= lo && value <= hi {
+        Ok(value)
+    } else {
+        Err(Error::invalid(
+            field,
+            value,
+            format!("a finite number in [{lo:e}, {hi:e}]"),
+        ))
+    }
+}
+
+/// Checks that `value` is finite, `> lo` and `≤ hi`.
+fn check_open(field: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
+    if value.is_finite() && value > lo && value <= hi {
+        Ok(value)
+    } else {
+        Err(Error::invalid(
+            field,
+            value,
+            format!("a finite number in ({lo:e}, {hi:e}]"),
+        ))
+    }
+}
+
+fn check_finite(field: &str, values: &[f64]) -> Result<()> {
+    match values.iter().find(|v| !v.is_finite()) {
+        Some(v) => Err(Error::invalid(field, v, "finite numbers")),
+        None => Ok(()),
+    }
+}
+
+impl Scene {
+    /// Reads, validates and converts a scene file.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scene> {
+        SceneFile::read(path)?.build()
+    }
+}
+
+impl SceneFile {
+    /// Reads a scene file without validating its values (to vary it before [`SceneFile::build`]).
+    pub fn read(path: impl AsRef<Path>) -> Result<SceneFile> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        SceneFile::parse(&text, path)
+    }
+
+    /// Parses scene text; `path` is only used in error messages.
+    pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
+        toml::from_str(text).map_err(|e| Error::Parse {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })
+    }
+
+    /// Validates and converts to SI.
+    pub fn build(&self) -> Result<Scene> {
+        check_finite("gravity_m_s2", &self.gravity_m_s2)?;
+        if self.bodies.is_empty() {
+            return Err(Error::invalid("bodies", "none", "at least one body"));
+        }
+        let mut bodies = Vec::new();
+        let mut guess = Vec::new();
+        for (i, b) in self.bodies.iter().enumerate() {
+            let f = |k: &str| format!("bodies[{i}].{k}");
+            if b.name == "ground" || self.bodies[..i].iter().any(|o| o.name == b.name) {
+                return Err(Error::invalid(
+                    f("name"),
+                    &b.name,
+                    "a unique name other than `ground`",
+                ));
+            }
+            bodies.push(Body {
+                name: b.name.clone(),
+                mass: check_open(&f("mass_kg"), b.mass_kg, 0.0, 1e6)?,
+                inertia: check_open(&f("inertia_kg_m2"), b.inertia_kg_m2, 0.0, 1e6)?,
+            });
+            check_finite(&f("position_mm"), &b.position_mm)?;
+            check_finite(&f("angle_deg"), &[b.angle_deg])?;
+            for (name, p) in &b.points_mm {
+                check_finite(&f(&format!("points_mm.{name}")), p)?;
+            }
+            guess.extend([
+                b.position_mm[0] * MM,
+                b.position_mm[1] * MM,
+                b.angle_deg.to_radians(),
+            ]);
+        }
+        let revolutes = self
+            .revolute
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                Ok(Revolute {
+                    a: self.point(&format!("revolute[{i}].a"), &r.a)?,
+                    b: self.point(&format!("revolute[{i}].b"), &r.b)?,
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let translationals = self
+            .translational
+            .iter()
+            .enumerate()
+            .map(|(i, t)| {
+                let a = self.point(&format!("translational[{i}].a"), &t.a)?;
+                let b = self.point(&format!("translational[{i}].b"), &t.b)?;
+                let axis = check(
+                    &format!("translational[{i}].axis_deg"),
+                    t.axis_deg,
+                    -360.0,
+                    360.0,
+                )?
+                .to_radians();
+                let angle = |p: &BodyPoint| p.body.map_or(0.0, |k| guess[3 * k + 2]);
+                Ok(Translational {
+                    a,
+                    b,
+                    normal: Vector2::new(-axis.sin(), axis.cos()),
+                    relative_angle: angle(&a) - angle(&b),
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let driver_body = self
+            .body_index(&self.driver.body)
+            .flatten()
+            .ok_or_else(|| {
+                Error::invalid(
+                    "driver.body",
+                    &self.driver.body,
+                    "the name of a body (not ground)",
+                )
+            })?;
+        let speed = self.driver.speed_rpm;
+        if !(speed.is_finite() && speed != 0.0 && speed.abs() <= 1e5) {
+            return Err(Error::invalid(
+                "driver.speed_rpm",
+                speed,
+                "a finite non-zero number in [-1e5, 1e5]",
+            ));
+        }
+        let driver = Driver {
+            body: driver_body,
+            omega: speed * std::f64::consts::TAU / 60.0,
+            angle0: check("driver.angle_deg", self.driver.angle_deg, -360.0, 360.0)?.to_radians(),
+        };
+        guess[3 * driver_body + 2] = driver.angle0;
+        let clearance_joints = self
+            .clearance
+            .iter()
+            .enumerate()
+            .map(|(i, c)| self.clearance_joint(i, c))
+            .collect::<Result<Vec<_>>>()?;
+        let run = self.run.build()?;
+        let mechanism = Mechanism::new(
+            bodies,
+            revolutes,
+            translationals,
+            driver,
+            clearance_joints,
+            Vector2::new(self.gravity_m_s2[0], self.gravity_m_s2[1]),
+            (run.baumgarte, run.baumgarte),
+            run.energy_accounting,
+        );
+        let dof = mechanism.coordinates() as i64 - mechanism.constraint_count() as i64;
+        if dof < 0 {
+            return Err(Error::invalid(
+                "joints",
+                format!("{dof} degrees of freedom"),
+                "a mechanism that is not over-constrained",
+            ));
+        }
+        Ok(Scene {
+            title: self.title.clone(),
+            mechanism,
+            guess,
+            run,
+        })
+    }
+
+    /// `Some(None)` for the ground, `Some(Some(i))` for body i, `None` if unknown.
+    fn body_index(&self, name: &str) -> Option<BodyIndex> {
+        if name == "ground" {
+            return Some(None);
+        }
+        self.bodies.iter().position(|b| b.name == name).map(Some)
+    }
+
+    /// Resolves `"body.point"` (local coordinates converted to m).
+    fn point(&self, field: &str, spec: &str) -> Result<BodyPoint> {
+        let bad = || {
+            Error::invalid(
+                field,
+                format!("\"{spec}\""),
+                "\"body.point\" naming a body (or ground) and one of its points",
+            )
+        };
+        let (body, point) = spec.split_once('.').ok_or_else(bad)?;
+        let index = self.body_index(body).ok_or_else(bad)?;
+        let points = match index {
+            None => &self.ground.points_mm,
+            Some(i) => &self.bodies[i].points_mm,
+        };
+        let p = points.get(point).ok_or_else(bad)?;
+        check_finite(field, p)?;
+        Ok(BodyPoint {
+            body: index,
+            local: Vector2::new(p[0] * MM, p[1] * MM),
+        })
+    }
+
+    fn material(&self, field: &str, name: &str) -> Result<(f64, f64)> {
+        let m = self.materials.get(name).ok_or_else(|| {
+            Error::invalid(
+                field,
+                format!("\"{name}\""),
+                "the name of a [materials] entry",
+            )
+        })?;
+        let mf = format!("materials.{name}");
+        Ok((
+            check_open(
+                &format!("{mf}.youngs_modulus_gpa"),
+                m.youngs_modulus_gpa,
+                0.0,
+                1e4,
+            )? * GPA,
+            check(&format!("{mf}.poisson_ratio"), m.poisson_ratio, 0.0, 0.4999)?,
+        ))
+    }
+
+    fn clearance_joint(&self, i: usize, c: &ClearanceSpec) -> Result<ClearanceJoint> {
+        let f = |k: &str| format!("clearance[{i}].{k}");
+        let journal = self.point(&f("journal"), &c.journal)?;
+        let bearing = self.point(&f("bearing"), &c.bearing)?;
+        if journal.body == bearing.body {
+            return Err(Error::invalid(
+                f("bearing"),
+                &c.bearing,
+                "a point on another body than the journal's",
+            ));
+        }
+        let r_bearing = check_open(&f("bearing_radius_mm"), c.bearing_radius_mm, 0.0, 1e4)? * MM;
+        let clearance = c.clearance_mm * MM;
+        if !(clearance.is_finite() && clearance >= 0.0 && clearance < r_bearing) {
+            return Err(Error::invalid(
+                f("clearance_mm"),
+                c.clearance_mm,
+                format!(
+                    "a finite number in [0, {}) (the journal must fit in the bearing)",
+                    c.bearing_radius_mm
+                ),
+            ));
+        }
+        let r_journal = r_bearing - clearance;
+        let (ej, nj) = self.material(&f("journal_material"), &c.journal_material)?;
+        let (eb, nb) = self.material(&f("bearing_material"), &c.bearing_material)?;
+        let e_star = compound_modulus(eb, nb, ej, nj);
+        let k = &c.contact;
+        let contact = ContactLaw::new(
+            k.model,
+            e_star,
+            r_bearing,
+            r_journal,
+            check(&f("contact.exponent"), k.exponent, 1.0, 3.0)?,
+            check_open(&f("contact.restitution"), k.restitution, 0.0, 1.0)?,
+            check_open(
+                &f("contact.grazing_velocity_m_s"),
+                k.grazing_velocity_m_s,
+                0.0,
+                10.0,
+            )?,
+        );
+        validate_friction(&f("friction"), &c.friction)?;
+        let (wear, sectors) = match &c.wear {
+            None => (None, 8),
+            Some(w) => {
+                let sectors = w.sectors;
+                if !(8..=36000).contains(&sectors) {
+                    return Err(Error::invalid(
+                        f("wear.sectors"),
+                        sectors,
+                        "an integer in [8, 36000]",
+                    ));
+                }
+                let law = WearLaw {
+                    k_over_h: check(&f("wear.k_over_h_per_pa"), w.k_over_h_per_pa, 0.0, 1e-6)?,
+                    pressure: w.pressure,
+                    length: check_open(&f("wear.length_mm"), w.length_mm, 0.0, 1e4)? * MM,
+                    e_star,
+                    r_bearing,
+                    r_journal,
+                };
+                (Some(law), sectors)
+            }
+        };
+        Ok(ClearanceJoint {
+            name: c.name.clone(),
+            journal,
+            bearing,
+            r_journal,
+            r_bearing,
+            contact,
+            friction: c.friction,
+            wear,
+            profile: WearProfile::new(sectors),
+            impact_velocity: 0.0,
+        })
+    }
+}
+
+fn validate_friction(field: &str, friction: &FrictionModel) -> Result<()> {
+    match *friction {
+        FrictionModel::None => {}
+        FrictionModel::Coulomb { mu } => {
+            check(&format!("{field}.mu"), mu, 0.0, 2.0)?;
+        }
+        FrictionModel::Modified {
+            mu_s,
+            mu_d,
+            v_s,
+            v_d,
+        } => {
+            check(&format!("{field}.mu_s"), mu_s, 0.0, 2.0)?;
+            check(&format!("{field}.mu_d"), mu_d, 0.0, 2.0)?;
+            check_open(&format!("{field}.v_s"), v_s, 0.0, 100.0)?;
+            if !(v_d.is_finite() && v_d > v_s && v_d <= 100.0) {
+                return Err(Error::invalid(
+                    format!("{field}.v_d"),
+                    v_d,
+                    format!("a finite number in ({v_s:e}, 1e2] (above v_s)"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+impl RunSpec {
+    fn build(&self) -> Result<RunSettings> {
+        if !(1..=1_000_000).contains(&self.rotations) {
+            return Err(Error::invalid(
+                "run.rotations",
+                self.rotations,
+                "an integer in [1, 1000000]",
+            ));
+        }
+        if self.record_rotations > self.rotations {
+            return Err(Error::invalid(
+                "run.record_rotations",
+                self.record_rotations,
+                format!("an integer in [0, {}]", self.rotations),
+            ));
+        }
+        if let Some(&s) = self
+            .wear_snapshots
+            .iter()
+            .find(|&&s| s == 0 || s > self.rotations)
+        {
+            return Err(Error::invalid(
+                "run.wear_snapshots",
+                s,
+                format!("rotation counts in [1, {}]", self.rotations),
+            ));
+        }
+        let tolerances = Tolerances {
+            rtol: check("run.rtol", self.rtol, 1e-13, 1.0)?,
+            atol: check_open("run.atol", self.atol, 0.0, 1.0)?,
+            max_step: check_open("run.max_step_s", self.max_step_s, 0.0, 1.0)?,
+            initial_step: 0.0,
+        };
+        let method = match self.method {
+            MethodSpec::Dopri5 => Method::Dopri5,
+            MethodSpec::Dop853 => Method::Dop853,
+            MethodSpec::Rosenbrock => Method::Rosenbrock,
+            MethodSpec::Rk4 => {
+                let step = self.fixed_step_s.ok_or_else(|| {
+                    Error::invalid(
+                        "run.fixed_step_s",
+                        "missing",
+                        "a step in (0, 1] s for method rk4",
+                    )
+                })?;
+                Method::Rk4 {
+                    step: check_open("run.fixed_step_s", step, 0.0, 1.0)?,
+                }
+            }
+        };
+        let mut wear_snapshots = self.wear_snapshots.clone();
+        wear_snapshots.sort_unstable();
+        wear_snapshots.dedup();
+        Ok(RunSettings {
+            rotations: self.rotations,
+            record_rotations: self.record_rotations,
+            record_interval: check_open("run.record_interval_s", self.record_interval_s, 0.0, 1.0)?,
+            wear_snapshots,
+            method,
+            tolerances,
+            baumgarte: check("run.baumgarte_per_s", self.baumgarte_per_s, 0.0, 1e6)?,
+            energy_accounting: self.energy_accounting,
+        })
+    }
+}
+
+/// Path of a shipped scene, `data/scenes/<name>.toml`, relative to the crate root.
+pub fn scene_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("data/scenes")
+        .join(format!("{name}.toml"))
+}
