@@ -9,10 +9,12 @@
 //! the scene files (mm, r/min, GPa, deg) are converted once, in [`scene`].
 
 pub mod analysis;
+pub mod concordance;
 pub mod contact;
 pub mod error;
 pub mod figures;
 pub mod friction;
+pub mod golden;
 pub mod integrator;
 pub mod mechanism;
 pub mod output;

@@ -86,13 +86,23 @@ pub fn write_csv(path: &Path, header: &[&str], columns: &[&[f64]]) -> Result<()>
             format!("{rows} values, like column `{}`", header[0]),
         ));
     }
+    write_rows(
+        path,
+        header,
+        (0..rows).map(|row| columns.iter().map(|c| format!("{:e}", c[row])).collect()),
+    )
+}
+
+/// Writes text rows under `header` as CSV, atomically (for tables with text columns).
+pub fn write_rows(
+    path: &Path,
+    header: &[&str],
+    rows: impl IntoIterator<Item = Vec<String>>,
+) -> Result<()> {
     write_atomic(path, |tmp| {
         let mut w = csv::Writer::from_path(tmp).map_err(|e| csv_error(tmp, e))?;
         w.write_record(header).map_err(|e| csv_error(tmp, e))?;
-        let mut record = Vec::with_capacity(columns.len());
-        for row in 0..rows {
-            record.clear();
-            record.extend(columns.iter().map(|c| format!("{:e}", c[row])));
+        for record in rows {
             w.write_record(&record).map_err(|e| csv_error(tmp, e))?;
         }
         w.flush().map_err(|e| io_error(tmp, e))

@@ -6,6 +6,12 @@
 //! Unknown keys are rejected. Angles are counter-clockwise from +x; point coordinates are in
 //! the body frame, whose origin is the body's centre of mass. The shipped scenes in
 //! `data/scenes/` document every key.
+//!
+//! A scene may extend another: `extends = "standard.toml"` (relative to the file) takes the
+//! base scene, replaces its top-level keys by the ones given (e.g. `title`), then applies the
+//! `[overrides]` table, whose keys are dotted paths into the base document with array indices
+//! as numbers, e.g. `"clearance.0.clearance_mm" = 0.2`. A path that does not exist in the base
+//! is an error, so a typo cannot silently leave the base value in place.
 
 use crate::contact::{compound_modulus, ContactLaw, NormalForceModel};
 use crate::friction::FrictionModel;
@@ -13,7 +19,7 @@ use crate::integrator::{Method, Tolerances};
 use crate::mechanism::{
     Body, BodyIndex, BodyPoint, ClearanceJoint, Driver, Mechanism, Revolute, Translational,
 };
-use crate::simulation::RunSettings;
+use crate::simulation::{RunSettings, SteadyState};
 use crate::wear::{PressureModel, WearLaw, WearProfile};
 use crate::{Error, Result};
 use nalgebra::Vector2;
@@ -188,6 +194,23 @@ pub struct RunSpec {
     /// Integrate the energy balance (driver, contact and friction work).
     #[serde(default)]
     pub energy_accounting: bool,
+    /// Settle to the steady state of `steady_state` before simulating `rotations` more.
+    #[serde(default)]
+    pub settle: bool,
+    pub steady_state: SteadyStateSpec,
+    /// Wear profiles saved per rotation for the wear history (0: none), [0, 3600].
+    #[serde(default)]
+    pub profile_history_per_rotation: u32,
+}
+
+/// Steady state: the journal orbit repeats from one rotation to the next.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SteadyStateSpec {
+    /// Largest RMS change of the journal orbit between rotations over the clearance, (0, 1].
+    pub orbit_tolerance: f64,
+    /// Rotations after which settling gives up (chaotic motion), [2, 10000].
+    pub max_rotations: u32,
 }
 
 /// A validated scene in SI units, ready to simulate.
@@ -241,22 +264,25 @@ impl Scene {
 }
 
 impl SceneFile {
-    /// Reads a scene file without validating its values (to vary it before [`SceneFile::build`]).
+    /// Reads a scene file (resolving `extends`) without validating its values, so that it
+    /// can be varied before [`SceneFile::build`].
     pub fn read(path: impl AsRef<Path>) -> Result<SceneFile> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        SceneFile::parse(&text, path)
+        SceneFile::from_table(read_table(path, 0)?, path)
     }
 
-    /// Parses scene text; `path` is only used in error messages.
+    /// Parses scene text; `path` is used in error messages and to resolve `extends`.
     pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
-        toml::from_str(text).map_err(|e| Error::Parse {
-            path: path.to_path_buf(),
-            message: e.to_string(),
-        })
+        SceneFile::from_table(parse_table(text, path, 0)?, path)
+    }
+
+    fn from_table(table: toml::Table, path: &Path) -> Result<SceneFile> {
+        toml::Value::Table(table)
+            .try_into()
+            .map_err(|e: toml::de::Error| Error::Parse {
+                path: path.to_path_buf(),
+                message: e.to_string(),
+            })
     }
 
     /// Validates and converts to SI.
@@ -603,6 +629,143 @@ impl RunSpec {
             tolerances,
             baumgarte: check("run.baumgarte_per_s", self.baumgarte_per_s, 0.0, 1e6)?,
             energy_accounting: self.energy_accounting,
+            settle: self.settle.then(|| self.steady_state.build()).transpose()?,
+            profile_history_per_rotation: match self.profile_history_per_rotation {
+                h @ 0..=3600 => h,
+                h => {
+                    return Err(Error::invalid(
+                        "run.profile_history_per_rotation",
+                        h,
+                        "an integer in [0, 3600]",
+                    ))
+                }
+            },
+        })
+    }
+}
+
+/// How deep `extends` chains may go (a cycle would otherwise recurse forever).
+const MAX_EXTENDS_DEPTH: usize = 8;
+
+fn read_table(path: &Path, depth: usize) -> Result<toml::Table> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_table(&text, path, depth)
+}
+
+/// Parses a scene document and resolves its `extends` and `[overrides]`.
+fn parse_table(text: &str, path: &Path, depth: usize) -> Result<toml::Table> {
+    let parse_error = |message: String| Error::Parse {
+        path: path.to_path_buf(),
+        message,
+    };
+    let mut table: toml::Table = toml::from_str(text).map_err(|e| parse_error(e.to_string()))?;
+    let Some(base) = table.remove("extends") else {
+        if table.contains_key("overrides") {
+            return Err(parse_error(
+                "`overrides` needs `extends = \"base.toml\"`".into(),
+            ));
+        }
+        return Ok(table);
+    };
+    let base = base
+        .as_str()
+        .ok_or_else(|| parse_error("`extends` must be a file name".into()))?;
+    if depth >= MAX_EXTENDS_DEPTH {
+        return Err(parse_error(format!(
+            "`extends` chains deeper than {MAX_EXTENDS_DEPTH} (a cycle?)"
+        )));
+    }
+    let mut merged = read_table(
+        &path.parent().unwrap_or(Path::new(".")).join(base),
+        depth + 1,
+    )?;
+    let overrides = match table.remove("overrides") {
+        Some(toml::Value::Table(o)) => o,
+        Some(_) => {
+            return Err(parse_error(
+                "`overrides` must be a table of dotted keys".into(),
+            ))
+        }
+        None => toml::Table::new(),
+    };
+    merged.extend(table);
+    for (key, value) in overrides {
+        set_dotted(&mut merged, &key, value)
+            .map_err(|m| parse_error(format!("override `{key}`: {m}")))?;
+    }
+    Ok(merged)
+}
+
+/// Sets `key` (dotted path, array indices as numbers) in a TOML document. Every step but the
+/// last must exist; the last may be new only inside an existing table (an optional key).
+pub fn set_dotted(
+    table: &mut toml::Table,
+    key: &str,
+    value: toml::Value,
+) -> std::result::Result<(), String> {
+    let mut root = toml::Value::Table(std::mem::take(table));
+    let result = set_in(&mut root, key, value);
+    if let toml::Value::Table(t) = root {
+        *table = t;
+    }
+    result
+}
+
+fn set_in(
+    root: &mut toml::Value,
+    key: &str,
+    value: toml::Value,
+) -> std::result::Result<(), String> {
+    let parts: Vec<&str> = key.split('.').collect();
+    let (last, path) = parts.split_last().ok_or("empty key")?;
+    let mut node = root;
+    for (i, part) in path.iter().enumerate() {
+        let here = parts[..=i].join(".");
+        node = match node {
+            toml::Value::Table(t) => t.get_mut(*part),
+            toml::Value::Array(a) => part.parse::<usize>().ok().and_then(|k| a.get_mut(k)),
+            _ => None,
+        }
+        .ok_or_else(|| format!("no `{here}` in the base scene"))?;
+    }
+    match node {
+        toml::Value::Table(t) => {
+            t.insert(last.to_string(), value);
+        }
+        toml::Value::Array(a) => {
+            let slot = last
+                .parse::<usize>()
+                .ok()
+                .and_then(|k| a.get_mut(k))
+                .ok_or_else(|| format!("no `{key}` in the base scene"))?;
+            *slot = value;
+        }
+        _ => return Err(format!("`{key}` does not address a table entry")),
+    }
+    Ok(())
+}
+
+impl SteadyStateSpec {
+    fn build(&self) -> Result<SteadyState> {
+        let max_rotations = self.max_rotations;
+        if !(2..=10000).contains(&max_rotations) {
+            return Err(Error::invalid(
+                "run.steady_state.max_rotations",
+                max_rotations,
+                "an integer in [2, 10000]",
+            ));
+        }
+        Ok(SteadyState {
+            tolerance: check_open(
+                "run.steady_state.orbit_tolerance",
+                self.orbit_tolerance,
+                0.0,
+                1.0,
+            )?,
+            max_rotations,
         })
     }
 }

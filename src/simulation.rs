@@ -13,7 +13,7 @@
 //! samples only in the recorded rotations, energy quadratures only when requested.
 
 use crate::integrator::{locate_root, Integrator, Method, OdeSystem, Stats, Tolerances};
-use crate::mechanism::{Mechanism, ENERGY_STATES};
+use crate::mechanism::Mechanism;
 use crate::scene::Scene;
 use crate::{Error, Result};
 use std::f64::consts::TAU;
@@ -34,6 +34,35 @@ pub struct RunSettings {
     /// Baumgarte α = β (1/s).
     pub baumgarte: f64,
     pub energy_accounting: bool,
+    /// Settle to a steady state first; then `rotations` more are simulated.
+    pub settle: Option<SteadyState>,
+    /// Wear profiles saved per rotation (0: none), for the wear history of figure 7.
+    pub profile_history_per_rotation: u32,
+}
+
+/// Steady-state criterion: the journal orbit of each clearance joint, sampled at
+/// [`ORBIT_PHASES`] driver phases per rotation, changes from one rotation to the next by an RMS
+/// of at most `tolerance` times the radial clearance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SteadyState {
+    /// Largest RMS orbit change between rotations, as a fraction of the clearance.
+    pub tolerance: f64,
+    /// Give up settling after this many rotations (chaotic impact motion never repeats).
+    pub max_rotations: u32,
+}
+
+/// Orbit samples per rotation for the steady-state test.
+pub const ORBIT_PHASES: usize = 360;
+
+/// How a run settled before recording.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settling {
+    /// Rotations simulated before the recorded ones.
+    pub rotations: u32,
+    /// RMS orbit change of the last settling rotation over the clearance.
+    pub orbit_change: f64,
+    /// Whether the criterion was met (false: `max_rotations` was reached).
+    pub steady: bool,
 }
 
 /// Time series of one clearance joint on the recording grid.
@@ -119,6 +148,9 @@ impl EnergyAccount {
 pub struct RunOutput {
     pub recording: Recording,
     pub wear_snapshots: Vec<WearSnapshot>,
+    /// `(time, depths per joint)` at `profile_history_per_rotation` points per rotation (each at
+    /// the end of the first step that reaches it).
+    pub profile_history: Vec<(f64, Vec<Vec<f64>>)>,
     /// Final wear depth per joint per sector (m).
     pub final_wear: Vec<Vec<f64>>,
     /// State at the end.
@@ -129,6 +161,8 @@ pub struct RunOutput {
     /// Contact onsets of each joint.
     pub impacts: Vec<u64>,
     pub energy: Option<EnergyAccount>,
+    /// Settling phase, for runs with [`RunSettings::settle`].
+    pub settling: Option<Settling>,
     /// Driver rotation period (s).
     pub period: f64,
     /// Wall-clock time of the run (s).
@@ -167,129 +201,145 @@ pub fn run(mechanism: &mut Mechanism, settings: &RunSettings, y0: Vec<f64>) -> R
     let n = mechanism.coordinates();
     let joints = mechanism.clearance_joints.len();
     let period = TAU / mechanism.driver.omega.abs();
-    let t_end = settings.rotations as f64 * period;
-    let record_start = (settings.rotations - settings.record_rotations) as f64 * period;
-    let n_controlled = 2 * n;
     let dim = mechanism.state_len();
-    let mut integrator = Integrator::new(settings.method, dim, n_controlled, settings.tolerances);
-    let mut sampler = Sampler::new(mechanism, record_start, settings.record_interval, t_end);
+    let mut integrator = Integrator::new(settings.method, dim, 2 * n, settings.tolerances);
+    // The length of the run is known up front unless it first settles to a steady state.
+    let mut settler = settings.settle.map(|s| Settler::new(mechanism, s, period));
+    let mut end_rotation = settler.is_none().then_some(settings.rotations);
+    let window = |end: u32| {
+        let start = (end - settings.record_rotations) as f64 * period;
+        Sampler::new(dim, start, settings.record_interval, end as f64 * period)
+    };
+    let mut sampler = end_rotation.map(window);
+    // Wear history points do not cut steps (that would change the run they describe): a point
+    // is taken at the end of the first step that reaches it.
+    let history_interval = period / settings.profile_history_per_rotation.max(1) as f64;
+    let mut next_history = if settings.profile_history_per_rotation > 0 {
+        history_interval
+    } else {
+        f64::INFINITY
+    };
     let mut out = RunOutput {
         recording: Recording::default(),
         wear_snapshots: Vec::new(),
+        profile_history: Vec::new(),
         final_wear: Vec::new(),
         final_state: Vec::new(),
         stats: Stats::default(),
         max_penetration: vec![f64::NEG_INFINITY; joints],
         impacts: vec![0; joints],
         energy: None,
+        settling: None,
         period,
         wall_time: 0.0,
     };
     let energy_start = settings
         .energy_accounting
         .then(|| mechanical_energy(mechanism, &y0));
-    let mut gaps: Vec<f64> = (0..joints)
-        .map(|k| {
-            mechanism
-                .contact_kinematics(k, &y0[..n], &y0[n..2 * n])
-                .delta
-        })
-        .collect();
+    let gap =
+        |m: &Mechanism, k: usize, y: &[f64]| m.contact_kinematics(k, &y[..n], &y[n..2 * n]).delta;
+    let mut gaps: Vec<f64> = (0..joints).map(|k| gap(mechanism, k, &y0)).collect();
     let mut y_event = vec![0.0; dim];
     let mut y_mid = vec![0.0; dim];
-    let mut events = 0;
     let mut rotation = 0u32;
-    {
+    integrator.reset(
+        &mut Dynamics {
+            mechanism,
+            failure: None,
+        },
+        0.0,
+        &y0,
+    );
+    while end_rotation.is_none_or(|end| rotation < end) {
+        let boundary = (rotation + 1) as f64 * period;
         let mut sys = Dynamics {
             mechanism,
             failure: None,
         };
-        integrator.reset(&mut sys, 0.0, &y0);
-    }
-    while integrator.t() < t_end {
-        let boundary = ((rotation + 1) as f64 * period).min(t_end);
-        {
-            let mut sys = Dynamics {
-                mechanism,
-                failure: None,
-            };
-            let stepped = integrator.step(&mut sys, boundary);
-            if let Some(e) = sys.failure {
-                return Err(e);
-            }
-            stepped?;
+        let stepped = integrator.step(&mut sys, boundary);
+        if let Some(e) = sys.failure {
+            return Err(e);
         }
+        stepped?;
         let (ta, tb) = (integrator.t_prev(), integrator.t());
         // 1. Contact onsets: the earliest gap sign change from free flight to contact.
         let mut onset: Option<(f64, usize)> = None;
-        for (k, gap) in gaps.iter_mut().enumerate() {
-            let y = integrator.y();
-            let g = mechanism.contact_kinematics(k, &y[..n], &y[n..2 * n]).delta;
-            if *gap < 0.0 && g >= 0.0 {
-                let ga = *gap;
-                let t = locate_root(
-                    |t| {
-                        integrator.dense(t, &mut y_event);
-                        mechanism
-                            .contact_kinematics(k, &y_event[..n], &y_event[n..2 * n])
-                            .delta
-                    },
-                    ta,
-                    ga,
-                    tb,
-                    g,
-                    1e-12 * tb.max(1.0),
-                );
+        for (k, g_prev) in gaps.iter_mut().enumerate() {
+            let g = gap(mechanism, k, integrator.y());
+            if *g_prev < 0.0 && g >= 0.0 {
+                let dense_gap = |t| {
+                    integrator.dense(t, &mut y_event);
+                    gap(mechanism, k, &y_event)
+                };
+                let t = locate_root(dense_gap, ta, *g_prev, tb, g, 1e-12 * tb.max(1.0));
                 if onset.is_none_or(|(t0, _)| t < t0) {
                     onset = Some((t, k));
                 }
             }
-            *gap = g;
+            *g_prev = g;
         }
         let t_stop = onset.map_or(tb, |(t, _)| t);
-        // 2. Wear at the step midpoint, 3. samples, both over [ta, t_stop].
+        // 2. Wear at the interval midpoint, 3. samples, both over [ta, t_stop].
         integrator.dense(0.5 * (ta + t_stop), &mut y_mid);
         add_wear(mechanism, &y_mid[..2 * n], t_stop - ta);
-        sampler.sample(
-            mechanism,
-            &integrator,
-            ta,
-            t_stop,
-            &mut out.recording,
-            &mut y_event,
-        )?;
-        for (k, m) in out.max_penetration.iter_mut().enumerate() {
-            let y = integrator.y();
-            *m = m.max(mechanism.contact_kinematics(k, &y[..n], &y[n..2 * n]).delta);
+        if let Some(s) = sampler.as_mut() {
+            s.sample(
+                mechanism,
+                &integrator,
+                ta,
+                t_stop,
+                &mut out.recording,
+                &mut y_event,
+            )?;
+        }
+        if let Some(s) = settler.as_mut() {
+            s.sample(mechanism, &integrator, ta, t_stop, &mut y_event);
         }
         if let Some((t, k)) = onset {
             integrator.dense(t, &mut y_event);
             let cs = mechanism.contact_kinematics(k, &y_event[..n], &y_event[n..2 * n]);
             mechanism.clearance_joints[k].impact_velocity = cs.delta_dot;
             out.impacts[k] += 1;
-            events += 1;
-            for (j, gap) in gaps.iter_mut().enumerate() {
-                *gap = if j == k {
+            for (j, g) in gaps.iter_mut().enumerate() {
+                *g = if j == k {
                     0.0
                 } else {
-                    mechanism
-                        .contact_kinematics(j, &y_event[..n], &y_event[n..2 * n])
-                        .delta
+                    gap(mechanism, j, &y_event)
                 };
             }
-            let mut sys = Dynamics {
-                mechanism,
-                failure: None,
-            };
-            integrator.reset(&mut sys, t, &y_event);
+            integrator.record_event();
+            integrator.reset(
+                &mut Dynamics {
+                    mechanism,
+                    failure: None,
+                },
+                t,
+                &y_event,
+            );
         }
-        if onset.is_none() && tb >= boundary {
-            rotation += 1;
-            if settings.wear_snapshots.binary_search(&rotation).is_ok() {
-                out.wear_snapshots.push(WearSnapshot {
-                    rotation,
-                    depths: wear_depths(mechanism),
-                });
+        for (m, g) in out.max_penetration.iter_mut().zip(&gaps) {
+            *m = m.max(*g);
+        }
+        if t_stop >= next_history * (1.0 - 1e-12) {
+            out.profile_history.push((t_stop, wear_depths(mechanism)));
+            next_history += history_interval;
+        }
+        if onset.is_some() || tb < boundary {
+            continue;
+        }
+        rotation += 1;
+        if settings.wear_snapshots.binary_search(&rotation).is_ok() {
+            out.wear_snapshots.push(WearSnapshot {
+                rotation,
+                depths: wear_depths(mechanism),
+            });
+        }
+        if end_rotation.is_none() {
+            if let Some(settled) = settler.as_mut().and_then(|s| s.end_rotation(rotation)) {
+                out.settling = Some(settled);
+                end_rotation = Some(rotation + settings.rotations);
+                sampler = end_rotation.map(window);
+                settler = None;
             }
         }
     }
@@ -303,10 +353,8 @@ pub fn run(mechanism: &mut Mechanism, settings: &RunSettings, y0: Vec<f64>) -> R
             mechanical_change: end.0 - start.0,
             elastic_change: end.1 - start.1,
         });
-        debug_assert_eq!(dim, 2 * n + ENERGY_STATES);
     }
     out.stats = integrator.stats();
-    out.stats.events = events;
     out.final_wear = wear_depths(mechanism);
     out.final_state = y;
     out.wall_time = clock.elapsed().as_secs_f64();
@@ -362,7 +410,7 @@ struct Sampler {
 }
 
 impl Sampler {
-    fn new(mechanism: &Mechanism, start: f64, interval: f64, end: f64) -> Sampler {
+    fn new(dim: usize, start: f64, interval: f64, end: f64) -> Sampler {
         // Grid points t_i = start + i·interval for t_i ≤ end (with a hair of slack for rounding).
         let count = if end > start {
             ((end - start) / interval * (1.0 + 1e-12)).floor() as usize + 1
@@ -374,7 +422,7 @@ impl Sampler {
             start,
             interval,
             count,
-            dy: vec![0.0; mechanism.state_len()],
+            dy: vec![0.0; dim],
         }
     }
 
@@ -438,5 +486,90 @@ impl Sampler {
             }
         }
         Ok(())
+    }
+}
+
+/// Samples the journal orbit at fixed driver phases to detect a steady state.
+struct Settler {
+    criterion: SteadyState,
+    period: f64,
+    clearances: Vec<f64>,
+    /// `[rotation parity][joint][phase]` journal eccentricity.
+    orbits: [Vec<Vec<[f64; 2]>>; 2],
+    rotation: usize,
+    next_phase: usize,
+}
+
+impl Settler {
+    fn new(mechanism: &Mechanism, criterion: SteadyState, period: f64) -> Settler {
+        let joints = mechanism.clearance_joints.len();
+        let orbit = vec![vec![[0.0; 2]; ORBIT_PHASES]; joints];
+        Settler {
+            criterion,
+            period,
+            clearances: mechanism
+                .clearance_joints
+                .iter()
+                .map(|c| (c.r_bearing - c.r_journal).max(1e-9))
+                .collect(),
+            orbits: [orbit.clone(), orbit],
+            rotation: 0,
+            next_phase: 0,
+        }
+    }
+
+    fn sample(
+        &mut self,
+        mechanism: &Mechanism,
+        integrator: &Integrator,
+        ta: f64,
+        tb: f64,
+        y: &mut [f64],
+    ) {
+        let n = mechanism.coordinates();
+        while self.next_phase < ORBIT_PHASES {
+            let t =
+                (self.rotation as f64 + self.next_phase as f64 / ORBIT_PHASES as f64) * self.period;
+            if t > tb {
+                break;
+            }
+            if t >= ta {
+                integrator.dense(t, y);
+                for (k, orbit) in self.orbits[self.rotation % 2].iter_mut().enumerate() {
+                    let e = mechanism.contact_kinematics(k, &y[..n], &y[n..2 * n]).e;
+                    orbit[self.next_phase] = [e.x, e.y];
+                }
+            }
+            self.next_phase += 1;
+        }
+    }
+
+    /// Called at the end of rotation `done` (1-based): `Some` when settling is over.
+    fn end_rotation(&mut self, done: u32) -> Option<Settling> {
+        self.rotation += 1;
+        self.next_phase = 0;
+        if done < 2 {
+            return None;
+        }
+        let [a, b] = &self.orbits;
+        let change = a
+            .iter()
+            .zip(b)
+            .zip(&self.clearances)
+            .map(|((oa, ob), c)| {
+                let ms: f64 = oa
+                    .iter()
+                    .zip(ob)
+                    .map(|(p, q)| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2))
+                    .sum();
+                (ms / ORBIT_PHASES as f64).sqrt() / c
+            })
+            .fold(0.0, f64::max);
+        let steady = change <= self.criterion.tolerance;
+        (steady || done >= self.criterion.max_rotations).then_some(Settling {
+            rotations: done,
+            orbit_change: change,
+            steady,
+        })
     }
 }
