@@ -62,7 +62,13 @@ pub fn sector_angles_deg(n: usize) -> Vec<f64> {
 
 /// Two recorded rotations after the steady state of a scene.
 pub fn steady_run(name: &str) -> Result<(Scene, RunOutput)> {
+    steady_run_with(name, |_| {})
+}
+
+/// [`steady_run`] of a scene varied by `modify`.
+pub fn steady_run_with(name: &str, modify: impl Fn(&mut SceneFile)) -> Result<(Scene, RunOutput)> {
     let mut file = SceneFile::read(scene_path(name))?;
+    modify(&mut file);
     file.run.settle = true;
     file.run.rotations = 2;
     file.run.record_rotations = 2;
@@ -75,7 +81,17 @@ pub fn steady_run(name: &str) -> Result<(Scene, RunOutput)> {
 /// The scene's rotations of coupled wear without time series, with `history` wear profiles
 /// saved per rotation.
 pub fn wear_run(name: &str, history: u32) -> Result<(Scene, RunOutput)> {
+    wear_run_with(name, history, |_| {})
+}
+
+/// [`wear_run`] of a scene varied by `modify`.
+pub fn wear_run_with(
+    name: &str,
+    history: u32,
+    modify: impl Fn(&mut SceneFile),
+) -> Result<(Scene, RunOutput)> {
     let mut file = SceneFile::read(scene_path(name))?;
+    modify(&mut file);
     file.run.record_rotations = 0;
     file.run.profile_history_per_rotation = history;
     let scene = file.build()?;
@@ -180,6 +196,12 @@ fn trajectory_panel<'a>(title: String, t: &'a Traces, c: f64) -> Axes<'a> {
             )],
         )
     }
+}
+
+/// Motion mode and concordances of a steady run.
+pub fn steady_metrics(scene: &Scene, out: &RunOutput) -> Result<(Motion, Concordance)> {
+    let t = traces(scene, out)?;
+    Ok((t.motion, t.concordance))
 }
 
 /// Records what a steady run measured under `key`.

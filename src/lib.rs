@@ -9,6 +9,7 @@
 //! the scene files (mm, r/min, GPa, deg) are converted once, in [`scene`].
 
 pub mod analysis;
+pub mod calibration;
 pub mod concordance;
 pub mod contact;
 pub mod error;

@@ -1,0 +1,18 @@
+//! The calibration study of the lost Table 2 (see `jointwear::calibration`): writes
+//! `data/calibration.csv` and `figures/calibration.png` and prints the best parameter sets.
+use jointwear::figures::exit_on_error;
+
+fn main() {
+    let ranked = exit_on_error(jointwear::calibration::study(|done, total| {
+        eprint!("\r{done}/{total} parameter sets")
+    }));
+    eprintln!();
+    println!("best parameter sets (lower score is better):");
+    for (group, p, m) in ranked.iter().take(8) {
+        println!(
+            "  {:.3}  {group:9} {} mu_d {} v_s {} {:?} grazing {} k/H {:e} L {} sectors {} | peaks {:?} err {:.1} deg, 180 largest {}, modes {}/5, dominance {}/5, CMF rms {:.4}, 30 r/min wear at {:.0} deg",
+            m.score, if p.counter_clockwise { "ccw" } else { "cw" }, p.mu_d, p.v_s, p.pressure, p.grazing, p.k_over_h, p.length_mm,
+            p.sectors, m.peak_angles, m.peak_error_deg, m.largest_at_180, m.modes_matched, m.dominance_matched, m.concordance_rms, m.low_speed_angle
+        );
+    }
+}
