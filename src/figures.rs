@@ -5,7 +5,7 @@
 //! report reads their summaries.
 
 use crate::analysis::{peaks, Motion, Peak};
-use crate::concordance::Concordance;
+use crate::concordance::{centred_cmf, Concordance};
 use crate::output::{write_csv, write_rows};
 use crate::plot::{render, render_polar, Axes, Series, Style};
 use crate::scene::{scene_path, Scene, SceneFile};
@@ -206,7 +206,17 @@ pub fn steady_metrics(scene: &Scene, out: &RunOutput) -> Result<(Motion, Concord
 
 /// Records what a steady run measured under `key`.
 fn summarise_steady(s: &mut Summary, key: &str, out: &RunOutput, t: &Traces) {
-    let settle = out.settling.expect("steady runs settle");
+    let Some(settle) = out.settling else { return };
+    let j = &out.recording.joints[0];
+    let abs_acc: Vec<f64> = t.slider_acc.iter().map(|a| a.abs()).collect();
+    // Share of the circumference (1 deg bins) the journal touches while in contact.
+    let mut touched = [false; 360];
+    for (th, d) in j.theta.iter().zip(&j.delta) {
+        if *d >= 0.0 {
+            touched[(th.to_degrees() as usize).min(359)] = true;
+        }
+    }
+    let coverage = touched.iter().filter(|&&b| b).count() as f64 / 360.0;
     let max_acc = t.slider_acc.iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let max_force = out.recording.joints[0]
         .normal_force
@@ -228,6 +238,12 @@ fn summarise_steady(s: &mut Summary, key: &str, out: &RunOutput, t: &Traces) {
         ("max_slider_acc", max_acc),
         ("max_normal_force", max_force),
         ("max_penetration", max_pen),
+        ("contact_coverage", coverage),
+        ("acc_wear_correlation", centred_cmf(&abs_acc, &j.wear_rate)),
+        (
+            "force_wear_correlation",
+            centred_cmf(&j.normal_force, &j.wear_rate),
+        ),
         ("pw", t.concordance.pressure_wear),
         ("sw", t.concordance.sliding_wear),
         ("wall_time_s", out.wall_time),
@@ -450,7 +466,19 @@ fn profile_figure(name: &str, cases: &[(&str, f64, String)]) -> Result<(Summary,
     let mut found = Vec::new();
     for (scene_name, _, title) in cases {
         let (scene, out) = wear_run(scene_name, 0)?;
-        found.push(summarise_wear(&mut s, scene_name, &scene, &out));
+        let regions = summarise_wear(&mut s, scene_name, &scene, &out);
+        // growth of each final region through the snapshots
+        let n = out.final_wear[0].len();
+        for snap in &out.wear_snapshots {
+            for (i, p) in regions.iter().take(3).enumerate() {
+                let sector = ((p.angle_deg / 360.0 * n as f64) as usize).min(n - 1);
+                s.set(
+                    format!("{scene_name}.rot{}.peak{}.depth", snap.rotation, i + 1),
+                    snap.depths[0][sector],
+                );
+            }
+        }
+        found.push(regions);
         panels.push((title.clone(), snapshot_series(&out)));
     }
     let angles = sector_angles_deg(panels[0].1[0].1.len());
