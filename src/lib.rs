@@ -14,11 +14,13 @@ pub mod error;
 pub mod figures;
 pub mod friction;
 pub mod integrator;
+pub mod longlife;
 pub mod mechanism;
 pub mod output;
 pub mod plot;
 pub mod scene;
 pub mod simulation;
+pub mod sweep;
 pub mod wear;
 
 pub use error::{Error, Result};
