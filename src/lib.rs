@@ -17,11 +17,13 @@ pub mod figures;
 pub mod friction;
 pub mod golden;
 pub mod integrator;
+pub mod longlife;
 pub mod mechanism;
 pub mod output;
 pub mod plot;
 pub mod scene;
 pub mod simulation;
+pub mod sweep;
 pub mod wear;
 
 pub use error::{Error, Result};

@@ -776,3 +776,69 @@ pub fn scene_path(name: &str) -> PathBuf {
         .join("data/scenes")
         .join(format!("{name}.toml"))
 }
+
+/// Sets the value at a dotted `key` of a scene document: table keys by name, array elements
+/// by a 0-based number (`clearance.0.clearance_mm`, `driver.speed_rpm`). Every part but the
+/// last must exist; the last may add a key to a table (an unknown key is then rejected when
+/// the document is converted by [`SceneFile::from_document`]).
+pub fn set_dotted(doc: &mut toml::Value, key: &str, value: toml::Value) -> Result<()> {
+    let bad = |at: &str, expected: String| Error::invalid(key, format!("(at `{at}`)"), expected);
+    let parts: Vec<&str> = key.split('.').collect();
+    let mut node = doc;
+    for (i, part) in parts.iter().enumerate() {
+        let last = i + 1 == parts.len();
+        node = match node {
+            toml::Value::Table(table) if last => {
+                table.insert(part.to_string(), value);
+                return Ok(());
+            }
+            toml::Value::Table(table) => {
+                if !table.contains_key(*part) {
+                    let keys: Vec<&str> = table.keys().map(String::as_str).collect();
+                    return Err(bad(part, format!("one of the keys {}", keys.join(", "))));
+                }
+                &mut table[*part]
+            }
+            toml::Value::Array(items) => {
+                let len = items.len();
+                let slot = part
+                    .parse::<usize>()
+                    .ok()
+                    .and_then(|k| items.get_mut(k))
+                    .ok_or_else(|| bad(part, format!("an array index in [0, {len})")))?;
+                if last {
+                    *slot = value;
+                    return Ok(());
+                }
+                slot
+            }
+            _ => return Err(bad(part, "a table or an array before it".into())),
+        };
+    }
+    Err(Error::invalid(key, "empty", "a dotted key"))
+}
+
+impl SceneFile {
+    /// Reads a scene file as a TOML document, to be varied with [`set_dotted`].
+    pub fn read_document(path: impl AsRef<Path>) -> Result<toml::Value> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        text.parse::<toml::Table>()
+            .map(toml::Value::Table)
+            .map_err(|e| Error::Parse {
+                path: path.to_path_buf(),
+                message: e.to_string(),
+            })
+    }
+
+    /// Converts a (varied) scene document; `path` is only used in error messages.
+    pub fn from_document(doc: toml::Value, path: &Path) -> Result<SceneFile> {
+        doc.try_into().map_err(|e: toml::de::Error| Error::Parse {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })
+    }
+}

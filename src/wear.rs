@@ -204,6 +204,18 @@ impl WearProfile {
     }
 }
 
+impl WearProfile {
+    /// Adds `scale · increments[i]` to the depth of sector `i` (m): the extrapolated wear of a
+    /// block of rotations in [`crate::longlife`]. `increments` holds one value per sector,
+    /// taken from a profile with the same sectors.
+    pub fn add_depths(&mut self, increments: &[f64], scale: f64) {
+        debug_assert_eq!(increments.len(), self.depth.len());
+        for (d, inc) in self.depth.iter_mut().zip(increments) {
+            *d += scale * inc;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

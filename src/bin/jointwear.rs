@@ -1,0 +1,626 @@
+//! `jointwear`: simulate, check, sweep and predict long-life wear of any scene file.
+//!
+//! Exit codes: 0 success, 2 bad input (scene value, TOML, command-line syntax), 1 a failure
+//! while running (integration, writing outputs).
+
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use jointwear::figures::sector_angles_deg;
+use jointwear::longlife::{predict, simulate_in_chunks, LongLife, LongLifeSettings};
+use jointwear::output::write_csv;
+use jointwear::plot::{render, Axes, Series, Style};
+use jointwear::scene::{Scene, SceneFile};
+use jointwear::simulation::RunOutput;
+use jointwear::sweep::{merge, summarize, Assignment, Shard, Sweep};
+use jointwear::Error;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+const EXAMPLES: &str = "\
+Examples:
+  jointwear check data/scenes/fourbar.toml
+  jointwear run data/scenes/standard.toml --out out/standard
+  jointwear sweep data/scenes/standard.toml \\
+      --set clearance.0.clearance_mm=0.02,0.1,0.5 --set driver.speed_rpm=600,2000 --out sweep.csv
+  jointwear sweep data/scenes/standard.toml --set driver.speed_rpm=500,1000,1500,2000 \\
+      --shard 2/4 --out shard2.csv
+  jointwear sweep-merge shard1.csv shard2.csv shard3.csv shard4.csv --out all.csv
+  jointwear longlife data/scenes/standard.toml --rotations 1e6 --k-over-h 1e-15";
+
+/// Wear prediction in planar mechanisms with clearance revolute joints.
+#[derive(Parser)]
+#[command(version, after_help = EXAMPLES)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Simulate a scene: time series and wear CSVs, plots and a summary.
+    #[command(
+        after_help = "Writes timeseries.csv (recorded rotations), wear_<joint>.csv (final \
+        profile), trajectory.png, normal_force.png and wear.png."
+    )]
+    Run {
+        scene: PathBuf,
+        /// Output directory [default: out/<scene stem>]
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Validate a scene and print what it describes.
+    Check { scene: PathBuf },
+    /// Run the cartesian product of --set values in parallel, one summary CSV row per case.
+    #[command(
+        after_help = "KEY is a dotted path into the scene file, array elements by 0-based \
+        number (clearance.0.clearance_mm, run.method); values are TOML (0.02, [0.0, -9.81], \
+        \"rk4\" or rk4). Case k (last --set varying fastest) belongs to shard (k mod N) + 1."
+    )]
+    Sweep {
+        scene: PathBuf,
+        /// KEY=V1,V2,.. (repeatable)
+        #[arg(long = "set", value_name = "KEY=VALUES")]
+        sets: Vec<String>,
+        /// Run only shard I of N (1-based), for job arrays
+        #[arg(long, value_name = "I/N")]
+        shard: Option<String>,
+        /// Summary CSV [default: out/<scene stem>/sweep.csv, or sweep-I-of-N.csv]
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Join shard CSVs of one sweep, sorted by case.
+    SweepMerge {
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Predict the wear after many rotations by cycle-jump extrapolation.
+    Longlife {
+        scene: PathBuf,
+        /// Rotations to predict (1e6 is accepted)
+        #[arg(long, default_value = "1e6")]
+        rotations: f64,
+        /// Override k/H (1/Pa) of every worn joint
+        #[arg(long)]
+        k_over_h: Option<f64>,
+        /// Largest depth change per extrapolated block, as a fraction of the clearance
+        #[arg(long, default_value_t = 0.02)]
+        max_change: f64,
+        /// Rotations simulated before the first block
+        #[arg(long, default_value_t = 3)]
+        settle: u32,
+        /// Output directory [default: out/<scene stem>]
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+}
+
+/// A failure to report: the message and the exit code.
+struct Failure {
+    code: u8,
+    message: String,
+}
+
+impl Failure {
+    /// A library error, prefixed with the file it concerns unless the message names it.
+    fn from(path: &Path, e: Error) -> Failure {
+        let code = match e {
+            Error::Invalid { .. } | Error::Parse { .. } => 2,
+            _ => 1,
+        };
+        let message = match e {
+            Error::Invalid { .. } | Error::Integration { .. } => {
+                format!("{}: {e}", path.display())
+            }
+            _ => e.to_string(),
+        };
+        Failure { code, message }
+    }
+}
+
+type CliResult<T> = std::result::Result<T, Failure>;
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run { scene, out } => run(&scene, out),
+        Command::Check { scene } => check(&scene),
+        Command::Sweep {
+            scene,
+            sets,
+            shard,
+            out,
+        } => sweep(&scene, &sets, shard.as_deref(), out),
+        Command::SweepMerge { inputs, out } => merge(&inputs, &out)
+            .map(|rows| println!("wrote {} ({rows} cases)", out.display()))
+            .map_err(|e| Failure::from(&out, e)),
+        Command::Longlife {
+            scene,
+            rotations,
+            k_over_h,
+            max_change,
+            settle,
+            out,
+        } => longlife(&scene, rotations, k_over_h, max_change, settle, out),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => {
+            eprintln!("error: {}", f.message);
+            ExitCode::from(f.code)
+        }
+    }
+}
+
+/// `out/<scene stem>` unless given.
+fn out_dir(scene: &Path, out: Option<PathBuf>) -> PathBuf {
+    out.unwrap_or_else(|| Path::new("out").join(scene.file_stem().unwrap_or(scene.as_os_str())))
+}
+
+/// A joint name usable in a file name.
+fn file_part(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// A progress bar on stderr (hidden when stderr is not a terminal).
+fn progress_bar(len: u64, unit: &str) -> ProgressBar {
+    let style = ProgressStyle::with_template(&format!(
+        "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {unit} (eta {{eta}})"
+    ))
+    .unwrap_or_else(|_| ProgressStyle::default_bar());
+    ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr()).with_style(style)
+}
+
+fn load(path: &Path) -> CliResult<Scene> {
+    Scene::load(path).map_err(|e| Failure::from(path, e))
+}
+
+fn run(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
+    let scene = load(path)?;
+    let dir = out_dir(path, out);
+    let bar = progress_bar(scene.run.rotations as u64, "rotations");
+    let chunk = (scene.run.rotations / 100).max(1);
+    let result = simulate_in_chunks(&scene, chunk, |done, _| bar.set_position(done as u64));
+    bar.finish_and_clear();
+    let out = result.map_err(|e| Failure::from(path, e))?;
+    write_run(&scene, &out, &dir).map_err(|e| Failure::from(path, e))?;
+    print_summary(&scene, &out);
+    println!("outputs in {}", dir.display());
+    Ok(())
+}
+
+/// Time series, final wear profiles and the default plots of a run.
+fn write_run(scene: &Scene, out: &RunOutput, dir: &Path) -> jointwear::Result<()> {
+    let m = &scene.mechanism;
+    let rec = &out.recording;
+    let mut header = vec!["time_s".to_string(), "driver_angle_rad".to_string()];
+    let mut columns: Vec<&[f64]> = vec![&rec.time, &rec.driver_angle];
+    for (cj, tr) in m.clearance_joints.iter().zip(&rec.joints) {
+        let series: [(&str, &[f64]); 8] = [
+            ("ex_m", &tr.ex),
+            ("ey_m", &tr.ey),
+            ("penetration_m", &tr.delta),
+            ("normal_force_n", &tr.normal_force),
+            ("friction_force_n", &tr.friction_force),
+            ("sliding_velocity_m_s", &tr.sliding_velocity),
+            ("pressure_pa", &tr.pressure),
+            ("wear_rate_m_s", &tr.wear_rate),
+        ];
+        for (name, data) in series {
+            header.push(format!("{}.{name}", cj.name));
+            columns.push(data);
+        }
+    }
+    for (body, acc) in m.bodies.iter().zip(&rec.accelerations) {
+        for (name, data) in ["ax_m_s2", "ay_m_s2", "alpha_rad_s2"].iter().zip(acc) {
+            header.push(format!("{}.{name}", body.name));
+            columns.push(data);
+        }
+    }
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    write_csv(&dir.join("timeseries.csv"), &header, &columns)?;
+
+    let worn: Vec<(usize, Vec<f64>, Vec<f64>)> = m
+        .clearance_joints
+        .iter()
+        .enumerate()
+        .filter(|(_, cj)| cj.wear.is_some())
+        .map(|(k, _)| {
+            let depth = &out.final_wear[k];
+            (
+                k,
+                sector_angles_deg(depth.len()),
+                depth.iter().map(|d| d * 1e6).collect(),
+            )
+        })
+        .collect();
+    for (k, angles, _) in &worn {
+        let name = &m.clearance_joints[*k].name;
+        let path = dir.join(format!("wear_{}.csv", file_part(name)));
+        write_csv(
+            &path,
+            &["angle_deg", "depth_m"],
+            &[angles, &out.final_wear[*k]],
+        )?;
+    }
+    if !worn.is_empty() {
+        let series = worn
+            .iter()
+            .map(|(k, a, um)| Series::new(&m.clearance_joints[*k].name, a, um, Style::Line))
+            .collect();
+        let axes = Axes {
+            x_range: Some((0.0, 360.0)),
+            ..Axes::new(
+                format!("Wear after {} rotations", scene.run.rotations),
+                "bearing angle (deg)",
+                "wear depth (µm)",
+                series,
+            )
+        };
+        render(&dir.join("wear.png"), &[axes])?;
+    }
+    if rec.time.is_empty() {
+        return Ok(());
+    }
+    let um = |v: &[f64]| v.iter().map(|x| x * 1e6).collect::<Vec<f64>>();
+    let orbits: Vec<(Vec<f64>, Vec<f64>)> =
+        rec.joints.iter().map(|t| (um(&t.ex), um(&t.ey))).collect();
+    let panels: Vec<Axes> = m
+        .clearance_joints
+        .iter()
+        .zip(&orbits)
+        .map(|(cj, (x, y))| {
+            let c = (cj.r_bearing - cj.r_journal) * 1e6;
+            Axes {
+                equal_aspect: true,
+                circles: vec![(0.0, 0.0, c)],
+                ..Axes::new(
+                    format!("{}: journal centre (c = {c:.3} µm)", cj.name),
+                    "x (µm)",
+                    "y (µm)",
+                    vec![Series::new("journal centre", x, y, Style::Line)],
+                )
+            }
+        })
+        .collect();
+    if !panels.is_empty() {
+        render(&dir.join("trajectory.png"), &panels)?;
+        let series = m
+            .clearance_joints
+            .iter()
+            .zip(&rec.joints)
+            .map(|(cj, t)| Series::new(&cj.name, &rec.time, &t.normal_force, Style::Line))
+            .collect();
+        let axes = Axes::new(
+            "Contact normal force",
+            "time (s)",
+            "normal force (N)",
+            series,
+        );
+        render(&dir.join("normal_force.png"), &[axes])?;
+    }
+    Ok(())
+}
+
+fn print_summary(scene: &Scene, out: &RunOutput) {
+    let s = &out.stats;
+    println!("{}", scene.title);
+    println!(
+        "  {} rotations in {:.2} s wall time: {} steps, {} rejected, {} evaluations, {} contact onsets",
+        scene.run.rotations, out.wall_time, s.steps, s.rejected, s.evaluations, s.events
+    );
+    if let Some(e) = out.energy {
+        println!("  energy balance residual {:.2e}", e.residual());
+    }
+    for j in summarize(scene, out) {
+        println!("  joint {}:", j.name);
+        println!(
+            "    max normal force {:.2} N (recorded rotations), max penetration {:.3} µm",
+            j.max_normal_force,
+            j.max_penetration * 1e6
+        );
+        if let Some(m) = j.motion {
+            println!(
+                "    motion: {} ({:.0} % in contact, {:.1} impacts per rotation)",
+                m.mode(),
+                100.0 * m.contact_fraction,
+                m.impacts_per_rotation
+            );
+        }
+        for p in j.peaks.iter().take(3) {
+            println!(
+                "    wear peak at {:6.1} deg: depth {:.4} µm, width {:.0} deg",
+                p.angle_deg,
+                p.depth * 1e6,
+                p.width_deg
+            );
+        }
+    }
+}
+
+fn check(path: &Path) -> CliResult<()> {
+    let file = SceneFile::read(path).map_err(|e| Failure::from(path, e))?;
+    let scene = file.build().map_err(|e| Failure::from(path, e))?;
+    let m = &scene.mechanism;
+    println!("{}: {}", path.display(), scene.title);
+    println!("bodies:");
+    for b in &file.bodies {
+        println!(
+            "  {:12} mass {} kg, inertia {} kg m², points {}",
+            b.name,
+            b.mass_kg,
+            b.inertia_kg_m2,
+            b.points_mm.keys().cloned().collect::<Vec<_>>().join(", ")
+        );
+    }
+    println!("ideal joints:");
+    for r in &file.revolute {
+        println!("  revolute       {} - {}", r.a, r.b);
+    }
+    for t in &file.translational {
+        println!(
+            "  translational  {} along {} at {} deg",
+            t.a, t.b, t.axis_deg
+        );
+    }
+    let d = &file.driver;
+    println!(
+        "driver: {} at {} r/min from {} deg",
+        d.body, d.speed_rpm, d.angle_deg
+    );
+    println!("clearance joints:");
+    for c in &file.clearance {
+        println!(
+            "  {}: journal {} in bearing {}, R = {} mm, c = {} mm, {} on {}",
+            c.name,
+            c.journal,
+            c.bearing,
+            c.bearing_radius_mm,
+            c.clearance_mm,
+            c.journal_material,
+            c.bearing_material
+        );
+        let k = &c.contact;
+        println!(
+            "    contact {:?}, restitution {}, exponent {}; friction {:?}",
+            k.model, k.restitution, k.exponent, c.friction
+        );
+        match &c.wear {
+            Some(w) => println!(
+                "    wear: k/H = {:e} 1/Pa, {:?} pressure, L = {} mm, {} sectors",
+                w.k_over_h_per_pa, w.pressure, w.length_mm, w.sectors
+            ),
+            None => println!("    no wear"),
+        }
+    }
+    let r = &file.run;
+    println!(
+        "run: {} rotations ({} recorded every {} s), {:?}, rtol {:e}, atol {:e}, max step {:e} s",
+        r.rotations,
+        r.record_rotations,
+        r.record_interval_s,
+        r.method,
+        r.rtol,
+        r.atol,
+        r.max_step_s
+    );
+    let dof = m.coordinates() as i64 - m.constraint_count() as i64;
+    println!(
+        "degrees of freedom: {dof} (2 per clearance joint; {} with the clearance joints ideal)",
+        dof - 2 * m.clearance_joints.len() as i64
+    );
+    Ok(())
+}
+
+fn sweep(path: &Path, sets: &[String], shard: Option<&str>, out: Option<PathBuf>) -> CliResult<()> {
+    let bad = |e| Failure::from(path, e);
+    let sets = sets
+        .iter()
+        .map(|s| Assignment::parse(s))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(bad)?;
+    let shard = shard
+        .map(Shard::parse)
+        .transpose()
+        .map_err(bad)?
+        .unwrap_or(Shard::ALL);
+    let out = out.unwrap_or_else(|| {
+        let name = if shard == Shard::ALL {
+            "sweep.csv".to_string()
+        } else {
+            format!("sweep-{}-of-{}.csv", shard.index, shard.count)
+        };
+        out_dir(path, None).join(name)
+    });
+    let sweep = Sweep::new(path, sets, shard).map_err(bad)?;
+    eprintln!(
+        "{} cases in shard {}/{} on {} threads",
+        sweep.len(),
+        shard.index,
+        shard.count,
+        rayon::current_num_threads()
+    );
+    let bar = progress_bar(sweep.len() as u64, "cases");
+    let results = sweep.run(|| bar.inc(1));
+    bar.finish_and_clear();
+    sweep.write(&out, &results).map_err(bad)?;
+    let failed: Vec<_> = results.iter().filter(|r| r.outcome.is_err()).collect();
+    println!("wrote {} ({} cases)", out.display(), results.len());
+    if failed.is_empty() {
+        return Ok(());
+    }
+    Err(Failure {
+        code: 1,
+        message: format!(
+            "{}: {} of {} cases failed (see the error column), first: case {}",
+            path.display(),
+            failed.len(),
+            results.len(),
+            failed[0].case
+        ),
+    })
+}
+
+fn longlife(
+    path: &Path,
+    rotations: f64,
+    k_over_h: Option<f64>,
+    max_change: f64,
+    settle: u32,
+    out: Option<PathBuf>,
+) -> CliResult<()> {
+    let bad = |e| Failure::from(path, e);
+    if !((1.0..=1e12).contains(&rotations) && rotations.fract() == 0.0) {
+        return Err(bad(Error::invalid(
+            "--rotations",
+            rotations,
+            "an integer in [1, 1e12]",
+        )));
+    }
+    let mut file = SceneFile::read(path).map_err(bad)?;
+    if let Some(k) = k_over_h {
+        for w in file.clearance.iter_mut().filter_map(|c| c.wear.as_mut()) {
+            w.k_over_h_per_pa = k;
+        }
+    }
+    let scene = file.build().map_err(bad)?;
+    let target = rotations as u64;
+    let settings = LongLifeSettings {
+        rotations: target,
+        settle_rotations: settle,
+        max_change,
+        snapshots: (1..5).map(|i| target * i / 5).collect(),
+        ..LongLifeSettings::default()
+    };
+    let bar = progress_bar(target, "rotations");
+    let result = predict(&scene, &settings, |done, _| bar.set_position(done));
+    bar.finish_and_clear();
+    let life = result.map_err(bad)?;
+    let dir = out_dir(path, out);
+    write_longlife(&scene, &life, &dir).map_err(bad)?;
+    println!(
+        "{}: {} rotations predicted from {} simulated in {:.1} s ({} blocks)",
+        scene.title,
+        target,
+        life.simulated,
+        life.wall_time,
+        life.history.len() - 1
+    );
+    let last = life.history.last().map_or(0, |s| s.rotations);
+    for (k, cj) in scene.mechanism.clearance_joints.iter().enumerate() {
+        let depth = life.history.last().map_or(0.0, |s| s.max_depth(k));
+        println!(
+            "  joint {}: max wear {:.3} µm after {last} rotations, clearance {:.3} -> {:.3} µm",
+            cj.name,
+            depth * 1e6,
+            life.clearances[k] * 1e6,
+            (life.clearances[k] + depth) * 1e6
+        );
+    }
+    println!("outputs in {}", dir.display());
+    Ok(())
+}
+
+/// Profiles at the snapshot counts and clearance growth, as CSVs and figures.
+fn write_longlife(scene: &Scene, life: &LongLife, dir: &Path) -> jointwear::Result<()> {
+    let m = &scene.mechanism;
+    let worn: Vec<usize> = (0..m.clearance_joints.len())
+        .filter(|&k| m.clearance_joints[k].wear.is_some())
+        .collect();
+    let rotations: Vec<f64> = life.history.iter().map(|s| s.rotations as f64).collect();
+    let growth: Vec<(Vec<f64>, Vec<f64>)> = worn
+        .iter()
+        .map(|&k| {
+            let depth: Vec<f64> = life.history.iter().map(|s| s.max_depth(k)).collect();
+            let clearance = depth.iter().map(|d| d + life.clearances[k]).collect();
+            (depth, clearance)
+        })
+        .collect();
+    let mut header = vec!["rotations".to_string()];
+    let mut columns: Vec<&[f64]> = vec![&rotations];
+    for (&k, (depth, clearance)) in worn.iter().zip(&growth) {
+        let name = &m.clearance_joints[k].name;
+        header.extend([format!("{name}.max_depth_m"), format!("{name}.clearance_m")]);
+        columns.extend([depth.as_slice(), clearance.as_slice()]);
+    }
+    let header_ref: Vec<&str> = header.iter().map(String::as_str).collect();
+    write_csv(&dir.join("longlife_growth.csv"), &header_ref, &columns)?;
+    let clearance_um: Vec<Vec<f64>> = growth
+        .iter()
+        .map(|(_, c)| c.iter().map(|x| x * 1e6).collect())
+        .collect();
+    let series = worn
+        .iter()
+        .zip(&clearance_um)
+        .map(|(&k, c)| Series::new(&m.clearance_joints[k].name, &rotations, c, Style::Line))
+        .collect();
+    render(
+        &dir.join("longlife_growth.png"),
+        &[Axes::new(
+            "Clearance growth: c + maximum wear depth",
+            "rotations",
+            "effective clearance (µm)",
+            series,
+        )],
+    )?;
+    let mut panels = Vec::new();
+    let profiles: Vec<(Vec<f64>, Vec<Vec<f64>>)> = worn
+        .iter()
+        .map(|&k| {
+            let n = life.snapshots.first().map_or(0, |s| s.depths[k].len());
+            let um = life
+                .snapshots
+                .iter()
+                .map(|s| s.depths[k].iter().map(|d| d * 1e6).collect())
+                .collect();
+            (sector_angles_deg(n), um)
+        })
+        .collect();
+    for (&k, (angles, um)) in worn.iter().zip(&profiles) {
+        let name = &m.clearance_joints[k].name;
+        let mut header = vec!["angle_deg".to_string()];
+        header.extend(
+            life.snapshots
+                .iter()
+                .map(|s| format!("rot{}_m", s.rotations)),
+        );
+        let metres: Vec<&[f64]> = life
+            .snapshots
+            .iter()
+            .map(|s| s.depths[k].as_slice())
+            .collect();
+        let mut columns: Vec<&[f64]> = vec![angles];
+        columns.extend(metres);
+        let header_ref: Vec<&str> = header.iter().map(String::as_str).collect();
+        let path = dir.join(format!("longlife_profiles_{}.csv", file_part(name)));
+        write_csv(&path, &header_ref, &columns)?;
+        let series = life
+            .snapshots
+            .iter()
+            .zip(um)
+            .map(|(s, d)| Series::new(format!("{} rotations", s.rotations), angles, d, Style::Line))
+            .collect();
+        panels.push(Axes {
+            x_range: Some((0.0, 360.0)),
+            ..Axes::new(
+                format!("{name}: bearing wear profile"),
+                "bearing angle (deg)",
+                "wear depth (µm)",
+                series,
+            )
+        });
+    }
+    if !panels.is_empty() {
+        render(&dir.join("longlife_profiles.png"), &panels)?;
+    }
+    Ok(())
+}

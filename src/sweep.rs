@@ -1,0 +1,452 @@
+//! Parameter sweeps: a scene varied over the cartesian product of `--set KEY=V1,V2,..`
+//! assignments, one summary row per case, shardable across independent jobs.
+//!
+//! * Keys are dotted paths into the scene's TOML document ([`crate::scene::set_dotted`]);
+//!   values are TOML values (`0.02`, `"rk4"`, `[0.0, -9.81]`; a bare word is a string).
+//! * Case `k` is numbered in the order of the product, the last key varying fastest; shard
+//!   `I/N` (1-based) runs the cases with `k mod N = I − 1`, a slice that depends only on the
+//!   assignments, so independent jobs of a batch array cover every case exactly once and
+//!   [`merge`] puts their CSVs back in case order.
+//! * Every case is built before any runs: a bad value stops the sweep as invalid input. A case
+//!   that fails while running gets its error in the `error` column; the others go on.
+
+use crate::analysis::{peaks, Motion, Peak};
+use crate::figures::PEAK_PROMINENCE;
+use crate::output::write_atomic;
+use crate::scene::{set_dotted, Scene, SceneFile};
+use crate::simulation::{simulate, RunOutput};
+use crate::{Error, Result};
+use rayon::prelude::*;
+use std::path::Path;
+
+/// One `--set KEY=V1,V2,..` argument.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Assignment {
+    pub key: String,
+    /// The values as written.
+    pub values: Vec<String>,
+}
+
+impl Assignment {
+    /// Parses `KEY=V1,V2,..`; commas inside brackets or quotes belong to the value.
+    pub fn parse(arg: &str) -> Result<Assignment> {
+        let bad = |why: &str| Error::invalid("--set", arg, format!("KEY=VALUE[,VALUE..] ({why})"));
+        let (key, list) = arg.split_once('=').ok_or_else(|| bad("no `=`"))?;
+        let key = key.trim();
+        if key.is_empty() || key.split('.').any(str::is_empty) {
+            return Err(bad("empty key or key part"));
+        }
+        let mut values = Vec::new();
+        let (mut depth, mut quoted, mut start) = (0i32, false, 0);
+        for (i, ch) in list.char_indices() {
+            match ch {
+                '"' => quoted = !quoted,
+                '[' | '{' if !quoted => depth += 1,
+                ']' | '}' if !quoted => depth -= 1,
+                ',' if !quoted && depth == 0 => {
+                    values.push(list[start..i].trim().to_string());
+                    start = i + 1;
+                }
+                _ => {}
+            }
+        }
+        values.push(list[start..].trim().to_string());
+        if values.iter().any(String::is_empty) {
+            return Err(bad("empty value"));
+        }
+        Ok(Assignment {
+            key: key.to_string(),
+            values,
+        })
+    }
+}
+
+/// A TOML value as written on the command line; a bare word that is not TOML is a string.
+pub fn parse_value(text: &str) -> toml::Value {
+    text.parse()
+        .unwrap_or_else(|_| toml::Value::String(text.to_string()))
+}
+
+/// Shard `index` of `count` (1-based).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl Shard {
+    /// The whole sweep.
+    pub const ALL: Shard = Shard { index: 1, count: 1 };
+
+    /// Parses `I/N` with 1 ≤ I ≤ N.
+    pub fn parse(arg: &str) -> Result<Shard> {
+        let bad = || Error::invalid("--shard", arg, "I/N with integers 1 <= I <= N");
+        let (i, n) = arg.split_once('/').ok_or_else(bad)?;
+        let (index, count) = (
+            i.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
+        if index == 0 || index > count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+
+    pub fn contains(&self, case: usize) -> bool {
+        case % self.count == self.index - 1
+    }
+}
+
+/// Number of cases of the product (1 without assignments).
+pub fn case_count(sets: &[Assignment]) -> usize {
+    sets.iter().map(|a| a.values.len()).product()
+}
+
+/// The value of each assignment in case `case` (last key varying fastest).
+pub fn case_values(sets: &[Assignment], case: usize) -> Vec<&str> {
+    let mut rest = case;
+    let mut values: Vec<&str> = sets
+        .iter()
+        .rev()
+        .map(|a| {
+            let v = &a.values[rest % a.values.len()];
+            rest /= a.values.len();
+            v.as_str()
+        })
+        .collect();
+    values.reverse();
+    values
+}
+
+/// The scene document `doc` (read from `path`) with `values` assigned to the keys of `sets`.
+pub fn vary(doc: &toml::Value, path: &Path, sets: &[Assignment], values: &[&str]) -> Result<Scene> {
+    let mut doc = doc.clone();
+    for (a, v) in sets.iter().zip(values) {
+        set_dotted(&mut doc, &a.key, parse_value(v))?;
+    }
+    SceneFile::from_document(doc, path)?.build()
+}
+
+/// Summary of one clearance joint over a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointSummary {
+    pub name: String,
+    /// Largest sampled normal force of the recorded rotations (N), NaN if none recorded.
+    pub max_normal_force: f64,
+    /// Largest penetration at the accepted steps of the whole run (m).
+    pub max_penetration: f64,
+    /// Motion of the recorded rotations, if any were recorded.
+    pub motion: Option<Motion>,
+    /// Wear regions of the final profile, deepest first (empty without wear).
+    pub peaks: Vec<Peak>,
+}
+
+/// Summarises every clearance joint of a run of `scene`.
+pub fn summarize(scene: &Scene, out: &RunOutput) -> Vec<JointSummary> {
+    let rec = &out.recording;
+    let dt = scene.run.record_interval;
+    scene
+        .mechanism
+        .clearance_joints
+        .iter()
+        .enumerate()
+        .map(|(k, cj)| {
+            let trace = rec.joints.get(k).filter(|t| !t.delta.is_empty());
+            JointSummary {
+                name: cj.name.clone(),
+                max_normal_force: trace.map_or(f64::NAN, |t| {
+                    t.normal_force.iter().cloned().fold(0.0, f64::max)
+                }),
+                max_penetration: out.max_penetration[k],
+                motion: trace
+                    .map(|t| Motion::classify(&t.delta, dt, scene.run.record_rotations as f64)),
+                peaks: peaks(&out.final_wear[k], PEAK_PROMINENCE),
+            }
+        })
+        .collect()
+}
+
+/// Per-joint columns of a sweep row, after the joint's name and a dot.
+const JOINT_COLUMNS: [&str; 7] = [
+    "max_normal_force_n",
+    "max_penetration_m",
+    "peak_wear_angle_deg",
+    "peak_wear_depth_m",
+    "motion_mode",
+    "contact_fraction",
+    "impacts_per_rotation",
+];
+
+/// Header of a sweep CSV.
+pub fn header(sets: &[Assignment], joints: &[String]) -> Vec<String> {
+    let mut h = vec!["case".to_string()];
+    h.extend(sets.iter().map(|a| a.key.clone()));
+    for j in joints {
+        h.extend(JOINT_COLUMNS.iter().map(|c| format!("{j}.{c}")));
+    }
+    h.extend(["wall_time_s".to_string(), "error".to_string()]);
+    h
+}
+
+/// One case's outcome.
+#[derive(Clone, Debug)]
+pub struct CaseResult {
+    pub case: usize,
+    pub values: Vec<String>,
+    /// The joints' summaries and the wall time, or the error of the run.
+    pub outcome: std::result::Result<(Vec<JointSummary>, f64), String>,
+}
+
+impl CaseResult {
+    /// The CSV record under [`header`] for `joints` clearance joints.
+    pub fn record(&self, joints: usize) -> Vec<String> {
+        let mut r = vec![self.case.to_string()];
+        r.extend(self.values.iter().cloned());
+        let number = |x: f64| {
+            if x.is_nan() {
+                String::new()
+            } else {
+                format!("{x:e}")
+            }
+        };
+        match &self.outcome {
+            Ok((summaries, wall)) => {
+                for s in summaries {
+                    let peak = s.peaks.first();
+                    r.extend([
+                        number(s.max_normal_force),
+                        number(s.max_penetration),
+                        peak.map_or(String::new(), |p| number(p.angle_deg)),
+                        peak.map_or(String::new(), |p| number(p.depth)),
+                        s.motion.map_or(String::new(), |m| m.mode().to_string()),
+                        s.motion
+                            .map_or(String::new(), |m| number(m.contact_fraction)),
+                        s.motion
+                            .map_or(String::new(), |m| number(m.impacts_per_rotation)),
+                    ]);
+                }
+                r.extend([number(*wall), String::new()]);
+            }
+            Err(e) => {
+                r.extend(std::iter::repeat_n(
+                    String::new(),
+                    joints * JOINT_COLUMNS.len() + 1,
+                ));
+                r.push(e.clone());
+            }
+        }
+        r
+    }
+}
+
+/// A sweep ready to run: the shard's cases, each built and validated.
+pub struct Sweep {
+    pub sets: Vec<Assignment>,
+    /// Clearance joint names (identical in every case).
+    pub joints: Vec<String>,
+    cases: Vec<(usize, Vec<String>, Scene)>,
+}
+
+impl Sweep {
+    /// Builds the cases of `shard`. Every case records at least its last rotation, which the
+    /// motion columns need.
+    pub fn new(path: &Path, sets: Vec<Assignment>, shard: Shard) -> Result<Sweep> {
+        let doc = SceneFile::read_document(path)?;
+        let mut cases = Vec::new();
+        let mut joints = None;
+        for case in (0..case_count(&sets)).filter(|&k| shard.contains(k)) {
+            let values = case_values(&sets, case);
+            let mut scene = vary(&doc, path, &sets, &values)?;
+            scene.run.record_rotations = scene.run.record_rotations.max(1);
+            let names: Vec<String> = scene
+                .mechanism
+                .clearance_joints
+                .iter()
+                .map(|cj| cj.name.clone())
+                .collect();
+            if joints.get_or_insert_with(|| names.clone()) != &names {
+                return Err(Error::invalid(
+                    "--set",
+                    format!("case {case} ({})", values.join(", ")),
+                    "the same clearance joints in every case",
+                ));
+            }
+            cases.push((case, values.iter().map(|v| v.to_string()).collect(), scene));
+        }
+        Ok(Sweep {
+            sets,
+            joints: joints.unwrap_or_default(),
+            cases,
+        })
+    }
+
+    pub fn len(&self) -> usize {
+        self.cases.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.cases.is_empty()
+    }
+
+    /// Runs the cases in parallel, calling `done` after each; results in case order.
+    pub fn run(&self, done: impl Fn() + Sync) -> Vec<CaseResult> {
+        self.cases
+            .par_iter()
+            .map(|(case, values, scene)| {
+                let outcome = simulate(scene)
+                    .map(|out| (summarize(scene, &out), out.wall_time))
+                    .map_err(|e| e.to_string());
+                done();
+                CaseResult {
+                    case: *case,
+                    values: values.clone(),
+                    outcome,
+                }
+            })
+            .collect()
+    }
+
+    /// Writes the results as CSV, atomically.
+    pub fn write(&self, path: &Path, results: &[CaseResult]) -> Result<()> {
+        let rows: Vec<Vec<String>> = results
+            .iter()
+            .map(|r| r.record(self.joints.len()))
+            .collect();
+        write_records(path, &header(&self.sets, &self.joints), &rows)
+    }
+}
+
+fn csv_failure(path: &Path, e: csv::Error) -> Error {
+    Error::Parse {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    }
+}
+
+/// Writes a header and string records as CSV, atomically.
+fn write_records(path: &Path, header: &[String], rows: &[Vec<String>]) -> Result<()> {
+    write_atomic(path, |tmp| {
+        let mut w = csv::Writer::from_path(tmp).map_err(|e| csv_failure(tmp, e))?;
+        w.write_record(header).map_err(|e| csv_failure(tmp, e))?;
+        for row in rows {
+            w.write_record(row).map_err(|e| csv_failure(tmp, e))?;
+        }
+        w.flush().map_err(|source| Error::Io {
+            path: tmp.to_path_buf(),
+            source,
+        })
+    })
+}
+
+/// Joins shard CSVs into `out`: identical headers required, rows sorted by case, a case
+/// appearing twice is an error. Returns the number of rows.
+pub fn merge(inputs: &[impl AsRef<Path>], out: &Path) -> Result<usize> {
+    let mut header: Option<(Vec<String>, &Path)> = None;
+    let mut rows: Vec<(usize, Vec<String>)> = Vec::new();
+    for input in inputs {
+        let path = input.as_ref();
+        let mut r = csv::Reader::from_path(path).map_err(|e| match e.into_kind() {
+            csv::ErrorKind::Io(source) => Error::Io {
+                path: path.to_path_buf(),
+                source,
+            },
+            kind => Error::Parse {
+                path: path.to_path_buf(),
+                message: format!("{kind:?}"),
+            },
+        })?;
+        let h: Vec<String> = r
+            .headers()
+            .map_err(|e| csv_failure(path, e))?
+            .iter()
+            .map(str::to_owned)
+            .collect();
+        match &header {
+            None => header = Some((h, path)),
+            Some((first, from)) if *first != h => {
+                return Err(Error::invalid(
+                    format!("{} header", path.display()),
+                    h.join(","),
+                    format!("the header of {}: {}", from.display(), first.join(",")),
+                ))
+            }
+            Some(_) => {}
+        }
+        for (line, record) in r.records().enumerate() {
+            let record = record.map_err(|e| csv_failure(path, e))?;
+            let row: Vec<String> = record.iter().map(str::to_owned).collect();
+            let case = row[0].parse().map_err(|_| Error::Parse {
+                path: path.to_path_buf(),
+                message: format!("data row {}: case `{}` is not an integer", line + 1, row[0]),
+            })?;
+            rows.push((case, row));
+        }
+    }
+    let Some((header, _)) = header else {
+        return Err(Error::invalid("inputs", "none", "at least one shard CSV"));
+    };
+    if header.first().map(String::as_str) != Some("case") {
+        return Err(Error::invalid(
+            "header",
+            header.join(","),
+            "a sweep CSV starting with `case`",
+        ));
+    }
+    rows.sort_by_key(|(case, _)| *case);
+    if let Some(w) = rows.windows(2).find(|w| w[0].0 == w[1].0) {
+        return Err(Error::invalid(
+            "case",
+            w[0].0,
+            "each case in only one shard CSV",
+        ));
+    }
+    let rows: Vec<Vec<String>> = rows.into_iter().map(|(_, r)| r).collect();
+    write_records(out, &header, &rows)?;
+    Ok(rows.len())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn assignments_split_on_top_level_commas() {
+        let a = Assignment::parse("gravity_m_s2=[0.0, -9.81],[0.0, 0.0]").unwrap();
+        assert_eq!(a.values, vec!["[0.0, -9.81]", "[0.0, 0.0]"]);
+        let a = Assignment::parse("clearance.0.clearance_mm=0.02,0.1, 0.5").unwrap();
+        assert_eq!(a.key, "clearance.0.clearance_mm");
+        assert_eq!(a.values, vec!["0.02", "0.1", "0.5"]);
+        for bad in ["novalue", "=1", "a..b=1", "a=1,,2", "a="] {
+            assert!(Assignment::parse(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn product_order_and_shards_cover_every_case_once() {
+        let sets = vec![
+            Assignment::parse("a=1,2,3").unwrap(),
+            Assignment::parse("b=x,y").unwrap(),
+        ];
+        assert_eq!(case_count(&sets), 6);
+        assert_eq!(case_values(&sets, 0), vec!["1", "x"]);
+        assert_eq!(case_values(&sets, 1), vec!["1", "y"]);
+        assert_eq!(case_values(&sets, 5), vec!["3", "y"]);
+        let shards: Vec<Shard> = (1..=4)
+            .map(|i| Shard::parse(&format!("{i}/4")).unwrap())
+            .collect();
+        for k in 0..6 {
+            assert_eq!(shards.iter().filter(|s| s.contains(k)).count(), 1);
+        }
+        for bad in ["0/3", "4/3", "1", "a/b", "1/0"] {
+            assert!(Shard::parse(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn values_are_toml_or_bare_strings() {
+        assert_eq!(parse_value("0.5"), toml::Value::Float(0.5));
+        assert_eq!(parse_value("600"), toml::Value::Integer(600));
+        assert_eq!(parse_value("rk4"), toml::Value::String("rk4".into()));
+        assert_eq!(parse_value("\"rk4\""), toml::Value::String("rk4".into()));
+    }
+}
