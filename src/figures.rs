@@ -239,6 +239,10 @@ fn summarise_steady(s: &mut Summary, key: &str, out: &RunOutput, t: &Traces) {
         ("max_normal_force", max_force),
         ("max_penetration", max_pen),
         ("contact_coverage", coverage),
+        (
+            "max_wear_rate",
+            j.wear_rate.iter().cloned().fold(0.0, f64::max),
+        ),
         ("acc_wear_correlation", centred_cmf(&abs_acc, &j.wear_rate)),
         (
             "force_wear_correlation",

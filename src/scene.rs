@@ -197,7 +197,8 @@ pub struct RunSpec {
     /// Settle to the steady state of `steady_state` before simulating `rotations` more.
     #[serde(default)]
     pub settle: bool,
-    pub steady_state: SteadyStateSpec,
+    /// Required when `settle` is true.
+    pub steady_state: Option<SteadyStateSpec>,
     /// Wear profiles saved per rotation for the wear history (0: none), [0, 3600].
     #[serde(default)]
     pub profile_history_per_rotation: u32,
@@ -268,21 +269,12 @@ impl SceneFile {
     /// can be varied before [`SceneFile::build`].
     pub fn read(path: impl AsRef<Path>) -> Result<SceneFile> {
         let path = path.as_ref();
-        SceneFile::from_table(read_table(path, 0)?, path)
+        SceneFile::from_document(SceneFile::read_document(path)?, path)
     }
 
     /// Parses scene text; `path` is used in error messages and to resolve `extends`.
     pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
-        SceneFile::from_table(parse_table(text, path, 0)?, path)
-    }
-
-    fn from_table(table: toml::Table, path: &Path) -> Result<SceneFile> {
-        toml::Value::Table(table)
-            .try_into()
-            .map_err(|e: toml::de::Error| Error::Parse {
-                path: path.to_path_buf(),
-                message: e.to_string(),
-            })
+        SceneFile::from_document(toml::Value::Table(parse_table(text, path, 0)?), path)
     }
 
     /// Validates and converts to SI.
@@ -629,7 +621,17 @@ impl RunSpec {
             tolerances,
             baumgarte: check("run.baumgarte_per_s", self.baumgarte_per_s, 0.0, 1e6)?,
             energy_accounting: self.energy_accounting,
-            settle: self.settle.then(|| self.steady_state.build()).transpose()?,
+            settle: match (&self.settle, &self.steady_state) {
+                (false, _) => None,
+                (true, Some(spec)) => Some(spec.build()?),
+                (true, None) => {
+                    return Err(Error::invalid(
+                        "run.steady_state",
+                        "missing",
+                        "a steady-state criterion when run.settle is true",
+                    ))
+                }
+            },
             profile_history_per_rotation: match self.profile_history_per_rotation {
                 h @ 0..=3600 => h,
                 h => {
@@ -692,60 +694,14 @@ fn parse_table(text: &str, path: &Path, depth: usize) -> Result<toml::Table> {
         None => toml::Table::new(),
     };
     merged.extend(table);
+    let mut doc = toml::Value::Table(merged);
     for (key, value) in overrides {
-        set_dotted(&mut merged, &key, value)
-            .map_err(|m| parse_error(format!("override `{key}`: {m}")))?;
+        set_dotted(&mut doc, &key, value).map_err(|e| parse_error(format!("override: {e}")))?;
     }
-    Ok(merged)
-}
-
-/// Sets `key` (dotted path, array indices as numbers) in a TOML document. Every step but the
-/// last must exist; the last may be new only inside an existing table (an optional key).
-pub fn set_dotted(
-    table: &mut toml::Table,
-    key: &str,
-    value: toml::Value,
-) -> std::result::Result<(), String> {
-    let mut root = toml::Value::Table(std::mem::take(table));
-    let result = set_in(&mut root, key, value);
-    if let toml::Value::Table(t) = root {
-        *table = t;
+    match doc {
+        toml::Value::Table(t) => Ok(t),
+        _ => unreachable!("a scene document is a table"),
     }
-    result
-}
-
-fn set_in(
-    root: &mut toml::Value,
-    key: &str,
-    value: toml::Value,
-) -> std::result::Result<(), String> {
-    let parts: Vec<&str> = key.split('.').collect();
-    let (last, path) = parts.split_last().ok_or("empty key")?;
-    let mut node = root;
-    for (i, part) in path.iter().enumerate() {
-        let here = parts[..=i].join(".");
-        node = match node {
-            toml::Value::Table(t) => t.get_mut(*part),
-            toml::Value::Array(a) => part.parse::<usize>().ok().and_then(|k| a.get_mut(k)),
-            _ => None,
-        }
-        .ok_or_else(|| format!("no `{here}` in the base scene"))?;
-    }
-    match node {
-        toml::Value::Table(t) => {
-            t.insert(last.to_string(), value);
-        }
-        toml::Value::Array(a) => {
-            let slot = last
-                .parse::<usize>()
-                .ok()
-                .and_then(|k| a.get_mut(k))
-                .ok_or_else(|| format!("no `{key}` in the base scene"))?;
-            *slot = value;
-        }
-        _ => return Err(format!("`{key}` does not address a table entry")),
-    }
-    Ok(())
 }
 
 impl SteadyStateSpec {
@@ -819,19 +775,10 @@ pub fn set_dotted(doc: &mut toml::Value, key: &str, value: toml::Value) -> Resul
 }
 
 impl SceneFile {
-    /// Reads a scene file as a TOML document, to be varied with [`set_dotted`].
+    /// Reads a scene file as a TOML document (with `extends` resolved), to be varied with
+    /// [`set_dotted`].
     pub fn read_document(path: impl AsRef<Path>) -> Result<toml::Value> {
-        let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        text.parse::<toml::Table>()
-            .map(toml::Value::Table)
-            .map_err(|e| Error::Parse {
-                path: path.to_path_buf(),
-                message: e.to_string(),
-            })
+        read_table(path.as_ref(), 0).map(toml::Value::Table)
     }
 
     /// Converts a (varied) scene document; `path` is only used in error messages.
