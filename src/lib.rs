@@ -21,6 +21,7 @@ pub mod longlife;
 pub mod mechanism;
 pub mod output;
 pub mod plot;
+pub mod report;
 pub mod scene;
 pub mod simulation;
 pub mod sweep;

@@ -109,6 +109,25 @@ pub fn write_rows(
     })
 }
 
+/// Reads any CSV as text: returns the header and the rows.
+pub fn read_rows(path: &Path) -> Result<(Vec<String>, Vec<Vec<String>>)> {
+    let mut r = csv::Reader::from_path(path).map_err(|e| csv_error(path, e))?;
+    let header = r
+        .headers()
+        .map_err(|e| csv_error(path, e))?
+        .iter()
+        .map(str::to_owned)
+        .collect();
+    let rows = r
+        .records()
+        .map(|rec| {
+            rec.map(|rec| rec.iter().map(str::to_owned).collect())
+                .map_err(|e| csv_error(path, e))
+        })
+        .collect::<Result<Vec<Vec<String>>>>()?;
+    Ok((header, rows))
+}
+
 /// Reads a CSV written by [`write_csv`]: returns the header and the columns.
 pub fn read_csv(path: &Path) -> Result<(Vec<String>, Vec<Vec<f64>>)> {
     let mut r = csv::Reader::from_path(path).map_err(|e| csv_error(path, e))?;
