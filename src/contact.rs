@@ -226,9 +226,8 @@ mod tests {
         assert!(floored.is_finite());
     }
 
-    #[test]
-    fn lankarani_nikravesh_is_hertz_for_internal_cylinders() {
-        let law = ContactLaw::new(
+    fn lankarani_nikravesh() -> ContactLaw {
+        ContactLaw::new(
             NormalForceModel::LankaraniNikravesh,
             E_STAR,
             10e-3,
@@ -236,7 +235,12 @@ mod tests {
             1.5,
             1.0,
             1e-4,
-        );
+        )
+    }
+
+    #[test]
+    fn lankarani_nikravesh_is_hertz_for_internal_cylinders() {
+        let law = lankarani_nikravesh();
         let r_star: f64 = 10e-3 * 9.98e-3 / 2e-5;
         assert_relative_eq!(
             law.force(1e-6, 0.0, 1.0, 2e-5),
@@ -247,15 +251,7 @@ mod tests {
 
     #[test]
     fn elastic_energy_is_the_integral_of_the_force() {
-        let law = ContactLaw::new(
-            NormalForceModel::LankaraniNikravesh,
-            E_STAR,
-            10e-3,
-            9.98e-3,
-            1.5,
-            1.0,
-            1e-4,
-        );
+        let law = lankarani_nikravesh();
         let delta: f64 = 3e-6;
         assert_relative_eq!(
             law.elastic_energy(delta, 2e-5),

@@ -880,7 +880,7 @@ pub fn locate_root(
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
-    use ode_solvers::{System, Vector2, Vector4};
+    use ode_solvers::{SVector, System};
     use std::f64::consts::PI;
 
     /// A system from a closure.
@@ -1000,20 +1000,13 @@ mod tests {
         assert!(global_error(Method::Dop853, 0.2) < 1e-3 * global_error(Method::Dopri5, 0.2));
     }
 
-    /// Van der Pol with mu = 5 for the oracle.
-    struct VanDerPol;
+    /// Van der Pol with mu = 5.
     fn van_der_pol(y: &[f64], dy: &mut [f64]) {
         dy[0] = y[1];
         dy[1] = 5.0 * (1.0 - y[0] * y[0]) * y[1] - y[0];
     }
-    impl System<f64, Vector2<f64>> for VanDerPol {
-        fn system(&self, _t: f64, y: &Vector2<f64>, dy: &mut Vector2<f64>) {
-            van_der_pol(y.as_slice(), dy.as_mut_slice());
-        }
-    }
 
-    /// Kepler problem (mu = 1) for the oracle.
-    struct Kepler;
+    /// Kepler problem (mu = 1).
     fn kepler(y: &[f64], dy: &mut [f64]) {
         let r3 = (y[0] * y[0] + y[1] * y[1]).powf(1.5);
         dy[0] = y[2];
@@ -1021,86 +1014,70 @@ mod tests {
         dy[2] = -y[0] / r3;
         dy[3] = -y[1] / r3;
     }
-    impl System<f64, Vector4<f64>> for Kepler {
-        fn system(&self, _t: f64, y: &Vector4<f64>, dy: &mut Vector4<f64>) {
-            kepler(y.as_slice(), dy.as_mut_slice());
+
+    /// An autonomous right-hand side seen by the oracle crate.
+    struct Oracle(fn(&[f64], &mut [f64]));
+
+    impl<const D: usize> System<f64, SVector<f64, D>> for Oracle {
+        fn system(&self, _t: f64, y: &SVector<f64, D>, dy: &mut SVector<f64, D>) {
+            (self.0)(y.as_slice(), dy.as_mut_slice());
         }
     }
 
     /// Our Dopri5 and ode_solvers' on the same problem: (ours, theirs, our steps, their steps).
-    fn against_oracle(problem: &str, rtol: f64) -> (Vec<f64>, Vec<f64>, u64, u64) {
+    fn against_oracle<const D: usize>(
+        rhs: fn(&[f64], &mut [f64]),
+        y0: [f64; D],
+        t_end: f64,
+        rtol: f64,
+    ) -> (Vec<f64>, Vec<f64>, u64, u64) {
+        let mut sys = Sys(D, |_t: f64, y: &[f64], dy: &mut [f64]| rhs(y, dy));
+        let ours = run(
+            Method::Dopri5,
+            tol(rtol, rtol),
+            D,
+            &mut sys,
+            0.0,
+            &y0,
+            t_end,
+        );
+        let mut theirs = ode_solvers::Dopri5::new(
+            Oracle(rhs),
+            0.0,
+            t_end,
+            t_end,
+            SVector::from(y0),
+            rtol,
+            rtol,
+        );
+        theirs.set_output(ode_solvers::OutputType::Sparse);
+        let stats = theirs.integrate().unwrap();
+        let last = theirs.y_out().last().unwrap().as_slice().to_vec();
+        (
+            ours.y().to_vec(),
+            last,
+            ours.stats().steps,
+            stats.accepted_steps as u64,
+        )
+    }
+
+    /// Kepler orbit of eccentricity 0.5 over three periods.
+    fn kepler_case(rtol: f64) -> (Vec<f64>, Vec<f64>, u64, u64) {
         let e: f64 = 0.5;
-        match problem {
-            "vdp" => {
-                let (y0, t_end) = ([2.0, 0.0], 30.0);
-                let mut sys = Sys(2, |_t: f64, y: &[f64], dy: &mut [f64]| van_der_pol(y, dy));
-                let ours = run(
-                    Method::Dopri5,
-                    tol(rtol, rtol),
-                    2,
-                    &mut sys,
-                    0.0,
-                    &y0,
-                    t_end,
-                );
-                let mut theirs = ode_solvers::Dopri5::new(
-                    VanDerPol,
-                    0.0,
-                    t_end,
-                    t_end,
-                    Vector2::from(y0),
-                    rtol,
-                    rtol,
-                );
-                theirs.set_output(ode_solvers::OutputType::Sparse);
-                let stats = theirs.integrate().unwrap();
-                let last = theirs.y_out().last().unwrap().as_slice().to_vec();
-                (
-                    ours.y().to_vec(),
-                    last,
-                    ours.stats().steps,
-                    stats.accepted_steps as u64,
-                )
-            }
-            _ => {
-                let y0 = [1.0 - e, 0.0, 0.0, ((1.0 + e) / (1.0 - e)).sqrt()];
-                let t_end = 3.0 * 2.0 * PI;
-                let mut sys = Sys(4, |_t: f64, y: &[f64], dy: &mut [f64]| kepler(y, dy));
-                let ours = run(
-                    Method::Dopri5,
-                    tol(rtol, rtol),
-                    4,
-                    &mut sys,
-                    0.0,
-                    &y0,
-                    t_end,
-                );
-                let mut theirs = ode_solvers::Dopri5::new(
-                    Kepler,
-                    0.0,
-                    t_end,
-                    t_end,
-                    Vector4::from(y0),
-                    rtol,
-                    rtol,
-                );
-                theirs.set_output(ode_solvers::OutputType::Sparse);
-                let stats = theirs.integrate().unwrap();
-                let last = theirs.y_out().last().unwrap().as_slice().to_vec();
-                (
-                    ours.y().to_vec(),
-                    last,
-                    ours.stats().steps,
-                    stats.accepted_steps as u64,
-                )
-            }
-        }
+        let y0 = [1.0 - e, 0.0, 0.0, ((1.0 + e) / (1.0 - e)).sqrt()];
+        against_oracle(kepler, y0, 3.0 * 2.0 * PI, rtol)
     }
 
     #[test]
     fn integrator_dopri5_matches_ode_solvers() {
-        for problem in ["vdp", "kepler"] {
-            let (ours, theirs, _, _) = against_oracle(problem, 1e-10);
+        let cases: [(&str, fn(f64) -> (Vec<f64>, Vec<f64>, u64, u64)); 2] = [
+            ("vdp", |rtol| {
+                against_oracle(van_der_pol, [2.0, 0.0], 30.0, rtol)
+            }),
+            ("kepler", kepler_case),
+        ];
+        for (problem, case) in cases {
+            let (ours, theirs, _, _) = case(1e-10);
             let size = theirs.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             for (a, b) in ours.iter().zip(&theirs) {
                 assert!(
@@ -1108,12 +1085,12 @@ mod tests {
                     "{problem}: {ours:?} vs {theirs:?}"
                 );
             }
-            let (_, _, our_steps, their_steps) = against_oracle(problem, 1e-6);
+            let (_, _, our_steps, their_steps) = case(1e-6);
             let rel = (our_steps as f64 - their_steps as f64).abs() / their_steps as f64;
             assert!(rel < 0.2, "{problem}: {our_steps} steps vs {their_steps}");
         }
         // The Kepler orbit also returns to its start after whole periods.
-        let (ours, _, _, _) = against_oracle("kepler", 1e-10);
+        let (ours, _, _, _) = kepler_case(1e-10);
         let e: f64 = 0.5;
         assert_relative_eq!(ours[0], 1.0 - e, epsilon = 1e-7);
         assert_relative_eq!(ours[3], ((1.0 + e) / (1.0 - e)).sqrt(), epsilon = 1e-7);
