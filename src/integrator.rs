@@ -1024,13 +1024,16 @@ mod tests {
         }
     }
 
-    /// Our Dopri5 and ode_solvers' on the same problem: (ours, theirs, our steps, their steps).
+    /// Final states and accepted steps of ours and the oracle: (ours, theirs, our steps, their steps).
+    type Comparison = (Vec<f64>, Vec<f64>, u64, u64);
+
+    /// Our Dopri5 and ode_solvers' on the same problem.
     fn against_oracle<const D: usize>(
         rhs: fn(&[f64], &mut [f64]),
         y0: [f64; D],
         t_end: f64,
         rtol: f64,
-    ) -> (Vec<f64>, Vec<f64>, u64, u64) {
+    ) -> Comparison {
         let mut sys = Sys(D, |_t: f64, y: &[f64], dy: &mut [f64]| rhs(y, dy));
         let ours = run(
             Method::Dopri5,
@@ -1062,7 +1065,7 @@ mod tests {
     }
 
     /// Kepler orbit of eccentricity 0.5 over three periods.
-    fn kepler_case(rtol: f64) -> (Vec<f64>, Vec<f64>, u64, u64) {
+    fn kepler_case(rtol: f64) -> Comparison {
         let e: f64 = 0.5;
         let y0 = [1.0 - e, 0.0, 0.0, ((1.0 + e) / (1.0 - e)).sqrt()];
         against_oracle(kepler, y0, 3.0 * 2.0 * PI, rtol)
@@ -1070,7 +1073,7 @@ mod tests {
 
     #[test]
     fn integrator_dopri5_matches_ode_solvers() {
-        let cases: [(&str, fn(f64) -> (Vec<f64>, Vec<f64>, u64, u64)); 2] = [
+        let cases: [(&str, fn(f64) -> Comparison); 2] = [
             ("vdp", |rtol| {
                 against_oracle(van_der_pol, [2.0, 0.0], 30.0, rtol)
             }),
