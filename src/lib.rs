@@ -16,6 +16,7 @@ pub mod friction;
 pub mod integrator;
 pub mod mechanism;
 pub mod output;
+pub mod performance;
 pub mod plot;
 pub mod scene;
 pub mod simulation;
