@@ -154,33 +154,46 @@ struct Workspace {
     force: Vec<f64>,
     /// Φ_q, sparse: every row touches at most two bodies.
     rows: Vec<Row>,
+    /// The non-zero blocks of the lower triangle of Φ_q M⁻¹ Φ_qᵀ: the pairs of row blocks of
+    /// the same body. Fixed by the joints, so found once, in `resize_workspace`.
+    pairs: Vec<Pair>,
     gamma: Vec<f64>,
     schur: Vec<f64>,
     lambda: Vec<f64>,
 }
 
 /// One row of Φ_q: the three columns of each of (at most) two bodies, and the same columns
-/// times M⁻¹. A `None` body (ground, or a row of one body) contributes nothing.
+/// times M⁻¹. A `None` body (ground, or a row of one body) has zero columns, so the products
+/// below need no branch.
 #[derive(Clone, Copy, Debug, Default)]
 struct Row {
     body: [BodyIndex; 2],
+    /// Index of each block's first coordinate (0 for a `None` body).
+    at: [usize; 2],
     col: [[f64; 3]; 2],
     wcol: [[f64; 3]; 2],
 }
 
-impl Row {
-    /// (body, columns, M⁻¹-weighted columns) of the row's bodies.
-    #[inline]
-    fn blocks(&self) -> impl Iterator<Item = (usize, &[f64; 3], &[f64; 3])> {
-        (0..2).filter_map(|s| self.body[s].map(|b| (b, &self.col[s], &self.wcol[s])))
-    }
+/// Rows `i ≥ j` whose blocks `a` and `b` belong to the same body.
+#[derive(Clone, Copy, Debug)]
+struct Pair {
+    i: usize,
+    a: usize,
+    j: usize,
+    b: usize,
+}
 
+#[inline]
+fn dot3(a: &[f64; 3], b: &[f64]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+impl Row {
     /// Σ columns · x over the row's bodies (x: 3 entries per body).
     #[inline]
     fn dot(&self, x: &[f64]) -> f64 {
-        self.blocks()
-            .map(|(b, c, _)| c[0] * x[3 * b] + c[1] * x[3 * b + 1] + c[2] * x[3 * b + 2])
-            .sum()
+        let [a, b] = self.at;
+        dot3(&self.col[0], &x[a..a + 3]) + dot3(&self.col[1], &x[b..b + 3])
     }
 }
 
@@ -188,8 +201,8 @@ impl Workspace {
     /// x += scale · M⁻¹ Φ_qᵀ λ.
     fn add_weighted_rows(&self, x: &mut [f64], scale: f64) {
         for (r, l) in self.rows.iter().zip(&self.lambda) {
-            for (b, _, wc) in r.blocks() {
-                for (x, wc) in x[3 * b..3 * b + 3].iter_mut().zip(wc) {
+            for (&at, wc) in r.at.iter().zip(&r.wcol) {
+                for (x, wc) in x[at..at + 3].iter_mut().zip(wc) {
                     *x += scale * l * wc;
                 }
             }
@@ -221,7 +234,7 @@ struct Frame {
 
 impl Frame {
     /// `sc` gives the `(sin, cos)` of a body's angle: cached, or computed on demand.
-    #[inline]
+    #[inline(always)]
     fn of(q: &[f64], v: &[f64], b: BodyIndex, sc: impl Fn(usize) -> (f64, f64)) -> Frame {
         match b {
             Some(i) => {
@@ -302,10 +315,25 @@ impl Mechanism {
             inv_mass: vec![(0.0, 0.0); bodies],
             force: vec![0.0; 3 * bodies],
             rows: vec![Row::default(); rows],
+            pairs: Vec::new(),
             gamma: vec![0.0; rows],
             schur: vec![0.0; rows * rows],
             lambda: vec![0.0; rows],
         };
+        // The rows' bodies do not depend on the state: any state reveals the pattern.
+        let zeros = vec![0.0; 3 * bodies];
+        self.constraints(0.0, &zeros, &zeros, None);
+        let blocks = |i: usize| (0..2).map(move |a| (i, a));
+        let rows = &self.ws.rows;
+        self.ws.pairs = (0..rows.len())
+            .flat_map(blocks)
+            .flat_map(|(i, a)| {
+                (0..=i)
+                    .flat_map(blocks)
+                    .map(move |(j, b)| Pair { i, a, j, b })
+            })
+            .filter(|p| rows[p.i].body[p.a].is_some() && rows[p.i].body[p.a] == rows[p.j].body[p.b])
+            .collect();
     }
 
     /// Number of generalised coordinates, 3 per body.
@@ -353,7 +381,12 @@ impl Mechanism {
         let mut set = |a: (BodyIndex, [f64; 3]), b: (BodyIndex, [f64; 3])| {
             let r = rows.next().expect("one row per constraint equation");
             r.body = [a.0, b.0];
-            r.col = [a.1, b.1];
+            for (s, (body, col)) in [a, b].into_iter().enumerate() {
+                (r.at[s], r.col[s]) = match body {
+                    Some(i) => (3 * i, col),
+                    None => (0, [0.0; 3]),
+                };
+            }
         };
         for j in &self.revolutes {
             let (fa, fb) = (frame(j.a.body), frame(j.b.body));
@@ -405,33 +438,21 @@ impl Mechanism {
         }
         for r in &mut ws.rows {
             for (b, (c, wc)) in r.body.iter().zip(r.col.iter().zip(&mut r.wcol)) {
-                if let Some(b) = *b {
-                    let (wm, wj) = ws.inv_mass[b];
-                    *wc = [c[0] * wm, c[1] * wm, c[2] * wj];
-                }
+                let (wm, wj) = b.map_or((0.0, 0.0), |b| ws.inv_mass[b]);
+                *wc = [c[0] * wm, c[1] * wm, c[2] * wj];
             }
         }
     }
 
     /// Solves `(J W Jᵀ) λ = r` (W = M⁻¹) by Cholesky, with r in `ws.lambda` on entry and λ on
-    /// exit. Each entry only pairs the blocks of bodies both rows touch.
+    /// exit. Only the blocks of bodies two rows share contribute ([`Workspace::pairs`]).
     fn solve_schur(&mut self) -> std::result::Result<(), ()> {
         let ws = &mut self.ws;
         let m = ws.rows.len();
-        for (ri, schur) in ws.rows.iter().zip(ws.schur.chunks_exact_mut(m)) {
-            for (rj, s) in ws.rows.iter().zip(schur.iter_mut()) {
-                *s = 0.0;
-                for (bi, ci) in ri.body.iter().zip(&ri.col) {
-                    for (bj, wj) in rj.body.iter().zip(&rj.wcol) {
-                        if bi.is_some() && bi == bj {
-                            *s += ci[0] * wj[0] + ci[1] * wj[1] + ci[2] * wj[2];
-                        }
-                    }
-                }
-                if std::ptr::eq(ri, rj) {
-                    break; // lower triangle only
-                }
-            }
+        ws.schur.fill(0.0);
+        for p in &ws.pairs {
+            let (ri, rj) = (&ws.rows[p.i], &ws.rows[p.j]);
+            ws.schur[p.i * m + p.j] += dot3(&ri.col[p.a], &rj.wcol[p.b]);
         }
         cholesky_solve(&mut ws.schur, &mut ws.lambda, m)
     }
@@ -716,8 +737,8 @@ impl Mechanism {
         let n = self.coordinates();
         let mut jac = vec![0.0; self.ws.rows.len() * n];
         for (row, r) in jac.chunks_exact_mut(n).zip(&self.ws.rows) {
-            for (b, c, _) in r.blocks() {
-                for (x, c) in row[3 * b..3 * b + 3].iter_mut().zip(c) {
+            for (&at, c) in r.at.iter().zip(&r.col) {
+                for (x, c) in row[at..at + 3].iter_mut().zip(c) {
                     *x += c;
                 }
             }
@@ -736,6 +757,7 @@ impl Mechanism {
 
 /// In-place Cholesky factorisation and solve of the SPD `m×m` matrix `a` (lower triangle
 /// used), overwriting `b` with the solution. Errors if `a` is not positive definite.
+/// The diagonal of L is kept as its reciprocal: divisions, not flops, bound this small solve.
 fn cholesky_solve(a: &mut [f64], b: &mut [f64], m: usize) -> std::result::Result<(), ()> {
     let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(x, y)| x * y).sum::<f64>();
     for j in 0..m {
@@ -744,21 +766,18 @@ fn cholesky_solve(a: &mut [f64], b: &mut [f64], m: usize) -> std::result::Result
         if d <= 0.0 || !d.is_finite() {
             return Err(());
         }
-        let d = d.sqrt();
-        row_j[j] = d;
+        let inv = 1.0 / d.sqrt();
+        row_j[j] = inv;
         for row_i in below.chunks_exact_mut(m) {
-            row_i[j] = (row_i[j] - dot(&row_i[..j], &row_j[..j])) / d;
+            row_i[j] = (row_i[j] - dot(&row_i[..j], &row_j[..j])) * inv;
         }
         // Forward substitution L y = b, row by row as L is completed.
-        b[j] = (b[j] - dot(&row_j[..j], &b[..j])) / d;
+        b[j] = (b[j] - dot(&row_j[..j], &b[..j])) * inv;
     }
     // Back substitution Lᵀ x = y.
     for i in (0..m).rev() {
-        let mut s = b[i];
-        for k in i + 1..m {
-            s -= a[k * m + i] * b[k];
-        }
-        b[i] = s / a[i * m + i];
+        let s: f64 = (i + 1..m).map(|k| a[k * m + i] * b[k]).sum();
+        b[i] = (b[i] - s) * a[i * m + i];
     }
     Ok(())
 }

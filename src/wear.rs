@@ -114,6 +114,8 @@ impl Pressure {
     fn primitive(&self, phi: f64) -> f64 {
         let phi = phi.min(self.half_angle);
         match self.shape {
+            // The whole arc (the usual case: arcs are narrower than a sector), without `asin`.
+            Shape::SemiEllipse if phi == self.half_angle => 0.25 * PI * self.half_angle,
             Shape::SemiEllipse => {
                 let x = phi / self.half_angle;
                 0.5 * self.half_angle * (x * (1.0 - x * x).max(0.0).sqrt() + x.asin())
@@ -183,10 +185,12 @@ impl WearProfile {
         let fl = u.floor();
         let t = u - fl;
         let i = (fl as isize).rem_euclid(n as isize) as usize;
-        let p0 = self.depth[(i + n - 1) % n];
+        // Neighbours without `%`: an integer division costs as much as the whole spline.
+        let next = |k: usize| if k + 1 == n { 0 } else { k + 1 };
+        let p0 = self.depth[if i == 0 { n - 1 } else { i - 1 }];
         let p1 = self.depth[i];
-        let p2 = self.depth[(i + 1) % n];
-        let p3 = self.depth[(i + 2) % n];
+        let p2 = self.depth[next(i)];
+        let p3 = self.depth[next(next(i))];
         let c1 = p2 - p0;
         let c2 = 2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3;
         let c3 = -p0 + 3.0 * (p1 - p2) + p3;
