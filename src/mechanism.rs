@@ -158,7 +158,13 @@ struct Workspace {
     /// the same body. Fixed by the joints, so found once, in `resize_workspace`.
     pairs: Vec<Pair>,
     gamma: Vec<f64>,
+    /// J W Jᵀ, then its LDLᵀ factors (row-major m×m, lower triangle).
     schur: Vec<f64>,
+    /// The pivots D of the LDLᵀ factorisation.
+    pivots: Vec<f64>,
+    /// First structurally non-zero column of each row of J W Jᵀ (its envelope, which LDLᵀ
+    /// does not fill): the factorisation skips the zeros before it.
+    first: Vec<usize>,
     lambda: Vec<f64>,
 }
 
@@ -318,6 +324,8 @@ impl Mechanism {
             pairs: Vec::new(),
             gamma: vec![0.0; rows],
             schur: vec![0.0; rows * rows],
+            pivots: vec![0.0; rows],
+            first: Vec::new(),
             lambda: vec![0.0; rows],
         };
         // The rows' bodies do not depend on the state: any state reveals the pattern.
@@ -333,6 +341,17 @@ impl Mechanism {
                     .map(move |(j, b)| Pair { i, a, j, b })
             })
             .filter(|p| rows[p.i].body[p.a].is_some() && rows[p.i].body[p.a] == rows[p.j].body[p.b])
+            .collect();
+        self.ws.first = (0..rows.len())
+            .map(|i| {
+                self.ws
+                    .pairs
+                    .iter()
+                    .filter(|p| p.i == i)
+                    .map(|p| p.j)
+                    .min()
+                    .unwrap_or(i)
+            })
             .collect();
     }
 
@@ -444,7 +463,7 @@ impl Mechanism {
         }
     }
 
-    /// Solves `(J W Jᵀ) λ = r` (W = M⁻¹) by Cholesky, with r in `ws.lambda` on entry and λ on
+    /// Solves `(J W Jᵀ) λ = r` (W = M⁻¹) by LDLᵀ, with r in `ws.lambda` on entry and λ on
     /// exit. Only the blocks of bodies two rows share contribute ([`Workspace::pairs`]).
     fn solve_schur(&mut self) -> std::result::Result<(), ()> {
         let ws = &mut self.ws;
@@ -454,7 +473,7 @@ impl Mechanism {
             let (ri, rj) = (&ws.rows[p.i], &ws.rows[p.j]);
             ws.schur[p.i * m + p.j] += dot3(&ri.col[p.a], &rj.wcol[p.b]);
         }
-        cholesky_solve(&mut ws.schur, &mut ws.lambda, m)
+        ldl_solve(&mut ws.schur, &mut ws.pivots, &ws.first, &mut ws.lambda)
     }
 
     /// Kinematics of clearance joint `k` at state (q, v), without forces.
@@ -755,29 +774,51 @@ impl Mechanism {
     }
 }
 
-/// In-place Cholesky factorisation and solve of the SPD `m×m` matrix `a` (lower triangle
-/// used), overwriting `b` with the solution. Errors if `a` is not positive definite.
-/// The diagonal of L is kept as its reciprocal: divisions, not flops, bound this small solve.
-fn cholesky_solve(a: &mut [f64], b: &mut [f64], m: usize) -> std::result::Result<(), ()> {
-    let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(x, y)| x * y).sum::<f64>();
+/// In-place LDLᵀ factorisation and solve of the SPD matrix `a` (row-major, lower triangle
+/// used, zero before column `first[i]` in row `i`), overwriting `b` with the solution.
+/// Errors if `a` is not positive definite. On exit the strict lower triangle holds L, the
+/// diagonal 1/D and `pivots` D. No square roots and one division per column: this small
+/// solve is bound by their latency, not by its flops.
+fn ldl_solve(
+    a: &mut [f64],
+    pivots: &mut [f64],
+    first: &[usize],
+    b: &mut [f64],
+) -> std::result::Result<(), ()> {
+    let m = b.len();
+    // Σ x_k y_k d_k over k in lo..j
+    let dot = |x: &[f64], y: &[f64], d: &[f64]| -> f64 {
+        x.iter().zip(y).zip(d).map(|((x, y), d)| x * y * d).sum()
+    };
     for j in 0..m {
         let (row_j, below) = a[j * m..].split_at_mut(m);
-        let d = row_j[j] - dot(&row_j[..j], &row_j[..j]);
+        let fj = first[j];
+        let (lj, dj) = (&row_j[fj..j], &pivots[fj..j]);
+        let d = row_j[j] - dot(lj, lj, dj);
         if d <= 0.0 || !d.is_finite() {
             return Err(());
         }
-        let inv = 1.0 / d.sqrt();
-        row_j[j] = inv;
-        for row_i in below.chunks_exact_mut(m) {
-            row_i[j] = (row_i[j] - dot(&row_i[..j], &row_j[..j])) * inv;
+        let inv = 1.0 / d;
+        for (row_i, &fi) in below.chunks_exact_mut(m).zip(&first[j + 1..]) {
+            if fi <= j {
+                let lo = fi.max(fj);
+                let s = dot(&row_i[lo..j], &row_j[lo..j], &pivots[lo..j]);
+                row_i[j] = (row_i[j] - s) * inv;
+            }
         }
         // Forward substitution L y = b, row by row as L is completed.
-        b[j] = (b[j] - dot(&row_j[..j], &b[..j])) * inv;
+        let s: f64 = row_j[fj..j].iter().zip(&b[fj..j]).map(|(l, y)| l * y).sum();
+        b[j] -= s;
+        row_j[j] = inv;
+        pivots[j] = d;
     }
-    // Back substitution Lᵀ x = y.
+    // D z = y, then back substitution Lᵀ x = z.
     for i in (0..m).rev() {
-        let s: f64 = (i + 1..m).map(|k| a[k * m + i] * b[k]).sum();
-        b[i] = (b[i] - s) * a[i * m + i];
+        let s: f64 = (i + 1..m)
+            .filter(|&k| first[k] <= i)
+            .map(|k| a[k * m + i] * b[k])
+            .sum();
+        b[i] = b[i] * a[i * m + i] - s;
     }
     Ok(())
 }
