@@ -283,13 +283,15 @@ struct Interval {
     upper_bound: f64,
 }
 
-/// Where criterion keeps its results: `$CARGO_TARGET_DIR/criterion`, else `target/criterion`
-/// under the crate root.
+/// Where criterion keeps its results, as criterion chooses it: `$CRITERION_HOME`, else
+/// `$CARGO_TARGET_DIR/criterion`, else `target/criterion` under the crate root.
 pub fn criterion_dir() -> PathBuf {
-    std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("target"))
-        .join("criterion")
+    let env = |name| std::env::var_os(name).map(PathBuf::from);
+    env("CRITERION_HOME").unwrap_or_else(|| {
+        env("CARGO_TARGET_DIR")
+            .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("target"))
+            .join("criterion")
+    })
 }
 
 /// Reads `<dir>/<group>/<bench>/new/estimates.json` of every bench, sorted by name, and
