@@ -20,6 +20,7 @@ pub mod integrator;
 pub mod longlife;
 pub mod mechanism;
 pub mod output;
+pub mod performance;
 pub mod plot;
 pub mod report;
 pub mod scene;

@@ -24,7 +24,7 @@
 
 use crate::contact::ContactLaw;
 use crate::friction::FrictionModel;
-use crate::wear::{WearLaw, WearProfile};
+use crate::wear::{wrap_angle, WearLaw, WearProfile};
 use crate::{Error, Result};
 use nalgebra::Vector2;
 
@@ -146,11 +146,71 @@ pub struct Mechanism {
 /// Scratch buffers sized once, so that a right-hand side allocates nothing.
 #[derive(Clone, Debug, Default)]
 struct Workspace {
+    /// `(sin φ, cos φ)` of every body: one `sin_cos` per body and evaluation, not per point.
+    rot: Vec<(f64, f64)>,
+    /// Diagonal of M⁻¹ per body, `(1/m, 1/J)`; refreshed with `rot` (the bodies are public).
+    inv_mass: Vec<(f64, f64)>,
+    /// Applied forces F, then M⁻¹ F.
     force: Vec<f64>,
-    jac: Vec<f64>,
+    /// Φ_q, sparse: every row touches at most two bodies.
+    rows: Vec<Row>,
+    /// The non-zero blocks of the lower triangle of Φ_q M⁻¹ Φ_qᵀ: the pairs of row blocks of
+    /// the same body. Fixed by the joints, so found once, in `resize_workspace`.
+    pairs: Vec<Pair>,
     gamma: Vec<f64>,
+    /// J W Jᵀ, then its LDLᵀ factors (row-major m×m, lower triangle).
     schur: Vec<f64>,
+    /// The pivots D of the LDLᵀ factorisation.
+    pivots: Vec<f64>,
     lambda: Vec<f64>,
+}
+
+/// One row of Φ_q: the three columns of each of (at most) two bodies, and the same columns
+/// times M⁻¹. A `None` body (ground, or a row of one body) has zero columns, so the products
+/// below need no branch.
+#[derive(Clone, Copy, Debug, Default)]
+struct Row {
+    body: [BodyIndex; 2],
+    /// Index of each block's first coordinate (0 for a `None` body).
+    at: [usize; 2],
+    col: [[f64; 3]; 2],
+    wcol: [[f64; 3]; 2],
+}
+
+/// Rows `i ≥ j` whose blocks `a` and `b` belong to the same body.
+#[derive(Clone, Copy, Debug)]
+struct Pair {
+    i: usize,
+    a: usize,
+    j: usize,
+    b: usize,
+}
+
+#[inline]
+fn dot3(a: &[f64; 3], b: &[f64]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+impl Row {
+    /// Σ columns · x over the row's bodies (x: 3 entries per body).
+    #[inline]
+    fn dot(&self, x: &[f64]) -> f64 {
+        let [a, b] = self.at;
+        dot3(&self.col[0], &x[a..a + 3]) + dot3(&self.col[1], &x[b..b + 3])
+    }
+}
+
+impl Workspace {
+    /// x += scale · M⁻¹ Φ_qᵀ λ.
+    fn add_weighted_rows(&self, x: &mut [f64], scale: f64) {
+        for (r, l) in self.rows.iter().zip(&self.lambda) {
+            for (&at, wc) in r.at.iter().zip(&r.wcol) {
+                for (x, wc) in x[at..at + 3].iter_mut().zip(wc) {
+                    *x += scale * l * wc;
+                }
+            }
+        }
+    }
 }
 
 #[inline]
@@ -158,39 +218,60 @@ fn perp(v: Vector2<f64>) -> Vector2<f64> {
     Vector2::new(-v.y, v.x)
 }
 
+/// Rotates `v` by the angle whose `(sin, cos)` is `sc`.
 #[inline]
-fn rotate(phi: f64, v: Vector2<f64>) -> Vector2<f64> {
-    let (s, c) = phi.sin_cos();
+fn rotate((s, c): (f64, f64), v: Vector2<f64>) -> Vector2<f64> {
     Vector2::new(c * v.x - s * v.y, s * v.x + c * v.y)
 }
 
-/// Position, angle, velocity and angular velocity of a body (ground: all zero).
-#[inline]
-fn body_state(q: &[f64], v: &[f64], b: BodyIndex) -> (Vector2<f64>, f64, Vector2<f64>, f64) {
-    match b {
-        Some(i) => {
-            let k = 3 * i;
-            (
-                Vector2::new(q[k], q[k + 1]),
-                q[k + 2],
-                Vector2::new(v[k], v[k + 1]),
-                v[k + 2],
-            )
+/// Position, angle, velocity, angular velocity and `(sin, cos)` of the angle of a body
+/// (ground: at rest at the origin, angle 0).
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    r: Vector2<f64>,
+    phi: f64,
+    rd: Vector2<f64>,
+    w: f64,
+    sc: (f64, f64),
+}
+
+impl Frame {
+    /// `sc` gives the `(sin, cos)` of a body's angle: cached, or computed on demand.
+    #[inline(always)]
+    fn of(q: &[f64], v: &[f64], b: BodyIndex, sc: impl Fn(usize) -> (f64, f64)) -> Frame {
+        match b {
+            Some(i) => {
+                let k = 3 * i;
+                Frame {
+                    r: Vector2::new(q[k], q[k + 1]),
+                    phi: q[k + 2],
+                    rd: Vector2::new(v[k], v[k + 1]),
+                    w: v[k + 2],
+                    sc: sc(i),
+                }
+            }
+            None => Frame {
+                r: Vector2::zeros(),
+                phi: 0.0,
+                rd: Vector2::zeros(),
+                w: 0.0,
+                sc: (0.0, 1.0),
+            },
         }
-        None => (Vector2::zeros(), 0.0, Vector2::zeros(), 0.0),
+    }
+
+    /// Global position and velocity of the point at `local`, and its rotated local vector.
+    #[inline]
+    fn point(&self, local: Vector2<f64>) -> (Vector2<f64>, Vector2<f64>, Vector2<f64>) {
+        let s = rotate(self.sc, local);
+        (self.r + s, self.rd + perp(s) * self.w, s)
     }
 }
 
-/// Global position and velocity of a body point, and its rotated local vector.
+/// `(sin, cos)` of body `i`'s angle, computed from q.
 #[inline]
-fn point_state(
-    q: &[f64],
-    v: &[f64],
-    p: &BodyPoint,
-) -> (Vector2<f64>, Vector2<f64>, Vector2<f64>, f64) {
-    let (r, phi, rd, w) = body_state(q, v, p.body);
-    let s = rotate(phi, p.local);
-    (r + s, rd + perp(s) * w, s, w)
+fn sin_cos(q: &[f64]) -> impl Fn(usize) -> (f64, f64) + Copy + '_ {
+    move |i| q[3 * i + 2].sin_cos()
 }
 
 /// Adds a force `f` applied at rotated offset `s` from the centre of mass of body `b`.
@@ -231,14 +312,32 @@ impl Mechanism {
     }
 
     fn resize_workspace(&mut self, rows: usize) {
-        let n = self.coordinates();
+        let bodies = self.bodies.len();
         self.ws = Workspace {
-            force: vec![0.0; n],
-            jac: vec![0.0; rows * n],
+            rot: vec![(0.0, 1.0); bodies],
+            inv_mass: vec![(0.0, 0.0); bodies],
+            force: vec![0.0; 3 * bodies],
+            rows: vec![Row::default(); rows],
+            pairs: Vec::new(),
             gamma: vec![0.0; rows],
             schur: vec![0.0; rows * rows],
+            pivots: vec![0.0; rows],
             lambda: vec![0.0; rows],
         };
+        // The rows' bodies do not depend on the state: any state reveals the pattern.
+        let zeros = vec![0.0; 3 * bodies];
+        self.constraints(0.0, &zeros, &zeros, None);
+        let blocks = |i: usize| (0..2).map(move |a| (i, a));
+        let rows = &self.ws.rows;
+        self.ws.pairs = (0..rows.len())
+            .flat_map(blocks)
+            .flat_map(|(i, a)| {
+                (0..=i)
+                    .flat_map(blocks)
+                    .map(move |(j, b)| Pair { i, a, j, b })
+            })
+            .filter(|p| rows[p.i].body[p.a].is_some() && rows[p.i].body[p.a] == rows[p.j].body[p.b])
+            .collect();
     }
 
     /// Number of generalised coordinates, 3 per body.
@@ -266,26 +365,41 @@ impl Mechanism {
         self.constraint_count() - 1
     }
 
-    /// Fills Φ (into `phi` if given), the Jacobian Φ_q, and γ = −(Φ_q q̇)_q q̇ of the ideal joints.
+    /// Fills the body rotations and inverse masses of the workspace, Φ (into `phi` if given),
+    /// the Jacobian Φ_q (with M⁻¹ Φ_qᵀ), and γ = −(Φ_q q̇)_q q̇ of the ideal joints.
     fn constraints(&mut self, t: f64, q: &[f64], v: &[f64], mut phi: Option<&mut [f64]>) {
-        let n = self.coordinates();
         let ws = &mut self.ws;
-        ws.jac.fill(0.0);
+        for (i, (b, (rot, w))) in self
+            .bodies
+            .iter()
+            .zip(ws.rot.iter_mut().zip(&mut ws.inv_mass))
+            .enumerate()
+        {
+            *rot = q[3 * i + 2].sin_cos();
+            *w = (1.0 / b.mass, 1.0 / b.inertia);
+        }
+        let rot = &ws.rot;
+        let frame = |b: BodyIndex| Frame::of(q, v, b, |i| rot[i]);
+        let mut rows = ws.rows.iter_mut();
         let mut row = 0;
-        let set = |jac: &mut [f64], row: usize, b: BodyIndex, vals: [f64; 3]| {
-            if let Some(i) = b {
-                jac[row * n + 3 * i..row * n + 3 * i + 3].copy_from_slice(&vals);
+        let mut set = |a: (BodyIndex, [f64; 3]), b: (BodyIndex, [f64; 3])| {
+            let r = rows.next().expect("one row per constraint equation");
+            r.body = [a.0, b.0];
+            for (s, (body, col)) in [a, b].into_iter().enumerate() {
+                (r.at[s], r.col[s]) = match body {
+                    Some(i) => (3 * i, col),
+                    None => (0, [0.0; 3]),
+                };
             }
         };
         for j in &self.revolutes {
-            let (ra, _, sa, wa) = point_state(q, v, &j.a);
-            let (rb, _, sb, wb) = point_state(q, v, &j.b);
+            let (fa, fb) = (frame(j.a.body), frame(j.b.body));
+            let (ra, _, sa) = fa.point(j.a.local);
+            let (rb, _, sb) = fb.point(j.b.local);
             let (pa, pb) = (perp(sa), perp(sb));
-            set(&mut ws.jac, row, j.a.body, [1.0, 0.0, pa.x]);
-            set(&mut ws.jac, row + 1, j.a.body, [0.0, 1.0, pa.y]);
-            set(&mut ws.jac, row, j.b.body, [-1.0, 0.0, -pb.x]);
-            set(&mut ws.jac, row + 1, j.b.body, [0.0, -1.0, -pb.y]);
-            let g = sa * wa * wa - sb * wb * wb;
+            set((j.a.body, [1.0, 0.0, pa.x]), (j.b.body, [-1.0, 0.0, -pb.x]));
+            set((j.a.body, [0.0, 1.0, pa.y]), (j.b.body, [0.0, -1.0, -pb.y]));
+            let g = sa * fa.w * fa.w - sb * fb.w * fb.w;
             ws.gamma[row] = g.x;
             ws.gamma[row + 1] = g.y;
             if let Some(phi) = phi.as_deref_mut() {
@@ -296,93 +410,114 @@ impl Mechanism {
             row += 2;
         }
         for j in &self.translationals {
-            let (ra, va, sa, wa) = point_state(q, v, &j.a);
-            let (rb, vb, sb, wb) = point_state(q, v, &j.b);
-            let (fa, fb) = (body_state(q, v, j.a.body).1, body_state(q, v, j.b.body).1);
-            let nrm = rotate(fb, j.normal);
+            let (fa, fb) = (frame(j.a.body), frame(j.b.body));
+            let (ra, va, sa) = fa.point(j.a.local);
+            let (rb, vb, sb) = fb.point(j.b.local);
+            let (wa, wb) = (fa.w, fb.w);
+            let nrm = rotate(fb.sc, j.normal);
             let d = ra - rb;
             let d_dot = va - vb;
-            set(&mut ws.jac, row, j.a.body, [0.0, 0.0, 1.0]);
-            set(&mut ws.jac, row, j.b.body, [0.0, 0.0, -1.0]);
+            set((j.a.body, [0.0, 0.0, 1.0]), (j.b.body, [0.0, 0.0, -1.0]));
             ws.gamma[row] = 0.0;
             set(
-                &mut ws.jac,
-                row + 1,
-                j.a.body,
-                [nrm.x, nrm.y, nrm.dot(&perp(sa))],
-            );
-            set(
-                &mut ws.jac,
-                row + 1,
-                j.b.body,
-                [-nrm.x, -nrm.y, perp(nrm).dot(&d) - nrm.dot(&perp(sb))],
+                (j.a.body, [nrm.x, nrm.y, nrm.dot(&perp(sa))]),
+                (
+                    j.b.body,
+                    [-nrm.x, -nrm.y, perp(nrm).dot(&d) - nrm.dot(&perp(sb))],
+                ),
             );
             ws.gamma[row + 1] = nrm.dot(&d) * wb * wb - 2.0 * wb * perp(nrm).dot(&d_dot)
                 + nrm.dot(&(sa * wa * wa - sb * wb * wb));
             if let Some(phi) = phi.as_deref_mut() {
-                phi[row] = fa - fb - j.relative_angle;
+                phi[row] = fa.phi - fb.phi - j.relative_angle;
                 phi[row + 1] = nrm.dot(&d);
             }
             row += 2;
         }
         let dr = &self.driver;
-        set(&mut ws.jac, row, Some(dr.body), [0.0, 0.0, 1.0]);
+        set((Some(dr.body), [0.0, 0.0, 1.0]), (None, [0.0; 3]));
         ws.gamma[row] = 0.0;
         if let Some(phi) = phi {
             phi[row] = q[3 * dr.body + 2] - dr.angle0 - dr.omega * t;
         }
-    }
-
-    /// Solves `(J W Jᵀ) λ = r` (W = M⁻¹) by Cholesky, with r in `ws.lambda` on entry and λ on exit.
-    fn solve_schur(&mut self) -> std::result::Result<(), ()> {
-        let n = self.coordinates();
-        let m = self.ws.gamma.len();
-        let ws = &mut self.ws;
-        for i in 0..m {
-            for j in 0..=i {
-                let mut s = 0.0;
-                for k in 0..n {
-                    let (a, b) = (ws.jac[i * n + k], ws.jac[j * n + k]);
-                    if a != 0.0 && b != 0.0 {
-                        let body = &self.bodies[k / 3];
-                        s += a * b / if k % 3 == 2 { body.inertia } else { body.mass };
-                    }
-                }
-                ws.schur[i * m + j] = s;
+        for r in &mut ws.rows {
+            for (b, (c, wc)) in r.body.iter().zip(r.col.iter().zip(&mut r.wcol)) {
+                let (wm, wj) = b.map_or((0.0, 0.0), |b| ws.inv_mass[b]);
+                *wc = [c[0] * wm, c[1] * wm, c[2] * wj];
             }
         }
-        cholesky_solve(&mut ws.schur, &mut ws.lambda, m)
+    }
+
+    /// Solves `(J W Jᵀ) λ = r` (W = M⁻¹) by LDLᵀ, with r in `ws.lambda` on entry and λ on
+    /// exit. Only the blocks of bodies two rows share contribute ([`Workspace::pairs`]).
+    fn solve_schur(&mut self) -> std::result::Result<(), ()> {
+        let ws = &mut self.ws;
+        let m = ws.rows.len();
+        ws.schur.fill(0.0);
+        for p in &ws.pairs {
+            let (ri, rj) = (&ws.rows[p.i], &ws.rows[p.j]);
+            ws.schur[p.i * m + p.j] += dot3(&ri.col[p.a], &rj.wcol[p.b]);
+        }
+        let (a, d, b) = (&mut ws.schur, &mut ws.pivots, &mut ws.lambda);
+        // Loop control, not arithmetic, dominates this small solve: with a constant size
+        // (ldl_solve is inlined into each arm) the compiler unrolls it and drops the bounds
+        // checks, a quarter fewer instructions for the standard scene.
+        macro_rules! unrolled {
+            ($($size:literal)*) => {
+                match m {
+                    $($size => ldl_solve(a, d, b, $size),)*
+                    _ => ldl_solve(a, d, b, m),
+                }
+            };
+        }
+        unrolled!(1 2 3 4 5 6 7 8 9 10)
     }
 
     /// Kinematics of clearance joint `k` at state (q, v), without forces.
     #[inline]
     pub fn contact_kinematics(&self, k: usize, q: &[f64], v: &[f64]) -> ContactState {
+        self.contact_geometry(k, q, v, sin_cos(q)).0
+    }
+
+    /// Kinematics of clearance joint `k`, with the rotated local vectors of journal and
+    /// bearing centre (`sc`: the bodies' `(sin, cos)`, see [`Frame::of`]).
+    #[inline]
+    fn contact_geometry(
+        &self,
+        k: usize,
+        q: &[f64],
+        v: &[f64],
+        sc: impl Fn(usize) -> (f64, f64) + Copy,
+    ) -> (ContactState, Vector2<f64>, Vector2<f64>) {
         let cj = &self.clearance_joints[k];
-        let (rj, vj, _, wj) = point_state(q, v, &cj.journal);
-        let (rb, vb, _, wb) = point_state(q, v, &cj.bearing);
-        let phib = body_state(q, v, cj.bearing.body).1;
+        let fj = Frame::of(q, v, cj.journal.body, sc);
+        let fb = Frame::of(q, v, cj.bearing.body, sc);
+        let (rj, vj, sj) = fj.point(cj.journal.local);
+        let (rb, vb, sb) = fb.point(cj.bearing.local);
+        let (wj, wb) = (fj.w, fb.w);
         let e = rj - rb;
         let e_dot = vj - vb;
         let dist = e.norm();
         let c = cj.r_bearing - cj.r_journal;
         if dist == 0.0 {
             // Exactly centred: no direction, far from contact.
-            return ContactState {
+            let cs = ContactState {
                 delta: -c,
                 local_clearance: c,
                 ..Default::default()
             };
+            return (cs, sj, sb);
         }
         let n = e / dist;
         let t = perp(n);
-        let theta = (n.y.atan2(n.x) - phib).rem_euclid(std::f64::consts::TAU);
+        let theta = wrap_angle(n.y.atan2(n.x) - fb.phi);
         let theta_rate = t.dot(&e_dot) / dist - wb;
         let (h, dh) = match cj.wear {
             Some(_) => cj.profile.depth_at(theta),
             None => (0.0, 0.0),
         };
         let e_rate = n.dot(&e_dot);
-        ContactState {
+        let cs = ContactState {
             e,
             theta,
             delta: dist - c - h,
@@ -392,14 +527,20 @@ impl Mechanism {
             f_n: 0.0,
             f_t: 0.0,
             e_rate,
-        }
+        };
+        (cs, sj, sb)
     }
 
     /// Kinematics and forces of clearance joint `k`.
     #[inline]
     pub fn contact_state(&self, k: usize, q: &[f64], v: &[f64]) -> ContactState {
+        self.with_forces(k, self.contact_kinematics(k, q, v))
+    }
+
+    /// Adds the normal and friction forces of clearance joint `k` to its kinematics.
+    #[inline]
+    fn with_forces(&self, k: usize, mut cs: ContactState) -> ContactState {
         let cj = &self.clearance_joints[k];
-        let mut cs = self.contact_kinematics(k, q, v);
         if cs.in_contact() {
             cs.f_n = cj.contact.force(
                 cs.delta,
@@ -414,7 +555,8 @@ impl Mechanism {
         cs
     }
 
-    /// Generalised forces: gravity plus clearance-joint contact forces (eq. 11).
+    /// Generalised forces: gravity plus clearance-joint contact forces (eq. 11), with the body
+    /// rotations of the last [`Mechanism::constraints`] call.
     /// Returns (normal-force power, friction power) into the system.
     fn applied_forces(&mut self, q: &[f64], v: &[f64]) -> (f64, f64) {
         let mut force = std::mem::take(&mut self.ws.force);
@@ -424,8 +566,10 @@ impl Mechanism {
             force[3 * i + 2] = 0.0;
         }
         let (mut p_normal, mut p_friction) = (0.0, 0.0);
+        let rot = &self.ws.rot;
         for k in 0..self.clearance_joints.len() {
-            let cs = self.contact_state(k, q, v);
+            let (cs, sj, sb) = self.contact_geometry(k, q, v, |i| rot[i]);
+            let cs = self.with_forces(k, cs);
             if cs.f_n == 0.0 {
                 continue;
             }
@@ -433,12 +577,18 @@ impl Mechanism {
             let n = cs.e / cs.e.norm();
             let t = perp(n);
             let on_journal = -n * cs.f_n + t * cs.f_t;
-            let sj =
-                rotate(body_state(q, v, cj.journal.body).1, cj.journal.local) + n * cj.r_journal;
-            let sb =
-                rotate(body_state(q, v, cj.bearing.body).1, cj.bearing.local) + n * cj.r_bearing;
-            add_force(&mut force, cj.journal.body, sj, on_journal);
-            add_force(&mut force, cj.bearing.body, sb, -on_journal);
+            add_force(
+                &mut force,
+                cj.journal.body,
+                sj + n * cj.r_journal,
+                on_journal,
+            );
+            add_force(
+                &mut force,
+                cj.bearing.body,
+                sb + n * cj.r_bearing,
+                -on_journal,
+            );
             p_normal -= cs.f_n * cs.e_rate;
             p_friction += cs.f_t * cs.v_t;
         }
@@ -450,8 +600,11 @@ impl Mechanism {
     pub fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
         let n = self.coordinates();
         let (q, v) = (&y[..n], &y[n..2 * n]);
+        let mut phi = std::mem::take(&mut self.ws.lambda);
+        self.constraints(t, q, v, Some(&mut phi));
+        self.ws.lambda = phi;
         let (p_normal, p_friction) = self.applied_forces(q, v);
-        self.accelerations(t, q, v, &mut dy[n..2 * n])?;
+        self.accelerations(t, v, &mut dy[n..2 * n])?;
         dy[..n].copy_from_slice(v);
         if self.energy_accounting {
             let d = &self.driver;
@@ -462,49 +615,32 @@ impl Mechanism {
         Ok(())
     }
 
-    /// q̈ for the applied forces already in the workspace; leaves λ in the workspace.
-    fn accelerations(&mut self, t: f64, q: &[f64], v: &[f64], acc: &mut [f64]) -> Result<()> {
-        let n = self.coordinates();
-        let m = self.constraint_count();
-        let mut phi = std::mem::take(&mut self.ws.lambda);
-        self.constraints(t, q, v, Some(&mut phi));
+    /// q̈ = M⁻¹ (F − Φ_qᵀ λ) for the constraints, Φ (in `ws.lambda`) and applied forces in
+    /// the workspace; leaves λ in the workspace.
+    fn accelerations(&mut self, t: f64, v: &[f64], acc: &mut [f64]) -> Result<()> {
         let (alpha, beta) = self.baumgarte;
         let omega = self.driver.omega;
         let ws = &mut self.ws;
-        for (i, (p, row)) in phi.iter_mut().zip(ws.jac.chunks_exact(n)).enumerate() {
-            let mut phi_dot = 0.0;
-            let mut jwf = 0.0;
-            for k in 0..n {
-                if row[k] != 0.0 {
-                    let b = &self.bodies[k / 3];
-                    let w = if k % 3 == 2 {
-                        1.0 / b.inertia
-                    } else {
-                        1.0 / b.mass
-                    };
-                    phi_dot += row[k] * v[k];
-                    jwf += row[k] * w * ws.force[k];
-                }
-            }
+        for (f, w) in ws.force.chunks_exact_mut(3).zip(&ws.inv_mass) {
+            f[0] *= w.0;
+            f[1] *= w.0;
+            f[2] *= w.1;
+        }
+        let m = ws.rows.len();
+        for (i, (p, row)) in ws.lambda.iter_mut().zip(&ws.rows).enumerate() {
+            let mut phi_dot = row.dot(v);
             if i == m - 1 {
                 phi_dot -= omega;
             }
-            *p = jwf - (ws.gamma[i] - 2.0 * alpha * phi_dot - beta * beta * *p);
+            *p = row.dot(&ws.force) - (ws.gamma[i] - 2.0 * alpha * phi_dot - beta * beta * *p);
         }
-        ws.lambda = phi;
         self.solve_schur().map_err(|_| Error::Integration {
             time: t,
             cause: "singular constraint Jacobian (locked or redundant joints)".into(),
         })?;
         let ws = &self.ws;
-        for (k, a) in acc.iter_mut().enumerate() {
-            let mut s = ws.force[k];
-            for i in 0..m {
-                s -= ws.jac[i * n + k] * ws.lambda[i];
-            }
-            let b = &self.bodies[k / 3];
-            *a = s / if k % 3 == 2 { b.inertia } else { b.mass };
-        }
+        acc.copy_from_slice(&ws.force);
+        ws.add_weighted_rows(acc, -1.0);
         Ok(())
     }
 
@@ -599,20 +735,7 @@ impl Mechanism {
                 "independent joints (no locked or redundant joint)",
             )
         })?;
-        let n = self.coordinates();
-        let m = self.ws.lambda.len();
-        for (k, xk) in x.iter_mut().enumerate() {
-            let b = &self.bodies[k / 3];
-            let w = if k % 3 == 2 {
-                1.0 / b.inertia
-            } else {
-                1.0 / b.mass
-            };
-            let s: f64 = (0..m)
-                .map(|i| self.ws.jac[i * n + k] * self.ws.lambda[i])
-                .sum();
-            *xk += sign * w * s;
-        }
+        self.ws.add_weighted_rows(x, sign);
         Ok(())
     }
 
@@ -627,7 +750,16 @@ impl Mechanism {
     /// Dense copy of the constraint Jacobian and γ at (t, q, v), for tests and diagnostics.
     pub fn jacobian(&mut self, t: f64, q: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64>) {
         self.constraints(t, q, v, None);
-        (self.ws.jac.clone(), self.ws.gamma.clone())
+        let n = self.coordinates();
+        let mut jac = vec![0.0; self.ws.rows.len() * n];
+        for (row, r) in jac.chunks_exact_mut(n).zip(&self.ws.rows) {
+            for (&at, c) in r.at.iter().zip(&r.col) {
+                for (x, c) in row[at..at + 3].iter_mut().zip(c) {
+                    *x += c;
+                }
+            }
+        }
+        (jac, self.ws.gamma.clone())
     }
 
     /// Constraint residual vector Φ(q, t).
@@ -639,40 +771,51 @@ impl Mechanism {
     }
 }
 
-/// In-place Cholesky factorisation and solve of the SPD `m×m` matrix `a` (lower triangle
-/// used), overwriting `b` with the solution. Errors if `a` is not positive definite.
-fn cholesky_solve(a: &mut [f64], b: &mut [f64], m: usize) -> std::result::Result<(), ()> {
+/// In-place LDLᵀ factorisation and solve of the SPD `m×m` matrix `a` (row-major, lower
+/// triangle used), overwriting `b` with the solution. Errors if `a` is not positive definite.
+/// On exit the strict lower triangle holds L, the diagonal 1/D and `pivots` D. No square
+/// roots and one division per column: the solve is bound by latency, not by its flops.
+#[inline(always)]
+fn ldl_solve(
+    a: &mut [f64],
+    pivots: &mut [f64],
+    b: &mut [f64],
+    m: usize,
+) -> std::result::Result<(), ()> {
+    let (a, pivots, b) = (&mut a[..m * m], &mut pivots[..m], &mut b[..m]);
     for j in 0..m {
         let mut d = a[j * m + j];
         for k in 0..j {
-            d -= a[j * m + k] * a[j * m + k];
+            d -= a[j * m + k] * a[j * m + k] * pivots[k];
         }
         if d <= 0.0 || !d.is_finite() {
             return Err(());
         }
-        let d = d.sqrt();
-        a[j * m + j] = d;
+        let inv = 1.0 / d;
         for i in j + 1..m {
             let mut s = a[i * m + j];
             for k in 0..j {
-                s -= a[i * m + k] * a[j * m + k];
+                s -= a[i * m + k] * a[j * m + k] * pivots[k];
             }
-            a[i * m + j] = s / d;
+            a[i * m + j] = s * inv;
         }
-    }
-    for i in 0..m {
-        let mut s = b[i];
-        for k in 0..i {
-            s -= a[i * m + k] * b[k];
+        // Forward substitution L y = b, row by row as L is completed. Sums accumulate in
+        // locals: through `b[j]` every term would wait for the previous store.
+        let mut y = b[j];
+        for k in 0..j {
+            y -= a[j * m + k] * b[k];
         }
-        b[i] = s / a[i * m + i];
+        b[j] = y;
+        a[j * m + j] = inv;
+        pivots[j] = d;
     }
+    // D z = y, then back substitution Lᵀ x = z.
     for i in (0..m).rev() {
-        let mut s = b[i];
+        let mut x = b[i] * a[i * m + i];
         for k in i + 1..m {
-            s -= a[k * m + i] * b[k];
+            x -= a[k * m + i] * b[k];
         }
-        b[i] = s / a[i * m + i];
+        b[i] = x;
     }
     Ok(())
 }

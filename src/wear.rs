@@ -114,6 +114,8 @@ impl Pressure {
     fn primitive(&self, phi: f64) -> f64 {
         let phi = phi.min(self.half_angle);
         match self.shape {
+            // The whole arc (the usual case: arcs are narrower than a sector), without `asin`.
+            Shape::SemiEllipse if phi == self.half_angle => 0.25 * PI * self.half_angle,
             Shape::SemiEllipse => {
                 let x = phi / self.half_angle;
                 0.5 * self.half_angle * (x * (1.0 - x * x).max(0.0).sqrt() + x.asin())
@@ -124,10 +126,28 @@ impl Pressure {
         }
     }
 
+    /// ∫₀^φ p dφ' / peak for any φ (odd in φ).
+    fn signed_primitive(&self, phi: f64) -> f64 {
+        phi.signum() * self.primitive(phi.abs())
+    }
+
     /// ∫ p dφ / peak over [a, b] (rad, relative to the contact centre, a ≤ b).
+    #[cfg(test)]
     fn integral(&self, a: f64, b: f64) -> f64 {
-        let signed = |x: f64| x.signum() * self.primitive(x.abs());
-        signed(b) - signed(a)
+        self.signed_primitive(b) - self.signed_primitive(a)
+    }
+}
+
+/// `theta` in [0, 2π], as `theta.rem_euclid(2π)` (to the last bit), without its `fmod` for
+/// the angles a contact produces, which are at most one turn off.
+#[inline]
+pub fn wrap_angle(theta: f64) -> f64 {
+    if (0.0..TAU).contains(&theta) {
+        theta
+    } else if (-TAU..0.0).contains(&theta) {
+        theta + TAU
+    } else {
+        theta.rem_euclid(TAU)
     }
 }
 
@@ -161,14 +181,16 @@ impl WearProfile {
     #[inline]
     pub fn depth_at(&self, theta: f64) -> (f64, f64) {
         let n = self.depth.len();
-        let u = theta.rem_euclid(TAU) / self.width - 0.5;
+        let u = wrap_angle(theta) / self.width - 0.5;
         let fl = u.floor();
         let t = u - fl;
         let i = (fl as isize).rem_euclid(n as isize) as usize;
-        let p0 = self.depth[(i + n - 1) % n];
+        // Neighbours without `%`: an integer division costs as much as the whole spline.
+        let next = |k: usize| if k + 1 == n { 0 } else { k + 1 };
+        let p0 = self.depth[if i == 0 { n - 1 } else { i - 1 }];
         let p1 = self.depth[i];
-        let p2 = self.depth[(i + 1) % n];
-        let p3 = self.depth[(i + 2) % n];
+        let p2 = self.depth[next(i)];
+        let p3 = self.depth[next(next(i))];
         let c1 = p2 - p0;
         let c2 = 2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3;
         let c3 = -p0 + 3.0 * (p1 - p2) + p3;
@@ -186,15 +208,18 @@ impl WearProfile {
             return;
         }
         let half = pressure.half_angle.min(PI);
-        let theta = theta.rem_euclid(TAU);
+        let theta = wrap_angle(theta);
         let first = ((theta - half) / self.width).floor() as isize;
         let last = ((theta + half) / self.width).floor() as isize;
+        // Adjacent sectors share an edge: evaluate the pressure's primitive once per edge.
+        let edge = |k: isize| (k as f64 * self.width - theta).clamp(-half, half);
+        let mut lo = pressure.signed_primitive(edge(first));
         for k in first..=last {
-            let lo = (k as f64 * self.width - theta).max(-half);
-            let hi = ((k + 1) as f64 * self.width - theta).min(half);
+            let hi = pressure.signed_primitive(edge(k + 1));
             if hi > lo {
-                self.depth[k.rem_euclid(n as isize) as usize] += scale * pressure.integral(lo, hi);
+                self.depth[k.rem_euclid(n as isize) as usize] += scale * (hi - lo);
             }
+            lo = hi;
         }
     }
 

@@ -1,0 +1,137 @@
+//! Criterion benches of the hot paths, all on the shipped standard scene:
+//! contact force per normal-force model, friction per law, one right-hand side, one crank
+//! rotation and the 40-rotation coupled wear run of figure 6.
+//!
+//! `cargo bench`, then `cargo run --release --bin bench_summary` writes `data/benchmarks.csv`.
+
+use criterion::{criterion_group, criterion_main, Criterion, SamplingMode};
+use jointwear::contact::NormalForceModel;
+use jointwear::friction::FrictionModel;
+use jointwear::scene::{scene_path, Scene, SceneFile};
+use jointwear::simulation::simulate;
+use std::hint::black_box;
+use std::time::Duration;
+
+fn standard() -> SceneFile {
+    SceneFile::read(scene_path("standard")).expect("standard scene")
+}
+
+fn build(file: &SceneFile) -> Scene {
+    file.build().expect("valid scene")
+}
+
+/// The standard scene as figure 6 runs it (no time series), over `rotations` rotations.
+fn wear_run(rotations: u32) -> Scene {
+    let mut f = standard();
+    f.run.rotations = rotations;
+    f.run.record_rotations = 0;
+    f.run.wear_snapshots.retain(|&r| r <= rotations);
+    build(&f)
+}
+
+/// A typical contact of the standard joint: 1 µm penetration, closing at 1 cm/s.
+const DELTA: f64 = 1e-6;
+const DELTA_DOT: f64 = 1e-2;
+const IMPACT_VELOCITY: f64 = 0.1;
+
+fn contact_force(c: &mut Criterion) {
+    let mut group = c.benchmark_group("contact_force");
+    for (name, model) in [
+        ("hybrid", NormalForceModel::Hybrid),
+        ("lankarani-nikravesh", NormalForceModel::LankaraniNikravesh),
+    ] {
+        let mut f = standard();
+        f.clearance[0].contact.model = model;
+        let scene = build(&f);
+        let cj = &scene.mechanism.clearance_joints[0];
+        let (law, dr) = (cj.contact, cj.r_bearing - cj.r_journal);
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                law.force(
+                    black_box(DELTA),
+                    black_box(DELTA_DOT),
+                    black_box(IMPACT_VELOCITY),
+                    black_box(dr),
+                )
+            })
+        });
+    }
+    group.finish();
+}
+
+fn friction(c: &mut Criterion) {
+    let scene = build(&standard());
+    let modified = scene.mechanism.clearance_joints[0].friction;
+    let FrictionModel::Modified { mu_d, v_s, v_d, .. } = modified else {
+        panic!("the standard scene uses the modified friction law");
+    };
+    let mut group = c.benchmark_group("friction");
+    // Between V_s and V_d: the branch with the cosine, the dearest one.
+    let v = 0.5 * (v_s + v_d);
+    for (name, law) in [
+        ("modified", modified),
+        ("coulomb", FrictionModel::Coulomb { mu: mu_d }),
+    ] {
+        group.bench_function(name, |b| {
+            b.iter(|| black_box(law).force(black_box(40.0), black_box(v)))
+        });
+    }
+    group.finish();
+}
+
+fn rhs(c: &mut Criterion) {
+    // The state after one rotation, where the journal presses on the bearing, so the
+    // evaluation includes the contact and friction forces.
+    let scene = wear_run(1);
+    let out = simulate(&scene).expect("one rotation");
+    let mut mechanism = scene.mechanism.clone();
+    let y = out.final_state;
+    let n = mechanism.coordinates();
+    assert!(mechanism.contact_state(0, &y[..n], &y[n..]).f_n > 0.0);
+    let mut dy = vec![0.0; y.len()];
+    let t = out.period;
+    let mut group = c.benchmark_group("rhs");
+    group.bench_function("standard", |b| {
+        b.iter(|| {
+            mechanism
+                .rhs(black_box(t), black_box(&y), &mut dy)
+                .expect("rhs");
+            black_box(&dy);
+        })
+    });
+    group.finish();
+}
+
+/// Whole runs take milliseconds to a second: flat sampling (the same iteration count in
+/// every sample) keeps the 40-rotation bench near `samples` runs instead of 55 of them.
+fn runs(c: &mut Criterion) {
+    for (group, name, rotations, samples) in [
+        ("rotation", "standard", 1, 20),
+        ("wear_run", "standard_40", 40, 10),
+    ] {
+        let scene = wear_run(rotations);
+        let mut group = c.benchmark_group(group);
+        group
+            .sampling_mode(SamplingMode::Flat)
+            .sample_size(samples)
+            .measurement_time(Duration::from_secs(10));
+        group.bench_function(name, |b| {
+            b.iter(|| simulate(black_box(&scene)).expect("run"))
+        });
+        group.finish();
+    }
+}
+
+fn quick() -> Criterion {
+    Criterion::default()
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2))
+        .sample_size(30)
+}
+
+criterion_group! {
+    name = benches;
+    config = quick();
+    targets = contact_force, friction, rhs, runs
+}
+criterion_main!(benches);

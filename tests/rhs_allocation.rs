@@ -1,0 +1,43 @@
+//! The right-hand side is the hot path of every run: it must not allocate.
+
+use jointwear::scene::{scene_path, Scene};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Counts allocations made anywhere in this test binary.
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        System.alloc(layout)
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        System.dealloc(ptr, layout)
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn rhs_does_not_allocate() {
+    let scene = Scene::load(scene_path("standard")).unwrap();
+    let mut m = scene.mechanism.clone();
+    let mut y = m.assemble(&scene.guess).unwrap();
+    let n = m.coordinates();
+    // Move the bearing's body so that the journal presses on it: contact forces included.
+    let cj = &m.clearance_joints[0];
+    let (c, bearing) = (cj.r_bearing - cj.r_journal, cj.bearing.body.unwrap());
+    y[3 * bearing] -= c + 1e-6;
+    assert!(m.contact_state(0, &y[..n], &y[n..2 * n]).f_n > 0.0);
+    let mut dy = vec![0.0; y.len()];
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    for i in 0..100 {
+        m.rhs(1e-5 * i as f64, &y, &mut dy).unwrap();
+    }
+    assert_eq!(ALLOCATIONS.load(Ordering::Relaxed) - before, 0);
+}
