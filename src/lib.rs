@@ -22,6 +22,7 @@ pub mod output;
 pub mod plot;
 pub mod scene;
 pub mod simulation;
+pub mod studies;
 pub mod wear;
 
 pub use error::{Error, Result};
