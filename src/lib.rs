@@ -26,6 +26,7 @@ pub mod report;
 pub mod scene;
 pub mod simulation;
 pub mod sweep;
+pub mod studies;
 pub mod wear;
 
 pub use error::{Error, Result};

@@ -202,6 +202,13 @@ pub struct RunSpec {
     /// Wear profiles saved per rotation for the wear history (0: none), [0, 3600].
     #[serde(default)]
     pub profile_history_per_rotation: u32,
+    /// Accepted steps after which the run fails with an error, [1, 1e10].
+    #[serde(default = "default_max_steps")]
+    pub max_steps: u64,
+}
+
+fn default_max_steps() -> u64 {
+    20_000_000
 }
 
 /// Steady state: the journal orbit repeats from one rotation to the next.
@@ -639,6 +646,16 @@ impl RunSpec {
                         "run.profile_history_per_rotation",
                         h,
                         "an integer in [0, 3600]",
+                    ))
+                }
+            },
+            max_steps: match self.max_steps {
+                m @ 1..=10_000_000_000 => m,
+                m => {
+                    return Err(Error::invalid(
+                        "run.max_steps",
+                        m,
+                        "an integer in [1, 1e10]",
                     ))
                 }
             },

@@ -38,6 +38,9 @@ pub struct RunSettings {
     pub settle: Option<SteadyState>,
     /// Wear profiles saved per rotation (0: none), for the wear history of figure 7.
     pub profile_history_per_rotation: u32,
+    /// Accepted steps after which the run fails instead of going on (a guard against runs
+    /// that crawl, e.g. a stiff contact resolved by ever smaller steps).
+    pub max_steps: u64,
 }
 
 /// Steady-state criterion: the journal orbit of each clearance joint, sampled at
@@ -262,6 +265,12 @@ pub fn run(mechanism: &mut Mechanism, settings: &RunSettings, y0: Vec<f64>) -> R
         }
         stepped?;
         let (ta, tb) = (integrator.t_prev(), integrator.t());
+        if integrator.stats().steps >= settings.max_steps {
+            return Err(Error::Integration {
+                time: tb,
+                cause: format!("step limit of {} steps reached", settings.max_steps),
+            });
+        }
         // 1. Contact onsets: the earliest gap sign change from free flight to contact.
         let mut onset: Option<(f64, usize)> = None;
         for (k, g_prev) in gaps.iter_mut().enumerate() {

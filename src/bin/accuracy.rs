@@ -1,0 +1,23 @@
+//! The accuracy-dependence study (see `jointwear::studies`): writes
+//! `data/accuracy_dependence.csv` and prints, per paper result, which integrations reproduce it.
+use jointwear::figures::exit_on_error;
+
+fn main() {
+    let a = exit_on_error(jointwear::studies::accuracy_dependence(|c, s| {
+        eprintln!("{c} {s}")
+    }));
+    println!("wrote data/accuracy_dependence.csv");
+    for f in &a.findings {
+        println!(
+            "{:34} paper {:28} holds [converged, ode45, rk4 1e-5, rk4 1e-4] = {:?}{}",
+            f.result,
+            f.paper,
+            f.holds,
+            if f.only_under_resolved() {
+                "  ONLY UNDER-RESOLVED"
+            } else {
+                ""
+            }
+        );
+    }
+}

@@ -1,0 +1,15 @@
+//! The work-precision study (see `jointwear::studies`): writes `data/work_precision.csv` and
+//! `figures/work_precision.png` and prints the error floor and the default tolerance.
+use jointwear::figures::exit_on_error;
+
+fn main() {
+    let wp = exit_on_error(jointwear::studies::work_precision(|i| {
+        eprintln!("{} {}", i.method_name(), i.setting())
+    }));
+    println!("wrote data/work_precision.csv and figures/work_precision.png");
+    println!("error floor (reference disagreement): {:?}", wp.floor);
+    println!(
+        "default Dopri5 rtol by the stated rule: {:?}",
+        wp.default_rtol
+    );
+}
