@@ -527,11 +527,14 @@ impl Integrator {
             _ => 5.0,
         };
         let mut rejected = false;
+        // Why the last attempt was thrown away, for the underflow message.
+        let mut blow_up: Option<String> = None;
         loop {
             if self.h <= 1e-14 * self.t.abs() || self.h < f64::MIN_POSITIVE {
+                let why = blow_up.map_or(String::new(), |b| format!(" after {b}"));
                 return Err(integration_error(
                     self.t,
-                    format!("step size underflow (h = {:e})", self.h),
+                    format!("step size underflow (h = {:e}){why}", self.h),
                 ));
             }
             let last = self.t + 1.01 * self.h >= t_limit;
@@ -541,15 +544,19 @@ impl Integrator {
                 Method::Dop853 => self.attempt_dop853(sys, h),
                 _ => self.attempt_rosenbrock(sys, h),
             };
-            // An infinite norm means a singular iteration matrix or overflow: retry smaller.
-            if err != f64::INFINITY {
-                self.check_finite()?;
-                if err.is_nan() {
-                    return Err(integration_error(
-                        self.t,
-                        "non-finite error estimate".into(),
-                    ));
-                }
+            // A trial that overflows (a step far too large for stiff contact), a NaN estimate or
+            // a singular iteration matrix (infinite norm) is rejected and retried smaller; only
+            // when the step size underflows is it an error.
+            blow_up = match self.y_new.iter().position(|v| !v.is_finite()) {
+                Some(i) => Some(format!("a non-finite state component {i}")),
+                None if !err.is_finite() => Some("a non-finite error estimate".into()),
+                None => None,
+            };
+            if blow_up.is_some() {
+                self.stats.rejected += 1;
+                rejected = true;
+                self.h = h * self.control.fac_min;
+                continue;
             }
             let c = self.control;
             if err <= 1.0 {

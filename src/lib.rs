@@ -25,8 +25,8 @@ pub mod plot;
 pub mod report;
 pub mod scene;
 pub mod simulation;
-pub mod sweep;
 pub mod studies;
+pub mod sweep;
 pub mod wear;
 
 pub use error::{Error, Result};

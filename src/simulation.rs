@@ -259,11 +259,10 @@ pub fn run(mechanism: &mut Mechanism, settings: &RunSettings, y0: Vec<f64>) -> R
             mechanism,
             failure: None,
         };
-        let stepped = integrator.step(&mut sys, boundary);
-        if let Some(e) = sys.failure {
-            return Err(e);
+        // A failed right-hand side only matters if the integrator could not step around it.
+        if let Err(e) = integrator.step(&mut sys, boundary) {
+            return Err(sys.failure.unwrap_or(e));
         }
-        stepped?;
         let (ta, tb) = (integrator.t_prev(), integrator.t());
         if integrator.stats().steps >= settings.max_steps {
             return Err(Error::Integration {

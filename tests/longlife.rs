@@ -8,14 +8,16 @@ fn l2(a: &[f64]) -> f64 {
     a.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-/// 100 rotations of the standard scene with k/H accelerated to 1e-11 1/Pa (about 9 µm of wear
-/// on a 20 µm clearance, so the wear feeds back into the dynamics): the extrapolated profile,
-/// from about 35 simulated rotations, has its peak depth within 2 % and the L2 norm of its
-/// difference within 4 % of the simulated profile's (asserted with margin: 5 % and 10 %).
+/// 100 rotations of the standard scene with k/H accelerated to 5e-12 1/Pa (about 10 µm of wear
+/// on a 20 µm clearance, so the wear feeds back into the dynamics): the extrapolated profile has
+/// its peak depth within 3.4 % and the L2 norm of its difference within 3.3 % of the simulated
+/// profile's (asserted with margin: 5 % and 10 %). Past the clearance (k/H = 1e-11: 36 µm in
+/// 100 rotations) one rotation no longer represents a block and the extrapolation is off by
+/// half: see the module documentation.
 #[test]
 fn extrapolation_matches_brute_force() {
     let mut f = SceneFile::read(scene_path("standard")).unwrap();
-    f.clearance[0].wear.as_mut().unwrap().k_over_h_per_pa = 1e-11;
+    f.clearance[0].wear.as_mut().unwrap().k_over_h_per_pa = 5e-12;
     f.run.rotations = 100;
     f.run.record_rotations = 0;
     f.run.wear_snapshots.clear();

@@ -44,7 +44,7 @@ fn unknown_key() {
         "mass_kg = 0.30\ncolour = \"red\"\n",
     ));
     assert!(msg.contains("unknown field `colour`"), "{msg}");
-    let msg = error_of(&replaced("mu_s = 0.15", "mu_s = 0.15, mu_x = 1.0"));
+    let msg = error_of(&replaced("mu_s = 0.015", "mu_s = 0.015, mu_x = 1.0"));
     assert!(msg.contains("mu_x"), "{msg}");
 }
 
@@ -89,7 +89,7 @@ fn not_a_number() {
         msg.contains("bodies[0].mass_kg") && msg.contains("NaN"),
         "{msg}"
     );
-    let msg = error_of(&replaced("speed_rpm = 2000.0", "speed_rpm = inf"));
+    let msg = error_of(&replaced("speed_rpm = -2000.0", "speed_rpm = inf"));
     assert!(msg.contains("driver.speed_rpm"), "{msg}");
 }
 

@@ -4,10 +4,9 @@
 //! while running (integration, writing outputs).
 
 use clap::{Parser, Subcommand};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use jointwear::figures::sector_angles_deg;
 use jointwear::longlife::{predict, simulate_in_chunks, LongLife, LongLifeSettings};
-use jointwear::output::write_csv;
+use jointwear::output::{progress_bar, write_csv};
 use jointwear::plot::{render, Axes, Series, Style};
 use jointwear::scene::{Scene, SceneFile};
 use jointwear::simulation::RunOutput;
@@ -169,15 +168,6 @@ fn file_part(name: &str) -> String {
             }
         })
         .collect()
-}
-
-/// A progress bar on stderr (hidden when stderr is not a terminal).
-fn progress_bar(len: u64, unit: &str) -> ProgressBar {
-    let style = ProgressStyle::with_template(&format!(
-        "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {unit} (eta {{eta}})"
-    ))
-    .unwrap_or_else(|_| ProgressStyle::default_bar());
-    ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr()).with_style(style)
 }
 
 fn load(path: &Path) -> CliResult<Scene> {
