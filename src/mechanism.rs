@@ -636,7 +636,12 @@ impl Mechanism {
         }
         self.solve_schur().map_err(|_| Error::Integration {
             time: t,
-            cause: "singular constraint Jacobian (locked or redundant joints)".into(),
+            // A blown-up state also breaks the solve; only a finite one means bad joints.
+            cause: if v.iter().chain(&self.ws.force).all(|x| x.is_finite()) {
+                "singular constraint Jacobian (locked or redundant joints)".into()
+            } else {
+                "non-finite state: the step is too large for the contact stiffness".into()
+            },
         })?;
         let ws = &self.ws;
         acc.copy_from_slice(&ws.force);

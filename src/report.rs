@@ -636,8 +636,9 @@ pub fn work_precision_section() -> Section {
              on, because after many impacts a looser run can follow another impact sequence; that is far below the \
              region-to-region differences the claims rest on (the converged and the RK4 1e-5 s integrations put the \
              severe regions within 4 deg of each other, table below). \
-             RODAS3 with a finite-difference Jacobian is not usable on this non-smooth problem: its error estimate \
-             accepted wrong steps at rtol 1e-4, so it is kept only as the stiff entry of this study.\n\n\
+             RODAS3 with a finite-difference Jacobian is not competitive on this non-smooth problem (table above: it \
+             stops with a step-size underflow at loose tolerances and is slower and less accurate than the explicit \
+             methods at tight ones), so it is kept only as the stiff entry of this study.\n\n\
              ![work-precision](figures/work_precision.png)\n\n",
         );
         md.push_str(

@@ -1,9 +1,9 @@
 //! Rebuilds everything the reproducibility report shows and writes `paper.md`.
 //!
-//! `report` reruns every figure, Table 3 and the stability suite (about a minute); `report --all`
-//! also reruns the slow studies (calibration, work-precision, accuracy dependence: several
-//! minutes each) instead of reading their last results from `data/`.
-use jointwear::figures::exit_on_error;
+//! `report` reruns every figure, Table 3, the accuracy-dependence study and the stability suite
+//! (about half a minute); `report --all` also reruns the slow studies (calibration and
+//! work-precision, a few minutes) instead of reading their last results from `data/`.
+use jointwear::figures::{exit_on_error, CASES};
 use jointwear::golden::Golden;
 use jointwear::output::progress_bar;
 use jointwear::report::{
@@ -13,21 +13,20 @@ use jointwear::{calibration, studies};
 
 fn main() {
     let clock = std::time::Instant::now();
-    let all = std::env::args().any(|a| a == "--all");
     let golden = exit_on_error(Golden::load());
-    if all {
-        eprintln!("calibration study ...");
+    if std::env::args().any(|a| a == "--all") {
+        let bar = progress_bar(0, "calibration sets");
         exit_on_error(calibration::study(|done, total| {
-            eprint!("\r  {done}/{total} parameter sets")
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
         }));
-        eprintln!("\nwork-precision study ...");
-        exit_on_error(studies::work_precision(|s| {
-            eprintln!("  {} {}", s.method_name(), s.setting())
-        }));
-        eprintln!("accuracy-dependence study ...");
-        exit_on_error(studies::accuracy_dependence(|case, setting| {
-            eprintln!("  {case} {setting}")
-        }));
+        bar.finish_and_clear();
+        let bar = progress_bar(
+            studies::work_precision_settings().len() as u64 + 2,
+            "work-precision runs",
+        );
+        exit_on_error(studies::work_precision(|_| bar.inc(1)));
+        bar.finish_and_clear();
     }
     let bar = progress_bar((FIGURES.len() + 1) as u64, "figures and tables");
     let results = exit_on_error(run_figures(|done, _, name, secs| {
@@ -35,8 +34,15 @@ fn main() {
         bar.set_message(format!("{name} {secs:.1} s"));
     }));
     bar.finish_and_clear();
-    let cases = exit_on_error(studies::stability_cases());
-    let bar = progress_bar(cases.len() as u64, "stability cases");
+    // every Table 3 case and the standard wear case, under each integration setting
+    let runs = studies::accuracy_settings().len() * (CASES.len() + 1);
+    let bar = progress_bar(runs as u64, "accuracy runs");
+    exit_on_error(studies::accuracy_dependence(|_, _| bar.inc(1)));
+    bar.finish_and_clear();
+    let bar = progress_bar(
+        exit_on_error(studies::stability_cases()).len() as u64,
+        "stability cases",
+    );
     exit_on_error(studies::stability(|_| bar.inc(1)));
     bar.finish_and_clear();
     let sections = vec![
