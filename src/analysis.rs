@@ -14,6 +14,8 @@
 /// A wear region on the bearing.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Peak {
+    /// Index of the deepest sector.
+    pub sector: usize,
     /// Angle of the deepest sector (deg, counter-clockwise from the bearing's +x).
     pub angle_deg: f64,
     /// Wear depth at the peak (m).
@@ -63,6 +65,7 @@ pub fn peaks(depths: &[f64], min_prominence: f64) -> Vec<Peak> {
                 .count() as f64
         };
         found.push(Peak {
+            sector: i as usize,
             angle_deg: (i as f64 + 0.5) * width,
             depth: d,
             prominence,

@@ -472,13 +472,11 @@ fn profile_figure(name: &str, cases: &[(&str, f64, String)]) -> Result<(Summary,
         let (scene, out) = wear_run(scene_name, 0)?;
         let regions = summarise_wear(&mut s, scene_name, &scene, &out);
         // growth of each final region through the snapshots
-        let n = out.final_wear[0].len();
         for snap in &out.wear_snapshots {
             for (i, p) in regions.iter().take(3).enumerate() {
-                let sector = ((p.angle_deg / 360.0 * n as f64) as usize).min(n - 1);
                 s.set(
                     format!("{scene_name}.rot{}.peak{}.depth", snap.rotation, i + 1),
-                    snap.depths[0][sector],
+                    snap.depths[0][p.sector],
                 );
             }
         }
@@ -647,7 +645,6 @@ pub fn fig07() -> Result<Summary> {
     let (scene, out) = wear_run("standard", PER_ROTATION)?;
     let mut s = Summary::default();
     let found = summarise_wear(&mut s, "standard", &scene, &out);
-    let n = out.final_wear[0].len();
     let r = scene.mechanism.clearance_joints[0].r_bearing * 1e3;
     let crank: Vec<f64> = out
         .profile_history
@@ -656,11 +653,10 @@ pub fn fig07() -> Result<Summary> {
         .collect();
     let mut series = Vec::new();
     for (i, p) in found.iter().take(3).enumerate() {
-        let sector = ((p.angle_deg / 360.0 * n as f64) as usize).min(n - 1);
         let depth: Vec<f64> = out
             .profile_history
             .iter()
-            .map(|(_, d)| d[0][sector])
+            .map(|(_, d)| d[0][p.sector])
             .collect();
         let mut steps: Vec<f64> = depth.windows(2).map(|w| w[1] - w[0]).collect();
         steps.sort_by(|a, b| b.total_cmp(a));

@@ -547,7 +547,7 @@ impl Integrator {
             // A trial that overflows (a step far too large for stiff contact), a NaN estimate or
             // a singular iteration matrix (infinite norm) is rejected and retried smaller; only
             // when the step size underflows is it an error.
-            blow_up = match self.y_new.iter().position(|v| !v.is_finite()) {
+            blow_up = match self.non_finite_component() {
                 Some(i) => Some(format!("a non-finite state component {i}")),
                 None if !err.is_finite() => Some("a non-finite error estimate".into()),
                 None => None,
@@ -583,8 +583,13 @@ impl Integrator {
         }
     }
 
+    /// Index of the first non-finite component of the trial state, if any.
+    fn non_finite_component(&self) -> Option<usize> {
+        self.y_new.iter().position(|v| !v.is_finite())
+    }
+
     fn check_finite(&self) -> Result<()> {
-        match self.y_new.iter().position(|v| !v.is_finite()) {
+        match self.non_finite_component() {
             None => Ok(()),
             Some(i) => Err(integration_error(
                 self.t,

@@ -744,14 +744,6 @@ impl Mechanism {
         Ok(())
     }
 
-    /// Largest absolute position-constraint residual at (t, q).
-    pub fn constraint_residual(&mut self, t: f64, q: &[f64]) -> f64 {
-        let mut phi = vec![0.0; self.constraint_count()];
-        let zeros = vec![0.0; q.len()];
-        self.constraints(t, q, &zeros, Some(&mut phi));
-        phi.iter().fold(0.0, |a, p| a.max(p.abs()))
-    }
-
     /// Dense copy of the constraint Jacobian and γ at (t, q, v), for tests and diagnostics.
     pub fn jacobian(&mut self, t: f64, q: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64>) {
         self.constraints(t, q, v, None);

@@ -244,6 +244,7 @@ pub fn run(mechanism: &mut Mechanism, settings: &RunSettings, y0: Vec<f64>) -> R
     let mut gaps: Vec<f64> = (0..joints).map(|k| gap(mechanism, k, &y0)).collect();
     let mut y_event = vec![0.0; dim];
     let mut y_mid = vec![0.0; dim];
+    let wears = mechanism.clearance_joints.iter().any(|c| c.wear.is_some());
     let mut rotation = 0u32;
     integrator.reset(
         &mut Dynamics {
@@ -288,8 +289,10 @@ pub fn run(mechanism: &mut Mechanism, settings: &RunSettings, y0: Vec<f64>) -> R
         }
         let t_stop = onset.map_or(tb, |(t, _)| t);
         // 2. Wear at the interval midpoint, 3. samples, both over [ta, t_stop].
-        integrator.dense(0.5 * (ta + t_stop), &mut y_mid);
-        add_wear(mechanism, &y_mid[..2 * n], t_stop - ta);
+        if wears {
+            integrator.dense(0.5 * (ta + t_stop), &mut y_mid);
+            add_wear(mechanism, &y_mid[..2 * n], t_stop - ta);
+        }
         if let Some(s) = sampler.as_mut() {
             s.sample(
                 mechanism,
