@@ -109,7 +109,7 @@ fn clearance(scene: &Scene) -> f64 {
 fn body(scene: &Scene, name: &str) -> Result<usize> {
     scene
         .mechanism
-        .bodies
+        .bodies()
         .iter()
         .position(|b| b.name == name)
         .ok_or_else(|| {

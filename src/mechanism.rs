@@ -7,6 +7,11 @@
 //! Each body has absolute coordinates `(x, y, φ)` of its centre of mass; M is diagonal
 //! (`m, m, J` per body), so the multipliers come from the small SPD system
 //! `(Φ_q M⁻¹ Φ_qᵀ) λ = Φ_q M⁻¹ F − γ̂` and `q̈ = M⁻¹ (F − Φ_qᵀ λ)`; no n×n matrix is ever formed.
+//! A constraint equation whose only non-zero column outside the coordinates already fixed is
+//! a constant one (the driver; a revolute pin to the ground of a driven body; the angle lock
+//! of a translational joint on the ground) fixes that coordinate's acceleration by itself: it
+//! is solved for it directly, in order, and leaves the system. For the slider-crank the
+//! system shrinks from 7×7 to 2×2 (the crank-rod pin).
 //! The paper's `C q̇ + K_g q` terms are zero for rigid bodies and are not modelled.
 //!
 //! Constraint stabilisation is Baumgarte's, `γ̂ = γ − 2α Φ̇ − β² Φ`. It keeps the right-hand
@@ -98,6 +103,8 @@ pub struct ClearanceJoint {
 pub struct ContactState {
     /// Journal centre relative to bearing centre, global frame (m).
     pub e: Vector2<f64>,
+    /// Contact normal e/|e| (zero when exactly centred).
+    pub n: Vector2<f64>,
     /// Contact angle in the bearing frame, in [0, 2π) (rad).
     pub theta: f64,
     /// Penetration δ (m); negative while the journal flies free.
@@ -129,7 +136,6 @@ pub const ENERGY_STATES: usize = 3;
 /// A planar mechanism: bodies, ideal joints, one driver, clearance joints, gravity.
 #[derive(Clone, Debug)]
 pub struct Mechanism {
-    pub bodies: Vec<Body>,
     pub revolutes: Vec<Revolute>,
     pub translationals: Vec<Translational>,
     pub driver: Driver,
@@ -140,7 +146,65 @@ pub struct Mechanism {
     pub baumgarte: (f64, f64),
     /// Integrate driver work, normal-contact work and friction work as extra states.
     pub energy_accounting: bool,
+    /// Fixed at construction: the inverse masses and the equations solved for one coordinate
+    /// derive from them.
+    bodies: Vec<Body>,
     ws: Workspace,
+}
+
+/// A constraint equation solved for one coordinate: `coef · q̈_coord + Σ_other (Φ_q)_c q̈_c =
+/// γ̂`, with every other column on a coordinate solved before.
+#[derive(Clone, Copy, Debug, Default)]
+struct Solved {
+    row: Row,
+    coord: usize,
+    /// ∂Φ/∂q_coord, the same at every state, and its inverse (a multiplication, not a
+    /// division, on the chain from one solved coordinate to the next).
+    coef: f64,
+    inv_coef: f64,
+    gamma: f64,
+    phi: f64,
+    /// ∂Φ/∂t.
+    phi_t: f64,
+}
+
+/// Where `constraints` stores an equation.
+#[derive(Clone, Copy, Debug)]
+enum Slot {
+    Row(usize),
+    Solved(usize),
+}
+
+/// Stores the equations of one `constraints` call, in order, at their slots.
+struct Sink<'a> {
+    rows: &'a mut [Row],
+    gamma: &'a mut [f64],
+    solved: &'a mut [Solved],
+    slot: &'a [Slot],
+    phi: Option<&'a mut [f64]>,
+    e: usize,
+}
+
+impl Sink<'_> {
+    /// The next equation: its two blocks of Φ_q, γ, Φ and ∂Φ/∂t.
+    #[inline(always)]
+    fn set(&mut self, blocks: [(BodyIndex, [f64; 3]); 2], g: f64, value: f64, phi_t: f64) {
+        match self.slot[self.e] {
+            Slot::Row(i) => {
+                self.rows[i].set(blocks);
+                self.gamma[i] = g;
+                if let Some(phi) = self.phi.as_deref_mut() {
+                    phi[i] = value;
+                }
+            }
+            Slot::Solved(j) => {
+                let s = &mut self.solved[j];
+                s.row.set(blocks);
+                (s.gamma, s.phi, s.phi_t) = (g, value, phi_t);
+            }
+        }
+        self.e += 1;
+    }
 }
 
 /// Scratch buffers sized once, so that a right-hand side allocates nothing.
@@ -148,13 +212,23 @@ pub struct Mechanism {
 struct Workspace {
     /// `(sin φ, cos φ)` of every body: one `sin_cos` per body and evaluation, not per point.
     rot: Vec<(f64, f64)>,
-    /// Diagonal of M⁻¹ per body, `(1/m, 1/J)`; refreshed with `rot` (the bodies are public).
-    inv_mass: Vec<(f64, f64)>,
-    /// Applied forces F, then M⁻¹ F.
+    /// Whether a body's rotation matters: it has a point off its centre of mass or carries a
+    /// translational joint's axis. The others skip their `sin_cos` (a tenth of the
+    /// right-hand side), as their rotation multiplies only zero vectors.
+    rotates: Vec<bool>,
+    /// Diagonal of M per coordinate.
+    mass: Vec<f64>,
+    /// Diagonal of M⁻¹ per coordinate, zero for the solved ones.
+    inv_mass: Vec<f64>,
+    /// Applied forces F.
     force: Vec<f64>,
-    /// Φ_q, sparse: every row touches at most two bodies.
+    /// Storage of each equation, in the order `constraints` visits them.
+    slot: Vec<Slot>,
+    /// The equations solved for one coordinate, in the order they are solved (driver first).
+    solved: Vec<Solved>,
+    /// Φ_q without the solved equations, sparse: every row touches at most two bodies.
     rows: Vec<Row>,
-    /// The non-zero blocks of the lower triangle of Φ_q M⁻¹ Φ_qᵀ: the pairs of row blocks of
+    /// The non-zero entries of the lower triangle of Φ_q M⁻¹ Φ_qᵀ: the pairs of row blocks of
     /// the same body. Fixed by the joints, so found once, in `resize_workspace`.
     pairs: Vec<Pair>,
     gamma: Vec<f64>,
@@ -163,11 +237,12 @@ struct Workspace {
     /// The pivots D of the LDLᵀ factorisation.
     pivots: Vec<f64>,
     lambda: Vec<f64>,
+    /// Φ_qᵀ λ, for the driver's torque.
+    reaction: Vec<f64>,
 }
 
 /// One row of Φ_q: the three columns of each of (at most) two bodies, and the same columns
-/// times M⁻¹. A `None` body (ground, or a row of one body) has zero columns, so the products
-/// below need no branch.
+/// times M⁻¹. A `None` body (ground) has zero columns and comes second.
 #[derive(Clone, Copy, Debug, Default)]
 struct Row {
     body: [BodyIndex; 2],
@@ -192,24 +267,40 @@ fn dot3(a: &[f64; 3], b: &[f64]) -> f64 {
 }
 
 impl Row {
+    /// Sets the blocks in place (a `Row` returned by value would be copied by `memcpy`).
+    #[inline]
+    fn set(&mut self, mut blocks: [(BodyIndex, [f64; 3]); 2]) {
+        // A ground block goes second, where `dot` skips it.
+        if blocks[0].0.is_none() {
+            blocks.swap(0, 1);
+        }
+        for (s, (body, col)) in blocks.into_iter().enumerate() {
+            self.body[s] = body;
+            (self.at[s], self.col[s]) = match body {
+                Some(i) => (3 * i, col),
+                None => (0, [0.0; 3]),
+            };
+        }
+    }
+
     /// Σ columns · x over the row's bodies (x: 3 entries per body).
     #[inline]
     fn dot(&self, x: &[f64]) -> f64 {
         let [a, b] = self.at;
-        dot3(&self.col[0], &x[a..a + 3]) + dot3(&self.col[1], &x[b..b + 3])
-    }
-}
-
-impl Workspace {
-    /// x += scale · M⁻¹ Φ_qᵀ λ.
-    fn add_weighted_rows(&self, x: &mut [f64], scale: f64) {
-        for (r, l) in self.rows.iter().zip(&self.lambda) {
-            for (&at, wc) in r.at.iter().zip(&r.wcol) {
-                for (x, wc) in x[at..at + 3].iter_mut().zip(wc) {
-                    *x += scale * l * wc;
-                }
-            }
+        let first = dot3(&self.col[0], &x[a..a + 3]);
+        // Most rows of one body are pins and locks to the ground: skip its zero block.
+        match self.body[1] {
+            Some(_) => first + dot3(&self.col[1], &x[b..b + 3]),
+            None => first,
         }
+    }
+
+    /// The coordinates and values of the non-zero columns.
+    fn entries(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        (0..2)
+            .filter(|&s| self.body[s].is_some())
+            .flat_map(move |s| (0..3).map(move |k| (self.at[s] + k, self.col[s][k])))
+            .filter(|&(_, c)| c != 0.0)
     }
 }
 
@@ -295,7 +386,7 @@ impl Mechanism {
         gravity: Vector2<f64>,
         baumgarte: (f64, f64),
         energy_accounting: bool,
-    ) -> Self {
+    ) -> Result<Self> {
         let mut m = Mechanism {
             bodies,
             revolutes,
@@ -307,25 +398,129 @@ impl Mechanism {
             energy_accounting,
             ws: Workspace::default(),
         };
-        m.resize_workspace(m.constraint_count());
-        m
+        m.resize_workspace()?;
+        Ok(m)
     }
 
-    fn resize_workspace(&mut self, rows: usize) {
-        let bodies = self.bodies.len();
+    /// The bodies, in coordinate order.
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    /// Orders the equations solved for one coordinate and sizes the workspace for the others.
+    fn resize_workspace(&mut self) -> Result<()> {
+        let n = self.coordinates();
+        let equations = self.constraint_count();
+        let mass: Vec<f64> = (self.bodies.iter())
+            .flat_map(|b| [b.mass, b.mass, b.inertia])
+            .collect();
+        let mut rotates = vec![false; self.bodies.len()];
+        let points = (self.revolutes.iter().flat_map(|j| [j.a, j.b]))
+            .chain(self.translationals.iter().flat_map(|j| [j.a, j.b]))
+            .chain(
+                self.clearance_joints
+                    .iter()
+                    .flat_map(|j| [j.journal, j.bearing]),
+            );
+        for p in points {
+            if let Some(i) = p.body.filter(|_| p.local != Vector2::zeros()) {
+                rotates[i] = true;
+            }
+        }
+        for i in self.translationals.iter().filter_map(|j| j.b.body) {
+            rotates[i] = true;
+        }
         self.ws = Workspace {
-            rot: vec![(0.0, 1.0); bodies],
-            inv_mass: vec![(0.0, 0.0); bodies],
-            force: vec![0.0; 3 * bodies],
-            rows: vec![Row::default(); rows],
-            pairs: Vec::new(),
-            gamma: vec![0.0; rows],
-            schur: vec![0.0; rows * rows],
-            pivots: vec![0.0; rows],
-            lambda: vec![0.0; rows],
+            rot: vec![(0.0, 1.0); self.bodies.len()],
+            rotates,
+            inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
+            mass,
+            force: vec![0.0; n],
+            slot: (0..equations).map(Slot::Row).collect(),
+            rows: vec![Row::default(); equations],
+            gamma: vec![0.0; equations],
+            reaction: vec![0.0; n],
+            ..Default::default()
         };
+        // The pattern at two unremarkable states: a column non-zero at either is non-zero,
+        // and a coefficient that differs between them is not constant.
+        let pattern = |m: &mut Self, phase: f64| {
+            let q: Vec<f64> = (0..n).map(|i| (phase + i as f64).sin()).collect();
+            m.constraints(0.0, &q, &q, None);
+            m.ws.rows.clone()
+        };
+        let (p1, p2) = (pattern(self, 0.3), pattern(self, 1.1));
+        let mut fixed = vec![false; n];
+        let mut order = Vec::new();
+        // The driver (the last equation) first, then sweeps until no equation qualifies.
+        let candidates: Vec<usize> = std::iter::once(equations - 1)
+            .chain(0..equations - 1)
+            .collect();
+        let mut progress = true;
+        while progress {
+            progress = false;
+            for &e in &candidates {
+                if order.iter().any(|&(o, _, _)| o == e) {
+                    continue;
+                }
+                let free: Vec<(usize, f64)> = (p1[e].entries().chain(p2[e].entries()))
+                    .filter(|&(k, _)| !fixed[k])
+                    .collect();
+                let coord = free.first().map(|f| f.0);
+                if let Some(k) = coord.filter(|&k| free.iter().all(|f| f.0 == k)) {
+                    let coefs = |p: &[Row]| p[e].entries().find(|f| f.0 == k).map(|f| f.1);
+                    if let (Some(c), Some(c2)) = (coefs(&p1), coefs(&p2)) {
+                        if c == c2 {
+                            fixed[k] = true;
+                            order.push((e, k, c));
+                            progress = true;
+                        }
+                    }
+                } else if free.is_empty() {
+                    let (r, t) = (2 * self.revolutes.len(), 2 * self.translationals.len());
+                    let joint = match e {
+                        e if e < r => format!("revolute[{}]", e / 2),
+                        e if e < r + t => format!("translational[{}]", (e - r) / 2),
+                        _ => "driver".into(),
+                    };
+                    return Err(Error::invalid(
+                        "joints",
+                        format!("{joint} constrains coordinates already fixed by the others"),
+                        "independent joints (no locked or redundant joint)",
+                    ));
+                }
+            }
+        }
+        let rows = equations - order.len();
+        let ws = &mut self.ws;
+        let mut next_row = 0;
+        for (e, slot) in ws.slot.iter_mut().enumerate() {
+            *slot = match order.iter().position(|&(o, _, _)| o == e) {
+                Some(j) => Slot::Solved(j),
+                None => {
+                    next_row += 1;
+                    Slot::Row(next_row - 1)
+                }
+            };
+        }
+        ws.solved = (order.iter())
+            .map(|&(_, coord, coef)| Solved {
+                coord,
+                coef,
+                inv_coef: 1.0 / coef,
+                ..Default::default()
+            })
+            .collect();
+        for s in &ws.solved {
+            ws.inv_mass[s.coord] = 0.0;
+        }
+        ws.rows.truncate(rows);
+        ws.gamma.truncate(rows);
+        ws.schur = vec![0.0; rows * rows];
+        ws.pivots = vec![0.0; rows];
+        ws.lambda = vec![0.0; rows];
         // The rows' bodies do not depend on the state: any state reveals the pattern.
-        let zeros = vec![0.0; 3 * bodies];
+        let zeros = vec![0.0; n];
         self.constraints(0.0, &zeros, &zeros, None);
         let blocks = |i: usize| (0..2).map(move |a| (i, a));
         let rows = &self.ws.rows;
@@ -338,6 +533,7 @@ impl Mechanism {
             })
             .filter(|p| rows[p.i].body[p.a].is_some() && rows[p.i].body[p.a] == rows[p.j].body[p.b])
             .collect();
+        Ok(())
     }
 
     /// Number of generalised coordinates, 3 per body.
@@ -360,54 +556,36 @@ impl Mechanism {
             }
     }
 
-    /// Index of the driver's row in λ (the last one).
-    fn driver_row(&self) -> usize {
-        self.constraint_count() - 1
-    }
-
-    /// Fills the body rotations and inverse masses of the workspace, Φ (into `phi` if given),
-    /// the Jacobian Φ_q (with M⁻¹ Φ_qᵀ), and γ = −(Φ_q q̇)_q q̇ of the ideal joints.
-    fn constraints(&mut self, t: f64, q: &[f64], v: &[f64], mut phi: Option<&mut [f64]>) {
+    /// Fills the body rotations of the workspace and, for every equation, Φ_q and
+    /// γ = −(Φ_q q̇)_q q̇ (with M⁻¹ Φ_qᵀ for the rows), and Φ (of the rows into `phi` if given).
+    fn constraints(&mut self, t: f64, q: &[f64], v: &[f64], phi: Option<&mut [f64]>) {
         let ws = &mut self.ws;
-        for (i, (b, (rot, w))) in self
-            .bodies
-            .iter()
-            .zip(ws.rot.iter_mut().zip(&mut ws.inv_mass))
+        for (i, (rot, _)) in (ws.rot.iter_mut().zip(&ws.rotates))
             .enumerate()
+            .filter(|(_, (_, &r))| r)
         {
             *rot = q[3 * i + 2].sin_cos();
-            *w = (1.0 / b.mass, 1.0 / b.inertia);
         }
         let rot = &ws.rot;
         let frame = |b: BodyIndex| Frame::of(q, v, b, |i| rot[i]);
-        let mut rows = ws.rows.iter_mut();
-        let mut row = 0;
-        let mut set = |a: (BodyIndex, [f64; 3]), b: (BodyIndex, [f64; 3])| {
-            let r = rows.next().expect("one row per constraint equation");
-            r.body = [a.0, b.0];
-            for (s, (body, col)) in [a, b].into_iter().enumerate() {
-                (r.at[s], r.col[s]) = match body {
-                    Some(i) => (3 * i, col),
-                    None => (0, [0.0; 3]),
-                };
-            }
+        let mut sink = Sink {
+            rows: &mut ws.rows,
+            gamma: &mut ws.gamma,
+            solved: &mut ws.solved,
+            slot: &ws.slot,
+            phi,
+            e: 0,
         };
         for j in &self.revolutes {
             let (fa, fb) = (frame(j.a.body), frame(j.b.body));
             let (ra, _, sa) = fa.point(j.a.local);
             let (rb, _, sb) = fb.point(j.b.local);
             let (pa, pb) = (perp(sa), perp(sb));
-            set((j.a.body, [1.0, 0.0, pa.x]), (j.b.body, [-1.0, 0.0, -pb.x]));
-            set((j.a.body, [0.0, 1.0, pa.y]), (j.b.body, [0.0, -1.0, -pb.y]));
-            let g = sa * fa.w * fa.w - sb * fb.w * fb.w;
-            ws.gamma[row] = g.x;
-            ws.gamma[row + 1] = g.y;
-            if let Some(phi) = phi.as_deref_mut() {
-                let d = ra - rb;
-                phi[row] = d.x;
-                phi[row + 1] = d.y;
-            }
-            row += 2;
+            let (g, d) = (sa * fa.w * fa.w - sb * fb.w * fb.w, ra - rb);
+            let x = [(j.a.body, [1.0, 0.0, pa.x]), (j.b.body, [-1.0, 0.0, -pb.x])];
+            sink.set(x, g.x, d.x, 0.0);
+            let y = [(j.a.body, [0.0, 1.0, pa.y]), (j.b.body, [0.0, -1.0, -pb.y])];
+            sink.set(y, g.y, d.y, 0.0);
         }
         for j in &self.translationals {
             let (fa, fb) = (frame(j.a.body), frame(j.b.body));
@@ -417,41 +595,40 @@ impl Mechanism {
             let nrm = rotate(fb.sc, j.normal);
             let d = ra - rb;
             let d_dot = va - vb;
-            set((j.a.body, [0.0, 0.0, 1.0]), (j.b.body, [0.0, 0.0, -1.0]));
-            ws.gamma[row] = 0.0;
-            set(
+            let angle = [(j.a.body, [0.0, 0.0, 1.0]), (j.b.body, [0.0, 0.0, -1.0])];
+            sink.set(angle, 0.0, fa.phi - fb.phi - j.relative_angle, 0.0);
+            let line = [
                 (j.a.body, [nrm.x, nrm.y, nrm.dot(&perp(sa))]),
                 (
                     j.b.body,
                     [-nrm.x, -nrm.y, perp(nrm).dot(&d) - nrm.dot(&perp(sb))],
                 ),
-            );
-            ws.gamma[row + 1] = nrm.dot(&d) * wb * wb - 2.0 * wb * perp(nrm).dot(&d_dot)
+            ];
+            let g = nrm.dot(&d) * wb * wb - 2.0 * wb * perp(nrm).dot(&d_dot)
                 + nrm.dot(&(sa * wa * wa - sb * wb * wb));
-            if let Some(phi) = phi.as_deref_mut() {
-                phi[row] = fa.phi - fb.phi - j.relative_angle;
-                phi[row + 1] = nrm.dot(&d);
-            }
-            row += 2;
+            sink.set(line, g, nrm.dot(&d), 0.0);
         }
         let dr = &self.driver;
-        set((Some(dr.body), [0.0, 0.0, 1.0]), (None, [0.0; 3]));
-        ws.gamma[row] = 0.0;
-        if let Some(phi) = phi {
-            phi[row] = q[3 * dr.body + 2] - dr.angle0 - dr.omega * t;
-        }
+        let driver = [(Some(dr.body), [0.0, 0.0, 1.0]), (None, [0.0; 3])];
+        let angle = q[3 * dr.body + 2] - dr.angle0 - dr.omega * t;
+        sink.set(driver, 0.0, angle, -dr.omega);
+        // A ground block has zero columns: any weight gives zero.
         for r in &mut ws.rows {
-            for (b, (c, wc)) in r.body.iter().zip(r.col.iter().zip(&mut r.wcol)) {
-                let (wm, wj) = b.map_or((0.0, 0.0), |b| ws.inv_mass[b]);
-                *wc = [c[0] * wm, c[1] * wm, c[2] * wj];
+            for (&at, (c, wc)) in r.at.iter().zip(r.col.iter().zip(&mut r.wcol)) {
+                *wc = std::array::from_fn(|k| c[k] * ws.inv_mass[at + k]);
             }
         }
     }
 
-    /// Solves `(J W Jᵀ) λ = r` (W = M⁻¹) by LDLᵀ, with r in `ws.lambda` on entry and λ on
-    /// exit. Only the blocks of bodies two rows share contribute ([`Workspace::pairs`]).
-    fn solve_schur(&mut self) -> std::result::Result<(), ()> {
+    /// Moves x onto `J x = b` along `W Jᵀ` (W = M⁻¹ without the prescribed coordinates,
+    /// which stay as they are): with b in `ws.lambda` on entry, solves `(J W Jᵀ) λ = J x − b`
+    /// by LDLᵀ, leaving λ there, and sets `x −= W Jᵀ λ`.
+    /// Only the blocks of bodies two rows share contribute ([`Workspace::pairs`]).
+    fn project(&mut self, x: &mut [f64]) -> std::result::Result<(), ()> {
         let ws = &mut self.ws;
+        for (b, row) in ws.lambda.iter_mut().zip(&ws.rows) {
+            *b = row.dot(x) - *b;
+        }
         let m = ws.rows.len();
         ws.schur.fill(0.0);
         for p in &ws.pairs {
@@ -470,7 +647,19 @@ impl Mechanism {
                 }
             };
         }
-        unrolled!(1 2 3 4 5 6 7 8 9 10)
+        unrolled!(1 2 3 4 5 6 7 8 9 10)?;
+        for (r, l) in ws.rows.iter().zip(&ws.lambda) {
+            for s in 0..2 {
+                // A ground block would chain the stores to x[0..3] for nothing.
+                if r.body[s].is_some() {
+                    let at = r.at[s];
+                    for (x, wc) in x[at..at + 3].iter_mut().zip(&r.wcol[s]) {
+                        *x -= l * wc;
+                    }
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Kinematics of clearance joint `k` at state (q, v), without forces.
@@ -519,6 +708,7 @@ impl Mechanism {
         let e_rate = n.dot(&e_dot);
         let cs = ContactState {
             e,
+            n,
             theta,
             delta: dist - c - h,
             delta_dot: e_rate - dh * theta_rate,
@@ -574,8 +764,7 @@ impl Mechanism {
                 continue;
             }
             let cj = &self.clearance_joints[k];
-            let n = cs.e / cs.e.norm();
-            let t = perp(n);
+            let (n, t) = (cs.n, perp(cs.n));
             let on_journal = -n * cs.f_n + t * cs.f_t;
             add_force(
                 &mut force,
@@ -607,34 +796,61 @@ impl Mechanism {
         self.accelerations(t, v, &mut dy[n..2 * n])?;
         dy[..n].copy_from_slice(v);
         if self.energy_accounting {
-            let d = &self.driver;
-            dy[2 * n] = -self.ws.lambda[self.driver_row()] * v[3 * d.body + 2];
+            let driven = 3 * self.driver.body + 2;
+            dy[2 * n] = self.driver_torque(&dy[n..2 * n]) * v[driven];
             dy[2 * n + 1] = p_normal;
             dy[2 * n + 2] = p_friction;
         }
         Ok(())
     }
 
+    /// The driver's torque −λ_d, from the equations of motion of the solved coordinates,
+    /// `m_k q̈_k = F_k − (Φ_qᵀ λ)_k`, taken in reverse order: each gives the multiplier of
+    /// the equation solved for it, as only equations solved later (and the rows) touch it.
+    fn driver_torque(&mut self, acc: &[f64]) -> f64 {
+        let ws = &mut self.ws;
+        ws.reaction.fill(0.0);
+        let add = |reaction: &mut [f64], r: &Row, l: f64| {
+            for (k, c) in r.entries() {
+                reaction[k] += c * l;
+            }
+        };
+        for (r, &l) in ws.rows.iter().zip(&ws.lambda) {
+            add(&mut ws.reaction, r, l);
+        }
+        let mut lambda = 0.0;
+        for s in ws.solved.iter().rev() {
+            let k = s.coord;
+            lambda = (ws.force[k] - ws.mass[k] * acc[k] - ws.reaction[k]) / s.coef;
+            add(&mut ws.reaction, &s.row, lambda);
+        }
+        // The driver's equation is solved first, so its multiplier comes last.
+        -lambda
+    }
+
+    /// Sets each solved coordinate of x from its equation, `coef · x_k = b − Σ_other Φ_q x`
+    /// (b from `target`), in order; x must be zero there on entry.
+    fn solve_fixed(&self, x: &mut [f64], target: impl Fn(&Solved) -> f64) {
+        for s in &self.ws.solved {
+            x[s.coord] = (target(s) - s.row.dot(x)) * s.inv_coef;
+        }
+    }
+
     /// q̈ = M⁻¹ (F − Φ_qᵀ λ) for the constraints, Φ (in `ws.lambda`) and applied forces in
-    /// the workspace; leaves λ in the workspace.
+    /// the workspace, the solved coordinates first; leaves the rows' λ in the workspace.
     fn accelerations(&mut self, t: f64, v: &[f64], acc: &mut [f64]) -> Result<()> {
         let (alpha, beta) = self.baumgarte;
-        let omega = self.driver.omega;
         let ws = &mut self.ws;
-        for (f, w) in ws.force.chunks_exact_mut(3).zip(&ws.inv_mass) {
-            f[0] *= w.0;
-            f[1] *= w.0;
-            f[2] *= w.1;
+        for (a, (f, w)) in acc.iter_mut().zip(ws.force.iter().zip(&ws.inv_mass)) {
+            *a = f * w;
         }
-        let m = ws.rows.len();
-        for (i, (p, row)) in ws.lambda.iter_mut().zip(&ws.rows).enumerate() {
-            let mut phi_dot = row.dot(v);
-            if i == m - 1 {
-                phi_dot -= omega;
-            }
-            *p = row.dot(&ws.force) - (ws.gamma[i] - 2.0 * alpha * phi_dot - beta * beta * *p);
+        for ((b, row), g) in ws.lambda.iter_mut().zip(&ws.rows).zip(&ws.gamma) {
+            *b = g - 2.0 * alpha * row.dot(v) - beta * beta * *b;
         }
-        self.solve_schur().map_err(|_| Error::Integration {
+        self.solve_fixed(acc, |s| {
+            s.gamma - 2.0 * alpha * (s.row.dot(v) + s.phi_t) - beta * beta * s.phi
+        });
+        self.project(acc).map_err(|_| Error::Integration {
             time: t,
             // A blown-up state also breaks the solve; only a finite one means bad joints.
             cause: if v.iter().chain(&self.ws.force).all(|x| x.is_finite()) {
@@ -643,9 +859,6 @@ impl Mechanism {
                 "non-finite state: the step is too large for the contact stiffness".into()
             },
         })?;
-        let ws = &self.ws;
-        acc.copy_from_slice(&ws.force);
-        ws.add_weighted_rows(acc, -1.0);
         Ok(())
     }
 
@@ -695,14 +908,12 @@ impl Mechanism {
         }
         ideal.clearance_joints.clear();
         ideal.energy_accounting = false;
-        let m = ideal.constraint_count();
-        ideal.resize_workspace(m);
+        ideal.resize_workspace()?;
         let n = self.coordinates();
         let zeros = vec![0.0; n];
         let mut q = guess.to_vec();
-        let mut phi = vec![0.0; m];
         for iteration in 0.. {
-            ideal.constraints(0.0, &q, &zeros, Some(&mut phi));
+            let phi = ideal.constraint_vector(0.0, &q);
             let residual = phi.iter().fold(0.0f64, |a, p| a.max(p.abs()));
             if residual < 1e-13 {
                 break;
@@ -716,54 +927,66 @@ impl Mechanism {
                     "positions close enough to an assembled configuration",
                 ));
             }
-            ideal.ws.lambda.copy_from_slice(&phi);
-            ideal.min_norm_step(&mut q, -1.0)?;
+            // Newton step Δq with Φ_q Δq = −Φ (the rows' part of Φ first).
+            for (b, p) in ideal.ws.lambda.iter_mut().zip(&phi) {
+                *b = -p;
+            }
+            for (q, dq) in q.iter_mut().zip(ideal.min_norm_step(|s| -s.phi)?) {
+                *q += dq;
+            }
         }
-        // Velocities: Φ_q q̇ = (0, …, ω).
-        let mut v = vec![0.0; n];
+        // Velocities: Φ_q q̇ = −Φ_t.
         ideal.constraints(0.0, &q, &zeros, None);
         ideal.ws.lambda.fill(0.0);
-        ideal.ws.lambda[m - 1] = self.driver.omega;
-        ideal.min_norm_step(&mut v, 1.0)?;
+        let v = ideal.min_norm_step(|s| -s.phi_t)?;
         let mut y = vec![0.0; self.state_len()];
         y[..n].copy_from_slice(&q);
         y[n..2 * n].copy_from_slice(&v);
         Ok(y)
     }
 
-    /// x += sign · W Jᵀ (J W Jᵀ)⁻¹ r, with r in `ws.lambda` and J in `ws.jac`.
-    fn min_norm_step(&mut self, x: &mut [f64], sign: f64) -> Result<()> {
-        self.solve_schur().map_err(|_| {
+    /// The mass-weighted minimum-norm x with `J x = b` (the rows' b in `ws.lambda`, the
+    /// solved equations' from `target`), for the state of the last `constraints` call.
+    fn min_norm_step(&mut self, target: impl Fn(&Solved) -> f64) -> Result<Vec<f64>> {
+        let mut x = vec![0.0; self.coordinates()];
+        self.solve_fixed(&mut x, target);
+        self.project(&mut x).map_err(|_| {
             Error::invalid(
                 "joints",
                 "a singular constraint Jacobian",
                 "independent joints (no locked or redundant joint)",
             )
         })?;
-        self.ws.add_weighted_rows(x, sign);
-        Ok(())
+        Ok(x)
     }
 
-    /// Dense copy of the constraint Jacobian and γ at (t, q, v), for tests and diagnostics.
-    pub fn jacobian(&mut self, t: f64, q: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64>) {
-        self.constraints(t, q, v, None);
+    /// Dense copy of the constraint Jacobian and γ at (q, v), for tests and diagnostics: the
+    /// rows of [`Mechanism::constraint_vector`].
+    pub fn jacobian(&mut self, q: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        self.constraints(0.0, q, v, None);
         let n = self.coordinates();
-        let mut jac = vec![0.0; self.ws.rows.len() * n];
-        for (row, r) in jac.chunks_exact_mut(n).zip(&self.ws.rows) {
-            for (&at, c) in r.at.iter().zip(&r.col) {
-                for (x, c) in row[at..at + 3].iter_mut().zip(c) {
-                    *x += c;
-                }
+        let ws = &self.ws;
+        let rows = ws.rows.iter().zip(ws.gamma.iter().copied());
+        let solved = ws.solved.iter().map(|s| (&s.row, s.gamma));
+        let mut jac = vec![0.0; self.constraint_count() * n];
+        let mut gamma = Vec::new();
+        for (out, (r, g)) in jac.chunks_exact_mut(n).zip(rows.chain(solved)) {
+            for (k, c) in r.entries() {
+                out[k] = c;
             }
+            gamma.push(g);
         }
-        (jac, self.ws.gamma.clone())
+        (jac, gamma)
     }
 
-    /// Constraint residual vector Φ(q, t).
+    /// Constraint residual vector Φ(q, t): the rows of the constraint system, then the
+    /// equations solved for one coordinate, in their order.
     pub fn constraint_vector(&mut self, t: f64, q: &[f64]) -> Vec<f64> {
-        let mut phi = vec![0.0; self.constraint_count()];
+        let rows = self.ws.rows.len();
+        let mut phi = vec![0.0; rows];
         let zeros = vec![0.0; q.len()];
         self.constraints(t, q, &zeros, Some(&mut phi));
+        phi.extend(self.ws.solved.iter().map(|s| s.phi));
         phi
     }
 }

@@ -391,7 +391,7 @@ impl SceneFile {
             Vector2::new(self.gravity_m_s2[0], self.gravity_m_s2[1]),
             (run.baumgarte, run.baumgarte),
             run.energy_accounting,
-        );
+        )?;
         let dof = mechanism.coordinates() as i64 - mechanism.constraint_count() as i64;
         if dof < 0 {
             return Err(Error::invalid(

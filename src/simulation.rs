@@ -459,8 +459,8 @@ impl Sampler {
             integrator.dense(t, y);
             mechanism.rhs(t, y, &mut self.dy)?;
             if rec.accelerations.is_empty() {
-                rec.positions = vec![Default::default(); mechanism.bodies.len()];
-                rec.accelerations = vec![Default::default(); mechanism.bodies.len()];
+                rec.positions = vec![Default::default(); mechanism.bodies().len()];
+                rec.accelerations = vec![Default::default(); mechanism.bodies().len()];
                 rec.joints = vec![JointTrace::default(); mechanism.clearance_joints.len()];
             }
             rec.time.push(t);

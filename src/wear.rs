@@ -181,11 +181,12 @@ impl WearProfile {
     #[inline]
     pub fn depth_at(&self, theta: f64) -> (f64, f64) {
         let n = self.depth.len();
-        let u = wrap_angle(theta) / self.width - 0.5;
-        let fl = u.floor();
-        let t = u - fl;
-        let i = (fl as isize).rem_euclid(n as isize) as usize;
-        // Neighbours without `%`: an integer division costs as much as the whole spline.
+        // u ∈ [0.5, n + 0.5]: a cast instead of `floor` (a libm call without SSE4.1) and no
+        // `rem_euclid` or `%` below, as an integer division costs as much as the spline.
+        let u = wrap_angle(theta) / self.width + 0.5;
+        let k = u as usize; // 1 + the sector whose centre precedes θ
+        let t = u - k as f64;
+        let i = if k == 0 { n - 1 } else { (k - 1).min(n - 1) };
         let next = |k: usize| if k + 1 == n { 0 } else { k + 1 };
         let p0 = self.depth[if i == 0 { n - 1 } else { i - 1 }];
         let p1 = self.depth[i];

@@ -133,3 +133,13 @@ fn bad_scene_file_reports_field_and_path() {
     assert!(missing.contains("absent.toml"), "{missing}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn driver_on_a_locked_angle() {
+    // The translational joint already holds the slider's angle: driving it too is redundant.
+    let msg = error_of(&replaced("body = \"crank\"", "body = \"slider\""));
+    assert!(
+        msg.contains("translational[0]") && msg.contains("already fixed by the others"),
+        "{msg}"
+    );
+}

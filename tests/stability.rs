@@ -10,8 +10,11 @@ const MAX_STEPS: u64 = 400_000;
 /// Penetration bound (m): the softest case (E = 1 GPa) reaches 0.14 mm; 0.5 mm is far beyond
 /// any physical contact yet far below the 10 mm bearing radius.
 const MAX_PENETRATION: f64 = 5e-4;
-/// Energy-balance residual bound at the scene's rtol 1e-8: the study measures at most 1.5e-6.
-const MAX_RESIDUAL: f64 = 1e-4;
+/// Energy-balance residual bound, relative to the driver work. Measured: at most 1.3e-4
+/// (restitution_1.0, whose many elastic impacts each leave an event-location error in the
+/// energy quadratures, which are outside error control). The smallest loss term of the suite,
+/// that case's normal-force work, is 2.5e-3 of its driver work: a dropped term still fails.
+const MAX_RESIDUAL: f64 = 5e-4;
 
 fn completes(name: &str) -> StabilityRow {
     let r = stability_case(name, 1, MAX_STEPS).expect("scene loads");

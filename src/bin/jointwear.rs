@@ -210,7 +210,7 @@ fn write_run(scene: &Scene, out: &RunOutput, dir: &Path) -> jointwear::Result<()
             columns.push(data);
         }
     }
-    for (body, acc) in m.bodies.iter().zip(&rec.accelerations) {
+    for (body, acc) in m.bodies().iter().zip(&rec.accelerations) {
         for (name, data) in ["ax_m_s2", "ay_m_s2", "alpha_rad_s2"].iter().zip(acc) {
             header.push(format!("{}.{name}", body.name));
             columns.push(data);
