@@ -158,9 +158,8 @@ pub struct Mechanism {
 struct Solved {
     row: Row,
     coord: usize,
-    /// ∂Φ/∂q_coord, the same at every state, and its inverse (a multiplication, not a
-    /// division, on the chain from one solved coordinate to the next).
-    coef: f64,
+    /// 1 / (∂Φ/∂q_coord), the same at every state: a multiplication, not a division, on the
+    /// chain from one solved coordinate to the next.
     inv_coef: f64,
     gamma: f64,
     phi: f64,
@@ -506,7 +505,6 @@ impl Mechanism {
         ws.solved = (order.iter())
             .map(|&(_, coord, coef)| Solved {
                 coord,
-                coef,
                 inv_coef: 1.0 / coef,
                 ..Default::default()
             })
@@ -821,7 +819,7 @@ impl Mechanism {
         let mut lambda = 0.0;
         for s in ws.solved.iter().rev() {
             let k = s.coord;
-            lambda = (ws.force[k] - ws.mass[k] * acc[k] - ws.reaction[k]) / s.coef;
+            lambda = (ws.force[k] - ws.mass[k] * acc[k] - ws.reaction[k]) * s.inv_coef;
             add(&mut ws.reaction, &s.row, lambda);
         }
         // The driver's equation is solved first, so its multiplier comes last.
