@@ -124,6 +124,19 @@ impl Motion {
     }
 }
 
+/// Angle (deg, sector centre of 360) that collects most of the recorded wear `rate · dt`.
+pub fn wear_location(theta: &[f64], rate: &[f64]) -> f64 {
+    let mut bins = [0.0; 360];
+    for (t, r) in theta.iter().zip(rate) {
+        bins[(t.to_degrees() as usize).min(359)] += r;
+    }
+    let (i, _) = bins
+        .iter()
+        .enumerate()
+        .fold((0, 0.0), |a, (i, &v)| if v > a.1 { (i, v) } else { a });
+    i as f64 + 0.5
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

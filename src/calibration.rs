@@ -27,14 +27,13 @@
 //! the best-scoring admissible set of the factorial; the one-at-a-time rows are sensitivity
 //! checks around it, not candidates, so the choice does not chase that noise.
 
-use crate::analysis::peaks;
-use crate::figures::{
-    output_path, steady_metrics, steady_run_with, wear_run_with, CASES, PEAK_PROMINENCE,
-};
+use crate::analysis::{peaks, wear_location};
+use crate::figures::output_path;
 use crate::friction::FrictionModel;
 use crate::golden::{angle_distance, Golden};
 use crate::output::write_rows;
 use crate::plot::{render, Axes, Series, Style};
+use crate::runs::{steady_member, steady_run_with, wear_run_with, CASES, PEAK_PROMINENCE};
 use crate::scene::SceneFile;
 use crate::wear::PressureModel;
 use crate::Result;
@@ -130,19 +129,6 @@ pub struct Metrics {
     pub score: f64,
 }
 
-/// Angle (deg, sector centre of 360) that collects most of the recorded wear `rate · dt`.
-pub fn wear_location(theta: &[f64], rate: &[f64]) -> f64 {
-    let mut bins = [0.0; 360];
-    for (t, r) in theta.iter().zip(rate) {
-        bins[(t.to_degrees() as usize).min(359)] += r;
-    }
-    let (i, _) = bins
-        .iter()
-        .enumerate()
-        .fold((0, 0.0), |a, (i, &v)| if v > a.1 { (i, v) } else { a });
-    i as f64 + 0.5
-}
-
 /// Scores one parameter set against the golden claims.
 pub fn evaluate(p: &Params, golden: &Golden) -> Result<Metrics> {
     let modify = |f: &mut SceneFile| p.apply(f);
@@ -166,7 +152,8 @@ pub fn evaluate(p: &Params, golden: &Golden) -> Result<Metrics> {
     let mut low_speed_angle = f64::NAN;
     for ((name, _, _), row) in CASES.iter().zip(&golden.table3) {
         let (scene, out) = steady_run_with(name, modify)?;
-        let (motion, c) = steady_metrics(&scene, &out)?;
+        let m = steady_member(&scene, &out, false)?;
+        let (motion, c) = (m.motion, m.concordance);
         modes_matched += usize::from(motion.mode() == row.motion);
         dominance_matched += usize::from(c.dominant() == row.dominant());
         sq += (c.pressure_wear - row.pw).powi(2) + (c.sliding_wear - row.sw).powi(2);

@@ -1,56 +1,25 @@
-//! The paper's figures as library functions. Each loads its scenes, runs only the simulation
-//! it plots (two recorded rotations after the steady state, or the 40 rotations of coupled
-//! wear), writes `figures/<name>.png` and `data/<name>.csv` atomically, and returns a
-//! [`Summary`] of the numbers it measured; the `src/bin/` programs only call them, and the
-//! report reads their summaries.
+//! The paper's figures as library functions, drawn from ensembles ([`crate::runs`]).
+//!
+//! Each [`Figure`] names the ensembles it needs, and draws `figures/<name>.png` and writes
+//! `data/<name>.csv` atomically from them. Wear figures draw the ensemble mean with the band
+//! that holds 90 % of the members (5 %–95 % quantiles, shaded); time-series figures draw the
+//! first member (a trajectory cannot be averaged) and their summary lines give mean ± sd over
+//! all members. The `src/bin/` programs only call [`figure_main`]; the report computes every
+//! ensemble once and draws every figure from it.
 
-use crate::analysis::{peaks, Motion, Peak};
-use crate::concordance::{centred_cmf, Concordance};
+use crate::analysis::Peak;
+use crate::ensemble::EnsembleSettings;
+use crate::golden::Golden;
 use crate::output::{write_csv, write_rows};
-use crate::plot::{render, render_polar, Axes, Series, Style};
-use crate::scene::{scene_path, Scene, SceneFile};
-use crate::simulation::{simulate, RunOutput};
+use crate::plot::{render, render_polar, Axes, Series, Shade, Style};
+use crate::runs::{clearance, Need, Runs, SteadyEnsemble, Traces, WearEnsemble, CASES};
+use crate::statistics::{fractions, Band, Distribution};
 use crate::{Error, Result};
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// Where generated outputs go: `figures/` and `data/` under the crate root.
 pub fn output_path(dir: &str, file: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(dir).join(file)
-}
-
-/// Minimum prominence of a reported wear peak, as a fraction of the deepest wear.
-pub const PEAK_PROMINENCE: f64 = 0.05;
-
-/// The scenes of the paper's cases: (scene, clearance mm, speed r/min), in Table 3's order.
-pub const CASES: [(&str, f64, f64); 5] = [
-    ("speed_30rpm", 0.02, 30.0),
-    ("speed_600rpm", 0.02, 600.0),
-    ("standard", 0.02, 2000.0),
-    ("clearance_0.2mm", 0.2, 2000.0),
-    ("clearance_0.5mm", 0.5, 2000.0),
-];
-
-/// Numbers a figure measured, by name, and the lines its program prints.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Summary {
-    pub values: BTreeMap<String, f64>,
-    pub lines: Vec<String>,
-}
-
-impl Summary {
-    fn set(&mut self, key: impl Into<String>, value: f64) {
-        self.values.insert(key.into(), value);
-    }
-
-    fn say(&mut self, line: impl Into<String>) {
-        self.lines.push(line.into());
-    }
-
-    /// A measured value; NaN if the figure did not measure it.
-    pub fn get(&self, key: &str) -> f64 {
-        self.values.get(key).copied().unwrap_or(f64::NAN)
-    }
 }
 
 /// Sector centre angles (deg) of a profile with `n` sectors.
@@ -60,99 +29,137 @@ pub fn sector_angles_deg(n: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Two recorded rotations after the steady state of a scene.
-pub fn steady_run(name: &str) -> Result<(Scene, RunOutput)> {
-    steady_run_with(name, |_| {})
+/// A figure of the paper (or Table 3): the ensembles it reads and how it draws them.
+pub struct Figure {
+    /// Program and file name, `fig06`.
+    pub name: &'static str,
+    /// What the paper says it shows.
+    pub caption: &'static str,
+    /// The ensembles it reads.
+    pub needs: &'static [Need],
+    /// Draws the PNG and writes the CSV; returns the lines its program prints.
+    pub draw: fn(&Runs) -> Result<Vec<String>>,
 }
 
-/// [`steady_run`] of a scene varied by `modify`.
-pub fn steady_run_with(name: &str, modify: impl Fn(&mut SceneFile)) -> Result<(Scene, RunOutput)> {
-    let mut file = SceneFile::read(scene_path(name))?;
-    modify(&mut file);
-    file.run.settle = true;
-    file.run.rotations = 2;
-    file.run.record_rotations = 2;
-    file.run.wear_snapshots.clear();
-    let scene = file.build()?;
-    let out = simulate(&scene)?;
-    Ok((scene, out))
-}
+const CLEARANCE_STEADY: &[Need] = &[
+    Need::Steady("clearance_0.2mm"),
+    Need::Steady("clearance_0.5mm"),
+];
+const SPEED_STEADY: &[Need] = &[Need::Steady("speed_30rpm"), Need::Steady("speed_600rpm")];
 
-/// The scene's rotations of coupled wear without time series, with `history` wear profiles
-/// saved per rotation.
-pub fn wear_run(name: &str, history: u32) -> Result<(Scene, RunOutput)> {
-    wear_run_with(name, history, |_| {})
-}
+/// Every figure of the paper, in order, then Table 3.
+pub const FIGURES: [Figure; 14] = [
+    Figure {
+        name: "fig03",
+        caption: "Slider acceleration versus wear rate (0.02 mm, 2000 r/min)",
+        needs: &[Need::Steady("standard")],
+        draw: fig03,
+    },
+    Figure {
+        name: "fig04",
+        caption: "Journal trajectory (0.02 mm, 2000 r/min)",
+        needs: &[Need::Steady("standard")],
+        draw: fig04,
+    },
+    Figure {
+        name: "fig05",
+        caption: "Variation of bearing radius for 40 cycles (caption: 0.002 mm; text: 0.02 mm, 2000 r/min)",
+        needs: &[Need::Wear("standard")],
+        draw: fig05,
+    },
+    Figure {
+        name: "fig06",
+        caption: "Variation of bearing radius with crank rotation, 10-40 rotations (0.02 mm, 2000 r/min)",
+        needs: &[Need::Wear("standard")],
+        draw: fig06,
+    },
+    Figure {
+        name: "fig07",
+        caption: "Variation of bearing radius in the three severe regions (0.02 mm, 2000 r/min)",
+        needs: &[Need::WearHistory("standard")],
+        draw: fig07,
+    },
+    Figure {
+        name: "fig08",
+        caption: "Journal trajectory for radial clearances 0.2 mm and 0.5 mm",
+        needs: CLEARANCE_STEADY,
+        draw: fig08,
+    },
+    Figure {
+        name: "fig09",
+        caption: "Slider acceleration versus wear rate for 0.2 mm and 0.5 mm",
+        needs: CLEARANCE_STEADY,
+        draw: fig09,
+    },
+    Figure {
+        name: "fig10",
+        caption: "Variation of bearing radius for 0.2 mm and 0.5 mm",
+        needs: &[Need::Wear("clearance_0.2mm"), Need::Wear("clearance_0.5mm")],
+        draw: fig10,
+    },
+    Figure {
+        name: "fig11",
+        caption: "Wear depth accumulated for different clearance sizes",
+        needs: &[
+            Need::Wear("standard"),
+            Need::Wear("clearance_0.2mm"),
+            Need::Wear("clearance_0.5mm"),
+        ],
+        draw: fig11,
+    },
+    Figure {
+        name: "fig12",
+        caption: "Journal trajectory at 30 and 600 r/min",
+        needs: SPEED_STEADY,
+        draw: fig12,
+    },
+    Figure {
+        name: "fig13",
+        caption: "Slider acceleration versus wear rate at 30 and 600 r/min",
+        needs: SPEED_STEADY,
+        draw: fig13,
+    },
+    Figure {
+        name: "fig14",
+        caption: "Variation of bearing radius at 30 and 600 r/min",
+        needs: &[Need::Wear("speed_30rpm"), Need::Wear("speed_600rpm")],
+        draw: fig14,
+    },
+    Figure {
+        name: "fig15",
+        caption: "Wear depth accumulated for different crank speeds",
+        needs: &[
+            Need::Wear("speed_30rpm"),
+            Need::Wear("speed_600rpm"),
+            Need::Wear("standard"),
+        ],
+        draw: fig15,
+    },
+    Figure {
+        name: "table3",
+        caption: "Table 3: motion state and concordance of the wear-rate drivers",
+        needs: &[
+            Need::Steady("speed_30rpm"),
+            Need::Steady("speed_600rpm"),
+            Need::Steady("standard"),
+            Need::Steady("clearance_0.2mm"),
+            Need::Steady("clearance_0.5mm"),
+        ],
+        draw: table3,
+    },
+];
 
-/// [`wear_run`] of a scene varied by `modify`.
-pub fn wear_run_with(
-    name: &str,
-    history: u32,
-    modify: impl Fn(&mut SceneFile),
-) -> Result<(Scene, RunOutput)> {
-    let mut file = SceneFile::read(scene_path(name))?;
-    modify(&mut file);
-    file.run.record_rotations = 0;
-    file.run.profile_history_per_rotation = history;
-    let scene = file.build()?;
-    let out = simulate(&scene)?;
-    Ok((scene, out))
-}
-
-/// Radial clearance (m) of the scene's first clearance joint.
-fn clearance(scene: &Scene) -> f64 {
-    let cj = &scene.mechanism.clearance_joints[0];
-    cj.r_bearing - cj.r_journal
-}
-
-/// Index of the body called `name`.
-fn body(scene: &Scene, name: &str) -> Result<usize> {
-    scene
-        .mechanism
-        .bodies()
+/// Every ensemble any figure needs.
+pub fn all_needs() -> Vec<Need> {
+    FIGURES
         .iter()
-        .position(|b| b.name == name)
-        .ok_or_else(|| {
-            Error::invalid(
-                "bodies",
-                format!("no body `{name}`"),
-                "the paper's slider-crank",
-            )
-        })
+        .flat_map(|f| f.needs.iter().copied())
+        .collect()
 }
 
-/// Recorded series of a steady run used by the time-series figures (SI unless named).
-struct Traces {
-    /// Crank angle from the start of the recording (deg).
-    crank_deg: Vec<f64>,
-    slider_acc: Vec<f64>,
-    wear_rate_um_s: Vec<f64>,
-    ex_um: Vec<f64>,
-    ey_um: Vec<f64>,
-    motion: Motion,
-    concordance: Concordance,
-}
-
-fn traces(scene: &Scene, out: &RunOutput) -> Result<Traces> {
-    let rec = &out.recording;
-    let j = &rec.joints[0];
-    let slider = body(scene, "slider")?;
-    let start = rec.driver_angle[0];
-    let dt = rec.time[1] - rec.time[0];
-    let um = |v: &[f64], s: f64| v.iter().map(|x| x * s).collect::<Vec<f64>>();
-    Ok(Traces {
-        crank_deg: rec
-            .driver_angle
-            .iter()
-            .map(|a| (a - start).abs().to_degrees())
-            .collect(),
-        slider_acc: rec.accelerations[slider][0].clone(),
-        wear_rate_um_s: um(&j.wear_rate, 1e6),
-        ex_um: um(&j.ex, 1e6),
-        ey_um: um(&j.ey, 1e6),
-        motion: Motion::classify(&j.delta, dt, scene.run.rotations as f64),
-        concordance: Concordance::of(&j.pressure, &j.sliding_velocity, &j.wear_rate, dt),
-    })
+/// `member 1 of N` for titles of figures that draw one member.
+fn first_of(n: usize) -> String {
+    format!("member 1 of {n}")
 }
 
 fn acceleration_panel<'a>(title: String, t: &'a Traces) -> Axes<'a> {
@@ -198,78 +205,42 @@ fn trajectory_panel<'a>(title: String, t: &'a Traces, c: f64) -> Axes<'a> {
     }
 }
 
-/// Motion mode and concordances of a steady run.
-pub fn steady_metrics(scene: &Scene, out: &RunOutput) -> Result<(Motion, Concordance)> {
-    let t = traces(scene, out)?;
-    Ok((t.motion, t.concordance))
-}
-
-/// Records what a steady run measured under `key`.
-fn summarise_steady(s: &mut Summary, key: &str, out: &RunOutput, t: &Traces) {
-    let Some(settle) = out.settling else { return };
-    let j = &out.recording.joints[0];
-    let abs_acc: Vec<f64> = t.slider_acc.iter().map(|a| a.abs()).collect();
-    // Share of the circumference (1 deg bins) the journal touches while in contact.
-    let mut touched = [false; 360];
-    for (th, d) in j.theta.iter().zip(&j.delta) {
-        if *d >= 0.0 {
-            touched[(th.to_degrees() as usize).min(359)] = true;
+/// The lines a steady ensemble's figure prints: mean ± sd over the members.
+fn steady_lines(name: &str, e: &SteadyEnsemble) -> String {
+    let n = e.members.len();
+    let modes: Vec<String> = fractions(e.members.iter().map(|m| m.motion.mode()))
+        .iter()
+        .map(|(mode, k)| format!("{mode} in {k} of {n}"))
+        .collect();
+    let unsteady = e.members.iter().filter(|m| !m.settling.steady).count();
+    format!(
+        "{name} ({n} members): {}; in contact {} %, {} impacts/rotation; max |slider acc| {} m/s², \
+         max force {} N, max penetration {} µm; CMF P-w {}, s-w {}{}",
+        modes.join(", "),
+        e.stat(|m| m.motion.contact_fraction).mean_sd(100.0, 1),
+        e.stat(|m| m.motion.impacts_per_rotation).mean_sd(1.0, 1),
+        e.stat(|m| m.max_slider_acc).mean_sd(1.0, 0),
+        e.stat(|m| m.max_normal_force).mean_sd(1.0, 0),
+        e.stat(|m| m.max_penetration).mean_sd(1e6, 2),
+        e.stat(|m| m.concordance.pressure_wear).mean_sd(1.0, 4),
+        e.stat(|m| m.concordance.sliding_wear).mean_sd(1.0, 4),
+        if unsteady > 0 {
+            format!("; the orbit of {unsteady} members never repeated (chaotic; recorded anyway)")
+        } else {
+            String::new()
         }
-    }
-    let coverage = touched.iter().filter(|&&b| b).count() as f64 / 360.0;
-    let max_acc = t.slider_acc.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-    let max_force = out.recording.joints[0]
-        .normal_force
-        .iter()
-        .cloned()
-        .fold(0.0, f64::max);
-    let max_pen = out.recording.joints[0]
-        .delta
-        .iter()
-        .cloned()
-        .fold(f64::MIN, f64::max);
-    for (name, v) in [
-        ("settle_rotations", settle.rotations as f64),
-        ("settle_orbit_change", settle.orbit_change),
-        ("steady", if settle.steady { 1.0 } else { 0.0 }),
-        ("contact_fraction", t.motion.contact_fraction),
-        ("impacts_per_rotation", t.motion.impacts_per_rotation),
-        ("mean_flight_time_s", t.motion.mean_flight_time),
-        ("max_slider_acc", max_acc),
-        ("max_normal_force", max_force),
-        ("max_penetration", max_pen),
-        ("contact_coverage", coverage),
-        (
-            "max_wear_rate",
-            j.wear_rate.iter().cloned().fold(0.0, f64::max),
-        ),
-        ("acc_wear_correlation", centred_cmf(&abs_acc, &j.wear_rate)),
-        (
-            "force_wear_correlation",
-            centred_cmf(&j.normal_force, &j.wear_rate),
-        ),
-        ("pw", t.concordance.pressure_wear),
-        ("sw", t.concordance.sliding_wear),
-        ("wall_time_s", out.wall_time),
-    ] {
-        s.set(format!("{key}.{name}"), v);
-    }
-    s.say(format!(
-        "{key}: {} (in contact {:.1}% of the time, {:.1} impacts/rotation), settled after {} rotations{}; \
-         max |slider acc| {max_acc:.0} m/s², max force {max_force:.0} N, max penetration {:.2} µm; \
-         CMF P-w {:.4}, s-w {:.4}",
-        t.motion.mode(),
-        100.0 * t.motion.contact_fraction,
-        t.motion.impacts_per_rotation,
-        settle.rotations,
-        if settle.steady { "" } else { " (orbit not repeating: recorded anyway)" },
-        max_pen * 1e6,
-        t.concordance.pressure_wear,
-        t.concordance.sliding_wear,
-    ));
+    )
 }
 
-/// Writes the time series of steady runs in long format, one block per case.
+/// The first member's traces of a steady ensemble.
+fn first_traces(e: &SteadyEnsemble) -> Result<&Traces> {
+    e.members
+        .first()
+        .and_then(|m| m.traces.as_ref())
+        .ok_or_else(|| Error::invalid("ensemble", "no traces", "a first member with traces"))
+}
+
+/// Writes the first member's time series of steady runs in long format, one block per case.
 fn write_steady_csv(name: &str, cases: &[(f64, &Traces)]) -> Result<()> {
     let mut cols: [Vec<f64>; 6] = Default::default();
     for (case, t) in cases {
@@ -292,47 +263,46 @@ fn write_steady_csv(name: &str, cases: &[(f64, &Traces)]) -> Result<()> {
     write_csv(&output_path("data", &format!("{name}.csv")), &header, &refs)
 }
 
-/// A time-series figure of one or two steady cases: `panel` draws each.
+/// A time-series figure of one or two steady cases: `panel` draws each case's first member.
 fn steady_figure(
+    runs: &Runs,
     name: &str,
     cases: &[(&str, f64, String)],
     panel: impl for<'a> Fn(String, &'a Traces, f64) -> Axes<'a>,
-) -> Result<Summary> {
-    let mut s = Summary::default();
-    let mut runs = Vec::new();
+) -> Result<Vec<String>> {
+    let mut lines = Vec::new();
+    let mut drawn = Vec::new();
     for (scene_name, case, title) in cases {
-        let (scene, out) = steady_run(scene_name)?;
-        let t = traces(&scene, &out)?;
-        summarise_steady(&mut s, scene_name, &out, &t);
-        runs.push((*case, title.clone(), t, clearance(&scene)));
+        let e = runs.steady(scene_name)?;
+        lines.push(steady_lines(scene_name, e));
+        let title = format!("{title} ({})", first_of(e.members.len()));
+        drawn.push((*case, title, first_traces(e)?, clearance(&e.scene)));
     }
-    let panels: Vec<Axes> = runs
+    let panels: Vec<Axes> = drawn
         .iter()
         .map(|(_, title, t, c)| panel(title.clone(), t, *c))
         .collect();
     render(&output_path("figures", &format!("{name}.png")), &panels)?;
-    write_steady_csv(
-        name,
-        &runs
-            .iter()
-            .map(|(case, _, t, _)| (*case, t))
-            .collect::<Vec<_>>(),
-    )?;
-    Ok(s)
+    let csv: Vec<(f64, &Traces)> = drawn.iter().map(|(case, _, t, _)| (*case, *t)).collect();
+    write_steady_csv(name, &csv)?;
+    Ok(lines)
 }
 
-/// Figure 3: slider acceleration and wear rate, standard scene.
-pub fn fig03() -> Result<Summary> {
+fn fig03(runs: &Runs) -> Result<Vec<String>> {
     let title = "Slider acceleration and wear rate (0.02 mm, 2000 r/min)".to_string();
-    steady_figure("fig03", &[("standard", 0.02, title)], |t, tr, _| {
+    steady_figure(runs, "fig03", &[("standard", 0.02, title)], |t, tr, _| {
         acceleration_panel(t, tr)
     })
 }
 
-/// Figure 4: journal trajectory, standard scene.
-pub fn fig04() -> Result<Summary> {
+fn fig04(runs: &Runs) -> Result<Vec<String>> {
     let title = "Journal trajectory (0.02 mm, 2000 r/min)".to_string();
-    steady_figure("fig04", &[("standard", 0.02, title)], trajectory_panel)
+    steady_figure(
+        runs,
+        "fig04",
+        &[("standard", 0.02, title)],
+        trajectory_panel,
+    )
 }
 
 fn clearance_cases(what: &str) -> [(&'static str, f64, String); 2] {
@@ -349,257 +319,283 @@ fn speed_cases(what: &str) -> [(&'static str, f64, String); 2] {
     ]
 }
 
-/// Figure 8: journal trajectories for 0.2 and 0.5 mm.
-pub fn fig08() -> Result<Summary> {
+fn fig08(runs: &Runs) -> Result<Vec<String>> {
     steady_figure(
+        runs,
         "fig08",
         &clearance_cases("Journal trajectory"),
         trajectory_panel,
     )
 }
 
-/// Figure 9: slider acceleration and wear rate for 0.2 and 0.5 mm.
-pub fn fig09() -> Result<Summary> {
+fn fig09(runs: &Runs) -> Result<Vec<String>> {
     steady_figure(
+        runs,
         "fig09",
         &clearance_cases("Slider acceleration and wear rate"),
         |t, tr, _| acceleration_panel(t, tr),
     )
 }
 
-/// Figure 12: journal trajectories at 30 and 600 r/min.
-pub fn fig12() -> Result<Summary> {
+fn fig12(runs: &Runs) -> Result<Vec<String>> {
     steady_figure(
+        runs,
         "fig12",
         &speed_cases("Journal trajectory"),
         trajectory_panel,
     )
 }
 
-/// Figure 13: slider acceleration and wear rate at 30 and 600 r/min.
-pub fn fig13() -> Result<Summary> {
+fn fig13(runs: &Runs) -> Result<Vec<String>> {
     steady_figure(
+        runs,
         "fig13",
         &speed_cases("Slider acceleration and wear rate"),
         |t, tr, _| acceleration_panel(t, tr),
     )
 }
 
-/// Records the peaks and totals of a final wear profile under `key`.
-fn summarise_wear(s: &mut Summary, key: &str, scene: &Scene, out: &RunOutput) -> Vec<Peak> {
-    let depths = &out.final_wear[0];
-    let found = peaks(depths, PEAK_PROMINENCE);
-    let mean = depths.iter().sum::<f64>() / depths.len() as f64;
-    let max = depths.iter().cloned().fold(0.0, f64::max);
-    s.set(format!("{key}.max_depth"), max);
-    s.set(format!("{key}.mean_depth"), mean);
-    s.set(format!("{key}.wall_time_s"), out.wall_time);
-    s.set(format!("{key}.peaks"), found.len() as f64);
-    for (i, p) in found.iter().take(3).enumerate() {
-        s.set(format!("{key}.peak{}.angle_deg", i + 1), p.angle_deg);
-        s.set(format!("{key}.peak{}.depth", i + 1), p.depth);
-    }
-    let list: Vec<String> = found
+/// The line a wear ensemble's figure prints.
+fn wear_line(name: &str, e: &WearEnsemble) -> String {
+    let n = e.members.len();
+    let mean_peaks: Vec<String> = mean_profile_peaks(e)
         .iter()
         .take(3)
         .map(|p| format!("{:.1} deg ({:.3} µm)", p.angle_deg, p.depth * 1e6))
         .collect();
-    s.say(format!(
-        "{key}: after {} rotations max wear {:.3} µm, mean {:.3} µm (peak/mean {:.1}); peaks {}",
-        scene.run.rotations,
-        max * 1e6,
-        mean * 1e6,
-        max / mean,
-        list.join(", ")
-    ));
-    found
+    format!(
+        "{name} ({n} members): after {} rotations max wear {} µm (5-95 %: {}), mean {} µm; \
+         regions of the mean profile at {}",
+        e.scene.run.rotations,
+        e.stat(|m| m.max_depth()).mean_sd(1e6, 3),
+        {
+            let (lo, hi) = e.stat(|m| m.max_depth()).band90();
+            format!("{:.3}-{:.3}", lo * 1e6, hi * 1e6)
+        },
+        e.stat(|m| m.mean_depth()).mean_sd(1e6, 3),
+        mean_peaks.join(", ")
+    )
 }
 
-/// Wear profile series in µm for each snapshot of a run.
-fn snapshot_series(out: &RunOutput) -> Vec<(String, Vec<f64>)> {
-    out.wear_snapshots
-        .iter()
-        .map(|s| {
-            (
-                format!("{} rotations", s.rotation),
-                s.depths[0].iter().map(|d| d * 1e6).collect(),
-            )
-        })
-        .collect()
+/// Wear regions of the ensemble-mean final profile, deepest first.
+pub fn mean_profile_peaks(e: &WearEnsemble) -> Vec<Peak> {
+    crate::analysis::peaks(&e.band().mean(), crate::runs::PEAK_PROMINENCE)
 }
 
-fn profile_panel<'a>(
-    title: String,
-    angles: &'a [f64],
-    profiles: &'a [(String, Vec<f64>)],
-    y: &str,
-) -> Axes<'a> {
-    Axes {
-        x_range: Some((0.0, 360.0)),
-        ..Axes::new(
-            title,
-            "circumferential angle (deg)",
-            y,
-            profiles
-                .iter()
-                .map(|(l, d)| Series::new(l.clone(), angles, d, Style::Line))
-                .collect(),
-        )
+/// A profile drawn as its mean line with the 5-95 % band, in µm.
+struct BandCurve {
+    label: String,
+    mean: Vec<f64>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+}
+
+impl BandCurve {
+    fn new(label: String, band: &Band, scale: f64) -> BandCurve {
+        let scaled = |v: Vec<f64>| v.iter().map(|x| x * scale).collect();
+        BandCurve {
+            label,
+            mean: scaled(band.mean()),
+            lo: scaled(band.quantile(0)),
+            hi: scaled(band.quantile(4)),
+        }
     }
 }
 
 const WEAR_AXIS: &str = "bearing radius increase = wear depth (µm)";
 
-/// Writes wear profiles (mm) of several runs: `angle_deg` then one column per label.
-fn write_profiles_csv(name: &str, angles: &[f64], columns: &[(String, Vec<f64>)]) -> Result<()> {
-    let mut header = vec!["angle_deg"];
-    header.extend(columns.iter().map(|(h, _)| h.as_str()));
-    let mm: Vec<Vec<f64>> = columns
-        .iter()
-        .map(|(_, c)| c.iter().map(|d| d * 1e-3).collect())
-        .collect();
-    let mut cols: Vec<&[f64]> = vec![angles];
-    cols.extend(mm.iter().map(Vec::as_slice));
-    write_csv(&output_path("data", &format!("{name}.csv")), &header, &cols)
+/// A panel of mean profiles with their bands.
+fn band_panel<'a>(title: String, x: &'a [f64], curves: &'a [BandCurve], y: &str) -> Axes<'a> {
+    Axes {
+        x_range: Some((0.0, 360.0)),
+        shades: curves
+            .iter()
+            .enumerate()
+            .map(|(i, c)| Shade {
+                series: i,
+                lo: &c.lo,
+                hi: &c.hi,
+            })
+            .collect(),
+        ..Axes::new(
+            title,
+            "circumferential angle (deg)",
+            y,
+            curves
+                .iter()
+                .map(|c| Series::new(c.label.clone(), x, &c.mean, Style::Line))
+                .collect(),
+        )
+    }
 }
 
-/// Profiles after each snapshot, one panel per case (figures 6, 10, 14).
-fn profile_figure(name: &str, cases: &[(&str, f64, String)]) -> Result<(Summary, Vec<Vec<Peak>>)> {
-    let mut s = Summary::default();
-    let mut panels = Vec::new();
-    let mut found = Vec::new();
-    for (scene_name, _, title) in cases {
-        let (scene, out) = wear_run(scene_name, 0)?;
-        let regions = summarise_wear(&mut s, scene_name, &scene, &out);
-        // growth of each final region through the snapshots
-        for snap in &out.wear_snapshots {
-            for (i, p) in regions.iter().take(3).enumerate() {
-                s.set(
-                    format!("{scene_name}.rot{}.peak{}.depth", snap.rotation, i + 1),
-                    snap.depths[0][p.sector],
-                );
-            }
+/// Writes mean and 5-95 % band columns (mm) of several profiles after `angle_deg`.
+fn write_band_csv(name: &str, angles: &[f64], curves: &[(String, &BandCurve)]) -> Result<()> {
+    let mut header = vec!["angle_deg".to_string()];
+    let mut cols: Vec<Vec<f64>> = Vec::new();
+    for (tag, c) in curves {
+        for (what, v) in [("mean", &c.mean), ("q05", &c.lo), ("q95", &c.hi)] {
+            header.push(format!("{tag}_{what}_mm"));
+            cols.push(v.iter().map(|um| um * 1e-3).collect());
         }
-        found.push(regions);
-        panels.push((title.clone(), snapshot_series(&out)));
     }
-    let angles = sector_angles_deg(panels[0].1[0].1.len());
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    let mut refs: Vec<&[f64]> = vec![angles];
+    refs.extend(cols.iter().map(Vec::as_slice));
+    write_csv(&output_path("data", &format!("{name}.csv")), &header, &refs)
+}
+
+/// Mean profiles after each snapshot with their bands, one panel per case (figures 6, 10, 14).
+fn profile_figure(runs: &Runs, name: &str, cases: &[(&str, f64, String)]) -> Result<Vec<String>> {
+    let mut lines = Vec::new();
+    let mut panels = Vec::new();
+    for (scene_name, case, title) in cases {
+        let e = runs.wear(scene_name)?;
+        lines.push(wear_line(scene_name, e));
+        let curves: Vec<BandCurve> = (0..e.members[0].snapshots.len())
+            .map(|i| {
+                let (rot, band) = e.snapshot_band(i);
+                BandCurve::new(format!("{rot} rotations"), &band, 1e6)
+            })
+            .collect();
+        let n = e.members.len();
+        panels.push((
+            *case,
+            format!("{title}: mean of {n}, 5-95 % shaded"),
+            curves,
+        ));
+    }
+    let angles = sector_angles_deg(panels[0].2[0].mean.len());
     let axes: Vec<Axes> = panels
         .iter()
-        .map(|(t, p)| profile_panel(t.clone(), &angles, p, WEAR_AXIS))
+        .map(|(_, t, c)| band_panel(t.clone(), &angles, c, WEAR_AXIS))
         .collect();
     render(&output_path("figures", &format!("{name}.png")), &axes)?;
-    let columns: Vec<(String, Vec<f64>)> = cases
+    let tagged = cases.len() > 1;
+    let columns: Vec<(String, &BandCurve)> = panels
         .iter()
-        .zip(&panels)
-        .flat_map(|((_, case, _), (_, p))| {
-            let tag = if cases.len() > 1 {
-                format!("case{case}_")
-            } else {
-                String::new()
-            };
-            p.iter().map(move |(l, d)| {
-                (
-                    format!("{tag}rot{}", l.split(' ').next().unwrap_or("")),
-                    d.clone(),
-                )
+        .flat_map(|(case, _, curves)| {
+            curves.iter().map(move |c| {
+                let rot = format!("rot{}", c.label.split(' ').next().unwrap_or(""));
+                let tag = if tagged {
+                    format!("case{case}_{rot}")
+                } else {
+                    rot
+                };
+                (tag, c)
             })
         })
         .collect();
-    write_profiles_csv(name, &angles, &columns)?;
-    Ok((s, found))
+    write_band_csv(name, &angles, &columns)?;
+    Ok(lines)
 }
 
-/// Figure 6: wear depth against angle after 10, 20, 30 and 40 rotations of the standard
-/// scene; the summary holds the peaks of the final profile, deepest first.
-pub fn fig06() -> Result<Summary> {
+fn fig06(runs: &Runs) -> Result<Vec<String>> {
     let title = "Bearing wear with crank rotation (c = 0.02 mm, 2000 r/min)".to_string();
-    Ok(profile_figure("fig06", &[("standard", 0.02, title)])?.0)
+    profile_figure(runs, "fig06", &[("standard", 0.02, title)])
 }
 
-/// Figure 10: wear profiles for 0.2 and 0.5 mm.
-pub fn fig10() -> Result<Summary> {
-    Ok(profile_figure("fig10", &clearance_cases("Bearing wear"))?.0)
+fn fig10(runs: &Runs) -> Result<Vec<String>> {
+    profile_figure(runs, "fig10", &clearance_cases("Bearing wear"))
 }
 
-/// Figure 14: wear profiles at 30 and 600 r/min.
-pub fn fig14() -> Result<Summary> {
-    Ok(profile_figure("fig14", &speed_cases("Bearing wear"))?.0)
+fn fig14(runs: &Runs) -> Result<Vec<String>> {
+    profile_figure(runs, "fig14", &speed_cases("Bearing wear"))
 }
 
-/// Final wear profiles of several cases in one panel (figures 11, 15).
-fn comparison_figure(name: &str, title: &str, cases: &[(&str, String)]) -> Result<Summary> {
-    let mut s = Summary::default();
-    let mut profiles = Vec::new();
+/// Final mean profiles of several cases with their bands in one panel (figures 11, 15).
+fn comparison_figure(
+    runs: &Runs,
+    name: &str,
+    title: &str,
+    cases: &[(&str, &str)],
+) -> Result<Vec<String>> {
+    let mut lines = Vec::new();
+    let mut curves = Vec::new();
     for (scene_name, label) in cases {
-        let (scene, out) = wear_run(scene_name, 0)?;
-        let found = summarise_wear(&mut s, scene_name, &scene, &out);
-        // spread of the main regions' depths: 0 when the three deepest regions are equal
-        if let [a, .., c] = &found[..found.len().min(3)] {
-            s.set(
-                format!("{scene_name}.region_spread"),
-                (a.depth - c.depth) / a.depth,
-            );
-        }
-        profiles.push((
-            label.clone(),
-            out.final_wear[0]
-                .iter()
-                .map(|d| d * 1e6)
-                .collect::<Vec<f64>>(),
+        let e = runs.wear(scene_name)?;
+        lines.push(wear_line(scene_name, e));
+        let spread = e.stat(|m| m.region_spread().unwrap_or(f64::NAN));
+        lines.push(format!(
+            "{scene_name}: (deepest - third region) / deepest {}",
+            spread.mean_sd(1.0, 2)
         ));
+        curves.push(BandCurve::new(label.to_string(), &e.band(), 1e6));
     }
-    let angles = sector_angles_deg(profiles[0].1.len());
+    let angles = sector_angles_deg(curves[0].mean.len());
+    let n = runs.ensemble.members;
     let axis = "accumulated wear depth after 40 rotations (µm)";
-    render(
-        &output_path("figures", &format!("{name}.png")),
-        &[profile_panel(title.into(), &angles, &profiles, axis)],
-    )?;
-    write_profiles_csv(name, &angles, &profiles)?;
-    Ok(s)
+    let panel = band_panel(
+        format!("{title}: mean of {n}, 5-95 % shaded"),
+        &angles,
+        &curves,
+        axis,
+    );
+    render(&output_path("figures", &format!("{name}.png")), &[panel])?;
+    let columns: Vec<(String, &BandCurve)> = curves
+        .iter()
+        .map(|c| (c.label.replace([' ', '='], "").replace("r/min", "rpm"), c))
+        .collect();
+    write_band_csv(name, &angles, &columns)?;
+    Ok(lines)
 }
 
-/// Figure 11: accumulated wear for 0.02, 0.2 and 0.5 mm.
-pub fn fig11() -> Result<Summary> {
-    let cases = [
-        ("standard", "c = 0.02 mm".to_string()),
-        ("clearance_0.2mm", "c = 0.2 mm".to_string()),
-        ("clearance_0.5mm", "c = 0.5 mm".to_string()),
-    ];
+fn fig11(runs: &Runs) -> Result<Vec<String>> {
     comparison_figure(
+        runs,
         "fig11",
         "Accumulated wear for different clearances (2000 r/min)",
-        &cases,
+        &[
+            ("standard", "c = 0.02 mm"),
+            ("clearance_0.2mm", "c = 0.2 mm"),
+            ("clearance_0.5mm", "c = 0.5 mm"),
+        ],
     )
 }
 
-/// Figure 15: accumulated wear at 30, 600 and 2000 r/min.
-pub fn fig15() -> Result<Summary> {
-    let cases = [
-        ("speed_30rpm", "30 r/min".to_string()),
-        ("speed_600rpm", "600 r/min".to_string()),
-        ("standard", "2000 r/min".to_string()),
-    ];
+fn fig15(runs: &Runs) -> Result<Vec<String>> {
     comparison_figure(
+        runs,
         "fig15",
         "Accumulated wear for different crank speeds (c = 0.02 mm)",
-        &cases,
+        &[
+            ("speed_30rpm", "30 r/min"),
+            ("speed_600rpm", "600 r/min"),
+            ("standard", "2000 r/min"),
+        ],
     )
 }
 
-/// Figure 5: polar picture of the worn bearing after 40 rotations (standard scene).
-pub fn fig05() -> Result<Summary> {
-    let (scene, out) = wear_run("standard", 0)?;
-    let mut s = Summary::default();
-    summarise_wear(&mut s, "standard", &scene, &out);
-    let r = scene.mechanism.clearance_joints[0].r_bearing * 1e3;
-    let angles = sector_angles_deg(out.final_wear[0].len());
-    let radius: Vec<Vec<f64>> = out
-        .wear_snapshots
+/// Figure 5: polar picture of the worn bearing (standard scene): the ensemble-mean radius at
+/// each snapshot, and the 5 % and 95 % quantiles after the last.
+fn fig05(runs: &Runs) -> Result<Vec<String>> {
+    let e = runs.wear("standard")?;
+    let r = e.scene.mechanism.clearance_joints[0].r_bearing * 1e3;
+    let snapshots = e.members[0].snapshots.len();
+    let bands: Vec<(u32, Band)> = (0..snapshots).map(|i| e.snapshot_band(i)).collect();
+    let radius = |d: Vec<f64>| -> Vec<f64> { d.iter().map(|d| r + d * 1e3).collect() };
+    let mut profiles: Vec<(String, Vec<f64>, Style)> = bands
         .iter()
-        .map(|w| w.depths[0].iter().map(|d| r + d * 1e3).collect())
+        .map(|(rot, b)| {
+            (
+                format!("{rot} rotations, mean"),
+                radius(b.mean()),
+                Style::Line,
+            )
+        })
         .collect();
-    let deepest = out.final_wear[0].iter().cloned().fold(0.0, f64::max) * 1e3;
+    let (last_rot, last) = bands.last().ok_or_else(|| {
+        Error::invalid("run.wear_snapshots", "[]", "the snapshots figure 5 draws")
+    })?;
+    for (q, what) in [(0, "5 %"), (4, "95 %")] {
+        profiles.push((
+            format!("{last_rot} rotations, {what} of members"),
+            radius(last.quantile(q)),
+            Style::Dashed,
+        ));
+    }
+    let angles = sector_angles_deg(last.sectors.len());
+    let deepest = last.quantile(4).iter().cloned().fold(0.0, f64::max) * 1e3;
     // magnify so the deepest wear shows as a quarter of the radius, rounded to 1, 2 or 5 × 10ⁿ
     let raw = 0.25 * r / deepest.max(1e-12);
     let decade = 10f64.powf(raw.log10().floor());
@@ -608,153 +604,217 @@ pub fn fig05() -> Result<Summary> {
         .map(|m| m * decade)
         .find(|m| *m <= raw)
         .unwrap_or(decade);
-    let profiles: Vec<(String, Vec<f64>)> = out
-        .wear_snapshots
-        .iter()
-        .zip(radius.iter())
-        .map(|(w, r)| (format!("{} rotations", w.rotation), r.clone()))
-        .collect();
     render_polar(
         &output_path("figures", "fig05.png"),
-        "Worn bearing profile, 40 rotations (c = 0.02 mm, 2000 r/min)",
+        &format!(
+            "Worn bearing profile, 40 rotations (c = 0.02 mm, 2000 r/min), mean of {}",
+            e.members.len()
+        ),
         &angles,
         &profiles,
         r,
         magnify,
     )?;
-    let mut header = vec!["angle_deg"];
-    let names: Vec<String> = out
-        .wear_snapshots
+    let names: Vec<String> = profiles
         .iter()
-        .map(|w| format!("radius_mm_rot{}", w.rotation))
+        .map(|(l, _, _)| format!("radius_mm_{}", l.replace([' ', ',', '%'], "")))
         .collect();
+    let mut header = vec!["angle_deg"];
     header.extend(names.iter().map(String::as_str));
     let mut cols: Vec<&[f64]> = vec![&angles];
-    cols.extend(radius.iter().map(Vec::as_slice));
+    cols.extend(profiles.iter().map(|(_, r, _)| r.as_slice()));
     write_csv(&output_path("data", "fig05.csv"), &header, &cols)?;
-    s.set("magnification", magnify);
-    Ok(s)
+    Ok(vec![
+        wear_line("standard", e),
+        format!("radial deviation magnified x{magnify}"),
+    ])
 }
 
-/// Figure 7: bearing radius in the three severe regions against crank position, from the wear
-/// history (36 profiles per rotation) of the standard scene. A staircase means each region
-/// wears only during part of every rotation: the summary gives, per region, the fraction of
-/// the history intervals that carry 90% of its wear.
-pub fn fig07() -> Result<Summary> {
-    const PER_ROTATION: u32 = 36;
-    let (scene, out) = wear_run("standard", PER_ROTATION)?;
-    let mut s = Summary::default();
-    let found = summarise_wear(&mut s, "standard", &scene, &out);
-    let r = scene.mechanism.clearance_joints[0].r_bearing * 1e3;
-    let crank: Vec<f64> = out
-        .profile_history
+/// Share of history intervals that carry 90 % of the wear of a sector's depth history.
+pub fn share_for_90pct(depth: &[f64]) -> f64 {
+    let mut steps: Vec<f64> = depth.windows(2).map(|w| w[1] - w[0]).collect();
+    steps.sort_by(|a, b| b.total_cmp(a));
+    let total: f64 = steps.iter().sum();
+    let mut acc = 0.0;
+    let carrying = steps.iter().take_while(|d| {
+        acc += **d;
+        acc - **d < 0.9 * total
+    });
+    carrying.count() as f64 / steps.len().max(1) as f64
+}
+
+/// Per member, the share of crank positions that carry 90 % of the wear of each of its own
+/// three deepest regions (figure 7's staircase).
+pub fn staircase_shares(e: &WearEnsemble) -> Vec<Vec<f64>> {
+    e.members
         .iter()
-        .map(|(t, _)| t / out.period)
+        .map(|m| {
+            m.peaks
+                .iter()
+                .take(3)
+                .map(|p| {
+                    let depth: Vec<f64> = m.history.iter().map(|(_, d)| d[p.sector]).collect();
+                    share_for_90pct(&depth)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Figure 7: bearing radius in the three severe regions of the mean profile against crank
+/// position, mean over the members with the 5-95 % band. A staircase means each region wears
+/// only during part of every rotation.
+fn fig07(runs: &Runs) -> Result<Vec<String>> {
+    let e = runs.wear("standard")?;
+    let r = e.scene.mechanism.clearance_joints[0].r_bearing * 1e3;
+    let points = e.members.iter().map(|m| m.history.len()).min().unwrap_or(0);
+    let interval = e.period / crate::runs::HISTORY_PER_ROTATION as f64;
+    let crank: Vec<f64> = (1..=points)
+        .map(|k| k as f64 * interval / e.period)
         .collect();
-    let mut series = Vec::new();
-    for (i, p) in found.iter().take(3).enumerate() {
-        let depth: Vec<f64> = out
-            .profile_history
-            .iter()
-            .map(|(_, d)| d[0][p.sector])
+    let mut curves = Vec::new();
+    for p in mean_profile_peaks(e).iter().take(3) {
+        let per_point: Vec<Distribution> = (0..points)
+            .map(|k| Distribution::of(e.members.iter().map(|m| r + m.history[k].1[p.sector] * 1e3)))
             .collect();
-        let mut steps: Vec<f64> = depth.windows(2).map(|w| w[1] - w[0]).collect();
-        steps.sort_by(|a, b| b.total_cmp(a));
-        let total: f64 = steps.iter().sum();
-        let mut acc = 0.0;
-        let carrying = steps.iter().take_while(|d| {
-            acc += **d;
-            acc - **d < 0.9 * total
+        curves.push(BandCurve {
+            label: format!("region at {:.0} deg", p.angle_deg),
+            mean: per_point.iter().map(|d| d.mean).collect(),
+            lo: per_point.iter().map(|d| d.quantiles[0]).collect(),
+            hi: per_point.iter().map(|d| d.quantiles[4]).collect(),
         });
-        let share = carrying.count() as f64 / steps.len().max(1) as f64;
-        s.set(
-            format!("region{}.share_of_intervals_for_90pct", i + 1),
-            share,
-        );
-        s.say(format!(
-            "region {} at {:.1} deg: 90% of its wear in {:.0}% of the crank positions",
-            i + 1,
-            p.angle_deg,
-            100.0 * share
-        ));
-        series.push((
-            format!("region at {:.0} deg", p.angle_deg),
-            depth.iter().map(|d| r + d * 1e3).collect::<Vec<f64>>(),
-        ));
     }
-    let axes = Axes::new(
-        "Bearing radius in the severe wear regions (0.02 mm, 2000 r/min)",
-        "crank position (rotations)",
-        "bearing radius (mm)",
-        series
+    let shares = staircase_shares(e);
+    let lines: Vec<String> = (0..3)
+        .map(|i| {
+            let d = Distribution::of(shares.iter().filter_map(|s| s.get(i).copied()));
+            format!(
+                "region {} of each member: 90% of its wear in {} % of the crank positions",
+                i + 1,
+                d.mean_sd(100.0, 0)
+            )
+        })
+        .collect();
+    let axes = Axes {
+        shades: curves
             .iter()
-            .map(|(l, y)| Series::new(l.clone(), &crank, y, Style::Line))
+            .enumerate()
+            .map(|(i, c)| Shade {
+                series: i,
+                lo: &c.lo,
+                hi: &c.hi,
+            })
             .collect(),
-    );
+        ..Axes::new(
+            format!(
+                "Bearing radius in the severe wear regions (0.02 mm, 2000 r/min), mean of {}",
+                e.members.len()
+            ),
+            "crank position (rotations)",
+            "bearing radius (mm)",
+            curves
+                .iter()
+                .map(|c| Series::new(c.label.clone(), &crank, &c.mean, Style::Line))
+                .collect(),
+        )
+    };
     render(&output_path("figures", "fig07.png"), &[axes])?;
-    let mut header = vec!["crank_rotations"];
-    header.extend(series.iter().map(|(l, _)| l.as_str()));
+    let mut header = vec!["crank_rotations".to_string()];
     let mut cols: Vec<&[f64]> = vec![&crank];
-    cols.extend(series.iter().map(|(_, y)| y.as_slice()));
-    write_csv(&output_path("data", "fig07.csv"), &header, &cols)?;
-    Ok(s)
-}
-
-/// One row of Table 3 as measured.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Table3Row {
-    pub clearance_mm: f64,
-    pub speed_rpm: f64,
-    pub motion: Motion,
-    pub concordance: Concordance,
-}
-
-/// Table 3: motion mode and concordances of the five cases, each over two recorded rotations
-/// after its steady state; writes `data/table3.csv`.
-pub fn table3() -> Result<(Vec<Table3Row>, Summary)> {
-    let mut s = Summary::default();
-    let mut rows = Vec::new();
-    for (name, clearance_mm, speed_rpm) in CASES {
-        let (scene, out) = steady_run(name)?;
-        let t = traces(&scene, &out)?;
-        summarise_steady(&mut s, name, &out, &t);
-        rows.push(Table3Row {
-            clearance_mm,
-            speed_rpm,
-            motion: t.motion,
-            concordance: t.concordance,
-        });
+    for c in &curves {
+        let tag = c.label.replace(' ', "_");
+        header.extend(["mean", "q05", "q95"].map(|w| format!("{tag}_{w}_mm")));
+        cols.extend([c.mean.as_slice(), c.lo.as_slice(), c.hi.as_slice()]);
     }
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    write_csv(&output_path("data", "fig07.csv"), &header, &cols)?;
+    Ok(lines)
+}
+
+/// Table 3: per case, mean ± sd over the members of the concordances and the motion measures,
+/// the members per motion mode and dominance, and whether the paper's values lie within the
+/// 5-95 % band; writes `data/table3.csv`.
+fn table3(runs: &Runs) -> Result<Vec<String>> {
+    let golden = Golden::load()?;
     let header = [
         "clearance_mm",
         "speed_rpm",
-        "motion",
-        "pw",
-        "sw",
-        "pw_centred",
-        "sw_centred",
-        "contact_fraction",
-        "impacts_per_rotation",
+        "members",
+        "paper_motion",
+        "continuous_contact_members",
+        "paper_pw",
+        "pw_mean",
+        "pw_sd",
+        "pw_q05",
+        "pw_q95",
+        "paper_sw",
+        "sw_mean",
+        "sw_sd",
+        "sw_q05",
+        "sw_q95",
+        "paper_dominant",
+        "pw_dominant_members",
+        "paper_pw_in_band",
+        "paper_sw_in_band",
+        "contact_fraction_mean",
+        "contact_fraction_sd",
+        "impacts_per_rotation_mean",
+        "impacts_per_rotation_sd",
     ];
-    write_rows(
-        &output_path("data", "table3.csv"),
-        &header,
-        rows.iter().map(|r| {
-            let c = &r.concordance;
-            vec![
-                r.clearance_mm.to_string(),
-                r.speed_rpm.to_string(),
-                r.motion.mode().to_string(),
-                format!("{:.4}", c.pressure_wear),
-                format!("{:.4}", c.sliding_wear),
-                format!("{:.4}", c.pressure_wear_centred),
-                format!("{:.4}", c.sliding_wear_centred),
-                format!("{:.4}", r.motion.contact_fraction),
-                format!("{:.2}", r.motion.impacts_per_rotation),
-            ]
-        }),
-    )?;
-    Ok((rows, s))
+    let mut rows = Vec::new();
+    let mut lines = Vec::new();
+    for ((name, c_mm, rpm), g) in CASES.iter().zip(&golden.table3) {
+        let e = runs.steady(name)?;
+        let n = e.members.len();
+        let pw = e.stat(|m| m.concordance.pressure_wear);
+        let sw = e.stat(|m| m.concordance.sliding_wear);
+        let cf = e.stat(|m| m.motion.contact_fraction);
+        let imp = e.stat(|m| m.motion.impacts_per_rotation);
+        let inside = |d: &Distribution, v: f64| {
+            let (lo, hi) = d.band90();
+            (lo..=hi).contains(&v)
+        };
+        let num = |x: f64| format!("{x:.4}");
+        rows.push(vec![
+            c_mm.to_string(),
+            rpm.to_string(),
+            n.to_string(),
+            g.motion.clone(),
+            e.continuous().to_string(),
+            num(g.pw),
+            num(pw.mean),
+            num(pw.sd),
+            num(pw.quantiles[0]),
+            num(pw.quantiles[4]),
+            num(g.sw),
+            num(sw.mean),
+            num(sw.sd),
+            num(sw.quantiles[0]),
+            num(sw.quantiles[4]),
+            g.dominant().to_string(),
+            e.pressure_dominated().to_string(),
+            inside(&pw, g.pw).to_string(),
+            inside(&sw, g.sw).to_string(),
+            num(cf.mean),
+            num(cf.sd),
+            format!("{:.2}", imp.mean),
+            format!("{:.2}", imp.sd),
+        ]);
+        lines.push(format!(
+            "{c_mm} mm, {rpm} r/min: paper {} P-w {:.4} s-w {:.4} ({}) | ours: continuous contact in \
+             {} of {n}, P-w {}, s-w {}, P-w dominant in {} of {n}",
+            g.motion,
+            g.pw,
+            g.sw,
+            g.dominant(),
+            e.continuous(),
+            pw.mean_sd(1.0, 4),
+            sw.mean_sd(1.0, 4),
+            e.pressure_dominated()
+        ));
+    }
+    write_rows(&output_path("data", "table3.csv"), &header, rows)?;
+    Ok(lines)
 }
 
 /// Runs a figure's `main`: prints the error and exits non-zero on failure (2 for bad input).
@@ -769,11 +829,36 @@ pub fn exit_on_error<T>(result: Result<T>) -> T {
     })
 }
 
-/// `main` of a figure program: runs it, prints its summary lines.
-pub fn figure_main(name: &str, figure: fn() -> Result<Summary>) {
-    let summary = exit_on_error(figure());
-    println!("wrote figures/{name}.png and data/{name}.csv");
-    for line in &summary.lines {
+/// `main` of a figure program: runs the default ensembles it needs, draws it, prints its
+/// summary lines.
+pub fn figure_main(name: &str) {
+    let Some(figure) = FIGURES.iter().find(|f| f.name == name) else {
+        exit_on_error::<()>(Err(Error::invalid("figure", name, "a name of FIGURES")));
+        return;
+    };
+    let ensemble = EnsembleSettings::default();
+    let bar = crate::output::progress_bar(0, "ensemble members");
+    let runs = exit_on_error(Runs::compute(
+        figure.needs,
+        ensemble,
+        &|_| {},
+        |done, total| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        },
+    ));
+    bar.finish_and_clear();
+    let lines = exit_on_error((figure.draw)(&runs));
+    let png = if name == "table3" {
+        String::new()
+    } else {
+        format!("figures/{name}.png and ")
+    };
+    println!(
+        "wrote {png}data/{name}.csv from {} members (seed {}) in {:.1} s",
+        ensemble.members, ensemble.seed, runs.seconds
+    );
+    for line in &lines {
         println!("{line}");
     }
 }

@@ -22,119 +22,13 @@
 //! block: at k/H = 1e-11 (36 µm in 100 rotations) the prediction is 57 % too deep. Predictions
 //! are meant for wear small against the clearance, the regime of a joint still in service.
 //!
-//! A run restarts its clock and driver at t = 0, so a continued state has the whole driver
-//! rotations taken out of the driver body's angle ([`continuation_state`]).
+//! The dynamics run on without a restart through the settling and sample rotations; only a
+//! block jump, which changes the gap discontinuously, restarts the integrator. So the settling
+//! rotations are bit-identical to a plain run of that many rotations.
 
-use crate::mechanism::{Mechanism, ENERGY_STATES};
 use crate::scene::Scene;
-use crate::simulation::{run, EnergyAccount, RunOutput, RunSettings};
+use crate::simulation::{RunSettings, Simulation};
 use crate::{Error, Result};
-use std::f64::consts::TAU;
-
-/// The state to continue a run of `rotations` whole rotations from: its final state with the
-/// driver angle wound back by those rotations and the energy quadratures zeroed.
-pub fn continuation_state(mechanism: &Mechanism, out: &RunOutput, rotations: u32) -> Vec<f64> {
-    let mut y = out.final_state.clone();
-    let d = &mechanism.driver;
-    y[3 * d.body + 2] -= driver_turn(mechanism, rotations);
-    let n = mechanism.coordinates();
-    if mechanism.energy_accounting {
-        y[2 * n..2 * n + ENERGY_STATES].fill(0.0);
-    }
-    y
-}
-
-/// Driver angle swept by `rotations` whole rotations (rad, signed like ω).
-fn driver_turn(mechanism: &Mechanism, rotations: u32) -> f64 {
-    TAU * rotations as f64 * mechanism.driver.omega.signum()
-}
-
-/// Runs a scene like [`crate::simulation::simulate`], in chunks of at most `chunk` rotations
-/// before the recorded ones, calling `progress(done, total)` after each chunk. The result
-/// matches one uninterrupted run up to the integrator tolerance (the step size restarts at
-/// each chunk): time series, snapshots, counters and energies are for the whole run.
-pub fn simulate_in_chunks(
-    scene: &Scene,
-    chunk: u32,
-    mut progress: impl FnMut(u32, u32),
-) -> Result<RunOutput> {
-    let mut mechanism = scene.mechanism.clone();
-    let mut y = mechanism.assemble(&scene.guess)?;
-    let total = scene.run.rotations;
-    let mut done = 0;
-    let mut merged: Option<RunOutput> = None;
-    while done < total {
-        let unrecorded = total - scene.run.record_rotations - done;
-        let rotations = if unrecorded > 0 {
-            unrecorded.min(chunk.max(1))
-        } else {
-            total - done
-        };
-        let settings = RunSettings {
-            rotations,
-            record_rotations: scene.run.record_rotations.min(rotations),
-            wear_snapshots: scene
-                .run
-                .wear_snapshots
-                .iter()
-                .filter(|&&s| s > done && s <= done + rotations)
-                .map(|s| s - done)
-                .collect(),
-            ..scene.run.clone()
-        };
-        let part = run(&mut mechanism, &settings, y)?;
-        y = continuation_state(&mechanism, &part, rotations);
-        merged = Some(match merged {
-            None => part,
-            Some(acc) => append(&mechanism, acc, part, done),
-        });
-        done += rotations;
-        progress(done, total);
-    }
-    merged.ok_or_else(|| Error::invalid("run.rotations", 0, "at least one rotation"))
-}
-
-/// `acc` followed by `part`, which started after `offset` rotations.
-fn append(mechanism: &Mechanism, acc: RunOutput, mut part: RunOutput, offset: u32) -> RunOutput {
-    let dt = offset as f64 * acc.period;
-    let turn = driver_turn(mechanism, offset);
-    let driver = mechanism.driver.body;
-    let rec = &mut part.recording;
-    rec.time.iter_mut().for_each(|t| *t += dt);
-    rec.driver_angle.iter_mut().for_each(|a| *a += turn);
-    if let Some(pos) = rec.positions.get_mut(driver) {
-        pos[2].iter_mut().for_each(|a| *a += turn);
-    }
-    part.final_state[3 * driver + 2] += turn;
-    for s in &mut part.wear_snapshots {
-        s.rotation += offset;
-    }
-    let mut snapshots = acc.wear_snapshots;
-    snapshots.append(&mut part.wear_snapshots);
-    part.wear_snapshots = snapshots;
-    part.stats.steps += acc.stats.steps;
-    part.stats.rejected += acc.stats.rejected;
-    part.stats.evaluations += acc.stats.evaluations;
-    part.stats.events += acc.stats.events;
-    for (m, a) in part.max_penetration.iter_mut().zip(&acc.max_penetration) {
-        *m = m.max(*a);
-    }
-    for (k, a) in part.impacts.iter_mut().zip(&acc.impacts) {
-        *k += a;
-    }
-    part.energy = match (acc.energy, part.energy) {
-        (Some(a), Some(b)) => Some(EnergyAccount {
-            driver_work: a.driver_work + b.driver_work,
-            normal_work: a.normal_work + b.normal_work,
-            friction_work: a.friction_work + b.friction_work,
-            mechanical_change: a.mechanical_change + b.mechanical_change,
-            elastic_change: a.elastic_change + b.elastic_change,
-        }),
-        (a, b) => a.or(b),
-    };
-    part.wall_time += acc.wall_time;
-    part
-}
 
 /// Settings of a long-life prediction.
 #[derive(Clone, Debug, PartialEq)]
@@ -219,22 +113,28 @@ pub fn predict(
     if settings.sample_rotations == 0 {
         return Err(Error::invalid("sample_rotations", 0, "at least 1"));
     }
-    let mut mechanism = scene.mechanism.clone();
-    let mut y = mechanism.assemble(&scene.guess)?;
+    let mechanism = scene.mechanism.clone();
+    let y0 = mechanism.assemble(&scene.guess)?;
     let clearances: Vec<f64> = mechanism
         .clearance_joints
         .iter()
         .map(|cj| cj.r_bearing - cj.r_journal)
         .collect();
-    let stage = |m: &Mechanism, rotations| Stage {
-        rotations,
-        depths: m
-            .clearance_joints
-            .iter()
-            .map(|cj| cj.profile.depths().to_vec())
-            .collect(),
+    // The caller decides when to stop, so the run's own length is only a bound.
+    let plain = RunSettings {
+        rotations: u32::MAX,
+        record_rotations: 0,
+        wear_snapshots: Vec::new(),
+        settle: None,
+        profile_history_per_rotation: 0,
+        ..scene.run.clone()
     };
-    let mut history = vec![stage(&mechanism, 0)];
+    let mut sim = Simulation::new(mechanism, plain, &y0);
+    let stage = |sim: &Simulation, rotations| Stage {
+        rotations,
+        depths: depths(sim),
+    };
+    let mut history = vec![stage(&sim, 0)];
     let mut snapshots = Vec::new();
     let mut wanted: Vec<u64> = settings
         .snapshots
@@ -247,38 +147,30 @@ pub fn predict(
     wanted.dedup();
     let mut next_snapshot = wanted.iter().peekable();
     let mut done = 0u64;
-    let mut simulated = 0u64;
     // Simulates whole rotations, continuing the dynamics; returns the wear they added.
-    let mut simulate = |mechanism: &mut Mechanism, y: &mut Vec<f64>, rotations: u32| {
-        let before = stage(mechanism, 0).depths;
-        let plain = RunSettings {
-            rotations,
-            record_rotations: 0,
-            wear_snapshots: Vec::new(),
-            ..scene.run.clone()
-        };
-        let out = run(mechanism, &plain, y.clone())?;
-        *y = continuation_state(mechanism, &out, rotations);
-        simulated += rotations as u64;
-        Ok::<_, Error>(
-            out.final_wear
-                .iter()
-                .zip(before)
-                .map(|(after, before)| after.iter().zip(before).map(|(a, b)| a - b).collect())
-                .collect::<Vec<Vec<f64>>>(),
-        )
+    let simulate = |sim: &mut Simulation, rotations: u32| -> Result<Vec<Vec<f64>>> {
+        let before = depths(sim);
+        for _ in 0..rotations {
+            sim.advance_rotation()?;
+        }
+        Ok(depths(sim)
+            .iter()
+            .zip(before)
+            .map(|(after, before)| after.iter().zip(before).map(|(a, b)| a - b).collect())
+            .collect())
     };
     let settle = (settings.settle_rotations as u64).min(target) as u32;
     if settle > 0 {
-        simulate(&mut mechanism, &mut y, settle)?;
+        simulate(&mut sim, settle)?;
         done += settle as u64;
     }
     while done < target {
         let sample = (settings.sample_rotations as u64).min(target - done) as u32;
-        let increments = simulate(&mut mechanism, &mut y, sample)?;
+        let increments = simulate(&mut sim, sample)?;
         done += sample as u64;
         let stop = next_snapshot.peek().map_or(target, |&&s| s.max(done));
-        let block = mechanism
+        let block = sim
+            .mechanism()
             .clearance_joints
             .iter()
             .zip(&increments)
@@ -292,25 +184,34 @@ pub fn predict(
             .min()
             .unwrap_or(u64::MAX)
             .min(stop - done);
-        for (cj, inc) in mechanism.clearance_joints.iter_mut().zip(&increments) {
-            cj.profile.add_depths(inc, block as f64 / sample as f64);
+        if block > 0 {
+            sim.add_wear(&increments, block as f64 / sample as f64);
         }
         done += block;
-        history.push(stage(&mechanism, done));
+        history.push(stage(&sim, done));
         while next_snapshot.peek().is_some_and(|&&s| s <= done) {
             next_snapshot.next();
-            snapshots.push(stage(&mechanism, done));
+            snapshots.push(stage(&sim, done));
         }
         progress(done, target);
     }
     if snapshots.last().is_none_or(|s| s.rotations != done) {
-        snapshots.push(stage(&mechanism, done));
+        snapshots.push(stage(&sim, done));
     }
     Ok(LongLife {
         history,
         snapshots,
-        simulated,
+        simulated: sim.rotations_done() as u64,
         clearances,
         wall_time: clock.elapsed().as_secs_f64(),
     })
+}
+
+/// Wear depth of every joint's sectors (m).
+fn depths(sim: &Simulation) -> Vec<Vec<f64>> {
+    sim.mechanism()
+        .clearance_joints
+        .iter()
+        .map(|cj| cj.profile.depths().to_vec())
+        .collect()
 }

@@ -97,12 +97,13 @@ pub fn write_csv(path: &Path, header: &[&str], columns: &[&[f64]]) -> Result<()>
 /// Writes text rows under `header` as CSV, atomically (for tables with text columns).
 pub fn write_rows(
     path: &Path,
-    header: &[&str],
+    header: &[impl AsRef<str>],
     rows: impl IntoIterator<Item = Vec<String>>,
 ) -> Result<()> {
     write_atomic(path, |tmp| {
         let mut w = csv::Writer::from_path(tmp).map_err(|e| csv_error(tmp, e))?;
-        w.write_record(header).map_err(|e| csv_error(tmp, e))?;
+        w.write_record(header.iter().map(AsRef::as_ref))
+            .map_err(|e| csv_error(tmp, e))?;
         for record in rows {
             w.write_record(&record).map_err(|e| csv_error(tmp, e))?;
         }

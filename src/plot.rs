@@ -8,7 +8,9 @@
 //!   in the corner with the least data;
 //! - a tight x-range and a y-range padded by 5 %, unless the caller fixes them; very small or
 //!   large values get a common "×10ⁿ" factor at the end of the axis instead of long tick labels;
-//! - non-finite samples are skipped and break the line they belong to.
+//! - non-finite samples are skipped and break the line they belong to;
+//! - ensemble bands ([`Shade`]) are filled in a light tint of their series' colour, under the
+//!   lines.
 //!
 //! Files are written through [`crate::output::write_atomic`].
 
@@ -80,6 +82,19 @@ pub struct Axes<'a> {
     pub equal_aspect: bool,
     /// Circle outlines `(cx, cy, r)` in data units, e.g. the clearance circle.
     pub circles: Vec<(f64, f64, f64)>,
+    /// Filled bands around series (e.g. the 5-95 % range of an ensemble).
+    pub shades: Vec<Shade<'a>>,
+}
+
+/// The band between `lo` and `hi` at the x values of series `series` of the same panel.
+#[derive(Clone, Debug)]
+pub struct Shade<'a> {
+    /// Index of the series whose x values and colour the band takes.
+    pub series: usize,
+    /// Lower edge, one value per x.
+    pub lo: &'a [f64],
+    /// Upper edge, one value per x.
+    pub hi: &'a [f64],
 }
 
 impl<'a> Axes<'a> {
@@ -129,7 +144,7 @@ pub fn render_polar(
     path: &Path,
     title: &str,
     theta_deg: &[f64],
-    profiles: &[(String, Vec<f64>)],
+    profiles: &[(String, Vec<f64>, Style)],
     r_ref: f64,
     magnify: f64,
 ) -> Result<()> {
@@ -144,7 +159,7 @@ pub fn render_polar(
             "a polar figure needs angles and at least one profile".to_owned(),
         ));
     }
-    if let Some((name, r)) = profiles.iter().find(|(_, r)| r.len() != theta_deg.len()) {
+    if let Some((name, r, _)) = profiles.iter().find(|(_, r, _)| r.len() != theta_deg.len()) {
         return Err(fail(format!(
             "profile `{name}` has {} radii for {} angles",
             r.len(),
@@ -172,7 +187,7 @@ pub fn render_polar(
         .chain(
             profiles
                 .iter()
-                .map(|(name, r)| (name.clone(), closed(&|i| r[i]), Style::Line)),
+                .map(|(name, r, style)| (name.clone(), closed(&|i| r[i]), *style)),
         )
         .collect();
     let extent = curves
@@ -342,6 +357,8 @@ struct Panel {
     y2_label: Option<String>,
     curves: Vec<Curve>,
     circles: Vec<Vec<(f64, f64)>>,
+    /// Closed outlines of the bands, with their colours.
+    shades: Vec<(RGBColor, Vec<(f64, f64)>)>,
     x: Axis,
     y: Axis,
     y2: Option<Axis>,
@@ -465,13 +482,38 @@ impl Panel {
             })
             .collect();
 
+        let mut shades = Vec::new();
+        for sh in &axes.shades {
+            let (Some(s), Some(c)) = (axes.series.get(sh.series), curves.get(sh.series)) else {
+                return Err(format!("a band of panel `{name}` names no series"));
+            };
+            if sh.lo.len() != s.x.len() || sh.hi.len() != s.x.len() {
+                return Err(format!(
+                    "the band of series `{}` has the wrong length",
+                    s.label
+                ));
+            }
+            let lower = s.x.iter().zip(sh.lo);
+            let upper = s.x.iter().zip(sh.hi).rev();
+            let outline: Vec<(f64, f64)> = lower
+                .chain(upper)
+                .map(|(x, y)| (*x, *y))
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .collect();
+            shades.push((c.color, outline));
+        }
+
         let points = |on_y2: bool| {
             let curve_points = curves
                 .iter()
                 .filter(move |c| (c.style == Style::LineOnSecondaryAxis) == on_y2)
                 .flat_map(|c| c.segments.iter().flatten());
             let circle_points = circles.iter().flatten().filter(move |_| !on_y2);
-            curve_points.chain(circle_points).copied()
+            let shade_points = shades.iter().flat_map(|(_, o)| o).filter(move |_| !on_y2);
+            curve_points
+                .chain(circle_points)
+                .chain(shade_points)
+                .copied()
         };
         let data_x = extent(points(false).chain(points(true)).map(|p| p.0))
             .ok_or_else(|| format!("panel `{name}` has no finite data point"))?;
@@ -540,6 +582,7 @@ impl Panel {
             y2_label: axes.y2_label.clone().filter(|_| has_y2),
             curves,
             circles,
+            shades,
             x,
             y,
             y2,
@@ -667,6 +710,12 @@ fn draw_panel<'b>(area: &DrawingArea<BitMapBackend<'b>, Shift>, p: &Panel) -> Dr
             circle.iter().copied(),
             GREY.stroke_width(2),
         ))?;
+    }
+    for (color, outline) in &p.shades {
+        chart.draw_series(std::iter::once(Polygon::new(
+            outline.clone(),
+            color.mix(0.22).filled(),
+        )))?;
     }
     let dual = p.y2.is_some();
     for c in &p.curves {

@@ -11,6 +11,13 @@
 //!
 //! Only what the scene asks for is computed: wear only for joints with a wear model,
 //! samples only in the recorded rotations, energy quadratures only when requested.
+//!
+//! A run's answer does not depend on how it is driven: progress reports, recording, wear
+//! snapshots, wear history and settling only read the dense output, and the integrator runs
+//! through rotation ends without a restart ([`Simulation`]). Impact dynamics are chaotic, so
+//! anything that changes the step sequence (a restart, a tolerance, an initial offset of a
+//! nanometre) moves a single trajectory by as much as the ensemble spread of
+//! [`crate::ensemble`]; results are statistics over such ensembles.
 
 use crate::integrator::{locate_root, Integrator, Method, OdeSystem, Stats, Tolerances};
 use crate::mechanism::Mechanism;
@@ -178,6 +185,15 @@ struct Dynamics<'a> {
     failure: Option<Error>,
 }
 
+impl<'a> Dynamics<'a> {
+    fn new(mechanism: &'a mut Mechanism) -> Self {
+        Dynamics {
+            mechanism,
+            failure: None,
+        }
+    }
+}
+
 impl OdeSystem for Dynamics<'_> {
     fn dim(&self) -> usize {
         self.mechanism.state_len()
@@ -193,92 +209,231 @@ impl OdeSystem for Dynamics<'_> {
 
 /// Simulates a scene.
 pub fn simulate(scene: &Scene) -> Result<RunOutput> {
-    let mut mechanism = scene.mechanism.clone();
-    let y0 = mechanism.assemble(&scene.guess)?;
-    run(&mut mechanism, &scene.run, y0)
+    simulate_with_progress(scene, |_, _| {})
 }
 
-/// Simulates from state `y0` with the mechanism's current wear profiles.
-pub fn run(mechanism: &mut Mechanism, settings: &RunSettings, y0: Vec<f64>) -> Result<RunOutput> {
-    let clock = std::time::Instant::now();
-    let n = mechanism.coordinates();
-    let joints = mechanism.clearance_joints.len();
-    let period = TAU / mechanism.driver.omega.abs();
-    let dim = mechanism.state_len();
-    let mut integrator = Integrator::new(settings.method, dim, 2 * n, settings.tolerances);
-    // The length of the run is known up front unless it first settles to a steady state.
-    let mut settler = settings.settle.map(|s| Settler::new(mechanism, s, period));
-    let mut end_rotation = settler.is_none().then_some(settings.rotations);
-    let window = |end: u32| {
-        let start = (end - settings.record_rotations) as f64 * period;
-        Sampler::new(dim, start, settings.record_interval, end as f64 * period)
-    };
-    let mut sampler = end_rotation.map(window);
-    // Wear history points do not cut steps (that would change the run they describe): a point
-    // is taken at the end of the first step that reaches it.
-    let history_interval = period / settings.profile_history_per_rotation.max(1) as f64;
-    let mut next_history = if settings.profile_history_per_rotation > 0 {
-        history_interval
-    } else {
-        f64::INFINITY
-    };
-    let mut out = RunOutput {
-        recording: Recording::default(),
-        wear_snapshots: Vec::new(),
-        profile_history: Vec::new(),
-        final_wear: Vec::new(),
-        final_state: Vec::new(),
-        stats: Stats::default(),
-        max_penetration: vec![f64::NEG_INFINITY; joints],
-        impacts: vec![0; joints],
-        energy: None,
-        settling: None,
-        period,
-        wall_time: 0.0,
-    };
-    let energy_start = settings
-        .energy_accounting
-        .then(|| mechanical_energy(mechanism, &y0));
-    let gap =
-        |m: &Mechanism, k: usize, y: &[f64]| m.contact_kinematics(k, &y[..n], &y[n..2 * n]).delta;
-    let mut gaps: Vec<f64> = (0..joints).map(|k| gap(mechanism, k, &y0)).collect();
-    let mut y_event = vec![0.0; dim];
-    let mut y_mid = vec![0.0; dim];
-    let wears = mechanism.clearance_joints.iter().any(|c| c.wear.is_some());
-    let mut rotation = 0u32;
-    integrator.reset(
-        &mut Dynamics {
-            mechanism,
-            failure: None,
-        },
-        0.0,
-        &y0,
-    );
-    while end_rotation.is_none_or(|end| rotation < end) {
-        let boundary = (rotation + 1) as f64 * period;
-        let mut sys = Dynamics {
-            mechanism,
-            failure: None,
+/// Simulates a scene, calling `progress(done, total)` after every driver rotation (`total` is
+/// `None` while the run settles to its steady state). Observing a run never changes it: the
+/// result is bit-identical to [`simulate`]'s.
+pub fn simulate_with_progress(
+    scene: &Scene,
+    progress: impl FnMut(u32, Option<u32>),
+) -> Result<RunOutput> {
+    let mechanism = scene.mechanism.clone();
+    let y0 = mechanism.assemble(&scene.guess)?;
+    let mut sim = Simulation::new(mechanism, scene.run.clone(), &y0);
+    sim.run_to_end(progress)?;
+    Ok(sim.finish())
+}
+
+/// A coupled run in progress: the integrator, the contact bookkeeping and the outputs so far.
+///
+/// A run is advanced one driver rotation at a time ([`Simulation::advance_rotation`]); the
+/// integrator is never restarted between rotations, so however a caller drives the run (in one
+/// go, rotation by rotation with progress reports, or with long-life wear jumps in between,
+/// which do restart it) the step sequence is the same for the same calls.
+pub struct Simulation {
+    mechanism: Mechanism,
+    settings: RunSettings,
+    integrator: Integrator,
+    period: f64,
+    /// The length of the run, known up front unless it first settles to a steady state.
+    end_rotation: Option<u32>,
+    settler: Option<Settler>,
+    sampler: Option<Sampler>,
+    history_interval: f64,
+    next_history: f64,
+    energy_start: Option<(f64, f64)>,
+    /// Penetration of each joint at the end of the last accepted step.
+    gaps: Vec<f64>,
+    y_event: Vec<f64>,
+    y_mid: Vec<f64>,
+    wears: bool,
+    rotation: u32,
+    out: RunOutput,
+    clock: std::time::Instant,
+}
+
+impl Simulation {
+    /// Starts a run from state `y0` with the mechanism's current wear profiles and captured
+    /// onset velocities.
+    pub fn new(mut mechanism: Mechanism, settings: RunSettings, y0: &[f64]) -> Simulation {
+        let clock = std::time::Instant::now();
+        let n = mechanism.coordinates();
+        let joints = mechanism.clearance_joints.len();
+        let period = TAU / mechanism.driver.omega.abs();
+        let dim = mechanism.state_len();
+        let mut integrator = Integrator::new(settings.method, dim, 2 * n, settings.tolerances);
+        let settler = settings.settle.map(|s| Settler::new(&mechanism, s, period));
+        let end_rotation = settler.is_none().then_some(settings.rotations);
+        // Wear history points do not cut steps (that would change the run they describe): a
+        // point is taken at the end of the first step that reaches it.
+        let history_interval = period / settings.profile_history_per_rotation.max(1) as f64;
+        let next_history = if settings.profile_history_per_rotation > 0 {
+            history_interval
+        } else {
+            f64::INFINITY
         };
-        // A failed right-hand side only matters if the integrator could not step around it.
-        if let Err(e) = integrator.step(&mut sys, boundary) {
-            return Err(sys.failure.unwrap_or(e));
+        let energy_start = settings
+            .energy_accounting
+            .then(|| mechanical_energy(&mechanism, y0));
+        let gaps = (0..joints).map(|k| gap(&mechanism, k, y0)).collect();
+        let wears = mechanism.clearance_joints.iter().any(|c| c.wear.is_some());
+        integrator.reset(&mut Dynamics::new(&mut mechanism), 0.0, y0);
+        let mut sim = Simulation {
+            mechanism,
+            integrator,
+            period,
+            end_rotation,
+            settler,
+            sampler: None,
+            history_interval,
+            next_history,
+            energy_start,
+            gaps,
+            y_event: vec![0.0; dim],
+            y_mid: vec![0.0; dim],
+            wears,
+            rotation: 0,
+            out: RunOutput {
+                recording: Recording::default(),
+                wear_snapshots: Vec::new(),
+                profile_history: Vec::new(),
+                final_wear: Vec::new(),
+                final_state: Vec::new(),
+                stats: Stats::default(),
+                max_penetration: vec![f64::NEG_INFINITY; joints],
+                impacts: vec![0; joints],
+                energy: None,
+                settling: None,
+                period,
+                wall_time: 0.0,
+            },
+            clock,
+            settings,
+        };
+        sim.sampler = end_rotation.map(|end| sim.recording_window(end));
+        sim
+    }
+
+    /// The recorder of the `record_rotations` rotations that end at rotation `end`.
+    fn recording_window(&self, end: u32) -> Sampler {
+        let start = end.saturating_sub(self.settings.record_rotations) as f64 * self.period;
+        Sampler::new(
+            self.mechanism.state_len(),
+            start,
+            self.settings.record_interval,
+            end as f64 * self.period,
+        )
+    }
+
+    /// Driver rotations completed.
+    pub fn rotations_done(&self) -> u32 {
+        self.rotation
+    }
+
+    /// Rotations of the whole run; `None` while it settles to its steady state.
+    pub fn total_rotations(&self) -> Option<u32> {
+        self.end_rotation
+    }
+
+    /// Whether the run has simulated all its rotations.
+    pub fn is_finished(&self) -> bool {
+        self.end_rotation.is_some_and(|end| self.rotation >= end)
+    }
+
+    /// The mechanism with its current wear profiles.
+    pub fn mechanism(&self) -> &Mechanism {
+        &self.mechanism
+    }
+
+    /// Runs the remaining rotations, calling `progress(done, total)` after each.
+    pub fn run_to_end(&mut self, mut progress: impl FnMut(u32, Option<u32>)) -> Result<()> {
+        while !self.is_finished() {
+            self.advance_rotation()?;
+            progress(self.rotation, self.end_rotation);
         }
-        let (ta, tb) = (integrator.t_prev(), integrator.t());
-        if integrator.stats().steps >= settings.max_steps {
-            return Err(Error::Integration {
-                time: tb,
-                cause: format!("step limit of {} steps reached", settings.max_steps),
+        Ok(())
+    }
+
+    /// Deepens every joint's wear profile by `factor` times `increments` (per joint, per
+    /// sector), as a long-life block jump does, and restarts the integrator at the current
+    /// state: the gap, and so the right-hand side, changed discontinuously.
+    pub fn add_wear(&mut self, increments: &[Vec<f64>], factor: f64) {
+        for (cj, inc) in self.mechanism.clearance_joints.iter_mut().zip(increments) {
+            cj.profile.add_depths(inc, factor);
+        }
+        let (t, y) = (self.integrator.t(), self.integrator.y().to_vec());
+        for (k, g) in self.gaps.iter_mut().enumerate() {
+            *g = gap(&self.mechanism, k, &y);
+        }
+        self.integrator
+            .reset(&mut Dynamics::new(&mut self.mechanism), t, &y);
+    }
+
+    /// Integrates one driver rotation: accepted steps up to the rotation's end, each followed
+    /// by contact-onset location, wear and recording (see the module documentation).
+    pub fn advance_rotation(&mut self) -> Result<()> {
+        let boundary = (self.rotation + 1) as f64 * self.period;
+        loop {
+            self.accepted_step(boundary)?;
+            if self.integrator.t() >= boundary {
+                break;
+            }
+        }
+        self.rotation += 1;
+        if self
+            .settings
+            .wear_snapshots
+            .binary_search(&self.rotation)
+            .is_ok()
+        {
+            self.out.wear_snapshots.push(WearSnapshot {
+                rotation: self.rotation,
+                depths: wear_depths(&self.mechanism),
             });
         }
+        if self.end_rotation.is_none() {
+            if let Some(settled) = self
+                .settler
+                .as_mut()
+                .and_then(|s| s.end_rotation(self.rotation))
+            {
+                self.out.settling = Some(settled);
+                let end = self.rotation + self.settings.rotations;
+                self.end_rotation = Some(end);
+                self.sampler = Some(self.recording_window(end));
+                self.settler = None;
+            }
+        }
+        Ok(())
+    }
+
+    /// One accepted step towards `boundary`, cut at the earliest contact onset in it.
+    fn accepted_step(&mut self, boundary: f64) -> Result<()> {
+        let n = self.mechanism.coordinates();
+        let mut sys = Dynamics::new(&mut self.mechanism);
+        // A failed right-hand side only matters if the integrator could not step around it.
+        if let Err(e) = self.integrator.step(&mut sys, boundary) {
+            return Err(sys.failure.unwrap_or(e));
+        }
+        let (ta, tb) = (self.integrator.t_prev(), self.integrator.t());
+        if self.integrator.stats().steps >= self.settings.max_steps {
+            return Err(Error::Integration {
+                time: tb,
+                cause: format!("step limit of {} steps reached", self.settings.max_steps),
+            });
+        }
+        let (mechanism, integrator, y_event) =
+            (&mut self.mechanism, &self.integrator, &mut self.y_event);
         // 1. Contact onsets: the earliest gap sign change from free flight to contact.
         let mut onset: Option<(f64, usize)> = None;
-        for (k, g_prev) in gaps.iter_mut().enumerate() {
+        for (k, g_prev) in self.gaps.iter_mut().enumerate() {
             let g = gap(mechanism, k, integrator.y());
             if *g_prev < 0.0 && g >= 0.0 {
                 let dense_gap = |t| {
-                    integrator.dense(t, &mut y_event);
-                    gap(mechanism, k, &y_event)
+                    integrator.dense(t, y_event);
+                    gap(mechanism, k, y_event)
                 };
                 let t = locate_root(dense_gap, ta, *g_prev, tb, g, 1e-12 * tb.max(1.0));
                 if onset.is_none_or(|(t0, _)| t < t0) {
@@ -289,87 +444,77 @@ pub fn run(mechanism: &mut Mechanism, settings: &RunSettings, y0: Vec<f64>) -> R
         }
         let t_stop = onset.map_or(tb, |(t, _)| t);
         // 2. Wear at the interval midpoint, 3. samples, both over [ta, t_stop].
-        if wears {
-            integrator.dense(0.5 * (ta + t_stop), &mut y_mid);
-            add_wear(mechanism, &y_mid[..2 * n], t_stop - ta);
+        if self.wears {
+            integrator.dense(0.5 * (ta + t_stop), &mut self.y_mid);
+            add_wear(mechanism, &self.y_mid[..2 * n], t_stop - ta);
         }
-        if let Some(s) = sampler.as_mut() {
+        if let Some(s) = self.sampler.as_mut() {
             s.sample(
                 mechanism,
-                &integrator,
+                integrator,
                 ta,
                 t_stop,
-                &mut out.recording,
-                &mut y_event,
+                &mut self.out.recording,
+                y_event,
             )?;
         }
-        if let Some(s) = settler.as_mut() {
-            s.sample(mechanism, &integrator, ta, t_stop, &mut y_event);
+        if let Some(s) = self.settler.as_mut() {
+            s.sample(mechanism, integrator, ta, t_stop, y_event);
         }
         if let Some((t, k)) = onset {
-            integrator.dense(t, &mut y_event);
+            integrator.dense(t, y_event);
             let cs = mechanism.contact_kinematics(k, &y_event[..n], &y_event[n..2 * n]);
             mechanism.clearance_joints[k].impact_velocity = cs.delta_dot;
-            out.impacts[k] += 1;
-            for (j, g) in gaps.iter_mut().enumerate() {
+            self.out.impacts[k] += 1;
+            for (j, g) in self.gaps.iter_mut().enumerate() {
                 *g = if j == k {
                     0.0
                 } else {
-                    gap(mechanism, j, &y_event)
+                    gap(mechanism, j, y_event)
                 };
             }
-            integrator.record_event();
-            integrator.reset(
-                &mut Dynamics {
-                    mechanism,
-                    failure: None,
-                },
-                t,
-                &y_event,
-            );
+            self.integrator.record_event();
+            self.integrator
+                .reset(&mut Dynamics::new(&mut self.mechanism), t, &self.y_event);
         }
-        for (m, g) in out.max_penetration.iter_mut().zip(&gaps) {
+        for (m, g) in self.out.max_penetration.iter_mut().zip(&self.gaps) {
             *m = m.max(*g);
         }
-        if t_stop >= next_history * (1.0 - 1e-12) {
-            out.profile_history.push((t_stop, wear_depths(mechanism)));
-            next_history += history_interval;
+        if t_stop >= self.next_history * (1.0 - 1e-12) {
+            self.out
+                .profile_history
+                .push((t_stop, wear_depths(&self.mechanism)));
+            self.next_history += self.history_interval;
         }
-        if onset.is_some() || tb < boundary {
-            continue;
-        }
-        rotation += 1;
-        if settings.wear_snapshots.binary_search(&rotation).is_ok() {
-            out.wear_snapshots.push(WearSnapshot {
-                rotation,
-                depths: wear_depths(mechanism),
+        Ok(())
+    }
+
+    /// The outputs of the run so far.
+    pub fn finish(mut self) -> RunOutput {
+        let n = self.mechanism.coordinates();
+        let y = self.integrator.y().to_vec();
+        if let Some(start) = self.energy_start {
+            let end = mechanical_energy(&self.mechanism, &y);
+            self.out.energy = Some(EnergyAccount {
+                driver_work: y[2 * n],
+                normal_work: y[2 * n + 1],
+                friction_work: y[2 * n + 2],
+                mechanical_change: end.0 - start.0,
+                elastic_change: end.1 - start.1,
             });
         }
-        if end_rotation.is_none() {
-            if let Some(settled) = settler.as_mut().and_then(|s| s.end_rotation(rotation)) {
-                out.settling = Some(settled);
-                end_rotation = Some(rotation + settings.rotations);
-                sampler = end_rotation.map(window);
-                settler = None;
-            }
-        }
+        self.out.stats = self.integrator.stats();
+        self.out.final_wear = wear_depths(&self.mechanism);
+        self.out.final_state = y;
+        self.out.wall_time = self.clock.elapsed().as_secs_f64();
+        self.out
     }
-    let y = integrator.y().to_vec();
-    if let Some(start) = energy_start {
-        let end = mechanical_energy(mechanism, &y);
-        out.energy = Some(EnergyAccount {
-            driver_work: y[2 * n],
-            normal_work: y[2 * n + 1],
-            friction_work: y[2 * n + 2],
-            mechanical_change: end.0 - start.0,
-            elastic_change: end.1 - start.1,
-        });
-    }
-    out.stats = integrator.stats();
-    out.final_wear = wear_depths(mechanism);
-    out.final_state = y;
-    out.wall_time = clock.elapsed().as_secs_f64();
-    Ok(out)
+}
+
+/// Penetration of joint `k` at state `y`.
+fn gap(m: &Mechanism, k: usize, y: &[f64]) -> f64 {
+    let n = m.coordinates();
+    m.contact_kinematics(k, &y[..n], &y[n..2 * n]).delta
 }
 
 fn wear_depths(mechanism: &Mechanism) -> Vec<Vec<f64>> {

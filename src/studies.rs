@@ -50,11 +50,12 @@
 
 use crate::analysis::{peaks, Motion};
 use crate::concordance::Concordance;
-use crate::figures::{output_path, wear_run_with, CASES, PEAK_PROMINENCE};
+use crate::figures::output_path;
 use crate::golden::{angle_distance, Golden};
 use crate::integrator::{Method, Stats};
 use crate::output::write_rows;
 use crate::plot::{render, Axes, Series, Style};
+use crate::runs::{wear_run_with, CASES, PEAK_PROMINENCE};
 use crate::scene::{scene_path, MethodSpec, SceneFile};
 use crate::simulation::{simulate, RunOutput};
 use crate::Result;

@@ -11,10 +11,11 @@
 //!   that fails while running gets its error in the `error` column; the others go on.
 
 use crate::analysis::{peaks, Motion, Peak};
-use crate::figures::PEAK_PROMINENCE;
 use crate::output::write_atomic;
+use crate::runs::PEAK_PROMINENCE;
 use crate::scene::{set_dotted, Scene, SceneFile};
 use crate::simulation::{simulate, RunOutput};
+use crate::statistics::{Band, Distribution};
 use crate::{Error, Result};
 use rayon::prelude::*;
 use std::path::Path;
@@ -161,6 +162,81 @@ pub fn summarize(scene: &Scene, out: &RunOutput) -> Vec<JointSummary> {
                 motion: trace
                     .map(|t| Motion::classify(&t.delta, dt, scene.run.record_rotations as f64)),
                 peaks: peaks(&out.final_wear[k], PEAK_PROMINENCE),
+            }
+        })
+        .collect()
+}
+
+impl JointSummary {
+    /// The joint's scalar results by name: the numeric sweep columns, and
+    /// `continuous_contact` as 1 or 0 (NaN where nothing was recorded), whose mean over an
+    /// ensemble is the share of members in continuous contact.
+    pub fn scalars(&self) -> [(&'static str, f64); 7] {
+        let peak = self.peaks.first();
+        let motion = |f: fn(&Motion) -> f64| self.motion.as_ref().map_or(f64::NAN, f);
+        [
+            ("max_normal_force_n", self.max_normal_force),
+            ("max_penetration_m", self.max_penetration),
+            (
+                "peak_wear_angle_deg",
+                peak.map_or(f64::NAN, |p| p.angle_deg),
+            ),
+            ("peak_wear_depth_m", peak.map_or(f64::NAN, |p| p.depth)),
+            ("contact_fraction", motion(|m| m.contact_fraction)),
+            ("impacts_per_rotation", motion(|m| m.impacts_per_rotation)),
+            (
+                "continuous_contact",
+                motion(|m| f64::from(u8::from(m.mode() == "continuous contact"))),
+            ),
+        ]
+    }
+}
+
+/// Statistics of one clearance joint over the members of an ensemble.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointStatistics {
+    /// The joint's name.
+    pub name: String,
+    /// Distribution of each of [`JointSummary::scalars`] (angles unwrapped around their
+    /// circular mean).
+    pub scalars: Vec<(&'static str, Distribution)>,
+    /// Per-sector band of the final wear profiles, for a joint with a wear model.
+    pub wear: Option<Band>,
+}
+
+/// Statistics of every clearance joint over `members`: each member's joint summaries and
+/// final wear profiles.
+pub fn joint_statistics(
+    scene: &Scene,
+    members: &[(Vec<JointSummary>, Vec<Vec<f64>>)],
+) -> Vec<JointStatistics> {
+    scene
+        .mechanism
+        .clearance_joints
+        .iter()
+        .enumerate()
+        .map(|(k, cj)| {
+            let names = JointSummary::scalars(&members[0].0[k]).map(|(n, _)| n);
+            let scalars = names
+                .iter()
+                .enumerate()
+                .map(|(i, &name)| {
+                    let values = members.iter().map(|(s, _)| s[k].scalars()[i].1);
+                    let d = if name.ends_with("_deg") {
+                        Distribution::of_angles_deg(values)
+                    } else {
+                        Distribution::of(values)
+                    };
+                    (name, d)
+                })
+                .collect();
+            JointStatistics {
+                name: cj.name.clone(),
+                scalars,
+                wear: cj
+                    .wear
+                    .is_some()
+                    .then(|| Band::of(members.iter().map(|(_, w)| w[k].as_slice()))),
             }
         })
         .collect()

@@ -1,6 +1,6 @@
-//! Cycle-jump extrapolation against brute-force simulation, and chunked runs against one run.
+//! Cycle-jump extrapolation against brute-force simulation.
 
-use jointwear::longlife::{predict, simulate_in_chunks, LongLifeSettings};
+use jointwear::longlife::{predict, LongLifeSettings};
 use jointwear::scene::{scene_path, SceneFile};
 use jointwear::simulation::simulate;
 
@@ -71,32 +71,4 @@ fn realistic_coefficient_reaches_a_million_rotations_quickly() {
     // 1000 times less wear per rotation than the accelerated 40-rotation run (0.56 µm),
     // over 25000 times more rotations: micrometres, not nanometres or millimetres.
     assert!(depth > 1e-6 && depth < 50e-6, "{depth:e}");
-}
-
-#[test]
-fn chunked_run_matches_one_run() {
-    let mut f = SceneFile::read(scene_path("standard")).unwrap();
-    f.run.rotations = 6;
-    f.run.record_rotations = 1;
-    f.run.wear_snapshots = vec![2, 6];
-    // Free flight and impact is chaotic; damped contact keeps the two runs comparable.
-    f.clearance[0].contact.restitution = 0.5;
-    let scene = f.build().unwrap();
-    let whole = simulate(&scene).unwrap();
-    let mut seen = Vec::new();
-    let parts = simulate_in_chunks(&scene, 2, |done, total| seen.push((done, total))).unwrap();
-    assert_eq!(seen, vec![(2, 6), (4, 6), (5, 6), (6, 6)]);
-    let rotations: Vec<u32> = parts.wear_snapshots.iter().map(|s| s.rotation).collect();
-    assert_eq!(rotations, vec![2, 6]);
-    let (a, b) = (&whole.recording, &parts.recording);
-    assert_eq!(a.time.len(), b.time.len());
-    assert!((a.time[0] - b.time[0]).abs() < 1e-12);
-    assert!((a.driver_angle.last().unwrap() - b.driver_angle.last().unwrap()).abs() < 1e-9);
-    let total = |d: &[f64]| d.iter().sum::<f64>();
-    let (wa, wb) = (total(&whole.final_wear[0]), total(&parts.final_wear[0]));
-    assert!((wa - wb).abs() < 0.02 * wa, "{wa:e} vs {wb:e}");
-    assert_eq!(
-        whole.impacts.iter().sum::<u64>() > 0,
-        parts.impacts.iter().sum::<u64>() > 0
-    );
 }

@@ -186,8 +186,16 @@ fn polar_profile() {
             .collect()
     };
     let profiles = vec![
-        ("after 10 cycles".to_owned(), worn(0.004, 250.0)),
-        ("after 20 cycles".to_owned(), worn(0.008, 250.0)),
+        (
+            "after 10 cycles".to_owned(),
+            worn(0.004, 250.0),
+            Style::Line,
+        ),
+        (
+            "after 20 cycles".to_owned(),
+            worn(0.008, 250.0),
+            Style::Dashed,
+        ),
     ];
     let path = dir.join("polar.png");
     render_polar(&path, "Bearing profile", &theta, &profiles, r_ref, 200.0).unwrap();
@@ -232,11 +240,25 @@ fn bad_input_is_an_error_and_writes_nothing() {
             vec![Series::new("a", &x, &x, Style::LineOnSecondaryAxis)],
         )],
     ));
+    let band = Axes {
+        shades: vec![jointwear::plot::Shade {
+            series: 0,
+            lo: &x[..3],
+            hi: &x,
+        }],
+        ..Axes::new(
+            "band",
+            "x",
+            "y",
+            vec![Series::new("a", &x, &x, Style::Line)],
+        )
+    };
+    plot_err(render(&path, &[band]));
     plot_err(render_polar(
         &path,
         "p",
         &x,
-        &[("a".into(), vec![1.0; 3])],
+        &[("a".into(), vec![1.0; 3], Style::Line)],
         1.0,
         10.0,
     ));

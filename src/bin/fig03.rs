@@ -1,4 +1,4 @@
 //! Paper figure 3: see `jointwear::figures::fig03`.
 fn main() {
-    jointwear::figures::figure_main("fig03", jointwear::figures::fig03);
+    jointwear::figures::figure_main("fig03");
 }

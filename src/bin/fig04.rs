@@ -1,4 +1,4 @@
 //! Paper figure 4: see `jointwear::figures::fig04`.
 fn main() {
-    jointwear::figures::figure_main("fig04", jointwear::figures::fig04);
+    jointwear::figures::figure_main("fig04");
 }

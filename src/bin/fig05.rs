@@ -1,4 +1,4 @@
 //! Paper figure 5: see `jointwear::figures::fig05`.
 fn main() {
-    jointwear::figures::figure_main("fig05", jointwear::figures::fig05);
+    jointwear::figures::figure_main("fig05");
 }

@@ -1,4 +1,4 @@
 //! Paper figure 7: see `jointwear::figures::fig07`.
 fn main() {
-    jointwear::figures::figure_main("fig07", jointwear::figures::fig07);
+    jointwear::figures::figure_main("fig07");
 }

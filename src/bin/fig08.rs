@@ -1,4 +1,4 @@
 //! Paper figure 8: see `jointwear::figures::fig08`.
 fn main() {
-    jointwear::figures::figure_main("fig08", jointwear::figures::fig08);
+    jointwear::figures::figure_main("fig08");
 }

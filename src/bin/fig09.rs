@@ -1,4 +1,4 @@
 //! Paper figure 9: see `jointwear::figures::fig09`.
 fn main() {
-    jointwear::figures::figure_main("fig09", jointwear::figures::fig09);
+    jointwear::figures::figure_main("fig09");
 }

@@ -1,4 +1,4 @@
 //! Paper figure 10: see `jointwear::figures::fig10`.
 fn main() {
-    jointwear::figures::figure_main("fig10", jointwear::figures::fig10);
+    jointwear::figures::figure_main("fig10");
 }

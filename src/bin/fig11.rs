@@ -1,4 +1,4 @@
 //! Paper figure 11: see `jointwear::figures::fig11`.
 fn main() {
-    jointwear::figures::figure_main("fig11", jointwear::figures::fig11);
+    jointwear::figures::figure_main("fig11");
 }

@@ -1,4 +1,4 @@
 //! Paper figure 12: see `jointwear::figures::fig12`.
 fn main() {
-    jointwear::figures::figure_main("fig12", jointwear::figures::fig12);
+    jointwear::figures::figure_main("fig12");
 }

@@ -1,4 +1,4 @@
 //! Paper figure 13: see `jointwear::figures::fig13`.
 fn main() {
-    jointwear::figures::figure_main("fig13", jointwear::figures::fig13);
+    jointwear::figures::figure_main("fig13");
 }

@@ -4,12 +4,16 @@
 //! while running (integration, writing outputs).
 
 use clap::{Parser, Subcommand};
+use jointwear::ensemble::{self, member_offsets, EnsembleSettings, DEFAULT_SEED};
 use jointwear::figures::sector_angles_deg;
-use jointwear::longlife::{predict, simulate_in_chunks, LongLife, LongLifeSettings};
+use jointwear::longlife::{predict, LongLife, LongLifeSettings};
+use jointwear::output::write_rows;
 use jointwear::output::{progress_bar, write_csv};
-use jointwear::plot::{render, Axes, Series, Style};
+use jointwear::plot::{render, Axes, Series, Shade, Style};
 use jointwear::scene::{Scene, SceneFile};
-use jointwear::simulation::RunOutput;
+use jointwear::simulation::{simulate_with_progress, RunOutput};
+use jointwear::statistics::QUANTILES;
+use jointwear::sweep::{header, joint_statistics, CaseResult};
 use jointwear::sweep::{merge, summarize, Assignment, Shard, Sweep};
 use jointwear::Error;
 use std::path::{Path, PathBuf};
@@ -19,6 +23,7 @@ const EXAMPLES: &str = "\
 Examples:
   jointwear check data/scenes/fourbar.toml
   jointwear run data/scenes/standard.toml --out out/standard
+  jointwear run data/scenes/standard.toml --ensemble 16 --seed 1
   jointwear sweep data/scenes/standard.toml \\
       --set clearance.0.clearance_mm=0.02,0.1,0.5 --set driver.speed_rpm=600,2000 --out sweep.csv
   jointwear sweep data/scenes/standard.toml --set driver.speed_rpm=500,1000,1500,2000 \\
@@ -39,13 +44,23 @@ enum Command {
     /// Simulate a scene: time series and wear CSVs, plots and a summary.
     #[command(
         after_help = "Writes timeseries.csv (recorded rotations), wear_<joint>.csv (final \
-        profile), trajectory.png, normal_force.png and wear.png."
+        profile), trajectory.png, normal_force.png and wear.png. With --ensemble N: \
+        ensemble_members.csv (one row per member), ensemble_summary.csv (mean, sd, min, \
+        quantiles and max of every scalar result), ensemble_wear_<joint>.csv (the per-sector \
+        band of the final wear profiles) and wear.png (mean profile, 5-95 % band shaded)."
     )]
     Run {
         scene: PathBuf,
         /// Output directory [default: out/<scene stem>]
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Run N members, each from an initial journal offset of at most 10 nm in a seeded
+        /// random direction, and report statistics over them instead of one trajectory
+        #[arg(long, value_name = "N")]
+        ensemble: Option<usize>,
+        /// Seed of the ensemble's initial offsets
+        #[arg(long, default_value_t = DEFAULT_SEED, requires = "ensemble")]
+        seed: u64,
     },
     /// Validate a scene and print what it describes.
     Check { scene: PathBuf },
@@ -123,7 +138,18 @@ type CliResult<T> = std::result::Result<T, Failure>;
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { scene, out } => run(&scene, out),
+        Command::Run {
+            scene,
+            out,
+            ensemble: None,
+            ..
+        } => run(&scene, out),
+        Command::Run {
+            scene,
+            out,
+            ensemble: Some(members),
+            seed,
+        } => run_ensemble(&scene, out, EnsembleSettings { members, seed }),
         Command::Check { scene } => check(&scene),
         Command::Sweep {
             scene,
@@ -178,12 +204,149 @@ fn run(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
     let scene = load(path)?;
     let dir = out_dir(path, out);
     let bar = progress_bar(scene.run.rotations as u64, "rotations");
-    let chunk = (scene.run.rotations / 100).max(1);
-    let result = simulate_in_chunks(&scene, chunk, |done, _| bar.set_position(done as u64));
+    let result = simulate_with_progress(&scene, |done, total| {
+        // While a run settles its length is unknown: the bar then counts settling rotations.
+        bar.set_length(total.unwrap_or(done + scene.run.rotations) as u64);
+        bar.set_position(done as u64);
+    });
     bar.finish_and_clear();
     let out = result.map_err(|e| Failure::from(path, e))?;
     write_run(&scene, &out, &dir).map_err(|e| Failure::from(path, e))?;
     print_summary(&scene, &out);
+    println!("outputs in {}", dir.display());
+    Ok(())
+}
+
+/// `run --ensemble`: members in parallel, their statistics as CSVs, a band plot and a summary.
+fn run_ensemble(path: &Path, out: Option<PathBuf>, settings: EnsembleSettings) -> CliResult<()> {
+    let bad = |e| Failure::from(path, e);
+    settings.validate().map_err(bad)?;
+    let scene = load(path)?;
+    let dir = out_dir(path, out);
+    let clock = std::time::Instant::now();
+    let bar = progress_bar(settings.members as u64, "members");
+    let members = ensemble::run(
+        &scene,
+        &settings,
+        |_, o| (summarize(&scene, &o), o.final_wear, o.wall_time),
+        || bar.inc(1),
+    );
+    bar.finish_and_clear();
+    let members = members.map_err(bad)?;
+    let wall = clock.elapsed().as_secs_f64();
+    let m = &scene.mechanism;
+    let joints: Vec<String> = m.clearance_joints.iter().map(|c| c.name.clone()).collect();
+    // One row per member: its offsets, then the sweep's per-joint columns.
+    let mut head = vec!["member".to_string()];
+    for j in &joints {
+        head.extend([format!("{j}.offset_x_m"), format!("{j}.offset_y_m")]);
+    }
+    head.extend(header(&[], &joints).into_iter().skip(1));
+    let rows = members.iter().enumerate().map(|(i, (summary, _, secs))| {
+        let mut row = vec![i.to_string()];
+        for d in member_offsets(settings.seed, i, joints.len()) {
+            row.extend([format!("{:e}", d.x), format!("{:e}", d.y)]);
+        }
+        let record = CaseResult {
+            case: i,
+            values: Vec::new(),
+            outcome: Ok((summary.clone(), *secs)),
+        }
+        .record(joints.len());
+        row.extend(record.into_iter().skip(1));
+        row
+    });
+    write_rows(&dir.join("ensemble_members.csv"), &head, rows).map_err(bad)?;
+    let pairs: Vec<_> = members.into_iter().map(|(s, w, _)| (s, w)).collect();
+    let stats = joint_statistics(&scene, &pairs);
+    let q = QUANTILES.map(|p| format!("q{:02.0}", 100.0 * p));
+    let mut head = vec!["joint", "quantity", "n", "mean", "sd", "min"];
+    head.extend(q.iter().map(String::as_str));
+    head.push("max");
+    let mut rows = Vec::new();
+    for j in &stats {
+        for (name, d) in &j.scalars {
+            let mut row = vec![j.name.clone(), name.to_string(), d.n.to_string()];
+            row.extend(
+                [d.mean, d.sd, d.min]
+                    .iter()
+                    .chain(&d.quantiles)
+                    .chain([&d.max])
+                    .map(|x| format!("{x:e}")),
+            );
+            rows.push(row);
+        }
+    }
+    write_rows(&dir.join("ensemble_summary.csv"), &head, rows).map_err(bad)?;
+    let mut series = Vec::new();
+    for j in stats.iter().filter(|j| j.wear.is_some()) {
+        let band = j.wear.as_ref().expect("filtered");
+        let angles = sector_angles_deg(band.sectors.len());
+        let mut head = vec!["angle_deg".to_string()];
+        head.extend(["mean_m", "sd_m", "min_m"].map(String::from));
+        head.extend(q.iter().map(|q| format!("{q}_m")));
+        head.push("max_m".into());
+        let rows = band.sectors.iter().zip(&angles).map(|(d, a)| {
+            [*a, d.mean, d.sd, d.min]
+                .iter()
+                .chain(&d.quantiles)
+                .chain([&d.max])
+                .map(|x| format!("{x:e}"))
+                .collect()
+        });
+        let file = format!("ensemble_wear_{}.csv", file_part(&j.name));
+        write_rows(&dir.join(file), &head, rows).map_err(bad)?;
+        let um = |v: Vec<f64>| v.iter().map(|x| x * 1e6).collect::<Vec<f64>>();
+        series.push((
+            j.name.clone(),
+            angles,
+            um(band.mean()),
+            um(band.quantile(0)),
+            um(band.quantile(4)),
+        ));
+    }
+    if !series.is_empty() {
+        let axes = Axes {
+            x_range: Some((0.0, 360.0)),
+            shades: series
+                .iter()
+                .enumerate()
+                .map(|(i, (_, _, _, lo, hi))| Shade { series: i, lo, hi })
+                .collect(),
+            ..Axes::new(
+                format!(
+                    "Wear after {} rotations: mean of {} members, 5-95 % shaded",
+                    scene.run.rotations, settings.members
+                ),
+                "bearing angle (deg)",
+                "wear depth (µm)",
+                series
+                    .iter()
+                    .map(|(n, a, mean, _, _)| Series::new(n, a, mean, Style::Line))
+                    .collect(),
+            )
+        };
+        render(&dir.join("wear.png"), &[axes]).map_err(bad)?;
+    }
+    println!("{}", scene.title);
+    println!(
+        "  {} members (seed {}) of {} rotations in {wall:.2} s wall time",
+        settings.members, settings.seed, scene.run.rotations
+    );
+    for j in &stats {
+        println!("  joint {} (mean ± sd, [5 %, 95 %]):", j.name);
+        for (name, d) in &j.scalars {
+            if name == &"continuous_contact" {
+                let k = (d.mean * d.n as f64).round();
+                println!("    continuous contact in {k} of {} members", d.n);
+            } else if d.n > 0 {
+                println!(
+                    "    {name:22} {:.6e} ± {:.2e}  [{:.6e}, {:.6e}]",
+                    d.mean, d.sd, d.quantiles[0], d.quantiles[4]
+                );
+            }
+        }
+    }
     println!("outputs in {}", dir.display());
     Ok(())
 }

@@ -1,14 +1,17 @@
 //! Rebuilds everything the reproducibility report shows and writes `paper.md`.
 //!
-//! `report` reruns every figure, Table 3, the accuracy-dependence study and the stability suite
-//! (about half a minute); `report --all` also reruns the slow studies (calibration and
-//! work-precision, a few minutes) instead of reading their last results from `data/`.
-use jointwear::figures::{exit_on_error, CASES};
+//! `report` computes the ensembles of every case once, draws every figure and Table 3 from
+//! them, reruns the accuracy-dependence study and the stability suite; `report --all` also
+//! reruns the slow studies (calibration and work-precision, a few minutes) instead of reading
+//! their last results from `data/`.
+use jointwear::ensemble::EnsembleSettings;
+use jointwear::figures::exit_on_error;
 use jointwear::golden::Golden;
 use jointwear::output::progress_bar;
 use jointwear::report::{
-    performance_section, run_figures, stability_section, work_precision_section, write, FIGURES,
+    performance_section, run_figures, stability_section, work_precision_section, write,
 };
+use jointwear::runs::CASES;
 use jointwear::{calibration, studies};
 
 fn main() {
@@ -28,15 +31,15 @@ fn main() {
         exit_on_error(studies::work_precision(|_| bar.inc(1)));
         bar.finish_and_clear();
     }
-    let bar = progress_bar((FIGURES.len() + 1) as u64, "figures and tables");
-    let results = exit_on_error(run_figures(|done, _, name, secs| {
+    let bar = progress_bar(0, "ensemble members");
+    let (runs, drawn) = exit_on_error(run_figures(EnsembleSettings::default(), |done, total| {
+        bar.set_length(total as u64);
         bar.set_position(done as u64);
-        bar.set_message(format!("{name} {secs:.1} s"));
     }));
     bar.finish_and_clear();
     // every Table 3 case and the standard wear case, under each integration setting
-    let runs = studies::accuracy_settings().len() * (CASES.len() + 1);
-    let bar = progress_bar(runs as u64, "accuracy runs");
+    let count = studies::accuracy_settings().len() * (CASES.len() + 1);
+    let bar = progress_bar(count as u64, "accuracy runs");
     exit_on_error(studies::accuracy_dependence(|_, _| bar.inc(1)));
     bar.finish_and_clear();
     let bar = progress_bar(
@@ -51,7 +54,8 @@ fn main() {
         performance_section(),
     ];
     exit_on_error(write(
-        &results,
+        &runs,
+        &drawn,
         &golden,
         &sections,
         clock.elapsed().as_secs_f64(),

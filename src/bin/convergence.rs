@@ -1,0 +1,28 @@
+//! How ensemble statistics settle with the number of members, and the default size it picks:
+//! `data/ensemble_convergence.csv`, `figures/ensemble_convergence.png`. See
+//! `jointwear::convergence`.
+use jointwear::convergence::convergence_study;
+use jointwear::ensemble::DEFAULT_MEMBERS;
+use jointwear::figures::exit_on_error;
+use jointwear::output::progress_bar;
+
+fn main() {
+    let bar = progress_bar(0, "members");
+    let study = exit_on_error(convergence_study(|done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    }));
+    bar.finish_and_clear();
+    println!("wrote data/ensemble_convergence.csv and figures/ensemble_convergence.png");
+    for (n, rms, width) in &study.profile {
+        println!(
+            "{n:3} members: mean wear profile {:.2} % RMS from the full ensemble's, band width {:.1} %",
+            100.0 * rms,
+            100.0 * width
+        );
+    }
+    match study.chosen {
+        Some(n) => println!("the rule picks {n} members (library default: {DEFAULT_MEMBERS})"),
+        None => println!("no size meets the rule (library default: {DEFAULT_MEMBERS})"),
+    }
+}
