@@ -6,6 +6,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, SamplingMode};
 use jointwear::contact::NormalForceModel;
+use jointwear::ensemble::{run, EnsembleSettings};
 use jointwear::friction::FrictionModel;
 use jointwear::scene::{scene_path, Scene, SceneFile};
 use jointwear::simulation::simulate;
@@ -128,6 +129,21 @@ fn runs(c: &mut Criterion) {
         });
         group.finish();
     }
+    // 16 members of the 40-rotation run in parallel on every core.
+    let scene = wear_run(40);
+    let settings = EnsembleSettings {
+        members: 16,
+        seed: 1,
+    };
+    let mut group = c.benchmark_group("ensemble");
+    group
+        .sampling_mode(SamplingMode::Flat)
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(20));
+    group.bench_function("standard_40x16", |b| {
+        b.iter(|| run(black_box(&scene), &settings, |_, o| o.final_wear, || ()).expect("ensemble"))
+    });
+    group.finish();
 }
 
 fn quick() -> Criterion {

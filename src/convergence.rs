@@ -186,8 +186,13 @@ fn write_convergence(c: &Convergence) -> Result<()> {
         &tolerance,
         Style::Reference,
     ));
-    let rms: Vec<f64> = c.profile.iter().map(|p| p.1.max(1e-12).log10()).collect();
-    let width: Vec<f64> = c.profile.iter().map(|p| p.2.max(1e-12).log10()).collect();
+    // the full ensemble is the reference of the distance: it is left out of that curve
+    let partial = &x[..x.len() - 1];
+    let rms: Vec<f64> = c.profile[..partial.len()]
+        .iter()
+        .map(|p| p.1.log10())
+        .collect();
+    let width: Vec<f64> = c.profile.iter().map(|p| p.2.log10()).collect();
     let panels = [
         Axes::new(
             "Standard error of the ensemble mean",
@@ -202,7 +207,7 @@ fn write_convergence(c: &Convergence) -> Result<()> {
             vec![
                 Series::new(
                     format!("RMS distance of the mean profile from the {MAX_MEMBERS}-member one"),
-                    &x,
+                    partial,
                     &rms,
                     Style::Line,
                 ),

@@ -491,7 +491,7 @@ fn profile_figure(runs: &Runs, name: &str, cases: &[(&str, f64, String)]) -> Res
 }
 
 fn fig06(runs: &Runs) -> Result<Vec<String>> {
-    let title = "Bearing wear with crank rotation (c = 0.02 mm, 2000 r/min)".to_string();
+    let title = "Wear with crank rotation (0.02 mm, 2000 r/min)".to_string();
     profile_figure(runs, "fig06", &[("standard", 0.02, title)])
 }
 
@@ -544,7 +544,7 @@ fn fig11(runs: &Runs) -> Result<Vec<String>> {
     comparison_figure(
         runs,
         "fig11",
-        "Accumulated wear for different clearances (2000 r/min)",
+        "Wear for different clearances (2000 r/min)",
         &[
             ("standard", "c = 0.02 mm"),
             ("clearance_0.2mm", "c = 0.2 mm"),
@@ -557,7 +557,7 @@ fn fig15(runs: &Runs) -> Result<Vec<String>> {
     comparison_figure(
         runs,
         "fig15",
-        "Accumulated wear for different crank speeds (c = 0.02 mm)",
+        "Wear at different crank speeds (c = 0.02 mm)",
         &[
             ("speed_30rpm", "30 r/min"),
             ("speed_600rpm", "600 r/min"),

@@ -21,11 +21,12 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 /// Run-time targets of the hot paths: criterion bench and its budget (ns).
-pub const TARGETS: [(&str, f64); 4] = [
+pub const TARGETS: [(&str, f64); 5] = [
     ("contact_force/hybrid", 20.0),
     ("contact_force/lankarani-nikravesh", 20.0),
     ("rhs/standard", 300.0),
     ("wear_run/standard_40", 0.25e9),
+    ("ensemble/standard_40x16", 2e9),
 ];
 /// Budget of the whole default `report` run (s).
 pub const REPORT_BUDGET_S: f64 = 60.0;

@@ -2,8 +2,8 @@
 //!
 //! `report` computes the ensembles of every case once, draws every figure and Table 3 from
 //! them, reruns the accuracy-dependence study and the stability suite; `report --all` also
-//! reruns the slow studies (calibration and work-precision, a few minutes) instead of reading
-//! their last results from `data/`.
+//! reruns the slow studies (calibration, work-precision and the ensemble-size study, a few
+//! minutes) instead of reading their last results from `data/`.
 use jointwear::ensemble::EnsembleSettings;
 use jointwear::figures::exit_on_error;
 use jointwear::golden::Golden;
@@ -12,7 +12,7 @@ use jointwear::report::{
     performance_section, run_figures, stability_section, work_precision_section, write,
 };
 use jointwear::runs::CASES;
-use jointwear::{calibration, studies};
+use jointwear::{calibration, convergence, studies};
 
 fn main() {
     let clock = std::time::Instant::now();
@@ -29,6 +29,12 @@ fn main() {
             "work-precision runs",
         );
         exit_on_error(studies::work_precision(|_| bar.inc(1)));
+        bar.finish_and_clear();
+        let bar = progress_bar(0, "convergence members");
+        exit_on_error(convergence::convergence_study(|done, total| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        }));
         bar.finish_and_clear();
     }
     let bar = progress_bar(0, "ensemble members");

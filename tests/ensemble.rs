@@ -1,0 +1,129 @@
+//! Ensembles: bit-identical for a seed whatever the thread count, members that differ where the
+//! motion is chaotic and agree where it is not, offsets that keep every ideal joint closed, and
+//! `jointwear run --ensemble` end to end.
+
+use jointwear::ensemble::{member_offsets, run, run_member, EnsembleSettings, OFFSET_RADIUS};
+use jointwear::scene::{scene_path, Scene, SceneFile};
+use std::process::Command;
+
+fn short(name: &str, rotations: u32) -> Scene {
+    let mut f = SceneFile::read(scene_path(name)).unwrap();
+    f.run.rotations = rotations;
+    f.run.record_rotations = 0;
+    f.run.wear_snapshots.clear();
+    f.build().unwrap()
+}
+
+fn final_wear(scene: &Scene, members: usize, threads: usize) -> Vec<Vec<f64>> {
+    let settings = EnsembleSettings { members, seed: 7 };
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(|| run(scene, &settings, |_, o| o.final_wear[0].clone(), || ()))
+        .unwrap()
+}
+
+#[test]
+fn bit_identical_for_a_seed_whatever_the_thread_count() {
+    let scene = short("clearance_0.5mm", 3);
+    let one = final_wear(&scene, 4, 1);
+    assert_eq!(one, final_wear(&scene, 4, 2));
+    assert_eq!(one, final_wear(&scene, 4, 3));
+    // chaotic: the 10 nm offsets give visibly different profiles
+    let max = |w: &[f64]| w.iter().cloned().fold(0.0, f64::max);
+    let spread = one.iter().map(|w| max(w)).fold(0.0, f64::max)
+        - one.iter().map(|w| max(w)).fold(f64::INFINITY, f64::min);
+    assert!(spread > 1e-3 * max(&one[0]), "members agree: {spread:e}");
+}
+
+#[test]
+fn members_agree_where_the_motion_is_not_chaotic() {
+    // 30 r/min: the journal rests on the bottom of the bearing; the offsets wash out
+    let scene = short("speed_30rpm", 10);
+    let w = final_wear(&scene, 3, 2);
+    let max = |w: &[f64]| w.iter().cloned().fold(0.0, f64::max);
+    for m in &w[1..] {
+        approx::assert_relative_eq!(max(m), max(&w[0]), max_relative = 1e-3);
+    }
+}
+
+#[test]
+fn offsets_keep_every_ideal_joint_closed_and_move_the_journal_by_nanometres() {
+    let scene = short("standard", 1);
+    let mut m = scene.mechanism.clone();
+    let base = m.assemble(&scene.guess).unwrap();
+    let n = m.coordinates();
+    let centred = m.contact_kinematics(0, &base[..n], &base[n..2 * n]).e;
+    assert!(centred.norm() < 1e-12);
+    for member in 0..5 {
+        let d = member_offsets(1, member, 1)[0];
+        let out = run_member(
+            &scene,
+            &jointwear::simulation::RunSettings {
+                rotations: 1,
+                ..scene.run.clone()
+            },
+            1,
+            member,
+        )
+        .unwrap();
+        assert!(out.final_wear[0].iter().all(|x| x.is_finite()));
+        // the assembled offset: move the journal point, assemble, measure with the real point
+        let mut shifted = scene.mechanism.clone();
+        shifted.clearance_joints[0].journal.local += d;
+        let y = shifted.assemble(&scene.guess).unwrap();
+        let e = m.contact_kinematics(0, &y[..n], &y[n..2 * n]).e;
+        approx::assert_relative_eq!(e.norm(), d.norm(), max_relative = 1e-6);
+        assert!(e.norm() <= OFFSET_RADIUS);
+        let phi = m.constraint_vector(0.0, &y[..n]);
+        assert!(phi.iter().all(|p| p.abs() < 1e-12), "{phi:?}");
+    }
+}
+
+#[test]
+fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
+    let dir = std::env::temp_dir().join(format!("jointwear-ensemble-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("scene.toml");
+    std::fs::write(
+        &file,
+        format!(
+            "extends = {:?}\n[overrides]\n\"run.rotations\" = 2\n\"run.record_rotations\" = 1\n\
+             \"run.wear_snapshots\" = []\n",
+            scene_path("clearance_0.5mm").display().to_string()
+        ),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let jw = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_jointwear"))
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let (f, o) = (file.to_str().unwrap(), out.to_str().unwrap());
+    let r = jw(&["run", f, "--out", o, "--ensemble", "3", "--seed", "5"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let text = String::from_utf8_lossy(&r.stdout);
+    assert!(
+        text.contains("3 members (seed 5)") && text.contains("of 3 members"),
+        "{text}"
+    );
+    let (header, rows) = jointwear::output::read_rows(&out.join("ensemble_members.csv")).unwrap();
+    assert_eq!(rows.len(), 3);
+    assert_eq!(header[0], "member");
+    let (_, summary) = jointwear::output::read_rows(&out.join("ensemble_summary.csv")).unwrap();
+    assert!(summary
+        .iter()
+        .any(|r| r[1] == "peak_wear_depth_m" && r[2] == "3"));
+    let (_, band) = jointwear::output::read_csv(&out.join("ensemble_wear_rod-slider.csv")).unwrap();
+    // mean between min and max in every sector
+    assert!((0..band[0].len()).all(|i| band[3][i] <= band[1][i] && band[1][i] <= band[9][i]));
+    assert!(out.join("wear.png").exists());
+    let bad = jw(&["run", f, "--out", o, "--ensemble", "0"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--ensemble"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
