@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Shows that the golden tests hold the model's statistics, not one trajectory: a change of
-# rounding that leaves the physics alone (the summation order of every constraint-row product in
-# the right-hand side, src/mechanism.rs `dot3`) moves a single run's wear peak, yet leaves the
-# golden tests green without re-recording. The physics-change half (restitution 0.9 -> 0.8,
+# rounding that leaves the physics alone (the summation order of the Baumgarte terms of every
+# constraint row in the right-hand side, src/mechanism.rs `accelerations`) moves a single run's
+# wear peak, yet leaves the golden tests green without re-recording. The physics-change half (restitution 0.9 -> 0.8,
 # mu_d 0.01 -> 0.03 turn them red) is the test `a_change_of_physics_breaks_them`.
 #
 # Usage: scripts/golden_rounding_check.sh   (a copy of the tree in a temporary folder; about
@@ -12,9 +12,9 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 tar -C "$root" --exclude=./target --exclude=./out -cf - . | tar -C "$work" -xf -
-before='a\[0\] \* b\[0\] + a\[1\] \* b\[1\] + a\[2\] \* b\[2\]'
-after='a[2] * b[2] + a[1] * b[1] + a[0] * b[0]'
-grep -q "$before" "$work/src/mechanism.rs" || { echo "dot3 not found: update this script"; exit 1; }
+before='\*b = g - 2.0 \* alpha \* row.dot(v) - beta \* beta \* \*b;'
+after='*b = g - (beta * beta * *b + 2.0 * alpha * row.dot(v));'
+grep -q "$before" "$work/src/mechanism.rs" || { echo "the Baumgarte line was not found: update this script"; exit 1; }
 sed -i "s/$before/$after/" "$work/src/mechanism.rs"
 
 peak() { # the deepest wear peak of one run of the standard scene

@@ -432,24 +432,8 @@ impl Runs {
                 members: n.min(self.ensemble.members),
                 ..self.ensemble
             },
-            steady: self
-                .steady
-                .iter()
-                .map(|(name, e)| {
-                    let mut e = e.clone();
-                    e.members.truncate(n);
-                    (*name, e)
-                })
-                .collect(),
-            wear: self
-                .wear
-                .iter()
-                .map(|(name, e)| {
-                    let mut e = e.clone();
-                    e.members.truncate(n);
-                    (*name, e)
-                })
-                .collect(),
+            steady: first_of(&self.steady, |e| e.members.truncate(n)),
+            wear: first_of(&self.wear, |e| e.members.truncate(n)),
             seconds: self.seconds,
         }
     }
@@ -471,6 +455,17 @@ impl Runs {
             .map(|(_, e)| e)
             .ok_or_else(|| missing("wear", name))
     }
+}
+
+/// Copies of named ensembles, each cut by `cut`.
+fn first_of<E: Clone>(list: &[(&'static str, E)], cut: impl Fn(&mut E)) -> Vec<(&'static str, E)> {
+    list.iter()
+        .map(|(name, e)| {
+            let mut e = e.clone();
+            cut(&mut e);
+            (*name, e)
+        })
+        .collect()
 }
 
 fn missing(kind: &str, name: &str) -> Error {
