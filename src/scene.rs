@@ -697,10 +697,15 @@ fn parse_table(text: &str, path: &Path, depth: usize) -> Result<toml::Table> {
             "`extends` chains deeper than {MAX_EXTENDS_DEPTH} (a cycle?)"
         )));
     }
-    let mut merged = read_table(
-        &path.parent().unwrap_or(Path::new(".")).join(base),
-        depth + 1,
-    )?;
+    let base_path = path.parent().unwrap_or(Path::new(".")).join(base);
+    // A base that cannot be read is this scene's error: name the scene that refers to it.
+    let mut merged = read_table(&base_path, depth + 1).map_err(|e| match e {
+        Error::Io { path: p, source } => parse_error(format!(
+            "`extends = \"{base}\"`: cannot read {}: {source}",
+            p.display()
+        )),
+        e => e,
+    })?;
     let overrides = match table.remove("overrides") {
         Some(toml::Value::Table(o)) => o,
         Some(_) => {

@@ -120,7 +120,7 @@ fn bad_input_exits_2_naming_file_field_and_range() {
     );
     assert!(!dir.join("out").exists(), "bad input wrote outputs");
     let o = jointwear(&["check", s(&dir.join("absent.toml"))]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("absent.toml"));
     let std = scene_path("standard");
     for args in [

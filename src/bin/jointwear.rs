@@ -118,6 +118,19 @@ impl Failure {
     }
 }
 
+impl Failure {
+    /// Like [`Failure::from`] for an error while reading the command's input (a scene): a
+    /// file that cannot be read is bad input too (exit code 2).
+    fn input(path: &Path, e: Error) -> Failure {
+        let unreadable = matches!(e, Error::Io { .. });
+        let mut f = Failure::from(path, e);
+        if unreadable {
+            f.code = 2;
+        }
+        f
+    }
+}
+
 type CliResult<T> = std::result::Result<T, Failure>;
 
 fn main() -> ExitCode {
@@ -171,7 +184,7 @@ fn file_part(name: &str) -> String {
 }
 
 fn load(path: &Path) -> CliResult<Scene> {
-    Scene::load(path).map_err(|e| Failure::from(path, e))
+    Scene::load(path).map_err(|e| Failure::input(path, e))
 }
 
 fn run(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
@@ -338,7 +351,7 @@ fn print_summary(scene: &Scene, out: &RunOutput) {
 }
 
 fn check(path: &Path) -> CliResult<()> {
-    let file = SceneFile::read(path).map_err(|e| Failure::from(path, e))?;
+    let file = SceneFile::read(path).map_err(|e| Failure::input(path, e))?;
     let scene = file.build().map_err(|e| Failure::from(path, e))?;
     let m = &scene.mechanism;
     println!("{}: {}", path.display(), scene.title);
@@ -431,7 +444,7 @@ fn sweep(path: &Path, sets: &[String], shard: Option<&str>, out: Option<PathBuf>
         };
         out_dir(path, None).join(name)
     });
-    let sweep = Sweep::new(path, sets, shard).map_err(bad)?;
+    let sweep = Sweep::new(path, sets, shard).map_err(|e| Failure::input(path, e))?;
     eprintln!(
         "{} cases in shard {}/{} on {} threads",
         sweep.len(),
@@ -476,7 +489,7 @@ fn longlife(
             "an integer in [1, 1e12]",
         )));
     }
-    let mut file = SceneFile::read(path).map_err(bad)?;
+    let mut file = SceneFile::read(path).map_err(|e| Failure::input(path, e))?;
     if let Some(k) = k_over_h {
         for w in file.clearance.iter_mut().filter_map(|c| c.wear.as_mut()) {
             w.k_over_h_per_pa = k;
