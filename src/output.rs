@@ -57,6 +57,71 @@ pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Res
     result
 }
 
+/// Why `dir` cannot become a directory of outputs, if it cannot: it must be a writable
+/// directory, or be creatable (its nearest existing ancestor is a writable directory).
+/// Nothing is created but a probe file, removed at once.
+fn unwritable_dir(dir: &Path) -> Option<String> {
+    // The parent of a relative one-component path is "", the working directory.
+    let existing = dir
+        .ancestors()
+        .map(|a| {
+            if a.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                a
+            }
+        })
+        .find(|a| a.exists())
+        .unwrap_or(Path::new("."));
+    if !existing.is_dir() {
+        return Some(format!("{} is an existing file", existing.display()));
+    }
+    let probe = existing.join(format!(".jointwear-write-test-{}", std::process::id()));
+    let opened = fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe);
+    match opened {
+        Ok(_) => {
+            let _ = fs::remove_file(&probe);
+            None
+        }
+        Err(e) => Some(format!("{} cannot be written: {e}", existing.display())),
+    }
+}
+
+/// Checks, before any work is done, that `dir` can receive the outputs of a run (see
+/// [`unwritable_dir`]); `option` names the setting in the error (e.g. `--out`), which is bad
+/// input ([`Error::Invalid`]).
+pub fn check_output_dir(option: &str, dir: &Path) -> Result<()> {
+    match unwritable_dir(dir) {
+        None => Ok(()),
+        Some(why) => Err(Error::invalid(
+            option,
+            dir.display(),
+            format!("a directory that can be created and written ({why})"),
+        )),
+    }
+}
+
+/// Like [`check_output_dir`] for an output file: `file` must not be a directory, and its
+/// directory must be writable or creatable.
+pub fn check_output_file(option: &str, file: &Path) -> Result<()> {
+    let why = if file.is_dir() || file.file_name().is_none() {
+        Some("it is a directory".to_string())
+    } else {
+        unwritable_dir(file.parent().unwrap_or(Path::new(".")))
+    };
+    match why {
+        None => Ok(()),
+        Some(why) => Err(Error::invalid(
+            option,
+            file.display(),
+            format!("a file in a directory that can be created and written ({why})"),
+        )),
+    }
+}
+
 fn csv_error(path: &Path, err: csv::Error) -> Error {
     let message = err.to_string();
     match err.into_kind() {

@@ -8,6 +8,12 @@ use common::*;
 use jointwear::scene::scene_path;
 use std::fs;
 
+/// A run setting that fails any simulation at its first accepted step.
+const ONE_STEP: (&str, &str) = (
+    "record_interval_s = 1e-5",
+    "record_interval_s = 1e-5\nmax_steps = 1",
+);
+
 #[test]
 fn a_missing_scene_file_is_bad_input() {
     let dir = temp_dir("guards", "missing");
@@ -49,4 +55,29 @@ fn bad_command_line_values_are_bad_input() {
         let o = jointwear(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
     }
+}
+
+#[test]
+fn an_unusable_output_location_fails_before_simulating() {
+    let dir = temp_dir("guards", "out");
+    // One accepted step would fail the run (exit 1): exit 2 shows nothing was simulated.
+    let scene = short_standard(&dir, "one-step.toml", 2, &[ONE_STEP]);
+    let file = dir.join("a-file");
+    fs::write(&file, "keep me").unwrap();
+    let below_file = file.join("sub");
+    for out in [&file, &below_file] {
+        for command in ["run", "longlife"] {
+            let o = jointwear(&[command, s(&scene), "--out", s(out)]);
+            assert_fails(&o, 2, &["`--out`", s(out), "is an existing file"]);
+        }
+        let o = jointwear(&["sweep", s(&scene), "--out", s(&out.join("sweep.csv"))]);
+        assert_fails(&o, 2, &["`--out`", "is an existing file"]);
+    }
+    let o = jointwear(&["sweep", s(&scene), "--out", s(&dir)]);
+    assert_fails(&o, 2, &["`--out`", "it is a directory"]);
+    assert_eq!(fs::read_to_string(&file).unwrap(), "keep me");
+    // The control: with a usable --out the same scene is simulated and stops at its step.
+    let o = jointwear(&["run", s(&scene), "--out", s(&dir.join("ok"))]);
+    assert_fails(&o, 1, &["step limit of 1 steps"]);
+    fs::remove_dir_all(&dir).unwrap();
 }

@@ -6,7 +6,7 @@
 use clap::{Parser, Subcommand};
 use jointwear::figures::sector_angles_deg;
 use jointwear::longlife::{predict, simulate_in_chunks, LongLife, LongLifeSettings};
-use jointwear::output::{progress_bar, write_csv};
+use jointwear::output::{check_output_dir, check_output_file, progress_bar, write_csv};
 use jointwear::plot::{render, Axes, Series, Style};
 use jointwear::scene::{Scene, SceneFile};
 use jointwear::simulation::RunOutput;
@@ -190,6 +190,7 @@ fn load(path: &Path) -> CliResult<Scene> {
 fn run(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
     let scene = load(path)?;
     let dir = out_dir(path, out);
+    check_output_dir("--out", &dir).map_err(|e| Failure::from(path, e))?;
     let bar = progress_bar(scene.run.rotations as u64, "rotations");
     let chunk = (scene.run.rotations / 100).max(1);
     let result = simulate_in_chunks(&scene, chunk, |done, _| bar.set_position(done as u64));
@@ -445,6 +446,7 @@ fn sweep(path: &Path, sets: &[String], shard: Option<&str>, out: Option<PathBuf>
         out_dir(path, None).join(name)
     });
     let sweep = Sweep::new(path, sets, shard).map_err(|e| Failure::input(path, e))?;
+    check_output_file("--out", &out).map_err(bad)?;
     eprintln!(
         "{} cases in shard {}/{} on {} threads",
         sweep.len(),
@@ -496,6 +498,8 @@ fn longlife(
         }
     }
     let scene = file.build().map_err(bad)?;
+    let dir = out_dir(path, out);
+    check_output_dir("--out", &dir).map_err(bad)?;
     let target = rotations as u64;
     let settings = LongLifeSettings {
         rotations: target,
@@ -508,7 +512,6 @@ fn longlife(
     let result = predict(&scene, &settings, |done, _| bar.set_position(done));
     bar.finish_and_clear();
     let life = result.map_err(bad)?;
-    let dir = out_dir(path, out);
     write_longlife(&scene, &life, &dir).map_err(bad)?;
     println!(
         "{}: {} rotations predicted from {} simulated in {:.1} s ({} blocks)",
