@@ -29,6 +29,7 @@ use std::path::{Path, PathBuf};
 
 const MM: f64 = 1e-3;
 const GPA: f64 = 1e9;
+const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 
 /// A scene file as written (engineering units).
 #[derive(Clone, Debug, Deserialize)]
@@ -264,10 +265,71 @@ fn check_finite(field: &str, values: &[f64]) -> Result<()> {
     }
 }
 
+/// Memory budget of what a run records (bytes): 2 GiB of `f64`s. A run holds its time series
+/// and wear history in memory until it ends, growing them by doubling (briefly twice the
+/// size), and writes them as CSV text about three times larger; 2 GiB keeps that within an
+/// ordinary workstation, where a larger estimate is almost always an interval in the wrong
+/// unit, and fails at validation instead of on a failed allocation deep into the run.
+pub const RECORD_BUDGET_BYTES: f64 = 2.0 * GIB;
+
+/// Recorded `f64`s per time-series row: time and driver angle, position and acceleration
+/// (x, y, φ) per body, and per clearance joint e_x, e_y, θ, δ, F_n, F_t, v_t, p and dh/dt.
+fn record_columns(mechanism: &Mechanism) -> usize {
+    2 + 6 * mechanism.bodies().len() + 9 * mechanism.clearance_joints.len()
+}
+
 impl Scene {
     /// Reads, validates and converts a scene file.
     pub fn load(path: impl AsRef<Path>) -> Result<Scene> {
         SceneFile::read(path)?.build()
+    }
+
+    /// Checks that the time series (`run.record_rotations` of the driver period sampled every
+    /// `run.record_interval_s`) and the wear history fit in [`RECORD_BUDGET_BYTES`], naming the
+    /// setting that dominates the estimate if not.
+    pub fn check_record_budget(&self) -> Result<()> {
+        let (run, m) = (&self.run, &self.mechanism);
+        let period = std::f64::consts::TAU / m.driver.omega.abs();
+        let rows = (run.record_rotations as f64 * period / run.record_interval).floor() + 1.0;
+        let columns = record_columns(m);
+        let series = rows * columns as f64 * 8.0;
+        let points = run.rotations as f64 * run.profile_history_per_rotation as f64;
+        let sectors: usize = m
+            .clearance_joints
+            .iter()
+            .map(|c| c.profile.depths().len())
+            .sum();
+        let history = points * sectors as f64 * 8.0;
+        if series + history <= RECORD_BUDGET_BYTES {
+            return Ok(());
+        }
+        let budget = format!("the record budget of {:.0} GiB", RECORD_BUDGET_BYTES / GIB);
+        Err(if series >= history {
+            Error::invalid(
+                "run.record_interval_s",
+                format!("{:e} s", run.record_interval),
+                format!(
+                    "an interval whose recording fits in {budget}: {} recorded rotations of \
+                     {period:.4e} s every {:e} s are {rows:.3e} rows x {columns} columns = \
+                     {:.3e} GiB; likely cause: an interval in the wrong unit (seconds) or too \
+                     many recorded rotations (run.record_rotations)",
+                    run.record_rotations,
+                    run.record_interval,
+                    series / GIB
+                ),
+            )
+        } else {
+            Error::invalid(
+                "run.profile_history_per_rotation",
+                run.profile_history_per_rotation,
+                format!(
+                    "a wear history that fits in {budget}: {points:.3e} profiles x {sectors} \
+                     sectors = {:.3e} GiB; likely cause: a history of every rotation of a long \
+                     run (save fewer per rotation, or use run.wear_snapshots)",
+                    history / GIB
+                ),
+            )
+        })
     }
 }
 
@@ -400,12 +462,14 @@ impl SceneFile {
                 "a mechanism that is not over-constrained",
             ));
         }
-        Ok(Scene {
+        let scene = Scene {
             title: self.title.clone(),
             mechanism,
             guess,
             run,
-        })
+        };
+        scene.check_record_budget()?;
+        Ok(scene)
     }
 
     /// `Some(None)` for the ground, `Some(Some(i))` for body i, `None` if unknown.

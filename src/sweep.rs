@@ -258,6 +258,7 @@ impl Sweep {
             let values = case_values(&sets, case);
             let mut scene = vary(&doc, path, &sets, &values)?;
             scene.run.record_rotations = scene.run.record_rotations.max(1);
+            scene.check_record_budget()?;
             let names: Vec<String> = scene
                 .mechanism
                 .clearance_joints

@@ -81,3 +81,44 @@ fn an_unusable_output_location_fails_before_simulating() {
     assert_fails(&o, 1, &["step limit of 1 steps"]);
     fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_recording_beyond_the_memory_budget_fails_at_validation() {
+    let dir = temp_dir("guards", "budget");
+    let tiny = (
+        "record_interval_s = 1e-5",
+        "record_interval_s = 1e-12\nmax_steps = 1",
+    );
+    let scene = short_standard(&dir, "tiny-interval.toml", 2, &[tiny]);
+    let needles = [
+        "`run.record_interval_s`: 1e-12 s",
+        "record budget of 2 GiB",
+        "rows x 29 columns",
+        "wrong unit",
+    ];
+    let out = dir.join("out");
+    for args in [
+        vec!["check", s(&scene)],
+        vec!["run", s(&scene), "--out", s(&out)],
+    ] {
+        assert_fails(&jointwear(&args), 2, &needles);
+    }
+    // A sweep records at least one rotation of every case, even of a scene that records none.
+    let scene = short_standard(
+        &dir,
+        "no-record.toml",
+        2,
+        &[ONE_STEP, ("record_rotations = 1", "record_rotations = 0")],
+    );
+    let o = jointwear(&[
+        "sweep",
+        s(&scene),
+        "--set",
+        "run.record_interval_s=1e-5,1e-12",
+        "--out",
+        s(&dir.join("sweep.csv")),
+    ]);
+    assert_fails(&o, 2, &needles);
+    assert!(!dir.join("out").exists() && !dir.join("sweep.csv").exists());
+    fs::remove_dir_all(&dir).unwrap();
+}
