@@ -57,7 +57,7 @@ pub struct SceneFile {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
-    /// Young's modulus (GPa), (0, 10000].
+    /// Young's modulus (GPa), [0.1, 10000] ([`YOUNGS_MODULUS_GPA`]).
     pub youngs_modulus_gpa: f64,
     /// Poisson's ratio, [0, 0.5).
     pub poisson_ratio: f64,
@@ -73,9 +73,9 @@ pub struct GroundSpec {
 #[serde(deny_unknown_fields)]
 pub struct BodySpec {
     pub name: String,
-    /// Mass (kg), > 0.
+    /// Mass (kg), [1e-6, 1e6] ([`MASS_KG`]).
     pub mass_kg: f64,
-    /// Moment of inertia about the centre of mass (kg m²), > 0.
+    /// Moment of inertia about the centre of mass (kg m²), [1e-12, 1e6] ([`INERTIA_KG_M2`]).
     pub inertia_kg_m2: f64,
     /// Initial guess of the centre of mass (mm); assembled exactly at load.
     pub position_mm: [f64; 2],
@@ -122,9 +122,10 @@ pub struct ClearanceSpec {
     pub journal: String,
     /// Bearing centre, `"body.point"`; the bearing is the part that wears.
     pub bearing: String,
-    /// Unworn bearing radius R_i (mm), (0, 10000].
+    /// Unworn bearing radius R_i (mm), [0.1, 10000] ([`BEARING_RADIUS_MM`]).
     pub bearing_radius_mm: f64,
-    /// Radial clearance c = R_i − R_j (mm), [0, R_i).
+    /// Radial clearance c = R_i − R_j (mm), [0, R_i); at least
+    /// [`MIN_HERTZ_CLEARANCE_RATIO`] R_i with a Hertz-based contact or pressure law.
     pub clearance_mm: f64,
     pub journal_material: String,
     pub bearing_material: String,
@@ -153,7 +154,7 @@ pub struct WearSpec {
     /// Archard coefficient over hardness k/H (1/Pa), [0, 1e-6].
     pub k_over_h_per_pa: f64,
     pub pressure: PressureModel,
-    /// Bearing length L (mm), (0, 10000].
+    /// Bearing length L (mm), [0.1, 10000] ([`BEARING_LENGTH_MM`]).
     pub length_mm: f64,
     /// Number of sectors of the bearing profile, [8, 36000].
     pub sectors: usize,
@@ -258,6 +259,115 @@ fn check_open(field: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
     }
 }
 
+/// A validity limit of the models: the range of a scene value and why values outside it are
+/// refused (the README's "Validity limits" table states the same).
+pub struct Limit {
+    pub lo: f64,
+    pub hi: f64,
+    pub why: &'static str,
+}
+
+/// Body mass (kg).
+pub const MASS_KG: Limit = Limit {
+    lo: 1e-6,
+    hi: 1e6,
+    why: "a body lighter than 1 mg turns newtons of contact force into accelerations the \
+          integrator cannot resolve (1e-300 kg gave infinite penetration); likely cause: a \
+          mass in the wrong unit",
+};
+
+/// Moment of inertia about the centre of mass (kg m²).
+pub const INERTIA_KG_M2: Limit = Limit {
+    lo: 1e-12,
+    hi: 1e6,
+    why: "below 1 mg at 1 mm radius of gyration the angular accelerations of contact torques \
+          cannot be resolved; likely cause: an inertia in g mm² or another unit",
+};
+
+/// Young's modulus (GPa).
+pub const YOUNGS_MODULUS_GPA: Limit = Limit {
+    lo: 0.1,
+    hi: 1e4,
+    why: "the contact laws are linear-elastic small-strain models of metals, ceramics and \
+          engineering polymers; below 0.1 GPa (elastomers) the penetration reaches the \
+          clearance (1e-300 GPa gave 115 mm); likely cause: a modulus in Pa or MPa",
+};
+
+/// Bearing radius R_i (mm).
+pub const BEARING_RADIUS_MM: Limit = Limit {
+    lo: 0.1,
+    hi: 1e4,
+    why: "a pin thinner than 0.2 mm is outside the rigid-pin contact model; likely cause: a \
+          radius in m",
+};
+
+/// Bearing length L (mm).
+pub const BEARING_LENGTH_MM: Limit = Limit {
+    lo: 0.1,
+    hi: 1e4,
+    why: "the contact pressure and the wear rate grow as 1/L: below 0.1 mm they are unbounded \
+          (1e-300 mm wore the bearing away at once, leaving zero force); likely cause: a \
+          length in m",
+};
+
+/// Largest |coordinate| of a point or position guess (mm).
+pub const COORDINATE_MM: f64 = 1e6;
+
+/// Largest |gravity| component (m/s²): 1000 g.
+pub const GRAVITY_M_S2: f64 = 1e4;
+
+/// Smallest clearance over bearing radius, c/R_i, of the Hertz-based laws (Hertz line-contact
+/// pressure, Lankarani-Nikravesh force). Hertz treats the surfaces as half-spaces, so its
+/// contact half-width must stay small against the radius; for conformal cylinders
+/// `b/R_i = sqrt((8/π)(p̄/E*)/(c/R_i))` with `p̄ = F/(2 R_i L)` the projected bearing
+/// pressure. At c/R_i = 1e-4 a typical steel bearing (p̄/E* ≈ 1e-5) already has
+/// b/R_i ≈ 0.5, and as c → 0 the effective radius R* = R_i R_j / c is unbounded: at zero
+/// clearance the half-width is infinite and the pressure zero (435 N of force, no wear).
+pub const MIN_HERTZ_CLEARANCE_RATIO: f64 = 1e-4;
+
+/// A number as a message shows it: scientific for very small or large magnitudes.
+fn number(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e6).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
+    }
+}
+
+/// Checks that `value` is finite and within `limit`, saying why if not.
+fn within(field: &str, value: f64, limit: &Limit) -> Result<f64> {
+    if value.is_finite() && value >= limit.lo && value <= limit.hi {
+        Ok(value)
+    } else {
+        Err(Error::invalid(
+            field,
+            number(value),
+            format!(
+                "a finite number in [{:e}, {:e}]: {}",
+                limit.lo, limit.hi, limit.why
+            ),
+        ))
+    }
+}
+
+/// Checks that every coordinate is finite and within ±[`COORDINATE_MM`].
+fn check_coordinates(field: &str, values: &[f64]) -> Result<()> {
+    match values
+        .iter()
+        .find(|v| !(v.is_finite() && v.abs() <= COORDINATE_MM))
+    {
+        Some(v) => Err(Error::invalid(
+            field,
+            number(*v),
+            format!(
+                "finite coordinates within ±{COORDINATE_MM:e} mm (1 km; likely cause: a \
+                 coordinate in µm or another unit)"
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
 fn check_finite(field: &str, values: &[f64]) -> Result<()> {
     match values.iter().find(|v| !v.is_finite()) {
         Some(v) => Err(Error::invalid(field, v, "finite numbers")),
@@ -348,7 +458,15 @@ impl SceneFile {
 
     /// Validates and converts to SI.
     pub fn build(&self) -> Result<Scene> {
-        check_finite("gravity_m_s2", &self.gravity_m_s2)?;
+        if let Some(g) =
+            (self.gravity_m_s2.iter()).find(|g| !(g.is_finite() && g.abs() <= GRAVITY_M_S2))
+        {
+            return Err(Error::invalid(
+                "gravity_m_s2",
+                number(*g),
+                format!("finite components within ±{GRAVITY_M_S2:e} m/s² (1000 g)"),
+            ));
+        }
         if self.bodies.is_empty() {
             return Err(Error::invalid("bodies", "none", "at least one body"));
         }
@@ -365,13 +483,13 @@ impl SceneFile {
             }
             bodies.push(Body {
                 name: b.name.clone(),
-                mass: check_open(&f("mass_kg"), b.mass_kg, 0.0, 1e6)?,
-                inertia: check_open(&f("inertia_kg_m2"), b.inertia_kg_m2, 0.0, 1e6)?,
+                mass: within(&f("mass_kg"), b.mass_kg, &MASS_KG)?,
+                inertia: within(&f("inertia_kg_m2"), b.inertia_kg_m2, &INERTIA_KG_M2)?,
             });
-            check_finite(&f("position_mm"), &b.position_mm)?;
+            check_coordinates(&f("position_mm"), &b.position_mm)?;
             check_finite(&f("angle_deg"), &[b.angle_deg])?;
             for (name, p) in &b.points_mm {
-                check_finite(&f(&format!("points_mm.{name}")), p)?;
+                check_coordinates(&f(&format!("points_mm.{name}")), p)?;
             }
             guess.extend([
                 b.position_mm[0] * MM,
@@ -496,7 +614,7 @@ impl SceneFile {
             Some(i) => &self.bodies[i].points_mm,
         };
         let p = points.get(point).ok_or_else(bad)?;
-        check_finite(field, p)?;
+        check_coordinates(field, p)?;
         Ok(BodyPoint {
             body: index,
             local: Vector2::new(p[0] * MM, p[1] * MM),
@@ -513,11 +631,10 @@ impl SceneFile {
         })?;
         let mf = format!("materials.{name}");
         Ok((
-            check_open(
+            within(
                 &format!("{mf}.youngs_modulus_gpa"),
                 m.youngs_modulus_gpa,
-                0.0,
-                1e4,
+                &YOUNGS_MODULUS_GPA,
             )? * GPA,
             check(&format!("{mf}.poisson_ratio"), m.poisson_ratio, 0.0, 0.4999)?,
         ))
@@ -534,7 +651,11 @@ impl SceneFile {
                 "a point on another body than the journal's",
             ));
         }
-        let r_bearing = check_open(&f("bearing_radius_mm"), c.bearing_radius_mm, 0.0, 1e4)? * MM;
+        let r_bearing = within(
+            &f("bearing_radius_mm"),
+            c.bearing_radius_mm,
+            &BEARING_RADIUS_MM,
+        )? * MM;
         let clearance = c.clearance_mm * MM;
         if !(clearance.is_finite() && clearance >= 0.0 && clearance < r_bearing) {
             return Err(Error::invalid(
@@ -566,6 +687,40 @@ impl SceneFile {
             )?,
         );
         validate_friction(&f("friction"), &c.friction)?;
+        let hertz = [
+            (
+                k.model == NormalForceModel::LankaraniNikravesh,
+                "contact.model",
+                "model = \"hybrid\" (the paper's law, whose elastic-foundation stiffness \
+                 holds down to zero clearance)",
+            ),
+            (
+                c.wear
+                    .as_ref()
+                    .is_some_and(|w| w.pressure == PressureModel::HertzLine),
+                "wear.pressure",
+                "pressure = \"elastic-foundation\" (the Winkler overlap model, valid for \
+                 conformal contact down to zero clearance)",
+            ),
+        ];
+        // mm over mm: the ratio of the numbers as written (1 µm in 10 mm is exactly 1e-4).
+        let ratio = c.clearance_mm / c.bearing_radius_mm;
+        if let Some((_, key, instead)) = hertz
+            .iter()
+            .find(|(hertz, _, _)| *hertz && ratio < MIN_HERTZ_CLEARANCE_RATIO)
+        {
+            return Err(Error::invalid(
+                f("clearance_mm"),
+                c.clearance_mm,
+                format!(
+                    "at least {MIN_HERTZ_CLEARANCE_RATIO:e} x the bearing radius ({} mm) with \
+                     the Hertz-based {key}: its contact half-width must stay small against the \
+                     radius, and as the clearance goes to zero it is unbounded (zero pressure); \
+                     use {instead}",
+                    number(MIN_HERTZ_CLEARANCE_RATIO * c.bearing_radius_mm)
+                ),
+            ));
+        }
         let (wear, sectors) = match &c.wear {
             None => (None, 8),
             Some(w) => {
@@ -580,7 +735,7 @@ impl SceneFile {
                 let law = WearLaw {
                     k_over_h: check(&f("wear.k_over_h_per_pa"), w.k_over_h_per_pa, 0.0, 1e-6)?,
                     pressure: w.pressure,
-                    length: check_open(&f("wear.length_mm"), w.length_mm, 0.0, 1e4)? * MM,
+                    length: within(&f("wear.length_mm"), w.length_mm, &BEARING_LENGTH_MM)? * MM,
                     e_star,
                     r_bearing,
                     r_journal,
