@@ -118,6 +118,22 @@ pub fn case_values(sets: &[Assignment], case: usize) -> Vec<&str> {
     values
 }
 
+/// `e` of case `case` (with `values`): a bad value names the case in its field.
+fn in_case(e: Error, case: usize, values: &[&str]) -> Error {
+    match e {
+        Error::Invalid {
+            field,
+            value,
+            expected,
+        } => Error::Invalid {
+            field: format!("{field} (case {case}: {})", values.join(", ")),
+            value,
+            expected,
+        },
+        e => e,
+    }
+}
+
 /// The scene document `doc` (read from `path`) with `values` assigned to the keys of `sets`.
 pub fn vary(doc: &toml::Value, path: &Path, sets: &[Assignment], values: &[&str]) -> Result<Scene> {
     let mut doc = doc.clone();
@@ -259,6 +275,11 @@ impl Sweep {
             let mut scene = vary(&doc, path, &sets, &values)?;
             scene.run.record_rotations = scene.run.record_rotations.max(1);
             scene.check_record_budget()?;
+            // A case whose loop cannot close is bad input: found before any case runs.
+            scene
+                .mechanism
+                .assemble(&scene.guess)
+                .map_err(|e| in_case(e, case, &values))?;
             let names: Vec<String> = scene
                 .mechanism
                 .clearance_joints

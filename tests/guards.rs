@@ -122,3 +122,84 @@ fn a_recording_beyond_the_memory_budget_fails_at_validation() {
     assert!(!dir.join("out").exists() && !dir.join("sweep.csv").exists());
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The four-bar with a 145 mm coupler, which cannot close: its pin A is 70 mm from the
+/// rocker pivot at crank angle 0, and the 70 mm rocker reaches at most 140 mm from it.
+const OPEN_FOURBAR: (&str, &str) = (
+    "points_mm = { A = [-45.0, 0.0], B = [45.0, 0.0] }",
+    "points_mm = { A = [-45.0, 0.0], B = [100.0, 0.0] }",
+);
+
+#[test]
+fn check_assembles_and_prints_the_pose_of_every_body() {
+    let o = jointwear(&["check", s(&scene_path("fourbar"))]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for line in [
+        "assembled pose at t = 0 (clearance joints centred):",
+        "  crank        x    15.0000 mm, y     0.0000 mm, angle     0.000 deg",
+        "  coupler      x    58.9286 mm, y    34.4694 mm, angle    49.995 deg",
+        "  rocker       x    93.9286 mm, y    34.4694 mm, angle    99.990 deg",
+    ] {
+        assert!(text.contains(line), "lacks `{line}`: {text}");
+    }
+    assert!(!text.contains("note:"), "{text}");
+    // A rocker guessed 100 deg off closes the loop elbow down, and check says so.
+    let dir = temp_dir("guards", "branch");
+    let scene = dir.join("far.toml");
+    let far = ("angle_deg = 100.0", "angle_deg = 200.0");
+    fs::write(&scene, scene_with("fourbar", &[far])).unwrap();
+    let text = stdout(&jointwear(&["check", s(&scene)]));
+    for line in [
+        "  coupler      x    58.9286 mm, y   -34.4694 mm, angle   -49.995 deg",
+        "    note: 60.0 deg from its guessed angle: the loop may have closed on another branch",
+    ] {
+        assert!(text.contains(line), "lacks `{line}`: {text}");
+    }
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_loop_that_cannot_close_is_bad_input_naming_its_joints_in_check_run_and_sweep() {
+    let dir = temp_dir("guards", "open");
+    let scene = dir.join("open.toml");
+    fs::write(&scene, scene_with("fourbar", &[OPEN_FOURBAR])).unwrap();
+    let needles = [
+        "`joints (assembly)`: the loop cannot close",
+        "revolute[2] (ground-rocker)",
+        "clearance joint `coupler-rocker` (coupler-rocker, held ideal)",
+    ];
+    let out = dir.join("out");
+    for args in [
+        vec!["check", s(&scene)],
+        vec!["run", s(&scene), "--out", s(&out)],
+    ] {
+        assert_fails(&jointwear(&args), 2, &needles);
+    }
+    // The sweep assembles every case before running any: the second case fails it.
+    let scene = dir.join("sweep.toml");
+    let text = scene_with(
+        "fourbar",
+        &[
+            ("rotations = 20 ", "rotations = 2 "),
+            ("wear_snapshots = [5, 10, 20]", "wear_snapshots = []"),
+        ],
+    );
+    fs::write(&scene, text).unwrap();
+    let csv = dir.join("sweep.csv");
+    let o = jointwear(&[
+        "sweep",
+        s(&scene),
+        "--set",
+        "bodies.1.points_mm.B=[45.0, 0.0],[100.0, 0.0]",
+        "--out",
+        s(&csv),
+    ]);
+    assert_fails(
+        &o,
+        2,
+        &["`joints (assembly) (case 1: [100.0, 0.0])`", needles[1]],
+    );
+    assert!(!csv.exists());
+    fs::remove_dir_all(&dir).unwrap();
+}

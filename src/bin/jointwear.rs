@@ -422,6 +422,35 @@ fn check(path: &Path) -> CliResult<()> {
         "degrees of freedom: {dof} (2 per clearance joint; {} with the clearance joints ideal)",
         dof - 2 * m.clearance_joints.len() as i64
     );
+    print_assembly(path, &scene)
+}
+
+/// Turn (deg) between a body's guessed and assembled angle beyond which `check` says the
+/// loop may have closed on another branch than the guess meant.
+const BRANCH_TURN_DEG: f64 = 30.0;
+
+/// Assembles `scene` at t = 0 as a run does and prints every body's pose, noting bodies
+/// assembled far from their guessed angle (another branch of the loop, e.g. elbow down).
+fn print_assembly(path: &Path, scene: &Scene) -> CliResult<()> {
+    let y = (scene.mechanism.assemble(&scene.guess)).map_err(|e| Failure::from(path, e))?;
+    println!("assembled pose at t = 0 (clearance joints centred):");
+    for (i, b) in scene.mechanism.bodies().iter().enumerate() {
+        let (x, y, angle) = (y[3 * i], y[3 * i + 1], y[3 * i + 2].to_degrees());
+        println!(
+            "  {:12} x {:10.4} mm, y {:10.4} mm, angle {:9.3} deg",
+            b.name,
+            x * 1e3,
+            y * 1e3,
+            angle
+        );
+        let turn = (angle - scene.guess[3 * i + 2].to_degrees() + 180.0).rem_euclid(360.0) - 180.0;
+        if turn.abs() > BRANCH_TURN_DEG {
+            println!(
+                "    note: {turn:.1} deg from its guessed angle: the loop may have closed on \
+                 another branch (elbow up/down) than the guess meant"
+            );
+        }
+    }
     Ok(())
 }
 

@@ -32,11 +32,11 @@ pub fn temp_dir(prefix: &str, name: &str) -> PathBuf {
     dir
 }
 
-/// The standard scene's text with each `(from, to)` replaced (each `from` must occur).
-pub fn standard_with(replacements: &[(&str, &str)]) -> String {
-    let mut text = fs::read_to_string(scene_path("standard")).unwrap();
+/// The text of shipped scene `name` with each `(from, to)` replaced (each `from` must occur).
+pub fn scene_with(name: &str, replacements: &[(&str, &str)]) -> String {
+    let mut text = fs::read_to_string(scene_path(name)).unwrap();
     for (from, to) in replacements {
-        assert!(text.contains(from), "standard.toml lacks `{from}`");
+        assert!(text.contains(from), "{name}.toml lacks `{from}`");
         text = text.replace(from, to);
     }
     text
@@ -58,7 +58,7 @@ pub fn short_standard(
     ];
     all.extend_from_slice(replacements);
     let path = dir.join(name);
-    fs::write(&path, standard_with(&all)).unwrap();
+    fs::write(&path, scene_with("standard", &all)).unwrap();
     path
 }
 
