@@ -17,6 +17,7 @@ pub mod figures;
 pub mod friction;
 pub mod golden;
 pub mod integrator;
+pub mod interrupt;
 pub mod longlife;
 pub mod mechanism;
 pub mod output;
@@ -27,6 +28,7 @@ pub mod scene;
 pub mod simulation;
 pub mod studies;
 pub mod sweep;
+pub mod sweep_file;
 pub mod wear;
 
 pub use error::{Error, Result};

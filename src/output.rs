@@ -8,7 +8,7 @@ use std::ffi::OsString;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use crate::{Error, Result};
+use crate::{interrupt, Error, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 fn io_error(path: &Path, source: std::io::Error) -> Error {
@@ -49,6 +49,13 @@ pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Res
         fs::create_dir_all(dir).map_err(|e| io_error(dir, e))?;
     }
     let tmp = temp_path(path);
+    // Registered while it exists, so that an interrupted program removes it.
+    let _registered = interrupt::temporary(&tmp).ok_or_else(|| {
+        io_error(
+            path,
+            std::io::Error::new(std::io::ErrorKind::Interrupted, "interrupted"),
+        )
+    })?;
     let result = write(&tmp).and_then(|()| fs::rename(&tmp, path).map_err(|e| io_error(path, e)));
     if result.is_err() {
         // Best effort: the writer may have failed before creating the file.

@@ -6,7 +6,7 @@
 //! * Case `k` is numbered in the order of the product, the last key varying fastest; shard
 //!   `I/N` (1-based) runs the cases with `k mod N = I − 1`, a slice that depends only on the
 //!   assignments, so independent jobs of a batch array cover every case exactly once and
-//!   [`merge`] puts their CSVs back in case order.
+//!   [`crate::sweep_file::merge`] puts their files back in case order.
 //! * Every case is built before any runs: a bad value stops the sweep as invalid input. A case
 //!   that fails while running gets its error in the `error` column; the others go on.
 
@@ -15,6 +15,7 @@ use crate::figures::PEAK_PROMINENCE;
 use crate::output::write_atomic;
 use crate::scene::{set_dotted, Scene, SceneFile};
 use crate::simulation::{simulate, RunOutput};
+use crate::sweep_file::fingerprint;
 use crate::{Error, Result};
 use rayon::prelude::*;
 use std::path::Path;
@@ -260,6 +261,9 @@ pub struct Sweep {
     pub sets: Vec<Assignment>,
     /// Clearance joint names (identical in every case).
     pub joints: Vec<String>,
+    /// The sweep definition's fingerprint ([`crate::sweep_file::fingerprint`]).
+    pub fingerprint: String,
+    pub shard: Shard,
     cases: Vec<(usize, Vec<String>, Scene)>,
 }
 
@@ -295,11 +299,28 @@ impl Sweep {
             }
             cases.push((case, values.iter().map(|v| v.to_string()).collect(), scene));
         }
+        // A shard without cases still writes the joint columns, which merging needs.
+        let joints = match joints {
+            Some(j) => j,
+            None => vary(&doc, path, &sets, &case_values(&sets, 0))?
+                .mechanism
+                .clearance_joints
+                .iter()
+                .map(|cj| cj.name.clone())
+                .collect(),
+        };
         Ok(Sweep {
+            fingerprint: fingerprint(&doc, &sets),
             sets,
-            joints: joints.unwrap_or_default(),
+            joints,
+            shard,
             cases,
         })
+    }
+
+    /// Keeps only the cases `keep` accepts (a resumed sweep drops its finished ones).
+    pub fn retain(&mut self, keep: impl Fn(usize) -> bool) {
+        self.cases.retain(|(case, _, _)| keep(*case));
     }
 
     pub fn len(&self) -> usize {
@@ -310,20 +331,22 @@ impl Sweep {
         self.cases.is_empty()
     }
 
-    /// Runs the cases in parallel, calling `done` after each; results in case order.
-    pub fn run(&self, done: impl Fn() + Sync) -> Vec<CaseResult> {
+    /// Runs the cases in parallel, calling `done` with each result as it finishes; results in
+    /// case order.
+    pub fn run(&self, done: impl Fn(&CaseResult) + Sync) -> Vec<CaseResult> {
         self.cases
             .par_iter()
             .map(|(case, values, scene)| {
                 let outcome = simulate(scene)
                     .map(|out| (summarize(scene, &out), out.wall_time))
                     .map_err(|e| e.to_string());
-                done();
-                CaseResult {
+                let result = CaseResult {
                     case: *case,
                     values: values.clone(),
                     outcome,
-                }
+                };
+                done(&result);
+                result
             })
             .collect()
     }
@@ -358,73 +381,6 @@ fn write_records(path: &Path, header: &[String], rows: &[Vec<String>]) -> Result
             source,
         })
     })
-}
-
-/// Joins shard CSVs into `out`: identical headers required, rows sorted by case, a case
-/// appearing twice is an error. Returns the number of rows.
-pub fn merge(inputs: &[impl AsRef<Path>], out: &Path) -> Result<usize> {
-    let mut header: Option<(Vec<String>, &Path)> = None;
-    let mut rows: Vec<(usize, Vec<String>)> = Vec::new();
-    for input in inputs {
-        let path = input.as_ref();
-        let mut r = csv::Reader::from_path(path).map_err(|e| match e.into_kind() {
-            csv::ErrorKind::Io(source) => Error::Io {
-                path: path.to_path_buf(),
-                source,
-            },
-            kind => Error::Parse {
-                path: path.to_path_buf(),
-                message: format!("{kind:?}"),
-            },
-        })?;
-        let h: Vec<String> = r
-            .headers()
-            .map_err(|e| csv_failure(path, e))?
-            .iter()
-            .map(str::to_owned)
-            .collect();
-        match &header {
-            None => header = Some((h, path)),
-            Some((first, from)) if *first != h => {
-                return Err(Error::invalid(
-                    format!("{} header", path.display()),
-                    h.join(","),
-                    format!("the header of {}: {}", from.display(), first.join(",")),
-                ))
-            }
-            Some(_) => {}
-        }
-        for (line, record) in r.records().enumerate() {
-            let record = record.map_err(|e| csv_failure(path, e))?;
-            let row: Vec<String> = record.iter().map(str::to_owned).collect();
-            let case = row[0].parse().map_err(|_| Error::Parse {
-                path: path.to_path_buf(),
-                message: format!("data row {}: case `{}` is not an integer", line + 1, row[0]),
-            })?;
-            rows.push((case, row));
-        }
-    }
-    let Some((header, _)) = header else {
-        return Err(Error::invalid("inputs", "none", "at least one shard CSV"));
-    };
-    if header.first().map(String::as_str) != Some("case") {
-        return Err(Error::invalid(
-            "header",
-            header.join(","),
-            "a sweep CSV starting with `case`",
-        ));
-    }
-    rows.sort_by_key(|(case, _)| *case);
-    if let Some(w) = rows.windows(2).find(|w| w[0].0 == w[1].0) {
-        return Err(Error::invalid(
-            "case",
-            w[0].0,
-            "each case in only one shard CSV",
-        ));
-    }
-    let rows: Vec<Vec<String>> = rows.into_iter().map(|(_, r)| r).collect();
-    write_records(out, &header, &rows)?;
-    Ok(rows.len())
 }
 
 #[cfg(test)]

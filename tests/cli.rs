@@ -186,7 +186,11 @@ fn shards_merge_into_the_whole_sweep() {
     assert!(o.status.success(), "{}", stderr(&o));
 
     let rows = |p: &Path| -> Vec<Vec<String>> {
-        let mut r = csv::Reader::from_path(p).unwrap();
+        // The first line names the sweep, as a comment.
+        let mut r = csv::ReaderBuilder::new()
+            .comment(Some(b'#'))
+            .from_path(p)
+            .unwrap();
         let mut v = vec![r.headers().unwrap().iter().map(str::to_owned).collect()];
         v.extend(
             r.records()

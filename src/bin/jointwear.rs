@@ -5,15 +5,19 @@
 
 use clap::{Parser, Subcommand};
 use jointwear::figures::sector_angles_deg;
+use jointwear::interrupt;
 use jointwear::longlife::{predict, simulate_in_chunks, LongLife, LongLifeSettings};
 use jointwear::output::{check_output_dir, check_output_file, progress_bar, write_csv};
 use jointwear::plot::{render, Axes, Series, Style};
 use jointwear::scene::{Scene, SceneFile};
 use jointwear::simulation::RunOutput;
-use jointwear::sweep::{merge, summarize, Assignment, Shard, Sweep};
+use jointwear::sweep::{header, summarize, Assignment, Shard, Sweep};
+use jointwear::sweep_file::{merge, resume_rows, Journal};
 use jointwear::Error;
+use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Mutex;
 
 const EXAMPLES: &str = "\
 Examples:
@@ -66,13 +70,23 @@ enum Command {
         /// Summary CSV [default: out/<scene stem>/sweep.csv, or sweep-I-of-N.csv]
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Keep the finished cases of an interrupted sweep in --out and run only the others
+        #[arg(long)]
+        resume: bool,
     },
-    /// Join shard CSVs of one sweep, sorted by case.
+    /// Join the shard files of one sweep, sorted by case.
+    #[command(
+        after_help = "Refuses a shard of another sweep (fingerprint), a shard given twice and, \
+        unless --allow-partial, a missing or unfinished shard."
+    )]
     SweepMerge {
         #[arg(required = true)]
         inputs: Vec<PathBuf>,
         #[arg(long)]
         out: PathBuf,
+        /// Merge even if shards are missing or unfinished (the result can be --resume'd)
+        #[arg(long)]
+        allow_partial: bool,
     },
     /// Predict the wear after many rotations by cycle-jump extrapolation.
     Longlife {
@@ -135,6 +149,9 @@ type CliResult<T> = std::result::Result<T, Failure>;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(e) = interrupt::install() {
+        eprintln!("warning: {e}; an interrupted run may leave temporary files");
+    }
     let result = match cli.command {
         Command::Run { scene, out } => run(&scene, out),
         Command::Check { scene } => check(&scene),
@@ -143,10 +160,13 @@ fn main() -> ExitCode {
             sets,
             shard,
             out,
-        } => sweep(&scene, &sets, shard.as_deref(), out),
-        Command::SweepMerge { inputs, out } => merge(&inputs, &out)
-            .map(|rows| println!("wrote {} ({rows} cases)", out.display()))
-            .map_err(|e| Failure::from(&out, e)),
+            resume,
+        } => sweep(&scene, &sets, shard.as_deref(), out, resume),
+        Command::SweepMerge {
+            inputs,
+            out,
+            allow_partial,
+        } => sweep_merge(&inputs, &out, allow_partial),
         Command::Longlife {
             scene,
             rotations,
@@ -163,6 +183,20 @@ fn main() -> ExitCode {
             ExitCode::from(f.code)
         }
     }
+}
+
+fn sweep_merge(inputs: &[PathBuf], out: &Path, allow_partial: bool) -> CliResult<()> {
+    check_output_file("--out", out).map_err(|e| Failure::from(out, e))?;
+    // Reading the inputs is reading input: an unreadable one is bad input.
+    let rows = merge(inputs, out, allow_partial).map_err(|e| {
+        if matches!(&e, Error::Io { path, .. } if inputs.contains(path)) {
+            Failure::input(out, e)
+        } else {
+            Failure::from(out, e)
+        }
+    })?;
+    println!("wrote {} ({rows} cases)", out.display());
+    Ok(())
 }
 
 /// `out/<scene stem>` unless given.
@@ -454,7 +488,13 @@ fn print_assembly(path: &Path, scene: &Scene) -> CliResult<()> {
     Ok(())
 }
 
-fn sweep(path: &Path, sets: &[String], shard: Option<&str>, out: Option<PathBuf>) -> CliResult<()> {
+fn sweep(
+    path: &Path,
+    sets: &[String],
+    shard: Option<&str>,
+    out: Option<PathBuf>,
+    resume: bool,
+) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
     let sets = sets
         .iter()
@@ -474,34 +514,86 @@ fn sweep(path: &Path, sets: &[String], shard: Option<&str>, out: Option<PathBuf>
         };
         out_dir(path, None).join(name)
     });
-    let sweep = Sweep::new(path, sets, shard).map_err(|e| Failure::input(path, e))?;
+    let mut sweep = Sweep::new(path, sets, shard).map_err(|e| Failure::input(path, e))?;
     check_output_file("--out", &out).map_err(bad)?;
+    let (rows, failed) = run_journaled(&mut sweep, &out, resume).map_err(bad)?;
+    println!("wrote {} ({rows} cases)", out.display());
+    match failed.first() {
+        None => Ok(()),
+        Some(first) => Err(Failure {
+            code: 1,
+            message: format!(
+                "{}: {} of {rows} cases failed (see the error column), first: case {first}",
+                path.display(),
+                failed.len(),
+            ),
+        }),
+    }
+}
+
+/// Runs `sweep` appending each finished case to `out` (after the finished cases already
+/// there if `resume`), then rewrites `out` in case order. Returns the number of rows and
+/// the failed cases.
+fn run_journaled(
+    sweep: &mut Sweep,
+    out: &Path,
+    resume: bool,
+) -> jointwear::Result<(usize, Vec<usize>)> {
+    let id = sweep.id();
+    let header = header(&sweep.sets, &sweep.joints);
+    let kept = if resume {
+        resume_rows(out, &id, &header)?
+    } else {
+        if out.exists() {
+            eprintln!(
+                "{} exists: starting over (--resume keeps its finished cases)",
+                out.display()
+            );
+        }
+        Vec::new()
+    };
+    let finished: HashSet<usize> = kept.iter().filter_map(|r| r[0].parse().ok()).collect();
+    sweep.retain(|case| !finished.contains(&case));
+    let journal = Journal::create(out, &id, &header, &kept)?;
+    interrupt::keep(format!(
+        "finished cases stay in {} (rerun with --resume to skip them)",
+        out.display()
+    ));
     eprintln!(
-        "{} cases in shard {}/{} on {} threads",
-        sweep.len(),
-        shard.index,
-        shard.count,
+        "{} cases in shard {}/{} ({} already finished) on {} threads",
+        id.cases,
+        id.shard.index,
+        id.shard.count,
+        kept.len(),
         rayon::current_num_threads()
     );
     let bar = progress_bar(sweep.len() as u64, "cases");
-    let results = sweep.run(|| bar.inc(1));
+    // The first failed append: the sweep goes on, its rows are still in `results`.
+    let append_error = Mutex::new(None);
+    let results = sweep.run(|r| {
+        if let Err(e) = journal.append(&r.record(sweep.joints.len())) {
+            append_error
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .get_or_insert(e);
+        }
+        bar.inc(1);
+    });
     bar.finish_and_clear();
-    sweep.write(&out, &results).map_err(bad)?;
-    let failed: Vec<_> = results.iter().filter(|r| r.outcome.is_err()).collect();
-    println!("wrote {} ({} cases)", out.display(), results.len());
-    if failed.is_empty() {
-        return Ok(());
+    let mut rows = kept;
+    rows.extend(results.iter().map(|r| r.record(sweep.joints.len())));
+    // The error column is the last: a case that failed while running has its message there.
+    let mut failed: Vec<usize> = (rows.iter())
+        .filter(|r| r.last().is_some_and(|e| !e.is_empty()))
+        .filter_map(|r| r[0].parse().ok())
+        .collect();
+    failed.sort_unstable();
+    let count = rows.len();
+    journal.finish(&id, &header, rows)?;
+    match append_error.into_inner().unwrap_or_else(|e| e.into_inner()) {
+        Some(e) => Err(e),
+        None => Ok((count, failed)),
     }
-    Err(Failure {
-        code: 1,
-        message: format!(
-            "{}: {} of {} cases failed (see the error column), first: case {}",
-            path.display(),
-            failed.len(),
-            results.len(),
-            failed[0].case
-        ),
-    })
 }
 
 fn longlife(
