@@ -203,3 +203,78 @@ fn a_loop_that_cannot_close_is_bad_input_naming_its_joints_in_check_run_and_swee
     assert!(!csv.exists());
     fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_rerun_replaces_the_previous_run_and_leaves_other_files_alone() {
+    let dir = temp_dir("guards", "rerun");
+    let scene = short_standard(&dir, "one.toml", 1, &[]);
+    let out = dir.join("out");
+    fs::create_dir_all(&out).unwrap();
+    // A previous run's manifest lists a profile this run does not write; notes.txt is the
+    // user's.
+    let manifest = out.join("jointwear-manifest.txt");
+    fs::write(
+        &manifest,
+        "# jointwear run old.toml\nwear_old-joint.csv\ntimeseries.csv\n",
+    )
+    .unwrap();
+    fs::write(out.join("wear_old-joint.csv"), "stale").unwrap();
+    fs::write(out.join("timeseries.csv"), "stale").unwrap();
+    fs::write(out.join("notes.txt"), "mine").unwrap();
+    let o = jointwear(&["run", s(&scene), "--out", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let listed: Vec<String> = fs::read_to_string(&manifest)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(str::to_owned)
+        .collect();
+    let mut expected = [
+        "timeseries.csv",
+        "wear_rod-slider.csv",
+        "wear.png",
+        "trajectory.png",
+        "normal_force.png",
+    ];
+    let mut sorted = listed.clone();
+    sorted.sort();
+    expected.sort();
+    assert_eq!(sorted, expected);
+    let mut present: Vec<String> = fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    present.sort();
+    let mut wanted: Vec<String> = listed;
+    wanted.extend(["jointwear-manifest.txt".into(), "notes.txt".into()]);
+    wanted.sort();
+    assert_eq!(present, wanted);
+    assert_ne!(
+        fs::read_to_string(out.join("timeseries.csv")).unwrap(),
+        "stale"
+    );
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn an_interrupted_run_says_so_and_exits_130() {
+    let dir = temp_dir("guards", "interrupt");
+    // 100 000 rotations: still simulating when the signal comes.
+    let scene = short_standard(&dir, "long.toml", 100_000, &[]);
+    let out = dir.join("out");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_jointwear"))
+        .args(["run", s(&scene), "--out", s(&out)])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let kill = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status();
+    assert!(kill.unwrap().success());
+    let o = child.wait_with_output().unwrap();
+    assert_fails(&o, 130, &["interrupted: no temporary outputs to remove"]);
+    assert!(!out.exists());
+    fs::remove_dir_all(&dir).unwrap();
+}

@@ -7,7 +7,9 @@ use clap::{Parser, Subcommand};
 use jointwear::figures::sector_angles_deg;
 use jointwear::interrupt;
 use jointwear::longlife::{predict, simulate_in_chunks, LongLife, LongLifeSettings};
-use jointwear::output::{check_output_dir, check_output_file, progress_bar, write_csv};
+use jointwear::output::{
+    check_output_dir, check_output_file, progress_bar, write_csv, write_outputs,
+};
 use jointwear::plot::{render, Axes, Series, Style};
 use jointwear::scene::{Scene, SceneFile};
 use jointwear::simulation::RunOutput;
@@ -230,7 +232,9 @@ fn run(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
     let result = simulate_in_chunks(&scene, chunk, |done, _| bar.set_position(done as u64));
     bar.finish_and_clear();
     let out = result.map_err(|e| Failure::from(path, e))?;
-    write_run(&scene, &out, &dir).map_err(|e| Failure::from(path, e))?;
+    let title = format!("jointwear run {}", path.display());
+    write_outputs(&dir, &title, || write_run(&scene, &out, &dir))
+        .map_err(|e| Failure::from(path, e))?;
     print_summary(&scene, &out);
     println!("outputs in {}", dir.display());
     Ok(())
@@ -633,7 +637,8 @@ fn longlife(
     let result = predict(&scene, &settings, |done, _| bar.set_position(done));
     bar.finish_and_clear();
     let life = result.map_err(bad)?;
-    write_longlife(&scene, &life, &dir).map_err(bad)?;
+    let title = format!("jointwear longlife {}", path.display());
+    write_outputs(&dir, &title, || write_longlife(&scene, &life, &dir)).map_err(bad)?;
     println!(
         "{}: {} rotations predicted from {} simulated in {:.1} s ({} blocks)",
         scene.title,
