@@ -394,6 +394,32 @@ impl Scene {
         SceneFile::read(path)?.build()
     }
 
+    /// Checks that the run can finish within `run.max_steps` at all: its largest step (the
+    /// fixed step of `rk4`) needs at least `rotations` × period / step steps. A smaller step
+    /// would crawl into the step limit (1e-300 s took 78 s to fail); it fails here at once.
+    pub fn check_step_budget(&self) -> Result<()> {
+        let run = &self.run;
+        let (field, step) = match run.method {
+            Method::Rk4 { step } => ("run.fixed_step_s", step),
+            _ => ("run.max_step_s", run.tolerances.max_step),
+        };
+        let period = std::f64::consts::TAU / self.mechanism.driver.omega.abs();
+        let needed = run.rotations as f64 * period / step;
+        if needed <= run.max_steps as f64 {
+            return Ok(());
+        }
+        Err(Error::invalid(
+            field,
+            format!("{step:e} s"),
+            format!(
+                "a step with which {} rotations of {period:.4e} s can finish within \
+                 run.max_steps = {}: they need at least {needed:.3e} steps of it; likely cause: \
+                 a step in the wrong unit (seconds), or raise run.max_steps",
+                run.rotations, run.max_steps
+            ),
+        ))
+    }
+
     /// Checks that the time series (`run.record_rotations` of the driver period sampled every
     /// `run.record_interval_s`) and the wear history fit in [`RECORD_BUDGET_BYTES`], naming the
     /// setting that dominates the estimate if not.
@@ -587,6 +613,7 @@ impl SceneFile {
             run,
         };
         scene.check_record_budget()?;
+        scene.check_step_budget()?;
         Ok(scene)
     }
 

@@ -8,10 +8,11 @@ use common::*;
 use jointwear::scene::scene_path;
 use std::fs;
 
-/// A run setting that fails any simulation at its first accepted step.
-const ONE_STEP: (&str, &str) = (
+/// A step limit that fails any simulation of two rotations within 100 steps (they need about
+/// 10 000), yet passes validation (at the 1 ms largest step they need at least 60).
+const FEW_STEPS: (&str, &str) = (
     "record_interval_s = 1e-5",
-    "record_interval_s = 1e-5\nmax_steps = 1",
+    "record_interval_s = 1e-5\nmax_steps = 100",
 );
 
 #[test]
@@ -60,8 +61,8 @@ fn bad_command_line_values_are_bad_input() {
 #[test]
 fn an_unusable_output_location_fails_before_simulating() {
     let dir = temp_dir("guards", "out");
-    // One accepted step would fail the run (exit 1): exit 2 shows nothing was simulated.
-    let scene = short_standard(&dir, "one-step.toml", 2, &[ONE_STEP]);
+    // A simulation would fail at its 100th step (exit 1): exit 2 shows none was run.
+    let scene = short_standard(&dir, "few-steps.toml", 2, &[FEW_STEPS]);
     let file = dir.join("a-file");
     fs::write(&file, "keep me").unwrap();
     let below_file = file.join("sub");
@@ -78,7 +79,7 @@ fn an_unusable_output_location_fails_before_simulating() {
     assert_eq!(fs::read_to_string(&file).unwrap(), "keep me");
     // The control: with a usable --out the same scene is simulated and stops at its step.
     let o = jointwear(&["run", s(&scene), "--out", s(&dir.join("ok"))]);
-    assert_fails(&o, 1, &["step limit of 1 steps"]);
+    assert_fails(&o, 1, &["step limit of 100 steps"]);
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -87,7 +88,7 @@ fn a_recording_beyond_the_memory_budget_fails_at_validation() {
     let dir = temp_dir("guards", "budget");
     let tiny = (
         "record_interval_s = 1e-5",
-        "record_interval_s = 1e-12\nmax_steps = 1",
+        "record_interval_s = 1e-12\nmax_steps = 100",
     );
     let scene = short_standard(&dir, "tiny-interval.toml", 2, &[tiny]);
     let needles = [
@@ -108,7 +109,7 @@ fn a_recording_beyond_the_memory_budget_fails_at_validation() {
         &dir,
         "no-record.toml",
         2,
-        &[ONE_STEP, ("record_rotations = 1", "record_rotations = 0")],
+        &[FEW_STEPS, ("record_rotations = 1", "record_rotations = 0")],
     );
     let o = jointwear(&[
         "sweep",

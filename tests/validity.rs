@@ -2,7 +2,7 @@
 //! scene is built, naming the field, the value, the limit and the likely cause.
 
 use jointwear::contact::NormalForceModel;
-use jointwear::scene::{scene_path, SceneFile};
+use jointwear::scene::{scene_path, MethodSpec, SceneFile};
 use jointwear::wear::PressureModel;
 
 fn standard() -> SceneFile {
@@ -155,4 +155,29 @@ fn hertz_laws_are_refused_at_tiny_clearances_and_elastic_foundation_wears_at_zer
     // Full overlap at ΔR = 0: a cosine over a half circle, peak 2F/(π R L).
     let expected = 2.0 * 435.0 / (std::f64::consts::PI * 0.01 * 0.02);
     assert!((p.peak - expected).abs() < 1e-9 * expected, "{p:?}");
+}
+
+#[test]
+fn a_step_too_small_to_finish_within_the_step_limit_is_refused() {
+    // 40 rotations of 30 ms in at most 2e7 steps: the largest step must be at least 6e-8 s.
+    let mut f = standard();
+    f.run.max_step_s = 1e-300;
+    let msg = refused(&f);
+    for n in [
+        "`run.max_step_s`: 1e-300 s",
+        "run.max_steps = 20000000",
+        "1.200e300 steps",
+        "wrong unit",
+    ] {
+        assert!(msg.contains(n), "lacks `{n}`: {msg}");
+    }
+    f.run.max_step_s = 6.1e-8;
+    f.build().unwrap();
+    f.run.method = MethodSpec::Rk4;
+    f.run.fixed_step_s = Some(1e-9);
+    let msg = refused(&f);
+    assert!(
+        msg.contains("`run.fixed_step_s`: 1e-9 s") && msg.contains("1.200e9 steps"),
+        "{msg}"
+    );
 }
