@@ -262,8 +262,11 @@ fn check_open(field: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
 /// A validity limit of the models: the range of a scene value and why values outside it are
 /// refused (the README's "Validity limits" table states the same).
 pub struct Limit {
+    /// Smallest valid value.
     pub lo: f64,
+    /// Largest valid value.
     pub hi: f64,
+    /// Why values outside are refused, and their likely cause.
     pub why: &'static str,
 }
 

@@ -12,10 +12,9 @@
 
 use crate::analysis::{peaks, Motion, Peak};
 use crate::figures::PEAK_PROMINENCE;
-use crate::output::write_atomic;
 use crate::scene::{set_dotted, Scene, SceneFile};
 use crate::simulation::{simulate, RunOutput};
-use crate::sweep_file::fingerprint;
+use crate::sweep_file::{fingerprint, write_sweep_file};
 use crate::{Error, Result};
 use rayon::prelude::*;
 use std::path::Path;
@@ -263,6 +262,7 @@ pub struct Sweep {
     pub joints: Vec<String>,
     /// The sweep definition's fingerprint ([`crate::sweep_file::fingerprint`]).
     pub fingerprint: String,
+    /// The part of the sweep this one runs.
     pub shard: Shard,
     cases: Vec<(usize, Vec<String>, Scene)>,
 }
@@ -351,36 +351,14 @@ impl Sweep {
             .collect()
     }
 
-    /// Writes the results as CSV, atomically.
+    /// Writes the results as this sweep's file ([`crate::sweep_file`]) in case order,
+    /// atomically.
     pub fn write(&self, path: &Path, results: &[CaseResult]) -> Result<()> {
-        let rows: Vec<Vec<String>> = results
-            .iter()
+        let rows = (results.iter())
             .map(|r| r.record(self.joints.len()))
             .collect();
-        write_records(path, &header(&self.sets, &self.joints), &rows)
+        write_sweep_file(path, &self.id(), &header(&self.sets, &self.joints), rows)
     }
-}
-
-fn csv_failure(path: &Path, e: csv::Error) -> Error {
-    Error::Parse {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    }
-}
-
-/// Writes a header and string records as CSV, atomically.
-fn write_records(path: &Path, header: &[String], rows: &[Vec<String>]) -> Result<()> {
-    write_atomic(path, |tmp| {
-        let mut w = csv::Writer::from_path(tmp).map_err(|e| csv_failure(tmp, e))?;
-        w.write_record(header).map_err(|e| csv_failure(tmp, e))?;
-        for row in rows {
-            w.write_record(row).map_err(|e| csv_failure(tmp, e))?;
-        }
-        w.flush().map_err(|source| Error::Io {
-            path: tmp.to_path_buf(),
-            source,
-        })
-    })
 }
 
 #[cfg(test)]

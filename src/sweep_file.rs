@@ -28,6 +28,7 @@ use std::sync::Mutex;
 pub struct SweepId {
     /// Hash of the sweep definition (16 hex digits).
     pub fingerprint: String,
+    /// The shard the file holds.
     pub shard: Shard,
     /// Cases of the shard (rows of the complete file).
     pub cases: usize,
@@ -104,7 +105,9 @@ impl Sweep {
 /// A sweep file read back.
 #[derive(Clone, Debug)]
 pub struct SweepFile {
+    /// What sweep and shard the file holds.
     pub id: SweepId,
+    /// The CSV header.
     pub header: Vec<String>,
     /// Complete rows, in file order.
     pub rows: Vec<Vec<String>>,
@@ -206,6 +209,17 @@ fn write_file(path: &Path, id: &SweepId, header: &[String], rows: &[Vec<String>]
     })
 }
 
+/// Writes a sweep file with `rows` in case order, atomically.
+pub fn write_sweep_file(
+    path: &Path,
+    id: &SweepId,
+    header: &[String],
+    mut rows: Vec<Vec<String>>,
+) -> Result<()> {
+    rows.sort_by_key(|r| r[0].parse::<usize>().unwrap_or(usize::MAX));
+    write_file(path, id, header, &rows)
+}
+
 /// A sweep file that receives each case's row as it finishes.
 #[derive(Debug)]
 pub struct Journal {
@@ -248,10 +262,9 @@ impl Journal {
     }
 
     /// Rewrites the file with `rows` in case order, atomically (the sweep finished).
-    pub fn finish(self, id: &SweepId, header: &[String], mut rows: Vec<Vec<String>>) -> Result<()> {
-        rows.sort_by_key(|r| r[0].parse::<usize>().unwrap_or(usize::MAX));
+    pub fn finish(self, id: &SweepId, header: &[String], rows: Vec<Vec<String>>) -> Result<()> {
         drop(self.file);
-        write_file(&self.path, id, header, &rows)
+        write_sweep_file(&self.path, id, header, rows)
     }
 }
 

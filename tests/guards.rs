@@ -23,6 +23,8 @@ fn a_missing_scene_file_is_bad_input() {
         let o = jointwear(&[command, s(&absent)]);
         assert_fails(&o, 2, &["absent.toml", "No such file"]);
     }
+    let o = jointwear(&["sweep-merge", s(&absent), "--out", s(&dir.join("all.csv"))]);
+    assert_fails(&o, 2, &["absent.toml", "No such file"]);
     fs::remove_dir_all(&dir).unwrap();
 }
 
