@@ -16,8 +16,9 @@
 //!   refuse a missing, repeated or unfinished shard; `total` is the whole sweep's case count.
 
 use crate::output::write_atomic;
-use crate::sweep::{case_count, Assignment, Shard, Sweep};
+use crate::sweep::{case_count, header, Assignment, Shard, Sweep};
 use crate::{Error, Result};
+use std::collections::HashSet;
 use std::fs::File;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -265,6 +266,87 @@ impl Journal {
     pub fn finish(self, id: &SweepId, header: &[String], rows: Vec<Vec<String>>) -> Result<()> {
         drop(self.file);
         write_sweep_file(&self.path, id, header, rows)
+    }
+}
+
+/// A sweep whose cases are appended to its file as they finish.
+pub struct JournaledSweep<'a> {
+    sweep: &'a mut Sweep,
+    id: SweepId,
+    header: Vec<String>,
+    /// Rows of cases finished before (a resumed sweep).
+    kept: Vec<Vec<String>>,
+    journal: Journal,
+}
+
+impl<'a> JournaledSweep<'a> {
+    /// Starts the file `out` of `sweep`; with `resume`, keeps the rows the file holds of the
+    /// same sweep and shard (an error if it holds another) and drops their cases from `sweep`.
+    pub fn open(sweep: &'a mut Sweep, out: &Path, resume: bool) -> Result<JournaledSweep<'a>> {
+        let id = sweep.id();
+        let header = header(&sweep.sets, &sweep.joints);
+        let kept = if resume {
+            resume_rows(out, &id, &header)?
+        } else {
+            Vec::new()
+        };
+        let finished: HashSet<usize> = kept.iter().filter_map(|r| r[0].parse().ok()).collect();
+        sweep.retain(|case| !finished.contains(&case));
+        let journal = Journal::create(out, &id, &header, &kept)?;
+        Ok(JournaledSweep {
+            sweep,
+            id,
+            header,
+            kept,
+            journal,
+        })
+    }
+
+    /// The sweep file's id.
+    pub fn id(&self) -> SweepId {
+        self.id.clone()
+    }
+
+    /// Cases already finished before this run.
+    pub fn finished(&self) -> usize {
+        self.kept.len()
+    }
+
+    /// Runs the remaining cases in parallel, appending each row as its case finishes and
+    /// calling `done`, then rewrites the file in case order. Returns the number of rows and
+    /// the cases that failed while running (an error in their last column). A row that
+    /// cannot be appended does not stop the sweep: the final rewrite holds it, and the first
+    /// such error is returned after it.
+    pub fn run(self, done: impl Fn() + Sync) -> Result<(usize, Vec<usize>)> {
+        let JournaledSweep {
+            sweep,
+            id,
+            header,
+            kept,
+            journal,
+        } = self;
+        let joints = sweep.joints.len();
+        let append_error = Mutex::new(None);
+        let results = sweep.run(|r| {
+            if let Err(e) = journal.append(&r.record(joints)) {
+                let mut first = append_error.lock().unwrap_or_else(|e| e.into_inner());
+                first.get_or_insert(e);
+            }
+            done();
+        });
+        let mut rows = kept;
+        rows.extend(results.iter().map(|r| r.record(joints)));
+        let mut failed: Vec<usize> = (rows.iter())
+            .filter(|r| r.last().is_some_and(|e| !e.is_empty()))
+            .filter_map(|r| r[0].parse().ok())
+            .collect();
+        failed.sort_unstable();
+        let count = rows.len();
+        journal.finish(&id, &header, rows)?;
+        match append_error.into_inner().unwrap_or_else(|e| e.into_inner()) {
+            Some(e) => Err(e),
+            None => Ok((count, failed)),
+        }
     }
 }
 

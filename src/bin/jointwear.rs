@@ -13,13 +13,11 @@ use jointwear::output::{
 use jointwear::plot::{render, Axes, Series, Style};
 use jointwear::scene::{Scene, SceneFile};
 use jointwear::simulation::RunOutput;
-use jointwear::sweep::{header, summarize, Assignment, Shard, Sweep};
-use jointwear::sweep_file::{merge, resume_rows, Journal};
+use jointwear::sweep::{summarize, Assignment, Shard, Sweep};
+use jointwear::sweep_file::{merge, JournaledSweep};
 use jointwear::Error;
-use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Mutex;
 
 const EXAMPLES: &str = "\
 Examples:
@@ -520,7 +518,30 @@ fn sweep(
     });
     let mut sweep = Sweep::new(path, sets, shard).map_err(|e| Failure::input(path, e))?;
     check_output_file("--out", &out).map_err(bad)?;
-    let (rows, failed) = run_journaled(&mut sweep, &out, resume).map_err(bad)?;
+    if !resume && out.exists() {
+        eprintln!(
+            "{} exists: starting over (--resume keeps its finished cases)",
+            out.display()
+        );
+    }
+    let journaled = JournaledSweep::open(&mut sweep, &out, resume).map_err(bad)?;
+    interrupt::keep(format!(
+        "finished cases stay in {} (rerun with --resume to skip them)",
+        out.display()
+    ));
+    let id = journaled.id();
+    eprintln!(
+        "{} cases in shard {}/{} ({} already finished) on {} threads",
+        id.cases,
+        id.shard.index,
+        id.shard.count,
+        journaled.finished(),
+        rayon::current_num_threads()
+    );
+    let bar = progress_bar((id.cases - journaled.finished()) as u64, "cases");
+    let result = journaled.run(|| bar.inc(1));
+    bar.finish_and_clear();
+    let (rows, failed) = result.map_err(bad)?;
     println!("wrote {} ({rows} cases)", out.display());
     match failed.first() {
         None => Ok(()),
@@ -532,71 +553,6 @@ fn sweep(
                 failed.len(),
             ),
         }),
-    }
-}
-
-/// Runs `sweep` appending each finished case to `out` (after the finished cases already
-/// there if `resume`), then rewrites `out` in case order. Returns the number of rows and
-/// the failed cases.
-fn run_journaled(
-    sweep: &mut Sweep,
-    out: &Path,
-    resume: bool,
-) -> jointwear::Result<(usize, Vec<usize>)> {
-    let id = sweep.id();
-    let header = header(&sweep.sets, &sweep.joints);
-    let kept = if resume {
-        resume_rows(out, &id, &header)?
-    } else {
-        if out.exists() {
-            eprintln!(
-                "{} exists: starting over (--resume keeps its finished cases)",
-                out.display()
-            );
-        }
-        Vec::new()
-    };
-    let finished: HashSet<usize> = kept.iter().filter_map(|r| r[0].parse().ok()).collect();
-    sweep.retain(|case| !finished.contains(&case));
-    let journal = Journal::create(out, &id, &header, &kept)?;
-    interrupt::keep(format!(
-        "finished cases stay in {} (rerun with --resume to skip them)",
-        out.display()
-    ));
-    eprintln!(
-        "{} cases in shard {}/{} ({} already finished) on {} threads",
-        id.cases,
-        id.shard.index,
-        id.shard.count,
-        kept.len(),
-        rayon::current_num_threads()
-    );
-    let bar = progress_bar(sweep.len() as u64, "cases");
-    // The first failed append: the sweep goes on, its rows are still in `results`.
-    let append_error = Mutex::new(None);
-    let results = sweep.run(|r| {
-        if let Err(e) = journal.append(&r.record(sweep.joints.len())) {
-            append_error
-                .lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .get_or_insert(e);
-        }
-        bar.inc(1);
-    });
-    bar.finish_and_clear();
-    let mut rows = kept;
-    rows.extend(results.iter().map(|r| r.record(sweep.joints.len())));
-    // The error column is the last: a case that failed while running has its message there.
-    let mut failed: Vec<usize> = (rows.iter())
-        .filter(|r| r.last().is_some_and(|e| !e.is_empty()))
-        .filter_map(|r| r[0].parse().ok())
-        .collect();
-    failed.sort_unstable();
-    let count = rows.len();
-    journal.finish(&id, &header, rows)?;
-    match append_error.into_inner().unwrap_or_else(|e| e.into_inner()) {
-        Some(e) => Err(e),
-        None => Ok((count, failed)),
     }
 }
 
