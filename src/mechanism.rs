@@ -1081,7 +1081,7 @@ impl Mechanism {
             Error::invalid(
                 "joints (assembly)",
                 format!(
-                    "the constraints of {} are dependent at the assembled pose",
+                    "the constraints of {} are dependent at a pose the assembly reached",
                     self.joints_of_rows(&rows, held).join(", ")
                 ),
                 "independent joints away from a dead-centre position (no locked or redundant \

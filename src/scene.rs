@@ -397,6 +397,11 @@ impl Scene {
         SceneFile::read(path)?.build()
     }
 
+    /// The driver's period (s).
+    pub fn period(&self) -> f64 {
+        std::f64::consts::TAU / self.mechanism.driver.omega.abs()
+    }
+
     /// Checks that the run can finish within `run.max_steps` at all: its largest step (the
     /// fixed step of `rk4`) needs at least `rotations` × period / step steps. A smaller step
     /// would crawl into the step limit (1e-300 s took 78 s to fail); it fails here at once.
@@ -406,7 +411,7 @@ impl Scene {
             Method::Rk4 { step } => ("run.fixed_step_s", step),
             _ => ("run.max_step_s", run.tolerances.max_step),
         };
-        let period = std::f64::consts::TAU / self.mechanism.driver.omega.abs();
+        let period = self.period();
         let needed = run.rotations as f64 * period / step;
         if needed <= run.max_steps as f64 {
             return Ok(());
@@ -428,7 +433,7 @@ impl Scene {
     /// setting that dominates the estimate if not.
     pub fn check_record_budget(&self) -> Result<()> {
         let (run, m) = (&self.run, &self.mechanism);
-        let period = std::f64::consts::TAU / m.driver.omega.abs();
+        let period = self.period();
         let rows = (run.record_rotations as f64 * period / run.record_interval).floor() + 1.0;
         let columns = record_columns(m);
         let series = rows * columns as f64 * 8.0;
