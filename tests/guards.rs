@@ -271,7 +271,7 @@ fn an_interrupted_run_says_so_and_exits_130() {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(300));
+    std::thread::sleep(std::time::Duration::from_millis(500));
     let kill = std::process::Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status();
