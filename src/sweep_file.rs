@@ -471,3 +471,56 @@ pub fn merge(inputs: &[impl AsRef<Path>], out: &Path, allow_partial: bool) -> Re
     write_file(out, &first.id.whole(), &first.header, &rows)?;
     Ok(rows.len())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_hash_is_fnv1a_so_fingerprints_agree_across_builds() {
+        // The published FNV-1a 64 test vectors.
+        assert_eq!(fnv1a(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a(b"a"), 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(fnv1a(b"foobar"), 0x8594_4171_f739_67e8);
+    }
+
+    #[test]
+    fn fingerprints_tell_sweeps_apart() {
+        let table = |text: &str| toml::Value::Table(text.parse().unwrap());
+        let doc = table("a = 1\n[b]\nc = 2.5\n");
+        let sets = |s: &str| vec![Assignment::parse(s).unwrap()];
+        let f = fingerprint(&doc, &sets("b.c=1,2"));
+        assert_eq!(f.len(), 16);
+        assert_eq!(f, fingerprint(&doc, &sets("b.c=1,2")));
+        assert_ne!(f, fingerprint(&doc, &sets("b.c=1,3")));
+        assert_ne!(f, fingerprint(&doc, &sets("b.c=12")));
+        let other = table("a = 2\n[b]\nc = 2.5\n");
+        assert_ne!(f, fingerprint(&other, &sets("b.c=1,2")));
+    }
+
+    #[test]
+    fn the_id_line_round_trips_and_rejects_other_lines() {
+        let id = SweepId {
+            fingerprint: "0123456789abcdef".into(),
+            shard: Shard::parse("2/4").unwrap(),
+            cases: 3,
+            total: 12,
+        };
+        assert_eq!(
+            id.line(),
+            "# jointwear sweep fingerprint=0123456789abcdef shard=2/4 cases=3 total=12"
+        );
+        assert_eq!(SweepId::parse(&id.line()), Some(id.clone()));
+        assert_eq!(
+            id.whole().line(),
+            "# jointwear sweep fingerprint=0123456789abcdef shard=1/1 cases=12 total=12"
+        );
+        for bad in [
+            "case,x",
+            "# jointwear sweep shard=2/4 cases=3 total=12",
+            "# jointwear sweep fingerprint=f shard=5/4 cases=3 total=12",
+        ] {
+            assert_eq!(SweepId::parse(bad), None, "{bad}");
+        }
+    }
+}
