@@ -19,6 +19,7 @@ pub mod figures;
 pub mod friction;
 pub mod golden;
 pub mod integrator;
+pub mod interrupt;
 pub mod longlife;
 pub mod mechanism;
 pub mod output;
@@ -31,6 +32,7 @@ pub mod simulation;
 pub mod statistics;
 pub mod studies;
 pub mod sweep;
+pub mod sweep_file;
 pub mod wear;
 
 pub use error::{Error, Result};

@@ -133,6 +133,26 @@ impl ContactState {
 /// Powers integrated when energy accounting is on (extra ODE states, outside error control).
 pub const ENERGY_STATES: usize = 3;
 
+/// Smallest LDLᵀ pivot of the constraint system relative to its diagonal entry before
+/// elimination: the squared sine of the angle between a constraint row and the span of the
+/// earlier ones (in the M⁻¹ metric). Below it the rows are dependent to 1e-5 rad, the
+/// linkage is at a lock (dead-centre) position or has redundant joints, and the reactions
+/// grow without bound: the run stops there, naming the joints, instead of crawling into the
+/// step limit.
+pub const MIN_RELATIVE_PIVOT: f64 = 1e-10;
+
+/// Largest penetration of a clearance joint, as a fraction of its journal radius, that the
+/// contact laws describe: they are linear-elastic small-strain laws, and a tenth of the
+/// radius is a strain of order 10 %. A run goes past it only when the linkage forces the
+/// joint apart (links that cannot reach lock the mechanism against the contact) or a material
+/// is far too soft; it stops there instead of crawling on with meganewton forces.
+pub const MAX_PENETRATION_RATIO: f64 = 0.1;
+
+/// Rows of the constraint system found linearly dependent by the LDLᵀ solve: the row whose
+/// pivot vanished, then the earlier rows it combines.
+#[derive(Debug)]
+struct Dependent(Vec<usize>);
+
 /// A planar mechanism: bodies, ideal joints, one driver, clearance joints, gravity.
 #[derive(Clone, Debug)]
 pub struct Mechanism {
@@ -622,7 +642,7 @@ impl Mechanism {
     /// which stay as they are): with b in `ws.lambda` on entry, solves `(J W Jᵀ) λ = J x − b`
     /// by LDLᵀ, leaving λ there, and sets `x −= W Jᵀ λ`.
     /// Only the blocks of bodies two rows share contribute ([`Workspace::pairs`]).
-    fn project(&mut self, x: &mut [f64]) -> std::result::Result<(), ()> {
+    fn project(&mut self, x: &mut [f64]) -> std::result::Result<(), Dependent> {
         let ws = &mut self.ws;
         for (b, row) in ws.lambda.iter_mut().zip(&ws.rows) {
             *b = row.dot(x) - *b;
@@ -645,7 +665,11 @@ impl Mechanism {
                 }
             };
         }
-        unrolled!(1 2 3 4 5 6 7 8 9 10)?;
+        if let Err(j) = unrolled!(1 2 3 4 5 6 7 8 9 10) {
+            // Row j of L (complete when column j fails) holds the rows it combines.
+            let coupled = (0..j).filter(|&k| ws.schur[j * m + k].abs() > 1e-6);
+            return Err(Dependent(std::iter::once(j).chain(coupled).collect()));
+        }
         for (r, l) in ws.rows.iter().zip(&ws.lambda) {
             for s in 0..2 {
                 // A ground block would chain the stores to x[0..3] for nothing.
@@ -745,8 +769,13 @@ impl Mechanism {
 
     /// Generalised forces: gravity plus clearance-joint contact forces (eq. 11), with the body
     /// rotations of the last [`Mechanism::constraints`] call.
-    /// Returns (normal-force power, friction power) into the system.
-    fn applied_forces(&mut self, q: &[f64], v: &[f64]) -> (f64, f64) {
+    /// Returns (normal-force power, friction power) into the system, or the clearance joint
+    /// and penetration beyond [`MAX_PENETRATION_RATIO`] of its journal radius.
+    fn applied_forces(
+        &mut self,
+        q: &[f64],
+        v: &[f64],
+    ) -> std::result::Result<(f64, f64), (usize, f64)> {
         let mut force = std::mem::take(&mut self.ws.force);
         for (i, b) in self.bodies.iter().enumerate() {
             force[3 * i] = b.mass * self.gravity.x;
@@ -758,10 +787,14 @@ impl Mechanism {
         for k in 0..self.clearance_joints.len() {
             let (cs, sj, sb) = self.contact_geometry(k, q, v, |i| rot[i]);
             let cs = self.with_forces(k, cs);
+            let cj = &self.clearance_joints[k];
+            if cs.delta > MAX_PENETRATION_RATIO * cj.r_journal {
+                self.ws.force = force;
+                return Err((k, cs.delta));
+            }
             if cs.f_n == 0.0 {
                 continue;
             }
-            let cj = &self.clearance_joints[k];
             let (n, t) = (cs.n, perp(cs.n));
             let on_journal = -n * cs.f_n + t * cs.f_t;
             add_force(
@@ -780,7 +813,28 @@ impl Mechanism {
             p_friction += cs.f_t * cs.v_t;
         }
         self.ws.force = force;
-        (p_normal, p_friction)
+        Ok((p_normal, p_friction))
+    }
+
+    /// The error of clearance joint `k` penetrating `delta` beyond the contact laws at `t`.
+    fn overload(&self, t: f64, k: usize, delta: f64) -> Error {
+        let cj = &self.clearance_joints[k];
+        Error::Integration {
+            time: t,
+            cause: format!(
+                "clearance joint `{}` (journal on {}, bearing on {}) penetrates {delta:.3e} m at \
+                 driver angle {}, beyond {} % of its journal radius ({:.3e} m) where the \
+                 small-strain contact laws hold: the linkage forces the joint apart (links \
+                 that cannot reach at this angle lock the mechanism) or a material is far too \
+                 soft",
+                cj.name,
+                self.body_name(cj.journal.body),
+                self.body_name(cj.bearing.body),
+                self.driver_angle_text(t),
+                100.0 * MAX_PENETRATION_RATIO,
+                MAX_PENETRATION_RATIO * cj.r_journal
+            ),
+        }
     }
 
     /// The right-hand side y' = f(t, y) of eq. 10 with Baumgarte stabilisation.
@@ -790,7 +844,9 @@ impl Mechanism {
         let mut phi = std::mem::take(&mut self.ws.lambda);
         self.constraints(t, q, v, Some(&mut phi));
         self.ws.lambda = phi;
-        let (p_normal, p_friction) = self.applied_forces(q, v);
+        let (p_normal, p_friction) = self
+            .applied_forces(q, v)
+            .map_err(|(k, delta)| self.overload(t, k, delta))?;
         self.accelerations(t, v, &mut dy[n..2 * n])?;
         dy[..n].copy_from_slice(v);
         if self.energy_accounting {
@@ -848,16 +904,89 @@ impl Mechanism {
         self.solve_fixed(acc, |s| {
             s.gamma - 2.0 * alpha * (s.row.dot(v) + s.phi_t) - beta * beta * s.phi
         });
-        self.project(acc).map_err(|_| Error::Integration {
-            time: t,
-            // A blown-up state also breaks the solve; only a finite one means bad joints.
-            cause: if v.iter().chain(&self.ws.force).all(|x| x.is_finite()) {
-                "singular constraint Jacobian (locked or redundant joints)".into()
-            } else {
-                "non-finite state: the step is too large for the contact stiffness".into()
-            },
-        })?;
-        Ok(())
+        let dependent = match self.project(acc) {
+            Ok(()) => return Ok(()),
+            Err(d) => d,
+        };
+        // A blown-up state also breaks the solve; only a finite one means bad joints.
+        let cause = if v.iter().chain(&self.ws.force).all(|x| x.is_finite()) {
+            format!(
+                "the linkage locks at driver angle {}: the constraints of {} are dependent \
+                 (a dead-centre position, links that cannot reach, or redundant joints)",
+                self.driver_angle_text(t),
+                self.joints_of_rows(&dependent.0, &[]).join(", ")
+            )
+        } else {
+            "non-finite state: the step is too large for the contact stiffness".into()
+        };
+        Err(Error::Integration { time: t, cause })
+    }
+
+    /// Name of body `b` as the scene writes it (`ground` for the ground).
+    fn body_name(&self, b: BodyIndex) -> &str {
+        b.map_or("ground", |i| &self.bodies[i].name)
+    }
+
+    /// The joint of constraint equation `e`, named as in the scene (`revolute[1] (crank-rod)`),
+    /// in constraint order: two equations per revolute, two per translational joint, then the
+    /// driver. The last `held.len()` revolutes are those clearance joints held ideal (assembly).
+    fn equation_joint(&self, e: usize, held: &[ClearanceJoint]) -> String {
+        let (r, t) = (self.revolutes.len(), self.translationals.len());
+        let pair = |a: &BodyPoint, b: &BodyPoint| {
+            format!("{}-{}", self.body_name(a.body), self.body_name(b.body))
+        };
+        let own = r - held.len();
+        match e / 2 {
+            i if i < own => format!(
+                "revolute[{i}] ({})",
+                pair(&self.revolutes[i].a, &self.revolutes[i].b)
+            ),
+            i if i < r => {
+                let cj = &held[i - own];
+                format!(
+                    "clearance joint `{}` ({}, held ideal)",
+                    cj.name,
+                    pair(&cj.journal, &cj.bearing)
+                )
+            }
+            i if i < r + t => {
+                let j = &self.translationals[i - r];
+                format!("translational[{}] ({})", i - r, pair(&j.a, &j.b))
+            }
+            _ => format!("driver ({})", self.body_name(Some(self.driver.body))),
+        }
+    }
+
+    /// The constraint equation at index `i` of [`Mechanism::constraint_vector`] (the rows of
+    /// the constraint system, then the equations solved for one coordinate).
+    fn vector_equation(&self, i: usize) -> usize {
+        let rows = self.ws.rows.len();
+        let wanted = |slot: &Slot| match *slot {
+            Slot::Row(r) => i < rows && r == i,
+            Slot::Solved(j) => i >= rows && j == i - rows,
+        };
+        self.ws.slot.iter().position(wanted).unwrap_or(0)
+    }
+
+    /// The joints of rows of the constraint system, in order, without repeats.
+    fn joints_of_rows(&self, rows: &[usize], held: &[ClearanceJoint]) -> Vec<String> {
+        let mut joints: Vec<String> = Vec::new();
+        for &row in rows {
+            let joint = self.equation_joint(self.vector_equation(row), held);
+            if !joints.contains(&joint) {
+                joints.push(joint);
+            }
+        }
+        joints
+    }
+
+    /// The driver's prescribed angle at time `t`, for messages (deg in [0, 360)).
+    fn driver_angle_text(&self, t: f64) -> String {
+        let d = &self.driver;
+        format!(
+            "{:.1} deg",
+            (d.angle0 + d.omega * t).to_degrees().rem_euclid(360.0)
+        )
     }
 
     /// Kinetic energy (J).
@@ -907,6 +1036,7 @@ impl Mechanism {
         ideal.clearance_joints.clear();
         ideal.energy_accounting = false;
         ideal.resize_workspace()?;
+        let held = &self.clearance_joints;
         let n = self.coordinates();
         let zeros = vec![0.0; n];
         let mut q = guess.to_vec();
@@ -917,26 +1047,20 @@ impl Mechanism {
                 break;
             }
             if iteration == 50 || !residual.is_finite() {
-                return Err(Error::invalid(
-                    "bodies (initial positions)",
-                    format!(
-                        "constraint residual {residual:.3e} after {iteration} Newton iterations"
-                    ),
-                    "positions close enough to an assembled configuration",
-                ));
+                return Err(ideal.unclosed(&phi, iteration, held));
             }
             // Newton step Δq with Φ_q Δq = −Φ (the rows' part of Φ first).
             for (b, p) in ideal.ws.lambda.iter_mut().zip(&phi) {
                 *b = -p;
             }
-            for (q, dq) in q.iter_mut().zip(ideal.min_norm_step(|s| -s.phi)?) {
+            for (q, dq) in q.iter_mut().zip(ideal.min_norm_step(|s| -s.phi, held)?) {
                 *q += dq;
             }
         }
         // Velocities: Φ_q q̇ = −Φ_t.
         ideal.constraints(0.0, &q, &zeros, None);
         ideal.ws.lambda.fill(0.0);
-        let v = ideal.min_norm_step(|s| -s.phi_t)?;
+        let v = ideal.min_norm_step(|s| -s.phi_t, held)?;
         let mut y = vec![0.0; self.state_len()];
         y[..n].copy_from_slice(&q);
         y[n..2 * n].copy_from_slice(&v);
@@ -945,17 +1069,57 @@ impl Mechanism {
 
     /// The mass-weighted minimum-norm x with `J x = b` (the rows' b in `ws.lambda`, the
     /// solved equations' from `target`), for the state of the last `constraints` call.
-    fn min_norm_step(&mut self, target: impl Fn(&Solved) -> f64) -> Result<Vec<f64>> {
+    /// `held`: the clearance joints held ideal, for messages ([`Mechanism::equation_joint`]).
+    fn min_norm_step(
+        &mut self,
+        target: impl Fn(&Solved) -> f64,
+        held: &[ClearanceJoint],
+    ) -> Result<Vec<f64>> {
         let mut x = vec![0.0; self.coordinates()];
         self.solve_fixed(&mut x, target);
-        self.project(&mut x).map_err(|_| {
+        self.project(&mut x).map_err(|Dependent(rows)| {
             Error::invalid(
-                "joints",
-                "a singular constraint Jacobian",
-                "independent joints (no locked or redundant joint)",
+                "joints (assembly)",
+                format!(
+                    "the constraints of {} are dependent at a pose the assembly reached",
+                    self.joints_of_rows(&rows, held).join(", ")
+                ),
+                "independent joints away from a dead-centre position (no locked or redundant \
+                 joint; a driver angle at a dead centre needs another one)",
             )
         })?;
         Ok(x)
+    }
+
+    /// The error of an assembly whose Newton iterations did not close the constraints `phi`
+    /// (in [`Mechanism::constraint_vector`] order): the joints with the largest residuals.
+    fn unclosed(&self, phi: &[f64], iterations: usize, held: &[ClearanceJoint]) -> Error {
+        let mut order: Vec<usize> = (0..phi.len()).collect();
+        order.sort_by(|&a, &b| phi[b].abs().total_cmp(&phi[a].abs()));
+        let largest = phi[order[0]].abs();
+        let mut joints: Vec<(String, f64)> = Vec::new();
+        // The joints whose residual is of the order of the largest: where the loop breaks.
+        let near_largest = |i: &&usize| phi[**i].abs() >= 0.1 * largest || phi[**i].is_nan();
+        for &i in order.iter().take_while(near_largest) {
+            let joint = self.equation_joint(self.vector_equation(i), held);
+            if !joints.iter().any(|(j, _)| *j == joint) {
+                joints.push((joint, phi[i].abs()));
+            }
+        }
+        let list: Vec<String> = joints
+            .iter()
+            .map(|(j, r)| format!("{j} by {r:.3e}"))
+            .collect();
+        Error::invalid(
+            "joints (assembly)",
+            format!(
+                "the loop cannot close: after {iterations} Newton iterations it stays open at {} \
+                 (constraint residual, m or rad)",
+                list.join(", ")
+            ),
+            "links whose lengths can close every loop at the driver's initial angle, and a \
+             pose guess (bodies' position_mm, angle_deg) near an assembled pose",
+        )
     }
 
     /// Dense copy of the constraint Jacobian and γ at (q, v), for tests and diagnostics: the
@@ -990,7 +1154,8 @@ impl Mechanism {
 }
 
 /// In-place LDLᵀ factorisation and solve of the SPD `m×m` matrix `a` (row-major, lower
-/// triangle used), overwriting `b` with the solution. Errors if `a` is not positive definite.
+/// triangle used), overwriting `b` with the solution. Errors with the column whose pivot is
+/// not above [`MIN_RELATIVE_PIVOT`] times its diagonal entry (`a` singular or nearly so).
 /// On exit the strict lower triangle holds L, the diagonal 1/D and `pivots` D. No square
 /// roots and one division per column: the solve is bound by latency, not by its flops.
 #[inline(always)]
@@ -999,15 +1164,18 @@ fn ldl_solve(
     pivots: &mut [f64],
     b: &mut [f64],
     m: usize,
-) -> std::result::Result<(), ()> {
+) -> std::result::Result<(), usize> {
     let (a, pivots, b) = (&mut a[..m * m], &mut pivots[..m], &mut b[..m]);
     for j in 0..m {
-        let mut d = a[j * m + j];
+        let diagonal = a[j * m + j];
+        let mut d = diagonal;
         for k in 0..j {
             d -= a[j * m + k] * a[j * m + k] * pivots[k];
         }
-        if d <= 0.0 || !d.is_finite() {
-            return Err(());
+        // Also refuses NaN (no comparison holds) and a non-finite pivot.
+        let regular = d > MIN_RELATIVE_PIVOT * diagonal && d.is_finite();
+        if !regular {
+            return Err(j);
         }
         let inv = 1.0 / d;
         for i in j + 1..m {

@@ -29,6 +29,7 @@ use std::path::{Path, PathBuf};
 
 const MM: f64 = 1e-3;
 const GPA: f64 = 1e9;
+const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 
 /// A scene file as written (engineering units).
 #[derive(Clone, Debug, Deserialize)]
@@ -56,7 +57,7 @@ pub struct SceneFile {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
-    /// Young's modulus (GPa), (0, 10000].
+    /// Young's modulus (GPa), [0.1, 10000] ([`YOUNGS_MODULUS_GPA`]).
     pub youngs_modulus_gpa: f64,
     /// Poisson's ratio, [0, 0.5).
     pub poisson_ratio: f64,
@@ -72,9 +73,9 @@ pub struct GroundSpec {
 #[serde(deny_unknown_fields)]
 pub struct BodySpec {
     pub name: String,
-    /// Mass (kg), > 0.
+    /// Mass (kg), [1e-6, 1e6] ([`MASS_KG`]).
     pub mass_kg: f64,
-    /// Moment of inertia about the centre of mass (kg m²), > 0.
+    /// Moment of inertia about the centre of mass (kg m²), [1e-12, 1e6] ([`INERTIA_KG_M2`]).
     pub inertia_kg_m2: f64,
     /// Initial guess of the centre of mass (mm); assembled exactly at load.
     pub position_mm: [f64; 2],
@@ -121,9 +122,10 @@ pub struct ClearanceSpec {
     pub journal: String,
     /// Bearing centre, `"body.point"`; the bearing is the part that wears.
     pub bearing: String,
-    /// Unworn bearing radius R_i (mm), (0, 10000].
+    /// Unworn bearing radius R_i (mm), [0.1, 10000] ([`BEARING_RADIUS_MM`]).
     pub bearing_radius_mm: f64,
-    /// Radial clearance c = R_i − R_j (mm), [0, R_i).
+    /// Radial clearance c = R_i − R_j (mm), [0, R_i); at least
+    /// [`MIN_HERTZ_CLEARANCE_RATIO`] R_i with a Hertz-based contact or pressure law.
     pub clearance_mm: f64,
     pub journal_material: String,
     pub bearing_material: String,
@@ -152,7 +154,7 @@ pub struct WearSpec {
     /// Archard coefficient over hardness k/H (1/Pa), [0, 1e-6].
     pub k_over_h_per_pa: f64,
     pub pressure: PressureModel,
-    /// Bearing length L (mm), (0, 10000].
+    /// Bearing length L (mm), [0.1, 10000] ([`BEARING_LENGTH_MM`]).
     pub length_mm: f64,
     /// Number of sectors of the bearing profile, [8, 36000].
     pub sectors: usize,
@@ -257,6 +259,118 @@ fn check_open(field: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
     }
 }
 
+/// A validity limit of the models: the range of a scene value and why values outside it are
+/// refused (the README's "Validity limits" table states the same).
+pub struct Limit {
+    /// Smallest valid value.
+    pub lo: f64,
+    /// Largest valid value.
+    pub hi: f64,
+    /// Why values outside are refused, and their likely cause.
+    pub why: &'static str,
+}
+
+/// Body mass (kg).
+pub const MASS_KG: Limit = Limit {
+    lo: 1e-6,
+    hi: 1e6,
+    why: "a body lighter than 1 mg turns newtons of contact force into accelerations the \
+          integrator cannot resolve (1e-300 kg gave infinite penetration); likely cause: a \
+          mass in the wrong unit",
+};
+
+/// Moment of inertia about the centre of mass (kg m²).
+pub const INERTIA_KG_M2: Limit = Limit {
+    lo: 1e-12,
+    hi: 1e6,
+    why: "below 1 mg at 1 mm radius of gyration the angular accelerations of contact torques \
+          cannot be resolved; likely cause: an inertia in g mm² or another unit",
+};
+
+/// Young's modulus (GPa).
+pub const YOUNGS_MODULUS_GPA: Limit = Limit {
+    lo: 0.1,
+    hi: 1e4,
+    why: "the contact laws are linear-elastic small-strain models of metals, ceramics and \
+          engineering polymers; below 0.1 GPa (elastomers) the penetration reaches the \
+          clearance (1e-300 GPa gave 115 mm); likely cause: a modulus in Pa or MPa",
+};
+
+/// Bearing radius R_i (mm).
+pub const BEARING_RADIUS_MM: Limit = Limit {
+    lo: 0.1,
+    hi: 1e4,
+    why: "a pin thinner than 0.2 mm is outside the rigid-pin contact model; likely cause: a \
+          radius in m",
+};
+
+/// Bearing length L (mm).
+pub const BEARING_LENGTH_MM: Limit = Limit {
+    lo: 0.1,
+    hi: 1e4,
+    why: "the contact pressure and the wear rate grow as 1/L: below 0.1 mm they are unbounded \
+          (1e-300 mm wore the bearing away at once, leaving zero force); likely cause: a \
+          length in m",
+};
+
+/// Largest |coordinate| of a point or position guess (mm).
+pub const COORDINATE_MM: f64 = 1e6;
+
+/// Largest |gravity| component (m/s²): 1000 g.
+pub const GRAVITY_M_S2: f64 = 1e4;
+
+/// Smallest clearance over bearing radius, c/R_i, of the Hertz-based laws (Hertz line-contact
+/// pressure, Lankarani-Nikravesh force). Hertz treats the surfaces as half-spaces, so its
+/// contact half-width must stay small against the radius; for conformal cylinders
+/// `b/R_i = sqrt((8/π)(p̄/E*)/(c/R_i))` with `p̄ = F/(2 R_i L)` the projected bearing
+/// pressure. At c/R_i = 1e-4 a typical steel bearing (p̄/E* ≈ 1e-5) already has
+/// b/R_i ≈ 0.5, and as c → 0 the effective radius R* = R_i R_j / c is unbounded: at zero
+/// clearance the half-width is infinite and the pressure zero (435 N of force, no wear).
+pub const MIN_HERTZ_CLEARANCE_RATIO: f64 = 1e-4;
+
+/// A number as a message shows it: scientific for very small or large magnitudes.
+fn number(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e6).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
+    }
+}
+
+/// Checks that `value` is finite and within `limit`, saying why if not.
+fn within(field: &str, value: f64, limit: &Limit) -> Result<f64> {
+    if value.is_finite() && value >= limit.lo && value <= limit.hi {
+        Ok(value)
+    } else {
+        Err(Error::invalid(
+            field,
+            number(value),
+            format!(
+                "a finite number in [{:e}, {:e}]: {}",
+                limit.lo, limit.hi, limit.why
+            ),
+        ))
+    }
+}
+
+/// Checks that every coordinate is finite and within ±[`COORDINATE_MM`].
+fn check_coordinates(field: &str, values: &[f64]) -> Result<()> {
+    match values
+        .iter()
+        .find(|v| !(v.is_finite() && v.abs() <= COORDINATE_MM))
+    {
+        Some(v) => Err(Error::invalid(
+            field,
+            number(*v),
+            format!(
+                "finite coordinates within ±{COORDINATE_MM:e} mm (1 km; likely cause: a \
+                 coordinate in µm or another unit)"
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
 fn check_finite(field: &str, values: &[f64]) -> Result<()> {
     match values.iter().find(|v| !v.is_finite()) {
         Some(v) => Err(Error::invalid(field, v, "finite numbers")),
@@ -264,10 +378,102 @@ fn check_finite(field: &str, values: &[f64]) -> Result<()> {
     }
 }
 
+/// Memory budget of what a run records (bytes): 2 GiB of `f64`s. A run holds its time series
+/// and wear history in memory until it ends, growing them by doubling (briefly twice the
+/// size), and writes them as CSV text about three times larger; 2 GiB keeps that within an
+/// ordinary workstation, where a larger estimate is almost always an interval in the wrong
+/// unit, and fails at validation instead of on a failed allocation deep into the run.
+pub const RECORD_BUDGET_BYTES: f64 = 2.0 * GIB;
+
+/// Recorded `f64`s per time-series row: time and driver angle, position and acceleration
+/// (x, y, φ) per body, and per clearance joint e_x, e_y, θ, δ, F_n, F_t, v_t, p and dh/dt.
+fn record_columns(mechanism: &Mechanism) -> usize {
+    2 + 6 * mechanism.bodies().len() + 9 * mechanism.clearance_joints.len()
+}
+
 impl Scene {
     /// Reads, validates and converts a scene file.
     pub fn load(path: impl AsRef<Path>) -> Result<Scene> {
         SceneFile::read(path)?.build()
+    }
+
+    /// The driver's period (s).
+    pub fn period(&self) -> f64 {
+        std::f64::consts::TAU / self.mechanism.driver.omega.abs()
+    }
+
+    /// Checks that the run can finish within `run.max_steps` at all: its largest step (the
+    /// fixed step of `rk4`) needs at least `rotations` × period / step steps. A smaller step
+    /// would crawl into the step limit (1e-300 s took 78 s to fail); it fails here at once.
+    pub fn check_step_budget(&self) -> Result<()> {
+        let run = &self.run;
+        let (field, step) = match run.method {
+            Method::Rk4 { step } => ("run.fixed_step_s", step),
+            _ => ("run.max_step_s", run.tolerances.max_step),
+        };
+        let period = self.period();
+        let needed = run.rotations as f64 * period / step;
+        if needed <= run.max_steps as f64 {
+            return Ok(());
+        }
+        Err(Error::invalid(
+            field,
+            format!("{step:e} s"),
+            format!(
+                "a step with which {} rotations of {period:.4e} s can finish within \
+                 run.max_steps = {}: they need at least {needed:.3e} steps of it; likely cause: \
+                 a step in the wrong unit (seconds), or raise run.max_steps",
+                run.rotations, run.max_steps
+            ),
+        ))
+    }
+
+    /// Checks that the time series (`run.record_rotations` of the driver period sampled every
+    /// `run.record_interval_s`) and the wear history fit in [`RECORD_BUDGET_BYTES`], naming the
+    /// setting that dominates the estimate if not.
+    pub fn check_record_budget(&self) -> Result<()> {
+        let (run, m) = (&self.run, &self.mechanism);
+        let period = self.period();
+        let rows = (run.record_rotations as f64 * period / run.record_interval).floor() + 1.0;
+        let columns = record_columns(m);
+        let series = rows * columns as f64 * 8.0;
+        let points = run.rotations as f64 * run.profile_history_per_rotation as f64;
+        let sectors: usize = m
+            .clearance_joints
+            .iter()
+            .map(|c| c.profile.depths().len())
+            .sum();
+        let history = points * sectors as f64 * 8.0;
+        if series + history <= RECORD_BUDGET_BYTES {
+            return Ok(());
+        }
+        let budget = format!("the record budget of {:.0} GiB", RECORD_BUDGET_BYTES / GIB);
+        Err(if series >= history {
+            Error::invalid(
+                "run.record_interval_s",
+                format!("{:e} s", run.record_interval),
+                format!(
+                    "an interval whose recording fits in {budget}: {} recorded rotations of \
+                     {period:.4e} s every {:e} s are {rows:.3e} rows x {columns} columns = \
+                     {:.3e} GiB; likely cause: an interval in the wrong unit (seconds) or too \
+                     many recorded rotations (run.record_rotations)",
+                    run.record_rotations,
+                    run.record_interval,
+                    series / GIB
+                ),
+            )
+        } else {
+            Error::invalid(
+                "run.profile_history_per_rotation",
+                run.profile_history_per_rotation,
+                format!(
+                    "a wear history that fits in {budget}: {points:.3e} profiles x {sectors} \
+                     sectors = {:.3e} GiB; likely cause: a history of every rotation of a long \
+                     run (save fewer per rotation, or use run.wear_snapshots)",
+                    history / GIB
+                ),
+            )
+        })
     }
 }
 
@@ -286,7 +492,15 @@ impl SceneFile {
 
     /// Validates and converts to SI.
     pub fn build(&self) -> Result<Scene> {
-        check_finite("gravity_m_s2", &self.gravity_m_s2)?;
+        if let Some(g) =
+            (self.gravity_m_s2.iter()).find(|g| !(g.is_finite() && g.abs() <= GRAVITY_M_S2))
+        {
+            return Err(Error::invalid(
+                "gravity_m_s2",
+                number(*g),
+                format!("finite components within ±{GRAVITY_M_S2:e} m/s² (1000 g)"),
+            ));
+        }
         if self.bodies.is_empty() {
             return Err(Error::invalid("bodies", "none", "at least one body"));
         }
@@ -303,13 +517,13 @@ impl SceneFile {
             }
             bodies.push(Body {
                 name: b.name.clone(),
-                mass: check_open(&f("mass_kg"), b.mass_kg, 0.0, 1e6)?,
-                inertia: check_open(&f("inertia_kg_m2"), b.inertia_kg_m2, 0.0, 1e6)?,
+                mass: within(&f("mass_kg"), b.mass_kg, &MASS_KG)?,
+                inertia: within(&f("inertia_kg_m2"), b.inertia_kg_m2, &INERTIA_KG_M2)?,
             });
-            check_finite(&f("position_mm"), &b.position_mm)?;
+            check_coordinates(&f("position_mm"), &b.position_mm)?;
             check_finite(&f("angle_deg"), &[b.angle_deg])?;
             for (name, p) in &b.points_mm {
-                check_finite(&f(&format!("points_mm.{name}")), p)?;
+                check_coordinates(&f(&format!("points_mm.{name}")), p)?;
             }
             guess.extend([
                 b.position_mm[0] * MM,
@@ -400,12 +614,15 @@ impl SceneFile {
                 "a mechanism that is not over-constrained",
             ));
         }
-        Ok(Scene {
+        let scene = Scene {
             title: self.title.clone(),
             mechanism,
             guess,
             run,
-        })
+        };
+        scene.check_record_budget()?;
+        scene.check_step_budget()?;
+        Ok(scene)
     }
 
     /// `Some(None)` for the ground, `Some(Some(i))` for body i, `None` if unknown.
@@ -432,7 +649,7 @@ impl SceneFile {
             Some(i) => &self.bodies[i].points_mm,
         };
         let p = points.get(point).ok_or_else(bad)?;
-        check_finite(field, p)?;
+        check_coordinates(field, p)?;
         Ok(BodyPoint {
             body: index,
             local: Vector2::new(p[0] * MM, p[1] * MM),
@@ -449,11 +666,10 @@ impl SceneFile {
         })?;
         let mf = format!("materials.{name}");
         Ok((
-            check_open(
+            within(
                 &format!("{mf}.youngs_modulus_gpa"),
                 m.youngs_modulus_gpa,
-                0.0,
-                1e4,
+                &YOUNGS_MODULUS_GPA,
             )? * GPA,
             check(&format!("{mf}.poisson_ratio"), m.poisson_ratio, 0.0, 0.4999)?,
         ))
@@ -470,7 +686,11 @@ impl SceneFile {
                 "a point on another body than the journal's",
             ));
         }
-        let r_bearing = check_open(&f("bearing_radius_mm"), c.bearing_radius_mm, 0.0, 1e4)? * MM;
+        let r_bearing = within(
+            &f("bearing_radius_mm"),
+            c.bearing_radius_mm,
+            &BEARING_RADIUS_MM,
+        )? * MM;
         let clearance = c.clearance_mm * MM;
         if !(clearance.is_finite() && clearance >= 0.0 && clearance < r_bearing) {
             return Err(Error::invalid(
@@ -502,6 +722,40 @@ impl SceneFile {
             )?,
         );
         validate_friction(&f("friction"), &c.friction)?;
+        let hertz = [
+            (
+                k.model == NormalForceModel::LankaraniNikravesh,
+                "contact.model",
+                "model = \"hybrid\" (the paper's law, whose elastic-foundation stiffness \
+                 holds down to zero clearance)",
+            ),
+            (
+                c.wear
+                    .as_ref()
+                    .is_some_and(|w| w.pressure == PressureModel::HertzLine),
+                "wear.pressure",
+                "pressure = \"elastic-foundation\" (the Winkler overlap model, valid for \
+                 conformal contact down to zero clearance)",
+            ),
+        ];
+        // mm over mm: the ratio of the numbers as written (1 µm in 10 mm is exactly 1e-4).
+        let ratio = c.clearance_mm / c.bearing_radius_mm;
+        if let Some((_, key, instead)) = hertz
+            .iter()
+            .find(|(hertz, _, _)| *hertz && ratio < MIN_HERTZ_CLEARANCE_RATIO)
+        {
+            return Err(Error::invalid(
+                f("clearance_mm"),
+                c.clearance_mm,
+                format!(
+                    "at least {MIN_HERTZ_CLEARANCE_RATIO:e} x the bearing radius ({} mm) with \
+                     the Hertz-based {key}: its contact half-width must stay small against the \
+                     radius, and as the clearance goes to zero it is unbounded (zero pressure); \
+                     use {instead}",
+                    number(MIN_HERTZ_CLEARANCE_RATIO * c.bearing_radius_mm)
+                ),
+            ));
+        }
         let (wear, sectors) = match &c.wear {
             None => (None, 8),
             Some(w) => {
@@ -516,7 +770,7 @@ impl SceneFile {
                 let law = WearLaw {
                     k_over_h: check(&f("wear.k_over_h_per_pa"), w.k_over_h_per_pa, 0.0, 1e-6)?,
                     pressure: w.pressure,
-                    length: check_open(&f("wear.length_mm"), w.length_mm, 0.0, 1e4)? * MM,
+                    length: within(&f("wear.length_mm"), w.length_mm, &BEARING_LENGTH_MM)? * MM,
                     e_star,
                     r_bearing,
                     r_journal,
@@ -697,10 +951,15 @@ fn parse_table(text: &str, path: &Path, depth: usize) -> Result<toml::Table> {
             "`extends` chains deeper than {MAX_EXTENDS_DEPTH} (a cycle?)"
         )));
     }
-    let mut merged = read_table(
-        &path.parent().unwrap_or(Path::new(".")).join(base),
-        depth + 1,
-    )?;
+    let base_path = path.parent().unwrap_or(Path::new(".")).join(base);
+    // A base that cannot be read is this scene's error: name the scene that refers to it.
+    let mut merged = read_table(&base_path, depth + 1).map_err(|e| match e {
+        Error::Io { path: p, source } => parse_error(format!(
+            "`extends = \"{base}\"`: cannot read {}: {source}",
+            p.display()
+        )),
+        e => e,
+    })?;
     let overrides = match table.remove("overrides") {
         Some(toml::Value::Table(o)) => o,
         Some(_) => {

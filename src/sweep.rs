@@ -6,16 +6,16 @@
 //! * Case `k` is numbered in the order of the product, the last key varying fastest; shard
 //!   `I/N` (1-based) runs the cases with `k mod N = I − 1`, a slice that depends only on the
 //!   assignments, so independent jobs of a batch array cover every case exactly once and
-//!   [`merge`] puts their CSVs back in case order.
+//!   [`crate::sweep_file::merge`] puts their files back in case order.
 //! * Every case is built before any runs: a bad value stops the sweep as invalid input. A case
 //!   that fails while running gets its error in the `error` column; the others go on.
 
 use crate::analysis::{peaks, Motion, Peak};
-use crate::output::write_atomic;
 use crate::runs::PEAK_PROMINENCE;
 use crate::scene::{set_dotted, Scene, SceneFile};
 use crate::simulation::{simulate, RunOutput};
 use crate::statistics::{Band, Distribution};
+use crate::sweep_file::{fingerprint, write_sweep_file};
 use crate::{Error, Result};
 use rayon::prelude::*;
 use std::path::Path;
@@ -117,6 +117,22 @@ pub fn case_values(sets: &[Assignment], case: usize) -> Vec<&str> {
         .collect();
     values.reverse();
     values
+}
+
+/// `e` of case `case` (with `values`): a bad value names the case in its field.
+fn in_case(e: Error, case: usize, values: &[&str]) -> Error {
+    match e {
+        Error::Invalid {
+            field,
+            value,
+            expected,
+        } => Error::Invalid {
+            field: format!("{field} (case {case}: {})", values.join(", ")),
+            value,
+            expected,
+        },
+        e => e,
+    }
 }
 
 /// The scene document `doc` (read from `path`) with `values` assigned to the keys of `sets`.
@@ -320,6 +336,10 @@ pub struct Sweep {
     pub sets: Vec<Assignment>,
     /// Clearance joint names (identical in every case).
     pub joints: Vec<String>,
+    /// The sweep definition's fingerprint ([`crate::sweep_file::fingerprint`]).
+    pub fingerprint: String,
+    /// The part of the sweep this one runs.
+    pub shard: Shard,
     cases: Vec<(usize, Vec<String>, Scene)>,
 }
 
@@ -334,6 +354,12 @@ impl Sweep {
             let values = case_values(&sets, case);
             let mut scene = vary(&doc, path, &sets, &values)?;
             scene.run.record_rotations = scene.run.record_rotations.max(1);
+            scene.check_record_budget()?;
+            // A case whose loop cannot close is bad input: found before any case runs.
+            scene
+                .mechanism
+                .assemble(&scene.guess)
+                .map_err(|e| in_case(e, case, &values))?;
             let names: Vec<String> = scene
                 .mechanism
                 .clearance_joints
@@ -349,11 +375,28 @@ impl Sweep {
             }
             cases.push((case, values.iter().map(|v| v.to_string()).collect(), scene));
         }
+        // A shard without cases still writes the joint columns, which merging needs.
+        let joints = match joints {
+            Some(j) => j,
+            None => vary(&doc, path, &sets, &case_values(&sets, 0))?
+                .mechanism
+                .clearance_joints
+                .iter()
+                .map(|cj| cj.name.clone())
+                .collect(),
+        };
         Ok(Sweep {
+            fingerprint: fingerprint(&doc, &sets),
             sets,
-            joints: joints.unwrap_or_default(),
+            joints,
+            shard,
             cases,
         })
+    }
+
+    /// Keeps only the cases `keep` accepts (a resumed sweep drops its finished ones).
+    pub fn retain(&mut self, keep: impl Fn(usize) -> bool) {
+        self.cases.retain(|(case, _, _)| keep(*case));
     }
 
     pub fn len(&self) -> usize {
@@ -364,121 +407,34 @@ impl Sweep {
         self.cases.is_empty()
     }
 
-    /// Runs the cases in parallel, calling `done` after each; results in case order.
-    pub fn run(&self, done: impl Fn() + Sync) -> Vec<CaseResult> {
+    /// Runs the cases in parallel, calling `done` with each result as it finishes; results in
+    /// case order.
+    pub fn run(&self, done: impl Fn(&CaseResult) + Sync) -> Vec<CaseResult> {
         self.cases
             .par_iter()
             .map(|(case, values, scene)| {
                 let outcome = simulate(scene)
                     .map(|out| (summarize(scene, &out), out.wall_time))
                     .map_err(|e| e.to_string());
-                done();
-                CaseResult {
+                let result = CaseResult {
                     case: *case,
                     values: values.clone(),
                     outcome,
-                }
+                };
+                done(&result);
+                result
             })
             .collect()
     }
 
-    /// Writes the results as CSV, atomically.
+    /// Writes the results as this sweep's file ([`crate::sweep_file`]) in case order,
+    /// atomically.
     pub fn write(&self, path: &Path, results: &[CaseResult]) -> Result<()> {
-        let rows: Vec<Vec<String>> = results
-            .iter()
+        let rows = (results.iter())
             .map(|r| r.record(self.joints.len()))
             .collect();
-        write_records(path, &header(&self.sets, &self.joints), &rows)
+        write_sweep_file(path, &self.id(), &header(&self.sets, &self.joints), rows)
     }
-}
-
-fn csv_failure(path: &Path, e: csv::Error) -> Error {
-    Error::Parse {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    }
-}
-
-/// Writes a header and string records as CSV, atomically.
-fn write_records(path: &Path, header: &[String], rows: &[Vec<String>]) -> Result<()> {
-    write_atomic(path, |tmp| {
-        let mut w = csv::Writer::from_path(tmp).map_err(|e| csv_failure(tmp, e))?;
-        w.write_record(header).map_err(|e| csv_failure(tmp, e))?;
-        for row in rows {
-            w.write_record(row).map_err(|e| csv_failure(tmp, e))?;
-        }
-        w.flush().map_err(|source| Error::Io {
-            path: tmp.to_path_buf(),
-            source,
-        })
-    })
-}
-
-/// Joins shard CSVs into `out`: identical headers required, rows sorted by case, a case
-/// appearing twice is an error. Returns the number of rows.
-pub fn merge(inputs: &[impl AsRef<Path>], out: &Path) -> Result<usize> {
-    let mut header: Option<(Vec<String>, &Path)> = None;
-    let mut rows: Vec<(usize, Vec<String>)> = Vec::new();
-    for input in inputs {
-        let path = input.as_ref();
-        let mut r = csv::Reader::from_path(path).map_err(|e| match e.into_kind() {
-            csv::ErrorKind::Io(source) => Error::Io {
-                path: path.to_path_buf(),
-                source,
-            },
-            kind => Error::Parse {
-                path: path.to_path_buf(),
-                message: format!("{kind:?}"),
-            },
-        })?;
-        let h: Vec<String> = r
-            .headers()
-            .map_err(|e| csv_failure(path, e))?
-            .iter()
-            .map(str::to_owned)
-            .collect();
-        match &header {
-            None => header = Some((h, path)),
-            Some((first, from)) if *first != h => {
-                return Err(Error::invalid(
-                    format!("{} header", path.display()),
-                    h.join(","),
-                    format!("the header of {}: {}", from.display(), first.join(",")),
-                ))
-            }
-            Some(_) => {}
-        }
-        for (line, record) in r.records().enumerate() {
-            let record = record.map_err(|e| csv_failure(path, e))?;
-            let row: Vec<String> = record.iter().map(str::to_owned).collect();
-            let case = row[0].parse().map_err(|_| Error::Parse {
-                path: path.to_path_buf(),
-                message: format!("data row {}: case `{}` is not an integer", line + 1, row[0]),
-            })?;
-            rows.push((case, row));
-        }
-    }
-    let Some((header, _)) = header else {
-        return Err(Error::invalid("inputs", "none", "at least one shard CSV"));
-    };
-    if header.first().map(String::as_str) != Some("case") {
-        return Err(Error::invalid(
-            "header",
-            header.join(","),
-            "a sweep CSV starting with `case`",
-        ));
-    }
-    rows.sort_by_key(|(case, _)| *case);
-    if let Some(w) = rows.windows(2).find(|w| w[0].0 == w[1].0) {
-        return Err(Error::invalid(
-            "case",
-            w[0].0,
-            "each case in only one shard CSV",
-        ));
-    }
-    let rows: Vec<Vec<String>> = rows.into_iter().map(|(_, r)| r).collect();
-    write_records(out, &header, &rows)?;
-    Ok(rows.len())
 }
 
 #[cfg(test)]

@@ -78,8 +78,10 @@ fn large_clearance() {
 #[test]
 fn zero_clearance() {
     let r = completes("zero_clearance");
-    // The Hertz line pressure degenerates at ΔR = 0 (infinite half-width, zero peak): no wear.
-    assert_eq!(r.max_wear, 0.0);
+    // Hertz line pressure is refused at ΔR = 0 (infinite half-width, zero peak); the scene
+    // uses the elastic-foundation pressure, which holds for conformal contact and wears the
+    // bearing: 7.8e-9 m in this rotation, of the order of the standard scene's.
+    assert!(r.max_wear > 1e-9 && r.max_wear < 1e-7, "{r:?}");
 }
 
 #[test]

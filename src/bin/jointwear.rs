@@ -6,15 +6,20 @@
 use clap::{Parser, Subcommand};
 use jointwear::ensemble::{self, member_offsets, EnsembleSettings, DEFAULT_SEED};
 use jointwear::figures::sector_angles_deg;
+use jointwear::interrupt;
 use jointwear::longlife::{predict, LongLife, LongLifeSettings};
-use jointwear::output::write_rows;
-use jointwear::output::{progress_bar, write_csv};
+use jointwear::output::{
+    check_output_dir, check_output_file, progress_bar, write_csv, write_outputs, write_rows,
+};
 use jointwear::plot::{render, Axes, Series, Shade, Style};
 use jointwear::scene::{Scene, SceneFile};
 use jointwear::simulation::{simulate_with_progress, RunOutput};
-use jointwear::statistics::QUANTILES;
-use jointwear::sweep::{header, joint_statistics, CaseResult};
-use jointwear::sweep::{merge, summarize, Assignment, Shard, Sweep};
+use jointwear::statistics::{Distribution, QUANTILES};
+use jointwear::sweep::{
+    header, joint_statistics, summarize, Assignment, CaseResult, JointStatistics, JointSummary,
+    Shard, Sweep,
+};
+use jointwear::sweep_file::{merge, JournaledSweep};
 use jointwear::Error;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -81,13 +86,23 @@ enum Command {
         /// Summary CSV [default: out/<scene stem>/sweep.csv, or sweep-I-of-N.csv]
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Keep the finished cases of an interrupted sweep in --out and run only the others
+        #[arg(long)]
+        resume: bool,
     },
-    /// Join shard CSVs of one sweep, sorted by case.
+    /// Join the shard files of one sweep, sorted by case.
+    #[command(
+        after_help = "Refuses a shard of another sweep (fingerprint), a shard given twice and, \
+        unless --allow-partial, a missing or unfinished shard."
+    )]
     SweepMerge {
         #[arg(required = true)]
         inputs: Vec<PathBuf>,
         #[arg(long)]
         out: PathBuf,
+        /// Merge even if shards are missing or unfinished (the result can be --resume'd)
+        #[arg(long)]
+        allow_partial: bool,
     },
     /// Predict the wear after many rotations by cycle-jump extrapolation.
     Longlife {
@@ -133,10 +148,26 @@ impl Failure {
     }
 }
 
+impl Failure {
+    /// Like [`Failure::from`] for an error while reading the command's input (a scene): a
+    /// file that cannot be read is bad input too (exit code 2).
+    fn input(path: &Path, e: Error) -> Failure {
+        let unreadable = matches!(e, Error::Io { .. });
+        let mut f = Failure::from(path, e);
+        if unreadable {
+            f.code = 2;
+        }
+        f
+    }
+}
+
 type CliResult<T> = std::result::Result<T, Failure>;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(e) = interrupt::install() {
+        eprintln!("warning: {e}; an interrupted run may leave temporary files");
+    }
     let result = match cli.command {
         Command::Run {
             scene,
@@ -156,10 +187,13 @@ fn main() -> ExitCode {
             sets,
             shard,
             out,
-        } => sweep(&scene, &sets, shard.as_deref(), out),
-        Command::SweepMerge { inputs, out } => merge(&inputs, &out)
-            .map(|rows| println!("wrote {} ({rows} cases)", out.display()))
-            .map_err(|e| Failure::from(&out, e)),
+            resume,
+        } => sweep(&scene, &sets, shard.as_deref(), out, resume),
+        Command::SweepMerge {
+            inputs,
+            out,
+            allow_partial,
+        } => sweep_merge(&inputs, &out, allow_partial),
         Command::Longlife {
             scene,
             rotations,
@@ -176,6 +210,20 @@ fn main() -> ExitCode {
             ExitCode::from(f.code)
         }
     }
+}
+
+fn sweep_merge(inputs: &[PathBuf], out: &Path, allow_partial: bool) -> CliResult<()> {
+    check_output_file("--out", out).map_err(|e| Failure::from(out, e))?;
+    // Reading the inputs is reading input: an unreadable one is bad input.
+    let rows = merge(inputs, out, allow_partial).map_err(|e| {
+        if matches!(&e, Error::Io { path, .. } if inputs.contains(path)) {
+            Failure::input(out, e)
+        } else {
+            Failure::from(out, e)
+        }
+    })?;
+    println!("wrote {} ({rows} cases)", out.display());
+    Ok(())
 }
 
 /// `out/<scene stem>` unless given.
@@ -197,12 +245,13 @@ fn file_part(name: &str) -> String {
 }
 
 fn load(path: &Path) -> CliResult<Scene> {
-    Scene::load(path).map_err(|e| Failure::from(path, e))
+    Scene::load(path).map_err(|e| Failure::input(path, e))
 }
 
 fn run(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
     let scene = load(path)?;
     let dir = out_dir(path, out);
+    check_output_dir("--out", &dir).map_err(|e| Failure::from(path, e))?;
     let bar = progress_bar(scene.run.rotations as u64, "rotations");
     let result = simulate_with_progress(&scene, |done, total| {
         // While a run settles its length is unknown: the bar then counts settling rotations.
@@ -211,7 +260,9 @@ fn run(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
     });
     bar.finish_and_clear();
     let out = result.map_err(|e| Failure::from(path, e))?;
-    write_run(&scene, &out, &dir).map_err(|e| Failure::from(path, e))?;
+    let title = format!("jointwear run {}", path.display());
+    write_outputs(&dir, &title, || write_run(&scene, &out, &dir))
+        .map_err(|e| Failure::from(path, e))?;
     print_summary(&scene, &out);
     println!("outputs in {}", dir.display());
     Ok(())
@@ -220,9 +271,10 @@ fn run(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
 /// `run --ensemble`: members in parallel, their statistics as CSVs, a band plot and a summary.
 fn run_ensemble(path: &Path, out: Option<PathBuf>, settings: EnsembleSettings) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
-    settings.validate().map_err(bad)?;
+    settings.validate().map_err(|e| Failure::input(path, e))?;
     let scene = load(path)?;
     let dir = out_dir(path, out);
+    check_output_dir("--out", &dir).map_err(bad)?;
     let clock = std::time::Instant::now();
     let bar = progress_bar(settings.members as u64, "members");
     let members = ensemble::run(
@@ -234,6 +286,48 @@ fn run_ensemble(path: &Path, out: Option<PathBuf>, settings: EnsembleSettings) -
     bar.finish_and_clear();
     let members = members.map_err(bad)?;
     let wall = clock.elapsed().as_secs_f64();
+    let title = format!(
+        "jointwear run {} --ensemble {}",
+        path.display(),
+        settings.members
+    );
+    let stats = write_outputs(&dir, &title, || {
+        write_ensemble(&scene, &settings, &members, &dir)
+    })
+    .map_err(bad)?;
+    println!("{}", scene.title);
+    println!(
+        "  {} members (seed {}) of {} rotations in {wall:.2} s wall time",
+        settings.members, settings.seed, scene.run.rotations
+    );
+    for j in &stats {
+        println!("  joint {} (mean ± sd, [5 %, 95 %]):", j.name);
+        for (name, d) in &j.scalars {
+            if name == &"continuous_contact" {
+                let k = (d.mean * d.n as f64).round();
+                println!("    continuous contact in {k} of {} members", d.n);
+            } else if d.n > 0 {
+                println!(
+                    "    {name:22} {:.6e} ± {:.2e}  [{:.6e}, {:.6e}]",
+                    d.mean, d.sd, d.quantiles[0], d.quantiles[4]
+                );
+            }
+        }
+    }
+    println!("outputs in {}", dir.display());
+    Ok(())
+}
+
+/// One member of `run --ensemble`: its joint summaries, final wear profiles and wall time.
+type Member = (Vec<JointSummary>, Vec<Vec<f64>>, f64);
+
+/// The ensemble's CSVs and band plot; returns the statistics it wrote.
+fn write_ensemble(
+    scene: &Scene,
+    settings: &EnsembleSettings,
+    members: &[Member],
+    dir: &Path,
+) -> jointwear::Result<Vec<JointStatistics>> {
     let m = &scene.mechanism;
     let joints: Vec<String> = m.clearance_joints.iter().map(|c| c.name.clone()).collect();
     // One row per member: its offsets, then the sweep's per-joint columns.
@@ -256,54 +350,51 @@ fn run_ensemble(path: &Path, out: Option<PathBuf>, settings: EnsembleSettings) -
         row.extend(record.into_iter().skip(1));
         row
     });
-    write_rows(&dir.join("ensemble_members.csv"), &head, rows).map_err(bad)?;
-    let pairs: Vec<_> = members.into_iter().map(|(s, w, _)| (s, w)).collect();
-    let stats = joint_statistics(&scene, &pairs);
+    write_rows(&dir.join("ensemble_members.csv"), &head, rows)?;
+    let pairs: Vec<_> = members
+        .iter()
+        .map(|(s, w, _)| (s.clone(), w.clone()))
+        .collect();
+    let stats = joint_statistics(scene, &pairs);
     let q = QUANTILES.map(|p| format!("q{:02.0}", 100.0 * p));
     let mut head = vec!["joint", "quantity", "n", "mean", "sd", "min"];
     head.extend(q.iter().map(String::as_str));
     head.push("max");
+    let numbers = |d: &Distribution| -> Vec<String> {
+        [d.mean, d.sd, d.min]
+            .iter()
+            .chain(&d.quantiles)
+            .chain([&d.max])
+            .map(|x| format!("{x:e}"))
+            .collect()
+    };
     let mut rows = Vec::new();
     for j in &stats {
         for (name, d) in &j.scalars {
             let mut row = vec![j.name.clone(), name.to_string(), d.n.to_string()];
-            row.extend(
-                [d.mean, d.sd, d.min]
-                    .iter()
-                    .chain(&d.quantiles)
-                    .chain([&d.max])
-                    .map(|x| format!("{x:e}")),
-            );
+            row.extend(numbers(d));
             rows.push(row);
         }
     }
-    write_rows(&dir.join("ensemble_summary.csv"), &head, rows).map_err(bad)?;
+    write_rows(&dir.join("ensemble_summary.csv"), &head, rows)?;
     let mut series = Vec::new();
-    for j in stats.iter().filter(|j| j.wear.is_some()) {
-        let band = j.wear.as_ref().expect("filtered");
+    for j in &stats {
+        let Some(band) = &j.wear else { continue };
         let angles = sector_angles_deg(band.sectors.len());
         let mut head = vec!["angle_deg".to_string()];
         head.extend(["mean_m", "sd_m", "min_m"].map(String::from));
         head.extend(q.iter().map(|q| format!("{q}_m")));
         head.push("max_m".into());
         let rows = band.sectors.iter().zip(&angles).map(|(d, a)| {
-            [*a, d.mean, d.sd, d.min]
-                .iter()
-                .chain(&d.quantiles)
-                .chain([&d.max])
-                .map(|x| format!("{x:e}"))
-                .collect()
+            let mut row = vec![format!("{a:e}")];
+            row.extend(numbers(d));
+            row
         });
         let file = format!("ensemble_wear_{}.csv", file_part(&j.name));
-        write_rows(&dir.join(file), &head, rows).map_err(bad)?;
+        write_rows(&dir.join(file), &head, rows)?;
         let um = |v: Vec<f64>| v.iter().map(|x| x * 1e6).collect::<Vec<f64>>();
-        series.push((
-            j.name.clone(),
-            angles,
-            um(band.mean()),
-            um(band.quantile(0)),
-            um(band.quantile(4)),
-        ));
+        let (mean, lo, hi) = (um(band.mean()), um(band.quantile(0)), um(band.quantile(4)));
+        series.push((j.name.clone(), angles, mean, lo, hi));
     }
     if !series.is_empty() {
         let axes = Axes {
@@ -326,29 +417,9 @@ fn run_ensemble(path: &Path, out: Option<PathBuf>, settings: EnsembleSettings) -
                     .collect(),
             )
         };
-        render(&dir.join("wear.png"), &[axes]).map_err(bad)?;
+        render(&dir.join("wear.png"), &[axes])?;
     }
-    println!("{}", scene.title);
-    println!(
-        "  {} members (seed {}) of {} rotations in {wall:.2} s wall time",
-        settings.members, settings.seed, scene.run.rotations
-    );
-    for j in &stats {
-        println!("  joint {} (mean ± sd, [5 %, 95 %]):", j.name);
-        for (name, d) in &j.scalars {
-            if name == &"continuous_contact" {
-                let k = (d.mean * d.n as f64).round();
-                println!("    continuous contact in {k} of {} members", d.n);
-            } else if d.n > 0 {
-                println!(
-                    "    {name:22} {:.6e} ± {:.2e}  [{:.6e}, {:.6e}]",
-                    d.mean, d.sd, d.quantiles[0], d.quantiles[4]
-                );
-            }
-        }
-    }
-    println!("outputs in {}", dir.display());
-    Ok(())
+    Ok(stats)
 }
 
 /// Time series, final wear profiles and the default plots of a run.
@@ -501,7 +572,7 @@ fn print_summary(scene: &Scene, out: &RunOutput) {
 }
 
 fn check(path: &Path) -> CliResult<()> {
-    let file = SceneFile::read(path).map_err(|e| Failure::from(path, e))?;
+    let file = SceneFile::read(path).map_err(|e| Failure::input(path, e))?;
     let scene = file.build().map_err(|e| Failure::from(path, e))?;
     let m = &scene.mechanism;
     println!("{}: {}", path.display(), scene.title);
@@ -571,10 +642,45 @@ fn check(path: &Path) -> CliResult<()> {
         "degrees of freedom: {dof} (2 per clearance joint; {} with the clearance joints ideal)",
         dof - 2 * m.clearance_joints.len() as i64
     );
+    print_assembly(path, &scene)
+}
+
+/// Turn (deg) between a body's guessed and assembled angle beyond which `check` says the
+/// loop may have closed on another branch than the guess meant.
+const BRANCH_TURN_DEG: f64 = 30.0;
+
+/// Assembles `scene` at t = 0 as a run does and prints every body's pose, noting bodies
+/// assembled far from their guessed angle (another branch of the loop, e.g. elbow down).
+fn print_assembly(path: &Path, scene: &Scene) -> CliResult<()> {
+    let y = (scene.mechanism.assemble(&scene.guess)).map_err(|e| Failure::from(path, e))?;
+    println!("assembled pose at t = 0 (clearance joints centred):");
+    for (i, b) in scene.mechanism.bodies().iter().enumerate() {
+        let (x, y, angle) = (y[3 * i], y[3 * i + 1], y[3 * i + 2].to_degrees());
+        println!(
+            "  {:12} x {:10.4} mm, y {:10.4} mm, angle {:9.3} deg",
+            b.name,
+            x * 1e3,
+            y * 1e3,
+            angle
+        );
+        let turn = (angle - scene.guess[3 * i + 2].to_degrees() + 180.0).rem_euclid(360.0) - 180.0;
+        if turn.abs() > BRANCH_TURN_DEG {
+            println!(
+                "    note: {turn:.1} deg from its guessed angle: the loop may have closed on \
+                 another branch (elbow up/down) than the guess meant"
+            );
+        }
+    }
     Ok(())
 }
 
-fn sweep(path: &Path, sets: &[String], shard: Option<&str>, out: Option<PathBuf>) -> CliResult<()> {
+fn sweep(
+    path: &Path,
+    sets: &[String],
+    shard: Option<&str>,
+    out: Option<PathBuf>,
+    resume: bool,
+) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
     let sets = sets
         .iter()
@@ -594,33 +700,44 @@ fn sweep(path: &Path, sets: &[String], shard: Option<&str>, out: Option<PathBuf>
         };
         out_dir(path, None).join(name)
     });
-    let sweep = Sweep::new(path, sets, shard).map_err(bad)?;
+    let mut sweep = Sweep::new(path, sets, shard).map_err(|e| Failure::input(path, e))?;
+    check_output_file("--out", &out).map_err(bad)?;
+    if !resume && out.exists() {
+        eprintln!(
+            "{} exists: starting over (--resume keeps its finished cases)",
+            out.display()
+        );
+    }
+    let journaled = JournaledSweep::open(&mut sweep, &out, resume).map_err(bad)?;
+    interrupt::keep(format!(
+        "finished cases stay in {} (rerun with --resume to skip them)",
+        out.display()
+    ));
+    let id = journaled.id();
     eprintln!(
-        "{} cases in shard {}/{} on {} threads",
-        sweep.len(),
-        shard.index,
-        shard.count,
+        "{} cases in shard {}/{} ({} already finished) on {} threads",
+        id.cases,
+        id.shard.index,
+        id.shard.count,
+        journaled.finished(),
         rayon::current_num_threads()
     );
-    let bar = progress_bar(sweep.len() as u64, "cases");
-    let results = sweep.run(|| bar.inc(1));
+    let bar = progress_bar((id.cases - journaled.finished()) as u64, "cases");
+    let result = journaled.run(|| bar.inc(1));
     bar.finish_and_clear();
-    sweep.write(&out, &results).map_err(bad)?;
-    let failed: Vec<_> = results.iter().filter(|r| r.outcome.is_err()).collect();
-    println!("wrote {} ({} cases)", out.display(), results.len());
-    if failed.is_empty() {
-        return Ok(());
+    let (rows, failed) = result.map_err(bad)?;
+    println!("wrote {} ({rows} cases)", out.display());
+    match failed.first() {
+        None => Ok(()),
+        Some(first) => Err(Failure {
+            code: 1,
+            message: format!(
+                "{}: {} of {rows} cases failed (see the error column), first: case {first}",
+                path.display(),
+                failed.len(),
+            ),
+        }),
     }
-    Err(Failure {
-        code: 1,
-        message: format!(
-            "{}: {} of {} cases failed (see the error column), first: case {}",
-            path.display(),
-            failed.len(),
-            results.len(),
-            failed[0].case
-        ),
-    })
 }
 
 fn longlife(
@@ -639,13 +756,15 @@ fn longlife(
             "an integer in [1, 1e12]",
         )));
     }
-    let mut file = SceneFile::read(path).map_err(bad)?;
+    let mut file = SceneFile::read(path).map_err(|e| Failure::input(path, e))?;
     if let Some(k) = k_over_h {
         for w in file.clearance.iter_mut().filter_map(|c| c.wear.as_mut()) {
             w.k_over_h_per_pa = k;
         }
     }
     let scene = file.build().map_err(bad)?;
+    let dir = out_dir(path, out);
+    check_output_dir("--out", &dir).map_err(bad)?;
     let target = rotations as u64;
     let settings = LongLifeSettings {
         rotations: target,
@@ -658,8 +777,8 @@ fn longlife(
     let result = predict(&scene, &settings, |done, _| bar.set_position(done));
     bar.finish_and_clear();
     let life = result.map_err(bad)?;
-    let dir = out_dir(path, out);
-    write_longlife(&scene, &life, &dir).map_err(bad)?;
+    let title = format!("jointwear longlife {}", path.display());
+    write_outputs(&dir, &title, || write_longlife(&scene, &life, &dir)).map_err(bad)?;
     println!(
         "{}: {} rotations predicted from {} simulated in {:.1} s ({} blocks)",
         scene.title,

@@ -1,0 +1,77 @@
+//! Helpers of the end-to-end tests that run the built `jointwear` program.
+
+#![allow(dead_code)] // each test file uses a different subset
+
+use jointwear::scene::scene_path;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs `jointwear` with `args` to completion.
+pub fn jointwear(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_jointwear"))
+        .args(args)
+        .output()
+        .expect("jointwear runs")
+}
+
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A fresh, empty directory per test (`prefix` keeps test files apart).
+pub fn temp_dir(prefix: &str, name: &str) -> PathBuf {
+    let dir =
+        std::env::temp_dir().join(format!("jointwear-{prefix}-{}-{name}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The text of shipped scene `name` with each `(from, to)` replaced (each `from` must occur).
+pub fn scene_with(name: &str, replacements: &[(&str, &str)]) -> String {
+    let mut text = fs::read_to_string(scene_path(name)).unwrap();
+    for (from, to) in replacements {
+        assert!(text.contains(from), "{name}.toml lacks `{from}`");
+        text = text.replace(from, to);
+    }
+    text
+}
+
+/// The standard scene cut to `rotations` rotations (the last one recorded), plus
+/// `replacements`, written to `dir/name`.
+pub fn short_standard(
+    dir: &Path,
+    name: &str,
+    rotations: u32,
+    replacements: &[(&str, &str)],
+) -> PathBuf {
+    let rotations = format!("rotations = {rotations}");
+    let mut all = vec![
+        ("rotations = 40", rotations.as_str()),
+        ("record_rotations = 2", "record_rotations = 1"),
+        ("wear_snapshots = [10, 20, 30, 40]", "wear_snapshots = []"),
+    ];
+    all.extend_from_slice(replacements);
+    let path = dir.join(name);
+    fs::write(&path, scene_with("standard", &all)).unwrap();
+    path
+}
+
+pub fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// Asserts exit code `code` and that stderr contains every one of `needles`.
+#[track_caller]
+pub fn assert_fails(o: &Output, code: i32, needles: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(code), "stderr: {err}");
+    for n in needles {
+        assert!(err.contains(n), "stderr lacks `{n}`: {err}");
+    }
+}

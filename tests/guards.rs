@@ -1,0 +1,283 @@
+//! Failure modes of the `jointwear` program: each fails with its exit code (2 bad input, 1 a
+//! failure while running) and a message naming its cause, before any simulation where the
+//! cause is knowable up front.
+
+mod common;
+
+use common::*;
+use jointwear::scene::scene_path;
+use std::fs;
+
+/// A step limit that fails any simulation of two rotations within 100 steps (they need about
+/// 10 000), yet passes validation (at the 1 ms largest step they need at least 60).
+const FEW_STEPS: (&str, &str) = (
+    "record_interval_s = 1e-5",
+    "record_interval_s = 1e-5\nmax_steps = 100",
+);
+
+#[test]
+fn a_missing_scene_file_is_bad_input() {
+    let dir = temp_dir("guards", "missing");
+    let absent = dir.join("absent.toml");
+    for command in ["check", "run", "sweep", "longlife"] {
+        let o = jointwear(&[command, s(&absent)]);
+        assert_fails(&o, 2, &["absent.toml", "No such file"]);
+    }
+    let o = jointwear(&["sweep-merge", s(&absent), "--out", s(&dir.join("all.csv"))]);
+    assert_fails(&o, 2, &["absent.toml", "No such file"]);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_missing_extends_target_names_the_scene_that_refers_to_it() {
+    let dir = temp_dir("guards", "extends");
+    let child = dir.join("child.toml");
+    fs::write(&child, "extends = \"nope.toml\"\ntitle = \"child\"\n").unwrap();
+    let o = jointwear(&["check", s(&child)]);
+    assert_fails(
+        &o,
+        2,
+        &["child.toml", "extends = \"nope.toml\"", "nope.toml"],
+    );
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_command_line_values_are_bad_input() {
+    let std = scene_path("standard");
+    for args in [
+        vec!["longlife", s(&std), "--rotations", "many"],
+        vec!["longlife", s(&std), "--rotations", "nan"],
+        vec!["longlife", s(&std), "--max-change", "0"],
+        vec!["longlife", s(&std), "--k-over-h", "-1"],
+        vec!["longlife", s(&std), "--settle", "-3"],
+        vec!["sweep", s(&std), "--shard", "x"],
+        vec!["run", s(&std), "--no-such-option"],
+        vec!["no-such-command"],
+    ] {
+        let o = jointwear(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+    }
+}
+
+#[test]
+fn an_unusable_output_location_fails_before_simulating() {
+    let dir = temp_dir("guards", "out");
+    // A simulation would fail at its 100th step (exit 1): exit 2 shows none was run.
+    let scene = short_standard(&dir, "few-steps.toml", 2, &[FEW_STEPS]);
+    let file = dir.join("a-file");
+    fs::write(&file, "keep me").unwrap();
+    let below_file = file.join("sub");
+    for out in [&file, &below_file] {
+        for command in ["run", "longlife"] {
+            let o = jointwear(&[command, s(&scene), "--out", s(out)]);
+            assert_fails(&o, 2, &["`--out`", s(out), "is an existing file"]);
+        }
+        let o = jointwear(&["sweep", s(&scene), "--out", s(&out.join("sweep.csv"))]);
+        assert_fails(&o, 2, &["`--out`", "is an existing file"]);
+    }
+    let o = jointwear(&["sweep", s(&scene), "--out", s(&dir)]);
+    assert_fails(&o, 2, &["`--out`", "it is a directory"]);
+    assert_eq!(fs::read_to_string(&file).unwrap(), "keep me");
+    // The control: with a usable --out the same scene is simulated and stops at its step.
+    let o = jointwear(&["run", s(&scene), "--out", s(&dir.join("ok"))]);
+    assert_fails(&o, 1, &["step limit of 100 steps"]);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_recording_beyond_the_memory_budget_fails_at_validation() {
+    let dir = temp_dir("guards", "budget");
+    let tiny = (
+        "record_interval_s = 1e-5",
+        "record_interval_s = 1e-12\nmax_steps = 100",
+    );
+    let scene = short_standard(&dir, "tiny-interval.toml", 2, &[tiny]);
+    let needles = [
+        "`run.record_interval_s`: 1e-12 s",
+        "record budget of 2 GiB",
+        "rows x 29 columns",
+        "wrong unit",
+    ];
+    let out = dir.join("out");
+    for args in [
+        vec!["check", s(&scene)],
+        vec!["run", s(&scene), "--out", s(&out)],
+    ] {
+        assert_fails(&jointwear(&args), 2, &needles);
+    }
+    // A sweep records at least one rotation of every case, even of a scene that records none.
+    let scene = short_standard(
+        &dir,
+        "no-record.toml",
+        2,
+        &[FEW_STEPS, ("record_rotations = 1", "record_rotations = 0")],
+    );
+    let o = jointwear(&[
+        "sweep",
+        s(&scene),
+        "--set",
+        "run.record_interval_s=1e-5,1e-12",
+        "--out",
+        s(&dir.join("sweep.csv")),
+    ]);
+    assert_fails(&o, 2, &needles);
+    assert!(!dir.join("out").exists() && !dir.join("sweep.csv").exists());
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The four-bar with a 145 mm coupler, which cannot close: its pin A is 70 mm from the
+/// rocker pivot at crank angle 0, and the 70 mm rocker reaches at most 140 mm from it.
+const OPEN_FOURBAR: (&str, &str) = (
+    "points_mm = { A = [-45.0, 0.0], B = [45.0, 0.0] }",
+    "points_mm = { A = [-45.0, 0.0], B = [100.0, 0.0] }",
+);
+
+#[test]
+fn check_assembles_and_prints_the_pose_of_every_body() {
+    let o = jointwear(&["check", s(&scene_path("fourbar"))]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for line in [
+        "assembled pose at t = 0 (clearance joints centred):",
+        "  crank        x    15.0000 mm, y     0.0000 mm, angle     0.000 deg",
+        "  coupler      x    58.9286 mm, y    34.4694 mm, angle    49.995 deg",
+        "  rocker       x    93.9286 mm, y    34.4694 mm, angle    99.990 deg",
+    ] {
+        assert!(text.contains(line), "lacks `{line}`: {text}");
+    }
+    assert!(!text.contains("note:"), "{text}");
+    // A rocker guessed 100 deg off closes the loop elbow down, and check says so.
+    let dir = temp_dir("guards", "branch");
+    let scene = dir.join("far.toml");
+    let far = ("angle_deg = 100.0", "angle_deg = 200.0");
+    fs::write(&scene, scene_with("fourbar", &[far])).unwrap();
+    let text = stdout(&jointwear(&["check", s(&scene)]));
+    for line in [
+        "  coupler      x    58.9286 mm, y   -34.4694 mm, angle   -49.995 deg",
+        "    note: 60.0 deg from its guessed angle: the loop may have closed on another branch",
+    ] {
+        assert!(text.contains(line), "lacks `{line}`: {text}");
+    }
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_loop_that_cannot_close_is_bad_input_naming_its_joints_in_check_run_and_sweep() {
+    let dir = temp_dir("guards", "open");
+    let scene = dir.join("open.toml");
+    fs::write(&scene, scene_with("fourbar", &[OPEN_FOURBAR])).unwrap();
+    let needles = [
+        "`joints (assembly)`: the loop cannot close",
+        "revolute[2] (ground-rocker)",
+        "clearance joint `coupler-rocker` (coupler-rocker, held ideal)",
+    ];
+    let out = dir.join("out");
+    for args in [
+        vec!["check", s(&scene)],
+        vec!["run", s(&scene), "--out", s(&out)],
+    ] {
+        assert_fails(&jointwear(&args), 2, &needles);
+    }
+    // The sweep assembles every case before running any: the second case fails it.
+    let scene = dir.join("sweep.toml");
+    let text = scene_with(
+        "fourbar",
+        &[
+            ("rotations = 20 ", "rotations = 2 "),
+            ("wear_snapshots = [5, 10, 20]", "wear_snapshots = []"),
+        ],
+    );
+    fs::write(&scene, text).unwrap();
+    let csv = dir.join("sweep.csv");
+    let o = jointwear(&[
+        "sweep",
+        s(&scene),
+        "--set",
+        "bodies.1.points_mm.B=[45.0, 0.0],[100.0, 0.0]",
+        "--out",
+        s(&csv),
+    ]);
+    assert_fails(
+        &o,
+        2,
+        &["`joints (assembly) (case 1: [100.0, 0.0])`", needles[1]],
+    );
+    assert!(!csv.exists());
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_rerun_replaces_the_previous_run_and_leaves_other_files_alone() {
+    let dir = temp_dir("guards", "rerun");
+    let scene = short_standard(&dir, "one.toml", 1, &[]);
+    let out = dir.join("out");
+    fs::create_dir_all(&out).unwrap();
+    // A previous run's manifest lists a profile this run does not write; notes.txt is the
+    // user's.
+    let manifest = out.join("jointwear-manifest.txt");
+    fs::write(
+        &manifest,
+        "# jointwear run old.toml\nwear_old-joint.csv\ntimeseries.csv\n",
+    )
+    .unwrap();
+    fs::write(out.join("wear_old-joint.csv"), "stale").unwrap();
+    fs::write(out.join("timeseries.csv"), "stale").unwrap();
+    fs::write(out.join("notes.txt"), "mine").unwrap();
+    let o = jointwear(&["run", s(&scene), "--out", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let listed: Vec<String> = fs::read_to_string(&manifest)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(str::to_owned)
+        .collect();
+    let mut expected = [
+        "timeseries.csv",
+        "wear_rod-slider.csv",
+        "wear.png",
+        "trajectory.png",
+        "normal_force.png",
+    ];
+    let mut sorted = listed.clone();
+    sorted.sort();
+    expected.sort();
+    assert_eq!(sorted, expected);
+    let mut present: Vec<String> = fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    present.sort();
+    let mut wanted: Vec<String> = listed;
+    wanted.extend(["jointwear-manifest.txt".into(), "notes.txt".into()]);
+    wanted.sort();
+    assert_eq!(present, wanted);
+    assert_ne!(
+        fs::read_to_string(out.join("timeseries.csv")).unwrap(),
+        "stale"
+    );
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn an_interrupted_run_says_so_and_exits_130() {
+    let dir = temp_dir("guards", "interrupt");
+    // 100 000 rotations: still simulating when the signal comes.
+    let scene = short_standard(&dir, "long.toml", 100_000, &[]);
+    let out = dir.join("out");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_jointwear"))
+        .args(["run", s(&scene), "--out", s(&out)])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    let kill = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status();
+    assert!(kill.unwrap().success());
+    let o = child.wait_with_output().unwrap();
+    assert_fails(&o, 130, &["interrupted: no temporary outputs to remove"]);
+    assert!(!out.exists());
+    fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,218 @@
+//! Sweeps lose no work: rows are appended as cases finish, an interrupted sweep keeps them
+//! and `--resume` skips them; shard files name their sweep, and merging refuses a foreign,
+//! missing or unfinished shard.
+
+mod common;
+
+use common::*;
+use jointwear::sweep_file::SweepFile;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Two one-rotation cases of the standard scene.
+const TWO_CASES: [&str; 2] = ["--set", "driver.speed_rpm=-2000,-1000"];
+
+/// Runs a sweep of `scene` with `extra` arguments into `out`.
+fn sweep(scene: &Path, extra: &[&str], out: &Path) -> std::process::Output {
+    let mut args = vec!["sweep", s(scene)];
+    args.extend(extra);
+    args.extend(["--out", s(out)]);
+    jointwear(&args)
+}
+
+/// The cases of a sweep file's rows, in file order.
+fn cases(f: &SweepFile) -> Vec<&str> {
+    f.rows.iter().map(|r| r[0].as_str()).collect()
+}
+
+fn temporaries(dir: &Path) -> Vec<PathBuf> {
+    fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.to_string_lossy().contains(".tmp"))
+        .collect()
+}
+
+#[test]
+fn an_interrupted_sweep_keeps_its_finished_cases() {
+    let dir = temp_dir("sweeps", "interrupt");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let out = dir.join("sweep.csv");
+    // Case 0 takes one rotation, case 1 a hundred thousand: on one thread the signal comes
+    // after exactly one finished row.
+    let child = Command::new(env!("CARGO_BIN_EXE_jointwear"))
+        .args([
+            "sweep",
+            s(&scene),
+            "--set",
+            "run.rotations=1,100000",
+            "--out",
+            s(&out),
+        ])
+        .env("RAYON_NUM_THREADS", "1")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    let one_row = || SweepFile::read(&out).is_ok_and(|f| f.rows.len() == 1);
+    while !one_row() {
+        // A guard against a hang, not the measure of the test.
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no row after 60 s"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let kill = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status();
+    assert!(kill.unwrap().success());
+    let o = child.wait_with_output().unwrap();
+    assert_fails(
+        &o,
+        130,
+        &[
+            "interrupted",
+            &format!("finished cases stay in {}", out.display()),
+            "--resume",
+        ],
+    );
+    let f = SweepFile::read(&out).unwrap();
+    assert_eq!(cases(&f), ["0"]);
+    assert_eq!((f.id.cases, f.id.total), (2, 2));
+    assert!(
+        f.rows[0].last().unwrap().is_empty(),
+        "case 0 failed: {:?}",
+        f.rows[0]
+    );
+    assert!(temporaries(&dir).is_empty(), "{:?}", temporaries(&dir));
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn resume_skips_finished_cases_and_refuses_another_sweep() {
+    let dir = temp_dir("sweeps", "resume");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let out = dir.join("sweep.csv");
+    let o = sweep(&scene, &TWO_CASES, &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let whole = fs::read_to_string(&out).unwrap();
+    let lines: Vec<&str> = whole.lines().collect();
+    assert!(
+        lines[0].starts_with("# jointwear sweep fingerprint="),
+        "{whole}"
+    );
+    assert!(lines[0].ends_with(" shard=1/1 cases=2 total=2"), "{whole}");
+    assert_eq!(lines.len(), 4);
+    // As a kill leaves it: case 1 not finished, its row cut mid-line.
+    fs::write(
+        &out,
+        format!("{}\n{}\n{}\n1,-1000,4.2", lines[0], lines[1], lines[2]),
+    )
+    .unwrap();
+    let o = sweep(&scene, &[&TWO_CASES[..], &["--resume"]].concat(), &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("2 cases in shard 1/1 (1 already finished)"),
+        "{}",
+        stderr(&o)
+    );
+    let resumed = fs::read_to_string(&out).unwrap();
+    let again: Vec<&str> = resumed.lines().collect();
+    // Case 0 is not run again: its row, wall time included, is the one that was there.
+    assert_eq!(again[..3], lines[..3]);
+    assert!(again[3].starts_with("1,-1000,"), "{resumed}");
+    // Resuming into the file of another sweep or shard is bad input.
+    for extra in [
+        vec!["--set", "driver.speed_rpm=-2000,-500", "--resume"],
+        vec![TWO_CASES[0], TWO_CASES[1], "--shard", "1/2", "--resume"],
+    ] {
+        let o = sweep(&scene, &extra, &out);
+        assert_fails(
+            &o,
+            2,
+            &[
+                "`--resume`",
+                "another scene, other --set values or another shard",
+            ],
+        );
+    }
+    assert_eq!(fs::read_to_string(&out).unwrap(), resumed);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn merge_refuses_missing_foreign_repeated_and_unfinished_shards() {
+    let dir = temp_dir("sweeps", "merge");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    // Three shards of two cases: the third has none, yet names its sweep and joint columns.
+    let shards: Vec<PathBuf> = (1..=3).map(|i| dir.join(format!("s{i}.csv"))).collect();
+    for (i, p) in shards.iter().enumerate() {
+        let shard = format!("{}/3", i + 1);
+        let o = sweep(&scene, &[TWO_CASES[0], TWO_CASES[1], "--shard", &shard], p);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let empty = SweepFile::read(&shards[2]).unwrap();
+    assert_eq!((empty.rows.len(), empty.id.cases), (0, 0));
+    assert!(
+        empty
+            .header
+            .iter()
+            .any(|h| h == "rod-slider.max_normal_force_n"),
+        "{:?}",
+        empty.header
+    );
+    let merged = dir.join("merged.csv");
+    let merge = |inputs: &[&PathBuf], extra: &[&str]| {
+        let mut args = vec!["sweep-merge"];
+        args.extend(inputs.iter().map(|p| s(p)));
+        args.extend(extra);
+        args.extend(["--out", s(&merged)]);
+        jointwear(&args)
+    };
+    let o = merge(&[&shards[2], &shards[0], &shards[1]], &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let whole = SweepFile::read(&merged).unwrap();
+    assert_eq!(cases(&whole), ["0", "1"]);
+    assert_eq!(whole.id.shard.count, 1);
+
+    assert_fails(
+        &merge(&[&shards[0], &shards[2]], &[]),
+        2,
+        &["no shard 2/3", "--allow-partial"],
+    );
+    assert_fails(
+        &merge(&[&shards[0], &shards[0], &shards[1]], &[]),
+        2,
+        &["each shard once"],
+    );
+    // A shard of another sweep (other values) is refused, even with --allow-partial.
+    let foreign = dir.join("foreign.csv");
+    let other = ["--set", "driver.speed_rpm=-2000,-500", "--shard", "2/3"];
+    assert!(sweep(&scene, &other, &foreign).status.success());
+    for extra in [&[][..], &["--allow-partial"]] {
+        let o = merge(&[&shards[0], &foreign, &shards[2]], extra);
+        assert_fails(&o, 2, &["foreign.csv", "a shard of another sweep"]);
+    }
+    // An unfinished shard: its row lost to an interruption.
+    let text = fs::read_to_string(&shards[1]).unwrap();
+    let cut: Vec<&str> = text.lines().take(2).collect();
+    fs::write(&shards[1], cut.join("\n") + "\n").unwrap();
+    assert_fails(
+        &merge(&[&shards[0], &shards[1], &shards[2]], &[]),
+        2,
+        &["0 of its 1 cases", "--resume"],
+    );
+
+    // --allow-partial merges what there is, into a file that --resume completes.
+    let o = merge(&[&shards[0], &shards[1], &shards[2]], &["--allow-partial"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(cases(&SweepFile::read(&merged).unwrap()), ["0"]);
+    let o = sweep(&scene, &[TWO_CASES[0], TWO_CASES[1], "--resume"], &merged);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(cases(&SweepFile::read(&merged).unwrap()), ["0", "1"]);
+    fs::remove_dir_all(&dir).unwrap();
+}

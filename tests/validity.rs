@@ -1,0 +1,183 @@
+//! Validity limits of the scene values: what the models cannot describe is refused when the
+//! scene is built, naming the field, the value, the limit and the likely cause.
+
+use jointwear::contact::NormalForceModel;
+use jointwear::scene::{scene_path, MethodSpec, SceneFile};
+use jointwear::wear::PressureModel;
+
+fn standard() -> SceneFile {
+    SceneFile::read(scene_path("standard")).unwrap()
+}
+
+/// The message of building `f`, which must fail.
+#[track_caller]
+fn refused(f: &SceneFile) -> String {
+    match f.build() {
+        Ok(_) => panic!("the scene was accepted"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn the_record_budget_admits_fine_grids_and_refuses_absurd_ones() {
+    // Standard scene: 2 recorded rotations of 30 ms, 29 columns: 2 GiB holds 9.26e6 rows,
+    // an interval of 6.5 ns.
+    let mut f = standard();
+    f.run.record_interval_s = 1e-8;
+    f.build().unwrap();
+    f.run.record_interval_s = 1e-9;
+    let msg = refused(&f);
+    assert!(
+        msg.contains("`run.record_interval_s`") && msg.contains("6.000e7 rows"),
+        "{msg}"
+    );
+    let mut f = standard();
+    f.run.profile_history_per_rotation = 3600;
+    f.run.rotations = 1_000_000;
+    f.run.wear_snapshots.clear();
+    let msg = refused(&f);
+    assert!(
+        msg.contains("`run.profile_history_per_rotation`") && msg.contains("3.600e9 profiles"),
+        "{msg}"
+    );
+}
+
+/// What is varied, how, and what the message must contain.
+type Case = (&'static str, fn(&mut SceneFile), &'static [&'static str]);
+
+#[test]
+fn implausible_masses_moduli_and_lengths_are_refused_with_their_reason() {
+    let cases: [Case; 6] = [
+        (
+            "slider mass",
+            |f| f.bodies[2].mass_kg = 1e-300,
+            &[
+                "`bodies[2].mass_kg`: 1e-300",
+                "[1e-6, 1e6]",
+                "infinite penetration",
+                "wrong unit",
+            ],
+        ),
+        (
+            "inertia",
+            |f| f.bodies[0].inertia_kg_m2 = 1e-20,
+            &["`bodies[0].inertia_kg_m2`: 1e-20", "[1e-12, 1e6]"],
+        ),
+        (
+            "modulus",
+            |f| f.materials.get_mut("steel").unwrap().youngs_modulus_gpa = 1e-300,
+            &[
+                "`materials.steel.youngs_modulus_gpa`: 1e-300",
+                "[1e-1, 1e4]",
+                "elastomers",
+                "Pa or MPa",
+            ],
+        ),
+        (
+            "bearing length",
+            |f| f.clearance[0].wear.as_mut().unwrap().length_mm = 1e-300,
+            &[
+                "`clearance[0].wear.length_mm`: 1e-300",
+                "[1e-1, 1e4]",
+                "1/L",
+                "zero force",
+            ],
+        ),
+        (
+            "coordinates",
+            |f| {
+                f.bodies[1]
+                    .points_mm
+                    .insert("A".into(), [1e300, 0.0])
+                    .map(|_| ())
+                    .unwrap()
+            },
+            &["`bodies[1].points_mm.A`: 1e300", "±1e6 mm"],
+        ),
+        (
+            "gravity",
+            |f| f.gravity_m_s2 = [0.0, -1e5],
+            &["`gravity_m_s2`: -100000", "1000 g"],
+        ),
+    ];
+    for (what, modify, needles) in cases {
+        let mut f = standard();
+        modify(&mut f);
+        let msg = refused(&f);
+        for n in needles {
+            assert!(msg.contains(n), "{what}: lacks `{n}`: {msg}");
+        }
+    }
+    // The limits themselves are valid.
+    let mut f = standard();
+    f.bodies[2].mass_kg = 1e-6;
+    f.bodies[0].inertia_kg_m2 = 1e-12;
+    f.materials.get_mut("steel").unwrap().youngs_modulus_gpa = 0.1;
+    f.clearance[0].wear.as_mut().unwrap().length_mm = 0.1;
+    f.build().unwrap();
+}
+
+#[test]
+fn hertz_laws_are_refused_at_tiny_clearances_and_elastic_foundation_wears_at_zero() {
+    for clearance_mm in [0.0, 9e-4] {
+        let mut f = standard();
+        f.clearance[0].clearance_mm = clearance_mm;
+        let msg = refused(&f);
+        for n in [
+            "`clearance[0].clearance_mm`",
+            "at least 1e-4 x the bearing radius (0.001 mm)",
+            "wear.pressure",
+            "pressure = \"elastic-foundation\"",
+            "down to zero clearance",
+        ] {
+            assert!(msg.contains(n), "c = {clearance_mm} mm: lacks `{n}`: {msg}");
+        }
+        // Without wear the Lankarani-Nikravesh force law is refused for the same reason.
+        f.clearance[0].wear = None;
+        f.clearance[0].contact.model = NormalForceModel::LankaraniNikravesh;
+        let msg = refused(&f);
+        assert!(
+            msg.contains("contact.model") && msg.contains("model = \"hybrid\""),
+            "{msg}"
+        );
+    }
+    // 1 µm in a 10 mm bearing is the limit itself.
+    let mut f = standard();
+    f.clearance[0].clearance_mm = 0.001;
+    f.build().unwrap();
+    // At zero clearance the elastic-foundation pressure is finite and non-zero: 435 N wears.
+    let mut f = standard();
+    f.clearance[0].clearance_mm = 0.0;
+    f.clearance[0].wear.as_mut().unwrap().pressure = PressureModel::ElasticFoundation;
+    let scene = f.build().unwrap();
+    let law = scene.mechanism.clearance_joints[0].wear.unwrap();
+    let p = law.pressure(435.0, 1e-6, 0.0);
+    // Full overlap at ΔR = 0: a cosine over a half circle, peak 2F/(π R L).
+    let expected = 2.0 * 435.0 / (std::f64::consts::PI * 0.01 * 0.02);
+    assert!((p.peak - expected).abs() < 1e-9 * expected, "{p:?}");
+}
+
+#[test]
+fn a_step_too_small_to_finish_within_the_step_limit_is_refused() {
+    // 40 rotations of 30 ms in at most 2e7 steps: the largest step must be at least 6e-8 s.
+    let mut f = standard();
+    f.run.max_step_s = 1e-300;
+    let msg = refused(&f);
+    for n in [
+        "`run.max_step_s`: 1e-300 s",
+        "run.max_steps = 20000000",
+        "1.200e300 steps",
+        "wrong unit",
+    ] {
+        assert!(msg.contains(n), "lacks `{n}`: {msg}");
+    }
+    f.run.max_step_s = 6.1e-8;
+    f.build().unwrap();
+    f.run.method = MethodSpec::Rk4;
+    f.run.fixed_step_s = Some(1e-9);
+    let msg = refused(&f);
+    assert!(
+        msg.contains("`run.fixed_step_s`: 1e-9 s") && msg.contains("1.200e9 steps"),
+        "{msg}"
+    );
+}
