@@ -7,18 +7,20 @@
 //! configuration with every clearance joint's journal centre displaced by
 //!
 //! ```text
-//! e₀ = r √u (cos 2πv, sin 2πv)   in the journal body's frame,   r = OFFSET_RADIUS = 10 nm,
+//! d = r √u (cos 2πv, sin 2πv)   in the journal body's frame,   r = OFFSET_RADIUS = 10 nm,
 //! ```
 //!
-//! uniform over a disc, with `u, v ∈ [0, 1)` drawn by SplitMix64 from (seed, member, joint).
+//! uniform over a disc, with `u, v ∈ [0, 1)` drawn by SplitMix64 from (seed, member, joint); the
+//! journal centre starts at `e₀ = R(φ_J) d` from the bearing centre (global frame, φ_J the
+//! journal body's initial angle).
 //! Why this perturbation: the paper starts with the journal centred, a position no
 //! measurement or manufacturing process fixes to better than micrometres; 10 nm is 5·10⁻⁴ of the
 //! smallest clearance studied (20 µm) and a thousandth of a ground surface's roughness, so it
 //! is physically negligible, yet it is above the integrator's tolerance, so members take
 //! independent step sequences. Where the motion is not chaotic (the journal resting on the
 //! bottom of the bearing at 30 r/min) the offsets wash out: the members' deepest wear agrees to
-//! 1e-3 after ten rotations (`tests/ensemble.rs`) and to 1e-4 after forty (`paper.md`); where it
-//! is chaotic, they sample the attractor. The offset enters through the assembly (the journal point is moved in its
+//! 1e-3 after ten rotations (`tests/ensemble.rs`) and to 1e-4 after forty (its sd over its mean
+//! in `data/golden/ensemble.toml`); where it is chaotic, they sample the attractor. The offset enters through the assembly (the journal point is moved in its
 //! body before the ideal-joint configuration is solved), so every ideal joint holds exactly.
 //!
 //! Members run in parallel (rayon); each depends only on its index and the seed, and results
@@ -94,8 +96,8 @@ fn unit(bits: u64) -> f64 {
     (bits >> 11) as f64 / (1u64 << 53) as f64
 }
 
-/// The initial journal offset of each of `joints` clearance joints of `member` (m, journal
-/// body frame).
+/// The initial journal offset `d` of each of `joints` clearance joints of `member` (m, in the
+/// journal body's frame).
 pub fn member_offsets(seed: u64, member: usize, joints: usize) -> Vec<Vector2<f64>> {
     let stream = splitmix64(splitmix64(seed) ^ member as u64);
     (0..joints as u64)
@@ -108,14 +110,9 @@ pub fn member_offsets(seed: u64, member: usize, joints: usize) -> Vec<Vector2<f6
         .collect()
 }
 
-/// Runs member `member` of `scene` with `settings`: assembles with the member's offsets, then
-/// simulates.
-pub fn run_member(
-    scene: &Scene,
-    settings: &RunSettings,
-    seed: u64,
-    member: usize,
-) -> Result<RunOutput> {
+/// The initial state of member `member` of `scene`: the ideal-joint configuration with every
+/// journal centre at its offset `e₀ = R(φ_J) d` (see the module documentation).
+pub fn member_state(scene: &Scene, seed: u64, member: usize) -> Result<Vec<f64>> {
     let joints = scene.mechanism.clearance_joints.len();
     let mut shifted = scene.mechanism.clone();
     for (cj, d) in shifted
@@ -123,9 +120,19 @@ pub fn run_member(
         .iter_mut()
         .zip(member_offsets(seed, member, joints))
     {
-        cj.journal.local += d;
+        cj.journal.local -= d;
     }
-    let y0 = shifted.assemble(&scene.guess)?;
+    shifted.assemble(&scene.guess)
+}
+
+/// Runs member `member` of `scene` with `settings` from [`member_state`].
+pub fn run_member(
+    scene: &Scene,
+    settings: &RunSettings,
+    seed: u64,
+    member: usize,
+) -> Result<RunOutput> {
+    let y0 = member_state(scene, seed, member)?;
     let mut sim = Simulation::new(scene.mechanism.clone(), settings.clone(), &y0);
     sim.run_to_end(|_, _| {})?;
     Ok(sim.finish())
@@ -133,7 +140,8 @@ pub fn run_member(
 
 /// Runs the members of an ensemble of `scene` with the scene's run settings in parallel,
 /// maps each output by `keep(member, output)` (so a large output need not be held), and
-/// returns them in member order. The first failing member's error is returned, naming it.
+/// returns them in member order. If members fail, one of their errors is returned, naming its
+/// member.
 pub fn run<T: Send>(
     scene: &Scene,
     ensemble: &EnsembleSettings,

@@ -465,7 +465,14 @@ fn profile_figure(runs: &Runs, name: &str, cases: &[(&str, f64, String)]) -> Res
             curves,
         ));
     }
-    let angles = sector_angles_deg(panels[0].2[0].mean.len());
+    let sectors = panels
+        .iter()
+        .flat_map(|p| p.2.first())
+        .map(|c| c.mean.len())
+        .next();
+    let angles = sector_angles_deg(sectors.ok_or_else(|| {
+        Error::invalid("run.wear_snapshots", "[]", "the snapshots the figure draws")
+    })?);
     let axes: Vec<Axes> = panels
         .iter()
         .map(|(_, t, c)| band_panel(t.clone(), &angles, c, WEAR_AXIS))
@@ -653,7 +660,10 @@ pub fn staircase_shares(e: &WearEnsemble) -> Vec<Vec<f64>> {
                 .iter()
                 .take(3)
                 .map(|p| {
-                    let depth: Vec<f64> = m.history.iter().map(|(_, d)| d[p.sector]).collect();
+                    // from the unworn bearing: the first history point is after one interval
+                    let depth: Vec<f64> = std::iter::once(0.0)
+                        .chain(m.history.iter().map(|(_, d)| d[p.sector]))
+                        .collect();
                     share_for_90pct(&depth)
                 })
                 .collect()

@@ -115,9 +115,23 @@ fn read_toml<T: for<'de> Deserialize<'de>>(path: PathBuf) -> Result<T> {
 }
 
 impl Golden {
-    /// Reads the golden file.
+    /// Reads the golden file; its Table 3 rows must be the cases of [`CASES`], in order.
     pub fn load() -> Result<Golden> {
-        read_toml(golden_path())
+        let golden: Golden = read_toml(golden_path())?;
+        let rows: Vec<(f64, f64)> = golden
+            .table3
+            .iter()
+            .map(|r| (r.clearance_mm, r.speed_rpm))
+            .collect();
+        let cases: Vec<(f64, f64)> = CASES.iter().map(|(_, c, s)| (*c, *s)).collect();
+        if rows != cases {
+            return Err(Error::invalid(
+                "data/golden/paper.toml table3",
+                format!("rows (clearance mm, r/min) {rows:?}"),
+                format!("the cases of runs::CASES in order: {cases:?}"),
+            ));
+        }
+        Ok(golden)
     }
 }
 
@@ -315,8 +329,9 @@ pub fn compare(
         };
         let se = (d.sd.powi(2) / d.n as f64 + r.sd.powi(2) / r.n as f64).sqrt();
         let bound = SIGMAS * se + r.floor;
-        // a NaN mean (no finite member) is a violation too
-        let inside = (d.mean - r.mean).abs() <= bound;
+        // a NaN mean (no finite member) is a violation too, and so is a member that no longer
+        // has the quantity (a wear region that disappeared)
+        let inside = (d.mean - r.mean).abs() <= bound && d.n == r.n;
         if !inside {
             out.push(Violation {
                 name: r.name.clone(),

@@ -39,11 +39,12 @@ impl Verdict {
         }
     }
 
-    /// `Reproduced` if all of `checks` hold, `Partly` if some do, else `NotReproduced`.
+    /// `Reproduced` if all of `checks` hold, `Partly` if some do, else `NotReproduced` (also
+    /// when there is nothing to check: a member without the regions a claim is about).
     fn of(checks: &[bool]) -> Verdict {
         match checks.iter().filter(|&&c| c).count() {
-            n if n == checks.len() => Verdict::Reproduced,
             0 => Verdict::NotReproduced,
+            n if n == checks.len() => Verdict::Reproduced,
             _ => Verdict::Partly,
         }
     }
@@ -251,7 +252,7 @@ pub fn claims(runs: &Runs, golden: &Golden) -> Result<Vec<Claim>> {
     );
     let std_we = we("standard");
     let region_angle = |target: f64| {
-        std_we.stat(move |m| {
+        std_we.angle_stat(move |m| {
             m.peak_angles()
                 .into_iter()
                 .min_by(|a, b| angle_distance(*a, target).total_cmp(&angle_distance(*b, target)))
@@ -283,7 +284,7 @@ pub fn claims(runs: &Runs, golden: &Golden) -> Result<Vec<Claim>> {
         "deepest region within 10 deg of 180; its lead (depth over the mean of the other two) grows from 10 to 40 rotations",
         format!(
             "deepest region at {} deg; lead {} after 10 rotations, {} after 40",
-            std_we.stat(|m| m.peaks.first().map_or(f64::NAN, |p| p.angle_deg)).mean_sd(1.0, 0),
+            std_we.angle_stat(|m| m.peaks.first().map_or(f64::NAN, |p| p.angle_deg)).mean_sd(1.0, 0),
             std_we.stat(|m| lead(m, 0)).mean_sd(1.0, 2),
             std_we.stat(|m| lead(m, last)).mean_sd(1.0, 2)
         ),
@@ -360,7 +361,7 @@ pub fn claims(runs: &Runs, golden: &Golden) -> Result<Vec<Claim>> {
     claim(
         "Fig. 10",
         "the regions experiencing wear are similar for all clearances",
-        "every region of the larger clearances within 20 deg of a region of the standard case (same member)",
+        "every region of the larger clearances within 20 deg of a region of the standard case",
         format!(
             "regions of the mean profiles at {} deg (0.2 mm) and {} deg (0.5 mm) against {} deg (0.02 mm)",
             regions("clearance_0.2mm"),
@@ -429,7 +430,7 @@ pub fn claims(runs: &Runs, golden: &Golden) -> Result<Vec<Claim>> {
         format!(
             "deepest wear at {} deg",
             we("speed_30rpm")
-                .stat(|m| m.peaks.first().map_or(f64::NAN, |p| p.angle_deg))
+                .angle_stat(|m| m.peaks.first().map_or(f64::NAN, |p| p.angle_deg))
                 .mean_sd(1.0, 0)
         ),
         &|m| {
@@ -878,7 +879,9 @@ pub fn write(
          remembers the onset velocity of each contact, so one trajectory's numbers depend on rounding. \
          Every case is run as an ensemble of {n} members whose journals start displaced by at most 10 nm \
          in a seeded random direction (`src/ensemble.rs` says why that perturbation); a number below is \
-         mean ± sd over the members, and each claim's rule is checked in every member. A claim is \
+         mean ± sd over the members, and each claim's rule is checked in every member; for a rule across \
+         cases, member i is the i-th member of each case, so the N members are N independent draws of the \
+         set of cases. A claim is \
          *reproduced* when its rule holds in at least {:.0} % of the members, *not reproduced* when it \
          fails entirely in at least {:.0} %, and *partly* otherwise; the tally says in how many members \
          each verdict holds.\n",
@@ -1047,14 +1050,21 @@ fn steady_state(m: &SteadyMember) -> &'static str {
 /// What the ensembles reveal: the steady states each case settles in, with their basins.
 fn ensemble_section(runs: &Runs) -> Result<String> {
     let n = runs.ensemble.members;
-    let mut md = String::from("### What the ensembles show: coexisting steady states\n\n");
+    let mut md = String::from("### What the ensembles show: where single runs disagree\n\n");
+    let settle = runs.steady("standard")?.scene.run.settle;
     let _ = writeln!(
         md,
-        "Each member settles (orbit repeating within 1 % of the clearance, or 60 rotations) and is then \
-         classified by its two recorded rotations: its motion mode (contact at least 90 % of the time or \
-         not), continuous contact split by whether the journal still leaves the wall at times. Where members \
-         of one case settle in different states, the case has coexisting steady states, and the share of members in each estimates its basin \
-         under a 10 nm uncertainty of the initial journal position:\n"
+        "Each member settles (orbit repeating within {} % of the clearance from one rotation to the next, or \
+         at most {} rotations) and is then classified by its two recorded rotations: its motion mode (in \
+         contact at least 90 % of the time or not), continuous contact split by whether the journal still \
+         leaves the wall at times. Where the members of a case fall into different states, one run's \
+         classification is a draw, and Table 3's motion column for that case is a probability rather than a \
+         property. Where every member of a state repeats its orbit, the state is a distinct periodic \
+         attractor; where the orbits never repeat (last column), these ensembles cannot tell coexisting \
+         attractors from one chaotic attractor whose recorded windows fall on either side of the \
+         threshold.\n",
+        settle.map_or(f64::NAN, |s| 100.0 * s.tolerance),
+        settle.map_or(0, |s| s.max_rotations)
     );
     let mut rows = Vec::new();
     for (name, c_mm, rpm) in CASES {
@@ -1099,14 +1109,15 @@ fn ensemble_section(runs: &Runs) -> Result<String> {
         &rows,
     );
     md.push_str(
-        "Why a case can settle in more than one state: eq. 3 scales the damping of every contact by the \
-         normal velocity captured at its onset, δ̇⁻, and keeps it until the contact ends. A contact entered \
-         gently keeps a small damping and can persist as continuous contact; one entered hard keeps a large \
-         damping, loses more energy per rebound and can lock into a repeating impact pattern. Which pattern \
-         a run falls into is decided by the first few onsets, and so by nanometres of initial offset: single \
-         runs of the same case can disagree qualitatively, which is why every number of this report is an \
-         ensemble statistic and every claim states in how many members it holds. Claims that hold in every \
-         member are properties of the model; claims that hold in some are properties of one basin.\n\n",
+        "A mechanism that makes runs of one case disagree, consistent with these ensembles but not measured \
+         by them: eq. 3 scales the damping of every contact by the normal velocity captured at its onset, \
+         δ̇⁻, and keeps it until the contact ends. A contact entered gently keeps a small damping and can \
+         persist as continuous contact; one entered hard keeps a large damping, loses more energy per \
+         rebound and can settle into a pattern of impacts. Which pattern a run falls into then depends on \
+         its first few onsets, and so on nanometres of initial offset: single runs of the same case can \
+         disagree qualitatively, which is why every number of this report is an ensemble statistic and every \
+         claim states in how many members it holds. Claims that hold in every member are properties of the \
+         model; claims that hold in some are properties of some of its runs.\n\n",
     );
     md.push_str(&convergence_section());
     Ok(md)

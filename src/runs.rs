@@ -7,7 +7,7 @@
 //! every member of every ensemble a caller needs in one parallel loop and keeps only what the
 //! figures and claims read, so the paper's whole reproduction holds a few megabytes per member.
 
-use crate::analysis::{peaks, wear_location, Motion, Peak};
+use crate::analysis::{peaks, Motion, Peak};
 use crate::concordance::{centred_cmf, Concordance};
 use crate::ensemble::{run_member, EnsembleSettings};
 use crate::scene::{scene_path, Scene, SceneFile};
@@ -82,8 +82,6 @@ pub struct SteadyMember {
     pub acc_wear_correlation: f64,
     /// Centred correlation of the wear rate with the normal force.
     pub force_wear_correlation: f64,
-    /// Bearing angle that collects most wear over the recorded rotations (deg).
-    pub wear_location_deg: f64,
     /// The time series, kept for the first member only (the one the figures draw).
     pub traces: Option<Traces>,
 }
@@ -113,10 +111,10 @@ impl WearMember {
     }
 
     /// (deepest − third region) / deepest: 0 when the three deepest regions are equal; `None`
-    /// with fewer than two regions.
+    /// with fewer than three regions.
     pub fn region_spread(&self) -> Option<f64> {
-        match &self.peaks[..self.peaks.len().min(3)] {
-            [a, .., c] => Some((a.depth - c.depth) / a.depth),
+        match &self.peaks[..] {
+            [a, _, c, ..] => Some((a.depth - c.depth) / a.depth),
             _ => None,
         }
     }
@@ -182,6 +180,12 @@ impl WearEnsemble {
     /// Distribution of `f` over the members.
     pub fn stat(&self, f: impl Fn(&WearMember) -> f64) -> Distribution {
         Distribution::of(self.members.iter().map(f))
+    }
+
+    /// Distribution of the angle `f` (deg) over the members, unwrapped around its circular
+    /// mean.
+    pub fn angle_stat(&self, f: impl Fn(&WearMember) -> f64) -> Distribution {
+        Distribution::of_angles_deg(self.members.iter().map(f))
     }
 }
 
@@ -279,7 +283,6 @@ pub fn steady_member(scene: &Scene, out: &RunOutput, keep_traces: bool) -> Resul
         max_wear_rate: max(&j.wear_rate),
         acc_wear_correlation: centred_cmf(&abs_acc, &j.wear_rate),
         force_wear_correlation: centred_cmf(&j.normal_force, &j.wear_rate),
-        wear_location_deg: wear_location(&j.theta, &j.wear_rate),
         traces: keep_traces.then(|| Traces {
             crank_deg: rec
                 .driver_angle
@@ -368,11 +371,12 @@ impl Runs {
             .par_iter()
             .map(|&(k, m)| {
                 let scene = &scenes[k];
-                let out = run_member(scene, &scene.run, ensemble.seed, m).map_err(|e| {
-                    Error::Integration {
-                        time: 0.0,
-                        cause: format!("{:?}, ensemble member {m}: {e}", needs[k]),
-                    }
+                let out = run_member(scene, &scene.run, ensemble.seed, m).map_err(|e| match e {
+                    Error::Integration { time, cause } => Error::Integration {
+                        time,
+                        cause: format!("{:?}, ensemble member {m}: {cause}", needs[k]),
+                    },
+                    e => e,
                 })?;
                 let r = match needs[k] {
                     Need::Steady(_) => MemberResult::Steady(steady_member(scene, &out, m == 0)?),
@@ -425,8 +429,9 @@ impl Runs {
     }
 
     /// The same ensembles cut to their first `n` members (an ensemble of `n`, for studies of
-    /// how statistics settle with the ensemble size).
+    /// how statistics settle with the ensemble size); at least one member is kept.
     pub fn first_members(&self, n: usize) -> Runs {
+        let n = n.max(1);
         Runs {
             ensemble: EnsembleSettings {
                 members: n.min(self.ensemble.members),

@@ -26,9 +26,12 @@ pub struct Distribution {
     pub quantiles: [f64; 5],
 }
 
-/// Type-7 quantile `p` of sorted values.
+/// Type-7 quantile `p` (clamped to [0, 1]) of sorted values; NaN when there are none.
 pub fn quantile(sorted: &[f64], p: f64) -> f64 {
-    let h = (sorted.len() - 1) as f64 * p;
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let h = (sorted.len() - 1) as f64 * p.clamp(0.0, 1.0);
     let j = h.floor() as usize;
     match sorted.get(j + 1) {
         Some(next) => sorted[j] + (h - j as f64) * (next - sorted[j]),
@@ -69,7 +72,8 @@ impl Distribution {
     }
 
     /// The distribution of angles in degrees, unwrapped around their circular mean (so 359° and
-    /// 1° average to 0°, not 180°); the mean and quantiles are wrapped back into [0, 360).
+    /// 1° average to 0°, not 180°); the mean, extremes and quantiles are wrapped back into
+    /// [0, 360), so a `min` above `max` says the range crosses 0°.
     pub fn of_angles_deg(values: impl IntoIterator<Item = f64>) -> Distribution {
         let v: Vec<f64> = values.into_iter().filter(|x| x.is_finite()).collect();
         let (s, c) = v.iter().fold((0.0, 0.0), |(s, c), a| {
@@ -87,8 +91,11 @@ impl Distribution {
         d
     }
 
-    /// Standard error of the mean, `sd / √n`.
+    /// Standard error of the mean, `sd / √n`; NaN for fewer than two values.
     pub fn standard_error(&self) -> f64 {
+        if self.n < 2 {
+            return f64::NAN;
+        }
         self.sd / (self.n as f64).sqrt()
     }
 

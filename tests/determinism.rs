@@ -67,6 +67,34 @@ fn recording_and_wear_history_change_nothing() {
 }
 
 #[test]
+fn settling_is_a_plain_run_of_as_many_rotations() {
+    // settling that gives up after 3 rotations (a tolerance no chaotic orbit meets), then 2 more
+    let mut f = SceneFile::read(scene_path("clearance_0.5mm")).unwrap();
+    f.run.settle = true;
+    f.run.steady_state = Some(jointwear::scene::SteadyStateSpec {
+        orbit_tolerance: 1e-9,
+        max_rotations: 3,
+    });
+    f.run.rotations = 2;
+    f.run.record_rotations = 1;
+    f.run.wear_snapshots.clear();
+    let settled = simulate(&f.build().unwrap()).unwrap();
+    assert_eq!(
+        settled.settling.map(|s| (s.rotations, s.steady)),
+        Some((3, false))
+    );
+    let mut g = SceneFile::read(scene_path("clearance_0.5mm")).unwrap();
+    g.run.rotations = 5;
+    g.run.record_rotations = 0;
+    g.run.wear_snapshots.clear();
+    let plain5 = simulate(&g.build().unwrap()).unwrap();
+    assert!(plain5.impacts[0] > 0);
+    assert_eq!(settled.final_wear, plain5.final_wear);
+    assert_eq!(settled.final_state, plain5.final_state);
+    assert_eq!(settled.stats, plain5.stats);
+}
+
+#[test]
 fn settling_phase_of_long_life_is_a_plain_run() {
     let s = scene(0, 0);
     let plain = simulate(&s).unwrap();

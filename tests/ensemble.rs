@@ -2,7 +2,9 @@
 //! motion is chaotic and agree where it is not, offsets that keep every ideal joint closed, and
 //! `jointwear run --ensemble` end to end.
 
-use jointwear::ensemble::{member_offsets, run, run_member, EnsembleSettings, OFFSET_RADIUS};
+use jointwear::ensemble::{
+    member_offsets, member_state, run, run_member, EnsembleSettings, OFFSET_RADIUS,
+};
 use jointwear::scene::{scene_path, Scene, SceneFile};
 use std::process::Command;
 
@@ -54,30 +56,29 @@ fn offsets_keep_every_ideal_joint_closed_and_move_the_journal_by_nanometres() {
     let mut m = scene.mechanism.clone();
     let base = m.assemble(&scene.guess).unwrap();
     let n = m.coordinates();
-    let centred = m.contact_kinematics(0, &base[..n], &base[n..2 * n]).e;
-    assert!(centred.norm() < 1e-12);
+    assert!(
+        m.contact_kinematics(0, &base[..n], &base[n..2 * n])
+            .e
+            .norm()
+            < 1e-12
+    );
+    let journal = scene.mechanism.clearance_joints[0].journal.body.unwrap();
     for member in 0..5 {
         let d = member_offsets(1, member, 1)[0];
-        let out = run_member(
-            &scene,
-            &jointwear::simulation::RunSettings {
-                rotations: 1,
-                ..scene.run.clone()
-            },
-            1,
-            member,
-        )
-        .unwrap();
-        assert!(out.final_wear[0].iter().all(|x| x.is_finite()));
-        // the assembled offset: move the journal point, assemble, measure with the real point
-        let mut shifted = scene.mechanism.clone();
-        shifted.clearance_joints[0].journal.local += d;
-        let y = shifted.assemble(&scene.guess).unwrap();
+        let y = member_state(&scene, 1, member).unwrap();
+        // e0 = R(phi_J) d, measured with the real journal point
         let e = m.contact_kinematics(0, &y[..n], &y[n..2 * n]).e;
-        approx::assert_relative_eq!(e.norm(), d.norm(), max_relative = 1e-6);
-        assert!(e.norm() <= OFFSET_RADIUS);
+        let rotated = nalgebra::Rotation2::new(y[3 * journal + 2]) * d;
+        assert!(
+            (e - rotated).norm() < 1e-6 * OFFSET_RADIUS,
+            "{e:?} vs {rotated:?}"
+        );
+        assert!(e.norm() <= OFFSET_RADIUS && e.norm() > 0.0);
         let phi = m.constraint_vector(0.0, &y[..n]);
         assert!(phi.iter().all(|p| p.abs() < 1e-12), "{phi:?}");
+        // the member's run starts from that state
+        let out = run_member(&scene, &scene.run, 1, member).unwrap();
+        assert!(out.final_wear[0].iter().all(|x| x.is_finite()));
     }
 }
 

@@ -38,11 +38,14 @@ fn main() {
         reason,
         quantity,
     };
+    let body = toml::to_string(&file).unwrap_or_else(|e| {
+        eprintln!("error: the statistics do not serialise: {e}");
+        std::process::exit(1)
+    });
     let text = format!(
         "# Recorded ensemble statistics of the model, written by `cargo run --release --bin \
          golden_record -- REASON`;\n# do not edit by hand. tests/golden.rs holds the model to them \
-         (src/golden.rs gives the bound).\n{}",
-        toml::to_string(&file).unwrap_or_default()
+         (src/golden.rs gives the bound).\n{body}"
     );
     let path = ensemble_path();
     exit_on_error(write_atomic(&path, |tmp| {

@@ -330,10 +330,13 @@ fn write_ensemble(
 ) -> jointwear::Result<Vec<JointStatistics>> {
     let m = &scene.mechanism;
     let joints: Vec<String> = m.clearance_joints.iter().map(|c| c.name.clone()).collect();
-    // One row per member: its offsets, then the sweep's per-joint columns.
+    // One row per member: its offsets d (journal body frame), then a sweep row's joint columns.
     let mut head = vec!["member".to_string()];
     for j in &joints {
-        head.extend([format!("{j}.offset_x_m"), format!("{j}.offset_y_m")]);
+        head.extend([
+            format!("{j}.offset_body_x_m"),
+            format!("{j}.offset_body_y_m"),
+        ]);
     }
     head.extend(header(&[], &joints).into_iter().skip(1));
     let rows = members.iter().enumerate().map(|(i, (summary, _, secs))| {
