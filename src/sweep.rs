@@ -11,11 +11,12 @@
 //!   that fails while running gets its error in the `error` column; the others go on.
 
 use crate::analysis::{peaks, Motion, Peak};
+use crate::ensemble::EnsembleSettings;
 use crate::runs::PEAK_PROMINENCE;
 use crate::scene::{set_dotted, Scene, SceneFile};
 use crate::simulation::{simulate, RunOutput};
 use crate::statistics::{Band, Distribution};
-use crate::sweep_file::{fingerprint, write_sweep_file};
+use crate::sweep_file::{fingerprint, salted, write_sweep_file};
 use crate::{Error, Result};
 use rayon::prelude::*;
 use std::path::Path;
@@ -190,21 +191,16 @@ impl JointSummary {
     pub fn scalars(&self) -> [(&'static str, f64); 7] {
         let peak = self.peaks.first();
         let motion = |f: fn(&Motion) -> f64| self.motion.as_ref().map_or(f64::NAN, f);
-        [
-            ("max_normal_force_n", self.max_normal_force),
-            ("max_penetration_m", self.max_penetration),
-            (
-                "peak_wear_angle_deg",
-                peak.map_or(f64::NAN, |p| p.angle_deg),
-            ),
-            ("peak_wear_depth_m", peak.map_or(f64::NAN, |p| p.depth)),
-            ("contact_fraction", motion(|m| m.contact_fraction)),
-            ("impacts_per_rotation", motion(|m| m.impacts_per_rotation)),
-            (
-                "continuous_contact",
-                motion(|m| f64::from(u8::from(m.mode() == "continuous contact"))),
-            ),
-        ]
+        let values = [
+            self.max_normal_force,
+            self.max_penetration,
+            peak.map_or(f64::NAN, |p| p.angle_deg),
+            peak.map_or(f64::NAN, |p| p.depth),
+            motion(|m| m.contact_fraction),
+            motion(|m| m.impacts_per_rotation),
+            motion(|m| f64::from(u8::from(m.mode() == "continuous contact"))),
+        ];
+        std::array::from_fn(|i| (SCALARS[i], values[i]))
     }
 }
 
@@ -232,8 +228,7 @@ pub fn joint_statistics(
         .iter()
         .enumerate()
         .map(|(k, cj)| {
-            let names = JointSummary::scalars(&members[0].0[k]).map(|(n, _)| n);
-            let scalars = names
+            let scalars = SCALARS
                 .iter()
                 .enumerate()
                 .map(|(i, &name)| {
@@ -280,18 +275,54 @@ pub fn header(sets: &[Assignment], joints: &[String]) -> Vec<String> {
     h
 }
 
+/// Header of a sweep CSV whose cases run as ensembles: after the set values the member count,
+/// then per joint the mean and sd of every scalar of [`JointSummary::scalars`].
+pub fn ensemble_header(sets: &[Assignment], joints: &[String]) -> Vec<String> {
+    let mut h = vec!["case".to_string()];
+    h.extend(sets.iter().map(|a| a.key.clone()));
+    h.push("members".into());
+    for j in joints {
+        for name in SCALARS {
+            h.extend([format!("{j}.{name}.mean"), format!("{j}.{name}.sd")]);
+        }
+    }
+    h.extend(["wall_time_s".to_string(), "error".to_string()]);
+    h
+}
+
+/// The names of [`JointSummary::scalars`], in order.
+pub const SCALARS: [&str; 7] = [
+    "max_normal_force_n",
+    "max_penetration_m",
+    "peak_wear_angle_deg",
+    "peak_wear_depth_m",
+    "contact_fraction",
+    "impacts_per_rotation",
+    "continuous_contact",
+];
+
+/// What a case measured: one run's joint summaries, or an ensemble's joint statistics.
+#[derive(Clone, Debug)]
+pub enum Outcome {
+    /// One run.
+    Run(Vec<JointSummary>),
+    /// An ensemble of this many members.
+    Ensemble(usize, Vec<JointStatistics>),
+}
+
 /// One case's outcome.
 #[derive(Clone, Debug)]
 pub struct CaseResult {
     pub case: usize,
     pub values: Vec<String>,
-    /// The joints' summaries and the wall time, or the error of the run.
-    pub outcome: std::result::Result<(Vec<JointSummary>, f64), String>,
+    /// What the case measured and the wall time, or the error of the run.
+    pub outcome: std::result::Result<(Outcome, f64), String>,
 }
 
 impl CaseResult {
-    /// The CSV record under [`header`] for `joints` clearance joints.
-    pub fn record(&self, joints: usize) -> Vec<String> {
+    /// The CSV record under the sweep's header, which has `cells` columns between the set
+    /// values and the wall time ([`Sweep::cells`]).
+    pub fn record(&self, cells: usize) -> Vec<String> {
         let mut r = vec![self.case.to_string()];
         r.extend(self.values.iter().cloned());
         let number = |x: f64| {
@@ -302,7 +333,16 @@ impl CaseResult {
             }
         };
         match &self.outcome {
-            Ok((summaries, wall)) => {
+            Ok((Outcome::Ensemble(members, stats), wall)) => {
+                r.push(members.to_string());
+                for j in stats {
+                    for (_, d) in &j.scalars {
+                        r.extend([number(d.mean), number(d.sd)]);
+                    }
+                }
+                r.extend([number(*wall), String::new()]);
+            }
+            Ok((Outcome::Run(summaries), wall)) => {
                 for s in summaries {
                     let peak = s.peaks.first();
                     r.extend([
@@ -320,10 +360,7 @@ impl CaseResult {
                 r.extend([number(*wall), String::new()]);
             }
             Err(e) => {
-                r.extend(std::iter::repeat_n(
-                    String::new(),
-                    joints * JOINT_COLUMNS.len() + 1,
-                ));
+                r.extend(std::iter::repeat_n(String::new(), cells + 1));
                 r.push(e.clone());
             }
         }
@@ -340,6 +377,8 @@ pub struct Sweep {
     pub fingerprint: String,
     /// The part of the sweep this one runs.
     pub shard: Shard,
+    /// Run every case as an ensemble of this size and seed.
+    pub ensemble: Option<EnsembleSettings>,
     cases: Vec<(usize, Vec<String>, Scene)>,
 }
 
@@ -390,8 +429,31 @@ impl Sweep {
             sets,
             joints,
             shard,
+            ensemble: None,
             cases,
         })
+    }
+
+    /// Runs every case as an ensemble; a different sweep, so it has its own fingerprint.
+    pub fn with_ensemble(mut self, ensemble: EnsembleSettings) -> Result<Sweep> {
+        ensemble.validate()?;
+        let salt = format!("ensemble {} seed {}", ensemble.members, ensemble.seed);
+        self.fingerprint = salted(&self.fingerprint, &salt);
+        self.ensemble = Some(ensemble);
+        Ok(self)
+    }
+
+    /// The header of this sweep's file.
+    pub fn header(&self) -> Vec<String> {
+        match self.ensemble {
+            Some(_) => ensemble_header(&self.sets, &self.joints),
+            None => header(&self.sets, &self.joints),
+        }
+    }
+
+    /// Columns between the set values and the wall time.
+    pub fn cells(&self) -> usize {
+        self.header().len() - self.sets.len() - 3
     }
 
     /// Keeps only the cases `keep` accepts (a resumed sweep drops its finished ones).
@@ -413,9 +475,12 @@ impl Sweep {
         self.cases
             .par_iter()
             .map(|(case, values, scene)| {
-                let outcome = simulate(scene)
-                    .map(|out| (summarize(scene, &out), out.wall_time))
-                    .map_err(|e| e.to_string());
+                let outcome = match &self.ensemble {
+                    None => simulate(scene)
+                        .map(|out| (Outcome::Run(summarize(scene, &out)), out.wall_time)),
+                    Some(e) => run_ensemble(scene, e),
+                }
+                .map_err(|e| e.to_string());
                 let result = CaseResult {
                     case: *case,
                     values: values.clone(),
@@ -430,11 +495,25 @@ impl Sweep {
     /// Writes the results as this sweep's file ([`crate::sweep_file`]) in case order,
     /// atomically.
     pub fn write(&self, path: &Path, results: &[CaseResult]) -> Result<()> {
-        let rows = (results.iter())
-            .map(|r| r.record(self.joints.len()))
-            .collect();
-        write_sweep_file(path, &self.id(), &header(&self.sets, &self.joints), rows)
+        let rows = (results.iter()).map(|r| r.record(self.cells())).collect();
+        write_sweep_file(path, &self.id(), &self.header(), rows)
     }
+}
+
+/// An ensemble of one case: its joint statistics and wall time.
+fn run_ensemble(scene: &Scene, settings: &EnsembleSettings) -> Result<(Outcome, f64)> {
+    let clock = std::time::Instant::now();
+    let members = crate::ensemble::run(
+        scene,
+        settings,
+        |_, out| (summarize(scene, &out), out.final_wear),
+        || (),
+    )?;
+    let stats = joint_statistics(scene, &members);
+    Ok((
+        Outcome::Ensemble(settings.members, stats),
+        clock.elapsed().as_secs_f64(),
+    ))
 }
 
 #[cfg(test)]

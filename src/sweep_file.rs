@@ -16,7 +16,7 @@
 //!   refuse a missing, repeated or unfinished shard; `total` is the whole sweep's case count.
 
 use crate::output::write_atomic;
-use crate::sweep::{case_count, header, Assignment, Shard, Sweep};
+use crate::sweep::{case_count, Assignment, Shard, Sweep};
 use crate::{Error, Result};
 use std::collections::HashSet;
 use std::fs::File;
@@ -89,6 +89,14 @@ pub fn fingerprint(doc: &toml::Value, sets: &[Assignment]) -> String {
         text.push_str(&format!("\u{1f}{}={}", a.key, a.values.join("\u{1e}")));
     }
     format!("{:016x}", fnv1a(text.as_bytes()))
+}
+
+/// A fingerprint combined with more of a sweep's definition (e.g. its ensemble size).
+pub fn salted(fingerprint: &str, salt: &str) -> String {
+    format!(
+        "{:016x}",
+        fnv1a(format!("{fingerprint}\u{1f}{salt}").as_bytes())
+    )
 }
 
 impl Sweep {
@@ -284,7 +292,7 @@ impl<'a> JournaledSweep<'a> {
     /// same sweep and shard (an error if it holds another) and drops their cases from `sweep`.
     pub fn open(sweep: &'a mut Sweep, out: &Path, resume: bool) -> Result<JournaledSweep<'a>> {
         let id = sweep.id();
-        let header = header(&sweep.sets, &sweep.joints);
+        let header = sweep.header();
         let kept = if resume {
             resume_rows(out, &id, &header)?
         } else {
@@ -325,17 +333,17 @@ impl<'a> JournaledSweep<'a> {
             kept,
             journal,
         } = self;
-        let joints = sweep.joints.len();
+        let cells = sweep.cells();
         let append_error = Mutex::new(None);
         let results = sweep.run(|r| {
-            if let Err(e) = journal.append(&r.record(joints)) {
+            if let Err(e) = journal.append(&r.record(cells)) {
                 let mut first = append_error.lock().unwrap_or_else(|e| e.into_inner());
                 first.get_or_insert(e);
             }
             done();
         });
         let mut rows = kept;
-        rows.extend(results.iter().map(|r| r.record(joints)));
+        rows.extend(results.iter().map(|r| r.record(cells)));
         let mut failed: Vec<usize> = (rows.iter())
             .filter(|r| r.last().is_some_and(|e| !e.is_empty()))
             .filter_map(|r| r[0].parse().ok())

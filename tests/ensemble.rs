@@ -128,3 +128,47 @@ fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--ensemble"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn sweep_runs_each_case_as_an_ensemble_with_mean_and_sd_columns() {
+    let dir = std::env::temp_dir().join(format!("jointwear-ens-sweep-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("sweep.csv");
+    let r = Command::new(env!("CARGO_BIN_EXE_jointwear"))
+        .args([
+            "sweep",
+            scene_path("standard").to_str().unwrap(),
+            "--set",
+            "run.rotations=1",
+            "--set",
+            "run.record_rotations=1",
+            "--set",
+            "run.wear_snapshots=[]",
+            "--set",
+            "clearance.0.clearance_mm=0.2,0.5",
+            "--ensemble",
+            "2",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 2);
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    for row in &rows {
+        assert_eq!(row[col("members")], "2");
+        let sd: f64 = row[col("rod-slider.peak_wear_depth_m.sd")].parse().unwrap();
+        let mean: f64 = row[col("rod-slider.peak_wear_depth_m.mean")]
+            .parse()
+            .unwrap();
+        assert!(mean > 0.0 && sd >= 0.0 && sd < mean, "{mean} {sd}");
+        assert!(row[col("error")].is_empty());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -17,7 +17,7 @@ use jointwear::simulation::{simulate_with_progress, RunOutput};
 use jointwear::statistics::{Distribution, QUANTILES};
 use jointwear::sweep::{
     header, joint_statistics, summarize, Assignment, CaseResult, JointStatistics, JointSummary,
-    Shard, Sweep,
+    Outcome, Shard, Sweep,
 };
 use jointwear::sweep_file::{merge, JournaledSweep};
 use jointwear::Error;
@@ -89,6 +89,13 @@ enum Command {
         /// Keep the finished cases of an interrupted sweep in --out and run only the others
         #[arg(long)]
         resume: bool,
+        /// Run every case as an ensemble of N members (see `run --ensemble`): mean and sd
+        /// columns of every quantity instead of one run's values
+        #[arg(long, value_name = "N")]
+        ensemble: Option<usize>,
+        /// Seed of the ensembles' initial offsets
+        #[arg(long, default_value_t = DEFAULT_SEED, requires = "ensemble")]
+        seed: u64,
     },
     /// Join the shard files of one sweep, sorted by case.
     #[command(
@@ -188,7 +195,12 @@ fn main() -> ExitCode {
             shard,
             out,
             resume,
-        } => sweep(&scene, &sets, shard.as_deref(), out, resume),
+            ensemble,
+            seed,
+        } => {
+            let ensemble = ensemble.map(|members| EnsembleSettings { members, seed });
+            sweep(&scene, &sets, shard.as_deref(), out, resume, ensemble)
+        }
         Command::SweepMerge {
             inputs,
             out,
@@ -347,9 +359,9 @@ fn write_ensemble(
         let record = CaseResult {
             case: i,
             values: Vec::new(),
-            outcome: Ok((summary.clone(), *secs)),
+            outcome: Ok((Outcome::Run(summary.clone()), *secs)),
         }
-        .record(joints.len());
+        .record(header(&[], &joints).len() - 3);
         row.extend(record.into_iter().skip(1));
         row
     });
@@ -683,6 +695,7 @@ fn sweep(
     shard: Option<&str>,
     out: Option<PathBuf>,
     resume: bool,
+    ensemble: Option<EnsembleSettings>,
 ) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
     let sets = sets
@@ -704,6 +717,11 @@ fn sweep(
         out_dir(path, None).join(name)
     });
     let mut sweep = Sweep::new(path, sets, shard).map_err(|e| Failure::input(path, e))?;
+    if let Some(e) = ensemble {
+        sweep = sweep
+            .with_ensemble(e)
+            .map_err(|e| Failure::input(path, e))?;
+    }
     check_output_file("--out", &out).map_err(bad)?;
     if !resume && out.exists() {
         eprintln!(
