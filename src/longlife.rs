@@ -12,7 +12,11 @@
 //!    `max_change · (c + max h)` (the joint's current effective clearance) per block, so the
 //!    contact geometry the increment was measured on stays representative;
 //! 4. repeat from 2, continuing the dynamics from the last simulated state, until the target
-//!    rotation count. Blocks also stop at the requested snapshot counts.
+//!    rotation count or until the deepest wear of a joint reaches its limit (`until`; by
+//!    default the joint's radial clearance, so the answer is "rotations until the clearance
+//!    doubles"). Blocks also stop at the requested snapshot counts, and never carry a sector
+//!    past the limit: the sample rotations after a block find the rotation that reaches it, to
+//!    within `sample_rotations`.
 //!
 //! Against brute-force simulation (`tests/longlife.rs`: 100 rotations of the standard scene
 //! with k/H accelerated to 5e-12 1/Pa, about 10 µm of wear on the 20 µm clearance, 2 % blocks)
@@ -27,7 +31,7 @@
 //! rotations are bit-identical to a plain run of that many rotations.
 
 use crate::scene::Scene;
-use crate::simulation::{RunSettings, Simulation};
+use crate::simulation::{RunSettings, Simulation, MAX_WEAR_RATIO};
 use crate::{Error, Result};
 
 /// Settings of a long-life prediction.
@@ -43,6 +47,10 @@ pub struct LongLifeSettings {
     pub max_change: f64,
     /// Rotation counts at which the profiles are saved (the final count is always saved).
     pub snapshots: Vec<u64>,
+    /// Wear depth (m) at which the prediction stops, for every joint; `None`: each joint's own
+    /// radial clearance (the clearance doubled). At most [`MAX_WEAR_RATIO`] of the bearing
+    /// radius.
+    pub until: Option<f64>,
 }
 
 impl Default for LongLifeSettings {
@@ -53,6 +61,7 @@ impl Default for LongLifeSettings {
             sample_rotations: 1,
             max_change: 0.02,
             snapshots: Vec::new(),
+            until: None,
         }
     }
 }
@@ -83,6 +92,11 @@ pub struct LongLife {
     pub simulated: u64,
     /// Radial clearance of each joint (m).
     pub clearances: Vec<f64>,
+    /// The wear-depth limit of each joint (m).
+    pub limits: Vec<f64>,
+    /// `(rotations, joint)` at which a joint's deepest wear first reached its limit; the
+    /// prediction stops there. `None`: not within the rotations asked for.
+    pub reached: Option<(u64, usize)>,
     /// Wall-clock time (s).
     pub wall_time: f64,
 }
@@ -129,6 +143,24 @@ pub fn predict(
         profile_history_per_rotation: 0,
         ..scene.run.clone()
     };
+    let limits: Vec<f64> = match settings.until {
+        None => clearances.clone(),
+        Some(d) => vec![d; clearances.len()],
+    };
+    for (cj, &l) in mechanism.clearance_joints.iter().zip(&limits) {
+        let most = MAX_WEAR_RATIO * cj.r_bearing;
+        if !(l > 0.0 && l <= most) {
+            return Err(Error::invalid(
+                "--until",
+                format!("{l:e} m for joint `{}`", cj.name),
+                format!(
+                    "a wear depth in (0, {most:e}] m: the wear model holds to {:.0} % of the \
+                     bearing radius (the default, the radial clearance, needs c > 0)",
+                    100.0 * MAX_WEAR_RATIO
+                ),
+            ));
+        }
+    }
     let mut sim = Simulation::new(mechanism, plain, &y0);
     let stage = |sim: &Simulation, rotations| Stage {
         rotations,
@@ -159,27 +191,56 @@ pub fn predict(
             .map(|(after, before)| after.iter().zip(before).map(|(a, b)| a - b).collect())
             .collect())
     };
+    // The first joint whose deepest wear reached its limit.
+    let at_limit = |sim: &Simulation| {
+        depths(sim)
+            .iter()
+            .zip(&limits)
+            .position(|(d, l)| d.iter().any(|h| h >= l))
+    };
+    let mut reached = None;
     let settle = (settings.settle_rotations as u64).min(target) as u32;
     if settle > 0 {
         simulate(&mut sim, settle)?;
         done += settle as u64;
+        reached = at_limit(&sim).map(|k| (done, k));
+        if reached.is_some() {
+            history.push(stage(&sim, done));
+        }
     }
-    while done < target {
+    while done < target && reached.is_none() {
         let sample = (settings.sample_rotations as u64).min(target - done) as u32;
         let increments = simulate(&mut sim, sample)?;
         done += sample as u64;
+        if let Some(k) = at_limit(&sim) {
+            reached = Some((done, k));
+            history.push(stage(&sim, done));
+            break;
+        }
         let stop = next_snapshot.peek().map_or(target, |&&s| s.max(done));
         let block = sim
             .mechanism()
             .clearance_joints
             .iter()
             .zip(&increments)
-            .zip(&clearances)
-            .filter_map(|((cj, inc), c)| {
+            .zip(clearances.iter().zip(&limits))
+            .filter_map(|((cj, inc), (c, limit))| {
+                let depth = cj.profile.depths();
                 let per_rotation = inc.iter().cloned().fold(0.0, f64::max) / sample as f64;
-                let deepest = cj.profile.depths().iter().cloned().fold(0.0, f64::max);
-                (per_rotation > 0.0)
-                    .then(|| (settings.max_change * (c + deepest) / per_rotation).floor() as u64)
+                let deepest = depth.iter().cloned().fold(0.0, f64::max);
+                // no sector may pass the limit within the block: the sample rotations that
+                // follow find the rotation at which one reaches it
+                let to_limit = depth
+                    .iter()
+                    .zip(inc)
+                    .filter(|(_, i)| **i > 0.0)
+                    .map(|(h, i)| ((limit - h) * sample as f64 / i).floor() as u64)
+                    .min()
+                    .unwrap_or(u64::MAX);
+                (per_rotation > 0.0).then(|| {
+                    ((settings.max_change * (c + deepest) / per_rotation).floor() as u64)
+                        .min(to_limit)
+                })
             })
             .min()
             .unwrap_or(u64::MAX)
@@ -201,6 +262,8 @@ pub fn predict(
     Ok(LongLife {
         history,
         snapshots,
+        limits,
+        reached,
         simulated: sim.rotations_done() as u64,
         clearances,
         wall_time: clock.elapsed().as_secs_f64(),

@@ -61,6 +61,13 @@ pub struct SteadyState {
     pub max_rotations: u32,
 }
 
+/// Deepest wear, as a fraction of the bearing radius, that the wear model describes: the gap
+/// takes the worn bearing as a circle whose radius grows by h(θ) along its own normal, with the
+/// contact normal along the journal's eccentricity; past a tenth of the radius the worn bore is
+/// no longer a slightly perturbed circle and that geometry, like the constant Archard
+/// coefficient of mild wear, no longer holds. A run stops there (checked after every rotation).
+pub const MAX_WEAR_RATIO: f64 = 0.1;
+
 /// Orbit samples per rotation for the steady-state test.
 pub const ORBIT_PHASES: usize = 360;
 
@@ -382,6 +389,7 @@ impl Simulation {
             }
         }
         self.rotation += 1;
+        self.check_wear_depth()?;
         if self
             .settings
             .wear_snapshots
@@ -404,6 +412,29 @@ impl Simulation {
                 self.end_rotation = Some(end);
                 self.sampler = Some(self.recording_window(end));
                 self.settler = None;
+            }
+        }
+        Ok(())
+    }
+
+    /// Stops a run whose wear left the model's validity ([`MAX_WEAR_RATIO`]).
+    fn check_wear_depth(&self) -> Result<()> {
+        for cj in &self.mechanism.clearance_joints {
+            let deepest = cj.profile.depths().iter().cloned().fold(0.0, f64::max);
+            let limit = MAX_WEAR_RATIO * cj.r_bearing;
+            if deepest > limit {
+                return Err(Error::Integration {
+                    time: self.integrator.t(),
+                    cause: format!(
+                        "wear of clearance joint `{}` is {deepest:.3e} m deep after {} rotations, \
+                         beyond the wear model's limit of {:.0} % of its bearing radius ({limit:.3e} m): \
+                         k/H far too large (a unit error?) or a life far past the bearing's; \
+                         `jointwear longlife --until` stops at a stated depth",
+                        cj.name,
+                        self.rotation,
+                        100.0 * MAX_WEAR_RATIO
+                    ),
+                });
             }
         }
         Ok(())

@@ -54,7 +54,7 @@ fn extrapolation_matches_brute_force() {
 }
 
 #[test]
-fn realistic_coefficient_reaches_a_million_rotations_quickly() {
+fn realistic_coefficient_doubles_the_clearance_within_a_million_rotations_quickly() {
     let mut f = SceneFile::read(scene_path("standard")).unwrap();
     f.clearance[0].wear.as_mut().unwrap().k_over_h_per_pa = 1e-15;
     let scene = f.build().unwrap();
@@ -65,10 +65,72 @@ fn realistic_coefficient_reaches_a_million_rotations_quickly() {
     };
     let life = predict(&scene, &settings, |_, _| ()).unwrap();
     let counts: Vec<u64> = life.snapshots.iter().map(|s| s.rotations).collect();
-    assert_eq!(counts, vec![250_000, 500_000, 1_000_000]);
+    // the clearance doubles (the default limit) between 500 000 and a million rotations
+    let (at, _) = life.reached.expect("the clearance doubles");
+    assert!((500_000..1_000_000).contains(&at), "{at}");
+    assert_eq!(counts, vec![250_000, 500_000, at]);
     assert!(life.simulated < 200, "simulated {}", life.simulated);
     let depth = life.snapshots.last().unwrap().max_depth(0);
-    // 1000 times less wear per rotation than the accelerated 40-rotation run (0.56 µm),
-    // over 25000 times more rotations: micrometres, not nanometres or millimetres.
-    assert!(depth > 1e-6 && depth < 50e-6, "{depth:e}");
+    // 1000 times less wear per rotation than the accelerated 40-rotation run (0.56 µm), over
+    // 20000 times more rotations: the 20 µm clearance, reached within one rotation's wear.
+    assert!((20e-6..20.01e-6).contains(&depth), "{depth:e}");
+}
+
+/// The default limit is the clearance doubled: the prediction stops at the first sample
+/// rotation that reaches it, reports when, and never carries the wear past it by more than
+/// that rotation's increment.
+#[test]
+fn prediction_stops_when_the_clearance_doubles() {
+    let mut f = SceneFile::read(scene_path("standard")).unwrap();
+    f.clearance[0].wear.as_mut().unwrap().k_over_h_per_pa = 5e-12;
+    let scene = f.build().unwrap();
+    let settings = LongLifeSettings {
+        rotations: 1_000_000,
+        ..LongLifeSettings::default()
+    };
+    let life = predict(&scene, &settings, |_, _| ()).unwrap();
+    let (at, joint) = life.reached.expect("the clearance doubles");
+    assert_eq!(joint, 0);
+    let c = life.clearances[0];
+    assert_eq!(life.limits[0], c);
+    let last = life.history.last().unwrap();
+    assert_eq!(last.rotations, at);
+    let depth = last.max_depth(0);
+    // reached, and by no more than one rotation's wear (about 0.1 µm per rotation here)
+    assert!(depth >= c && depth < c + 0.5e-6, "{depth:e} against {c:e}");
+    // about 10 µm per 100 rotations at first: a few hundred rotations, not millions
+    assert!((100..2000).contains(&at), "{at}");
+    assert!(life
+        .history
+        .windows(2)
+        .all(|w| w[1].max_depth(0) >= w[0].max_depth(0)));
+}
+
+#[test]
+fn a_limit_beyond_the_wear_model_is_refused() {
+    let scene = SceneFile::read(scene_path("standard"))
+        .unwrap()
+        .build()
+        .unwrap();
+    let settings = LongLifeSettings {
+        until: Some(2e-3), // 20 % of the 10 mm bearing radius
+        ..LongLifeSettings::default()
+    };
+    let e = predict(&scene, &settings, |_, _| ())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("--until") && e.contains("10 %"), "{e}");
+}
+
+#[test]
+fn wear_past_the_model_stops_a_run_within_a_rotation() {
+    let mut f = SceneFile::read(scene_path("standard")).unwrap();
+    f.clearance[0].wear.as_mut().unwrap().k_over_h_per_pa = 1e-6;
+    f.run.record_rotations = 0;
+    let scene = f.build().unwrap();
+    let e = simulate(&scene).unwrap_err().to_string();
+    assert!(
+        e.contains("beyond the wear model's limit") && e.contains("after 1 rotations"),
+        "{e}"
+    );
 }

@@ -126,6 +126,10 @@ enum Command {
         /// Rotations simulated before the first block
         #[arg(long, default_value_t = 3)]
         settle: u32,
+        /// Stop when the deepest wear of a joint reaches this depth (mm), and report the
+        /// rotations it took [default: each joint's radial clearance: the clearance doubled]
+        #[arg(long, value_name = "DEPTH_MM")]
+        until: Option<f64>,
         /// Output directory [default: out/<scene stem>]
         #[arg(long)]
         out: Option<PathBuf>,
@@ -213,7 +217,8 @@ fn main() -> ExitCode {
             max_change,
             settle,
             out,
-        } => longlife(&scene, rotations, k_over_h, max_change, settle, out),
+            until,
+        } => longlife(&scene, rotations, k_over_h, max_change, settle, until, out),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -767,6 +772,7 @@ fn longlife(
     k_over_h: Option<f64>,
     max_change: f64,
     settle: u32,
+    until_mm: Option<f64>,
     out: Option<PathBuf>,
 ) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
@@ -792,6 +798,7 @@ fn longlife(
         settle_rotations: settle,
         max_change,
         snapshots: (1..5).map(|i| target * i / 5).collect(),
+        until: until_mm.map(|d| d * 1e-3),
         ..LongLifeSettings::default()
     };
     let bar = progress_bar(target, "rotations");
@@ -800,21 +807,35 @@ fn longlife(
     let life = result.map_err(bad)?;
     let title = format!("jointwear longlife {}", path.display());
     write_outputs(&dir, &title, || write_longlife(&scene, &life, &dir)).map_err(bad)?;
+    let last = life.history.last().map_or(0, |s| s.rotations);
     println!(
-        "{}: {} rotations predicted from {} simulated in {:.1} s ({} blocks)",
+        "{}: {last} rotations predicted from {} simulated in {:.1} s ({} blocks)",
         scene.title,
-        target,
         life.simulated,
         life.wall_time,
         life.history.len() - 1
     );
-    let last = life.history.last().map_or(0, |s| s.rotations);
+    match life.reached {
+        Some((at, k)) => println!(
+            "  joint {} reached its wear limit of {:.3} µm after {at} rotations{}",
+            scene.mechanism.clearance_joints[k].name,
+            life.limits[k] * 1e6,
+            if until_mm.is_none() {
+                " (clearance doubled)"
+            } else {
+                ""
+            }
+        ),
+        None => println!("  no joint reached its wear limit within {target} rotations"),
+    }
     for (k, cj) in scene.mechanism.clearance_joints.iter().enumerate() {
         let depth = life.history.last().map_or(0.0, |s| s.max_depth(k));
         println!(
-            "  joint {}: max wear {:.3} µm after {last} rotations, clearance {:.3} -> {:.3} µm",
+            "  joint {}: max wear {:.3} µm ({:.0} % of its limit) after {last} rotations, \
+             clearance {:.3} -> {:.3} µm",
             cj.name,
             depth * 1e6,
+            100.0 * depth / life.limits[k],
             life.clearances[k] * 1e6,
             (life.clearances[k] + depth) * 1e6
         );
