@@ -461,7 +461,7 @@ fn profile_figure(runs: &Runs, name: &str, cases: &[(&str, f64, String)]) -> Res
         let n = e.members.len();
         panels.push((
             *case,
-            format!("{title}: mean of {n}, 5-95 % shaded"),
+            format!("{title}, mean of {n}, 5-95 % shaded"),
             curves,
         ));
     }
@@ -533,7 +533,7 @@ fn comparison_figure(
     let n = runs.ensemble.members;
     let axis = "accumulated wear depth after 40 rotations (µm)";
     let panel = band_panel(
-        format!("{title}: mean of {n}, 5-95 % shaded"),
+        format!("{title}, mean of {n}, 5-95 % shaded"),
         &angles,
         &curves,
         axis,

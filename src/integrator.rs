@@ -90,7 +90,7 @@ impl Default for StepControl {
 }
 
 /// Work counters, accumulated over the lifetime of an [`Integrator`] (restarts included).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Stats {
     /// Accepted steps.
     pub steps: u64,
@@ -333,6 +333,29 @@ struct RosenbrockWork {
     dfdt: Vec<f64>,
 }
 
+/// What an [`Integrator`] carries from one accepted step to the next: restoring it continues
+/// the same step sequence bit for bit.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct IntegratorState {
+    t: f64,
+    t_prev: f64,
+    h: f64,
+    err_prev: f64,
+    y: Vec<f64>,
+    y_prev: Vec<f64>,
+    dy: Vec<f64>,
+    dy_prev: Vec<f64>,
+    dense5: Vec<f64>,
+    stats: Stats,
+}
+
+impl IntegratorState {
+    /// The state vector at the current time.
+    pub fn y(&self) -> &[f64] {
+        &self.y
+    }
+}
+
 /// A one-step integrator; see the module documentation.
 pub struct Integrator {
     method: Method,
@@ -424,6 +447,42 @@ impl Integrator {
             ros,
             stats: Stats::default(),
         }
+    }
+
+    /// What the next steps depend on (the stage buffers are scratch).
+    pub fn state(&self) -> IntegratorState {
+        IntegratorState {
+            t: self.t,
+            t_prev: self.t_prev,
+            h: self.h,
+            err_prev: self.err_prev,
+            y: self.y.clone(),
+            y_prev: self.y_prev.clone(),
+            dy: self.dy.clone(),
+            dy_prev: self.dy_prev.clone(),
+            dense5: self.dense5.clone(),
+            stats: self.stats,
+        }
+    }
+
+    /// Continues from a saved state; fails (changing nothing) if its vectors do not have this
+    /// integrator's length.
+    pub fn restore(&mut self, s: IntegratorState) -> Result<()> {
+        let n = self.y.len();
+        if [&s.y, &s.y_prev, &s.dy, &s.dy_prev, &s.dense5]
+            .iter()
+            .any(|v| v.len() != n)
+        {
+            return Err(integration_error(
+                s.t,
+                "saved state of another length".into(),
+            ));
+        }
+        (self.t, self.t_prev, self.h, self.err_prev) = (s.t, s.t_prev, s.h, s.err_prev);
+        (self.y, self.y_prev, self.dy, self.dy_prev) = (s.y, s.y_prev, s.dy, s.dy_prev);
+        self.dense5 = s.dense5;
+        self.stats = s.stats;
+        Ok(())
     }
 
     /// Replaces the step-size controller parameters (e.g. to enable PI control).

@@ -10,6 +10,7 @@
 
 pub mod analysis;
 pub mod calibration;
+pub mod checkpoint;
 pub mod concordance;
 pub mod contact;
 pub mod convergence;

@@ -950,7 +950,7 @@ pub fn write(
                 sw.mean_sd(1.0, 4),
                 band(&sw, g.sw).into(),
                 format!(
-                    "{} / P-w in {} of {n}",
+                    "{}; ours: P-w in {} of {n}",
                     g.dominant(),
                     e.pressure_dominated()
                 ),

@@ -19,10 +19,13 @@
 //! nanometre) moves a single trajectory by as much as the ensemble spread of
 //! [`crate::ensemble`]; results are statistics over such ensembles.
 
-use crate::integrator::{locate_root, Integrator, Method, OdeSystem, Stats, Tolerances};
+use crate::integrator::{
+    locate_root, Integrator, IntegratorState, Method, OdeSystem, Stats, Tolerances,
+};
 use crate::mechanism::Mechanism;
 use crate::scene::Scene;
 use crate::{Error, Result};
+use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
 /// Run settings of a scene (SI).
@@ -53,7 +56,7 @@ pub struct RunSettings {
 /// Steady-state criterion: the journal orbit of each clearance joint, sampled at
 /// [`ORBIT_PHASES`] driver phases per rotation, changes from one rotation to the next by an RMS
 /// of at most `tolerance` times the radial clearance.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SteadyState {
     /// Largest RMS orbit change between rotations, as a fraction of the clearance.
     pub tolerance: f64,
@@ -72,7 +75,7 @@ pub const MAX_WEAR_RATIO: f64 = 0.1;
 pub const ORBIT_PHASES: usize = 360;
 
 /// How a run settled before recording.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Settling {
     /// Rotations simulated before the recorded ones.
     pub rotations: u32,
@@ -83,7 +86,7 @@ pub struct Settling {
 }
 
 /// Time series of one clearance joint on the recording grid.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct JointTrace {
     /// Journal centre relative to the bearing centre (m).
     pub ex: Vec<f64>,
@@ -105,7 +108,7 @@ pub struct JointTrace {
 }
 
 /// Time series on the recording grid.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Recording {
     /// Time (s).
     pub time: Vec<f64>,
@@ -120,14 +123,14 @@ pub struct Recording {
 }
 
 /// Wear depth of every sector of every joint after a number of rotations (m).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WearSnapshot {
     pub rotation: u32,
     pub depths: Vec<Vec<f64>>,
 }
 
 /// Energy account of a run with `energy_accounting` (J).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct EnergyAccount {
     /// Work done by the driver.
     pub driver_work: f64,
@@ -161,7 +164,7 @@ impl EnergyAccount {
 }
 
 /// Everything a run produces.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RunOutput {
     pub recording: Recording,
     pub wear_snapshots: Vec<WearSnapshot>,
@@ -226,11 +229,31 @@ pub fn simulate_with_progress(
     scene: &Scene,
     progress: impl FnMut(u32, Option<u32>),
 ) -> Result<RunOutput> {
-    let mechanism = scene.mechanism.clone();
-    let y0 = mechanism.assemble(&scene.guess)?;
-    let mut sim = Simulation::new(mechanism, scene.run.clone(), &y0);
+    let mut sim = Simulation::start(scene)?;
     sim.run_to_end(progress)?;
     Ok(sim.finish())
+}
+
+/// Everything a run carries from one rotation to the next: resuming from it continues the
+/// run bit for bit ([`Simulation::checkpoint`], [`Simulation::resume`]).
+#[derive(Serialize, Deserialize)]
+pub struct Checkpoint {
+    /// Rotations completed.
+    rotation: u32,
+    end_rotation: Option<u32>,
+    integrator: IntegratorState,
+    gaps: Vec<f64>,
+    /// Wear depth per joint per sector (m).
+    profiles: Vec<Vec<f64>>,
+    /// Onset velocity of each joint's current contact (m/s).
+    impact_velocities: Vec<f64>,
+    settler: Option<Settler>,
+    sampler: Option<Sampler>,
+    /// `None` without a wear history (JSON has no infinity).
+    next_history: Option<f64>,
+    energy_start: Option<(f64, f64)>,
+    /// The outputs so far; `wall_time` is the wall time spent so far.
+    out: RunOutput,
 }
 
 /// A coupled run in progress: the integrator, the contact bookkeeping and the outputs so far.
@@ -332,6 +355,85 @@ impl Simulation {
             self.settings.record_interval,
             end as f64 * self.period,
         )
+    }
+
+    /// Starts a run of `scene` from its assembled configuration.
+    pub fn start(scene: &Scene) -> Result<Simulation> {
+        let y0 = scene.mechanism.assemble(&scene.guess)?;
+        Ok(Simulation::new(
+            scene.mechanism.clone(),
+            scene.run.clone(),
+            &y0,
+        ))
+    }
+
+    /// The state to [`Simulation::resume`] this run from, taken between rotations.
+    pub fn checkpoint(&self) -> Checkpoint {
+        let cjs = &self.mechanism.clearance_joints;
+        let mut out = self.out.clone();
+        out.wall_time += self.clock.elapsed().as_secs_f64();
+        Checkpoint {
+            rotation: self.rotation,
+            end_rotation: self.end_rotation,
+            integrator: self.integrator.state(),
+            gaps: self.gaps.clone(),
+            profiles: cjs.iter().map(|c| c.profile.depths().to_vec()).collect(),
+            impact_velocities: cjs.iter().map(|c| c.impact_velocity).collect(),
+            settler: self.settler.clone(),
+            sampler: self.sampler.clone(),
+            next_history: self.next_history.is_finite().then_some(self.next_history),
+            energy_start: self.energy_start,
+            out,
+        }
+    }
+
+    /// Continues the run of `scene` saved in `checkpoint`: the same steps, bit for bit, as
+    /// the run that wrote it. Fails if the checkpoint does not fit the scene's mechanism.
+    pub fn resume(scene: &Scene, checkpoint: Checkpoint) -> Result<Simulation> {
+        let c = checkpoint;
+        let mut mechanism = scene.mechanism.clone();
+        let misfit = |what: &str| {
+            Error::invalid(
+                "checkpoint",
+                format!("its {what} do not fit the scene"),
+                "a checkpoint written by a run of this scene",
+            )
+        };
+        let joints = mechanism.clearance_joints.len();
+        if c.profiles.len() != joints
+            || c.impact_velocities.len() != joints
+            || c.gaps.len() != joints
+        {
+            return Err(misfit("clearance joints"));
+        }
+        for ((cj, depths), v) in mechanism
+            .clearance_joints
+            .iter_mut()
+            .zip(&c.profiles)
+            .zip(&c.impact_velocities)
+        {
+            if !cj.profile.set_depths(depths) {
+                return Err(misfit("wear profiles"));
+            }
+            cj.impact_velocity = *v;
+        }
+        let y: Vec<f64> = c.integrator.y().to_vec();
+        if y.len() != mechanism.state_len() {
+            return Err(misfit("states"));
+        }
+        let mut sim = Simulation::new(mechanism, scene.run.clone(), &y);
+        sim.integrator
+            .restore(c.integrator)
+            .map_err(|_| misfit("integrator buffers"))?;
+        sim.rotation = c.rotation;
+        sim.end_rotation = c.end_rotation;
+        sim.gaps = c.gaps;
+        sim.settler = c.settler;
+        sim.sampler = c.sampler;
+        sim.next_history = c.next_history.unwrap_or(f64::INFINITY);
+        sim.energy_start = c.energy_start;
+        sim.out = c.out;
+        Ok(sim)
     }
 
     /// Driver rotations completed.
@@ -537,7 +639,7 @@ impl Simulation {
         self.out.stats = self.integrator.stats();
         self.out.final_wear = wear_depths(&self.mechanism);
         self.out.final_state = y;
-        self.out.wall_time = self.clock.elapsed().as_secs_f64();
+        self.out.wall_time += self.clock.elapsed().as_secs_f64();
         self.out
     }
 }
@@ -588,6 +690,7 @@ fn add_wear(mechanism: &mut Mechanism, y: &[f64], dt: f64) {
 }
 
 /// Samples the uniform recording grid from each step's dense output.
+#[derive(Clone, Serialize, Deserialize)]
 struct Sampler {
     next: usize,
     start: f64,
@@ -677,6 +780,7 @@ impl Sampler {
 }
 
 /// Samples the journal orbit at fixed driver phases to detect a steady state.
+#[derive(Clone, Serialize, Deserialize)]
 struct Settler {
     criterion: SteadyState,
     period: f64,

@@ -172,6 +172,17 @@ impl WearProfile {
         &self.depth
     }
 
+    /// Replaces the depths (a resumed run); `false`, changing nothing, unless there is one
+    /// finite, non-negative depth per sector.
+    pub fn set_depths(&mut self, depths: &[f64]) -> bool {
+        let fits =
+            depths.len() == self.depth.len() && depths.iter().all(|d| d.is_finite() && *d >= 0.0);
+        if fits {
+            self.depth.copy_from_slice(depths);
+        }
+        fits
+    }
+
     /// Sector centre angles (rad).
     pub fn centres(&self) -> impl Iterator<Item = f64> + '_ {
         (0..self.depth.len()).map(|i| (i as f64 + 0.5) * self.width)

@@ -4,6 +4,7 @@
 //! while running (integration, writing outputs).
 
 use clap::{Parser, Subcommand};
+use jointwear::checkpoint::{read_checkpoint, write_checkpoint, CHECKPOINT_FILE};
 use jointwear::ensemble::{self, member_offsets, EnsembleSettings, DEFAULT_SEED};
 use jointwear::figures::sector_angles_deg;
 use jointwear::interrupt;
@@ -13,13 +14,13 @@ use jointwear::output::{
 };
 use jointwear::plot::{render, Axes, Series, Shade, Style};
 use jointwear::scene::{Scene, SceneFile};
-use jointwear::simulation::{simulate_with_progress, RunOutput};
+use jointwear::simulation::{RunOutput, Simulation};
 use jointwear::statistics::{Distribution, QUANTILES};
 use jointwear::sweep::{
     header, joint_statistics, summarize, Assignment, CaseResult, JointStatistics, JointSummary,
     Outcome, Shard, Sweep,
 };
-use jointwear::sweep_file::{merge, JournaledSweep};
+use jointwear::sweep_file::{fingerprint, merge, JournaledSweep};
 use jointwear::Error;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -66,6 +67,14 @@ enum Command {
         /// Seed of the ensemble's initial offsets
         #[arg(long, default_value_t = DEFAULT_SEED, requires = "ensemble")]
         seed: u64,
+        /// Save the run's whole state to <out>/checkpoint.json every K rotations (removed when
+        /// the run completes)
+        #[arg(long, value_name = "K", conflicts_with = "ensemble")]
+        checkpoint_every: Option<u32>,
+        /// Continue the run saved in <out>/checkpoint.json, bit for bit as if it had never
+        /// stopped
+        #[arg(long, conflicts_with = "ensemble")]
+        resume: bool,
     },
     /// Validate a scene and print what it describes.
     Check { scene: PathBuf },
@@ -184,13 +193,16 @@ fn main() -> ExitCode {
             scene,
             out,
             ensemble: None,
+            checkpoint_every,
+            resume,
             ..
-        } => run(&scene, out),
+        } => run(&scene, out, checkpoint_every, resume),
         Command::Run {
             scene,
             out,
             ensemble: Some(members),
             seed,
+            ..
         } => run_ensemble(&scene, out, EnsembleSettings { members, seed }),
         Command::Check { scene } => check(&scene),
         Command::Sweep {
@@ -265,24 +277,85 @@ fn load(path: &Path) -> CliResult<Scene> {
     Scene::load(path).map_err(|e| Failure::input(path, e))
 }
 
-fn run(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
+fn run(
+    path: &Path,
+    out: Option<PathBuf>,
+    checkpoint_every: Option<u32>,
+    resume: bool,
+) -> CliResult<()> {
+    let bad = |e| Failure::from(path, e);
     let scene = load(path)?;
     let dir = out_dir(path, out);
-    check_output_dir("--out", &dir).map_err(|e| Failure::from(path, e))?;
+    check_output_dir("--out", &dir).map_err(bad)?;
+    if checkpoint_every == Some(0) {
+        return Err(Failure::input(
+            path,
+            Error::invalid("--checkpoint-every", 0, "at least 1 rotation"),
+        ));
+    }
+    let saved = dir.join(CHECKPOINT_FILE);
+    let fingerprint = scene_fingerprint(path)?;
+    let mut sim = if resume {
+        let checkpoint = read_checkpoint(&saved, &fingerprint).map_err(|e| match e {
+            Error::Io { .. } => Failure::input(
+                path,
+                Error::invalid(
+                    "--resume",
+                    saved.display(),
+                    "a checkpoint written by `run --checkpoint-every K` into this --out folder",
+                ),
+            ),
+            e => Failure::input(path, e),
+        })?;
+        Simulation::resume(&scene, checkpoint).map_err(|e| Failure::input(path, e))?
+    } else {
+        Simulation::start(&scene).map_err(bad)?
+    };
+    if checkpoint_every.is_some() {
+        interrupt::keep(format!(
+            "the last checkpoint stays in {} (continue with --resume)",
+            saved.display()
+        ));
+    }
     let bar = progress_bar(scene.run.rotations as u64, "rotations");
-    let result = simulate_with_progress(&scene, |done, total| {
-        // While a run settles its length is unknown: the bar then counts settling rotations.
-        bar.set_length(total.unwrap_or(done + scene.run.rotations) as u64);
-        bar.set_position(done as u64);
-    });
+    let result = (|| {
+        while !sim.is_finished() {
+            sim.advance_rotation()?;
+            let done = sim.rotations_done();
+            // While a run settles its length is unknown: the bar then counts settling rotations.
+            let total = sim.total_rotations();
+            bar.set_length(total.unwrap_or(done + scene.run.rotations) as u64);
+            bar.set_position(done as u64);
+            if checkpoint_every.is_some_and(|k| done % k == 0) {
+                write_checkpoint(&saved, &fingerprint, sim.checkpoint())?;
+            }
+        }
+        Ok(())
+    })();
     bar.finish_and_clear();
-    let out = result.map_err(|e| Failure::from(path, e))?;
+    result.map_err(bad)?;
+    let out = sim.finish();
     let title = format!("jointwear run {}", path.display());
     write_outputs(&dir, &title, || write_run(&scene, &out, &dir))
         .map_err(|e| Failure::from(path, e))?;
+    // A completed run needs no checkpoint; a failed one keeps its last.
+    if saved.exists() {
+        std::fs::remove_file(&saved).map_err(|source| {
+            bad(Error::Io {
+                path: saved.clone(),
+                source,
+            })
+        })?;
+    }
     print_summary(&scene, &out);
     println!("outputs in {}", dir.display());
     Ok(())
+}
+
+/// The fingerprint of a scene file as it is now (its resolved document).
+fn scene_fingerprint(path: &Path) -> CliResult<String> {
+    let doc = SceneFile::read_document(path).map_err(|e| Failure::input(path, e))?;
+    Ok(fingerprint(&doc, &[]))
 }
 
 /// `run --ensemble`: members in parallel, their statistics as CSVs, a band plot and a summary.
