@@ -110,7 +110,10 @@ pub enum Method {
     /// Hairer's DOP853, 8(5,3), with cubic Hermite dense output.
     Dop853,
     /// Classical Runge-Kutta with a fixed step.
-    Rk4 { step: f64 },
+    Rk4 {
+        /// The fixed step (s).
+        step: f64,
+    },
     /// RODAS3, a stiff L-stable Rosenbrock 3(2) method.
     Rosenbrock,
 }

@@ -69,6 +69,7 @@ impl Default for LongLifeSettings {
 /// Wear profiles after a number of rotations.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stage {
+    /// Rotations completed.
     pub rotations: u64,
     /// Depth per joint per sector (m).
     pub depths: Vec<Vec<f64>>,

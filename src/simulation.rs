@@ -39,10 +39,13 @@ pub struct RunSettings {
     pub record_interval: f64,
     /// Rotation counts after which the wear profile is saved (sorted, unique).
     pub wear_snapshots: Vec<u32>,
+    /// Integration method.
     pub method: Method,
+    /// Error tolerances and step bounds.
     pub tolerances: Tolerances,
     /// Baumgarte α = β (1/s).
     pub baumgarte: f64,
+    /// Integrate driver, normal-contact and friction work for the energy balance.
     pub energy_accounting: bool,
     /// Settle to a steady state first; then `rotations` more are simulated.
     pub settle: Option<SteadyState>,
@@ -90,6 +93,7 @@ pub struct Settling {
 pub struct JointTrace {
     /// Journal centre relative to the bearing centre (m).
     pub ex: Vec<f64>,
+    /// See `ex`.
     pub ey: Vec<f64>,
     /// Contact angle in the bearing frame (rad).
     pub theta: Vec<f64>,
@@ -125,7 +129,9 @@ pub struct Recording {
 /// Wear depth of every sector of every joint after a number of rotations (m).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WearSnapshot {
+    /// Rotations completed.
     pub rotation: u32,
+    /// Depth per joint per sector (m).
     pub depths: Vec<Vec<f64>>,
 }
 
@@ -166,7 +172,9 @@ impl EnergyAccount {
 /// Everything a run produces.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RunOutput {
+    /// Time series of the recorded rotations.
     pub recording: Recording,
+    /// Profiles at the scene's snapshot rotations.
     pub wear_snapshots: Vec<WearSnapshot>,
     /// `(time, depths per joint)` at `profile_history_per_rotation` points per rotation (each at
     /// the end of the first step that reaches it).
@@ -175,11 +183,13 @@ pub struct RunOutput {
     pub final_wear: Vec<Vec<f64>>,
     /// State at the end.
     pub final_state: Vec<f64>,
+    /// Integrator work counters of the whole run.
     pub stats: Stats,
     /// Largest penetration of each joint at the accepted step ends (m).
     pub max_penetration: Vec<f64>,
     /// Contact onsets of each joint.
     pub impacts: Vec<u64>,
+    /// Energy balance, with `energy_accounting`.
     pub energy: Option<EnergyAccount>,
     /// Settling phase, for runs with [`RunSettings::settle`].
     pub settling: Option<Settling>,

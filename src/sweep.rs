@@ -24,6 +24,7 @@ use std::path::Path;
 /// One `--set KEY=V1,V2,..` argument.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Assignment {
+    /// Dotted key into the scene document.
     pub key: String,
     /// The values as written.
     pub values: Vec<String>,
@@ -72,7 +73,9 @@ pub fn parse_value(text: &str) -> toml::Value {
 /// Shard `index` of `count` (1-based).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Shard {
+    /// This shard, 1-based.
     pub index: usize,
+    /// Shards in all.
     pub count: usize,
 }
 
@@ -94,6 +97,7 @@ impl Shard {
         Ok(Shard { index, count })
     }
 
+    /// Whether case `case` belongs to this shard.
     pub fn contains(&self, case: usize) -> bool {
         case % self.count == self.index - 1
     }
@@ -148,6 +152,7 @@ pub fn vary(doc: &toml::Value, path: &Path, sets: &[Assignment], values: &[&str]
 /// Summary of one clearance joint over a run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct JointSummary {
+    /// The joint's name.
     pub name: String,
     /// Largest sampled normal force of the recorded rotations (N), NaN if none recorded.
     pub max_normal_force: f64,
@@ -313,7 +318,9 @@ pub enum Outcome {
 /// One case's outcome.
 #[derive(Clone, Debug)]
 pub struct CaseResult {
+    /// Case number in the whole sweep.
     pub case: usize,
+    /// The set values of the case, as written.
     pub values: Vec<String>,
     /// What the case measured and the wall time, or the error of the run.
     pub outcome: std::result::Result<(Outcome, f64), String>,
@@ -370,6 +377,7 @@ impl CaseResult {
 
 /// A sweep ready to run: the shard's cases, each built and validated.
 pub struct Sweep {
+    /// The `--set` assignments.
     pub sets: Vec<Assignment>,
     /// Clearance joint names (identical in every case).
     pub joints: Vec<String>,
@@ -461,10 +469,12 @@ impl Sweep {
         self.cases.retain(|(case, _, _)| keep(*case));
     }
 
+    /// Cases left to run.
     pub fn len(&self) -> usize {
         self.cases.len()
     }
 
+    /// Whether no case is left to run.
     pub fn is_empty(&self) -> bool {
         self.cases.is_empty()
     }
