@@ -994,7 +994,19 @@ pub fn write(
             d.reason
         );
     }
-    md.push('\n');
+    let recorded = crate::golden::EnsembleGolden::load()?;
+    let _ = writeln!(
+        md,
+        "\nThe golden tests (`tests/golden.rs`) hold the model to {} ensemble statistics recorded in \
+         `data/golden/ensemble.toml` ({} members, seed {}), each within {}× the standard error of the \
+         difference of two ensemble means plus a resolution floor (`src/golden.rs`). Why they were last \
+         recorded: {}.\n",
+        recorded.quantity.len(),
+        recorded.members,
+        recorded.seed,
+        crate::golden::SIGMAS,
+        recorded.reason
+    );
     md.push_str(&ensemble_section(runs)?);
 
     md.push_str("## 3. Figures\n\n");
