@@ -3,11 +3,13 @@
 //! phase all give bit-identical wear profiles for the same scene and settings. The scene keeps
 //! the standard case's impacts (chaotic), so any change of the step sequence would show.
 
+mod common;
+
+use common::{assert_same_run, jointwear, temp_dir};
 use jointwear::longlife::{predict, LongLifeSettings};
 use jointwear::output::read_csv;
 use jointwear::scene::{scene_path, Scene, SceneFile};
-use jointwear::simulation::{simulate, simulate_with_progress, RunOutput, Simulation};
-use std::process::Command;
+use jointwear::simulation::{simulate, simulate_with_progress, Simulation};
 
 const ROTATIONS: u32 = 4;
 
@@ -18,16 +20,6 @@ fn scene(record_rotations: u32, history: u32) -> Scene {
     f.run.wear_snapshots = vec![1, 3];
     f.run.profile_history_per_rotation = history;
     f.build().unwrap()
-}
-
-/// Bitwise equality of the final wear, state, counters and snapshots.
-fn assert_same_run(a: &RunOutput, b: &RunOutput) {
-    assert!(a.impacts[0] > 0, "the scene must impact to test anything");
-    assert_eq!(a.final_wear, b.final_wear);
-    assert_eq!(a.final_state, b.final_state);
-    assert_eq!(a.stats, b.stats);
-    assert_eq!(a.impacts, b.impacts);
-    assert_eq!(a.wear_snapshots, b.wear_snapshots);
 }
 
 #[test]
@@ -110,9 +102,7 @@ fn settling_phase_of_long_life_is_a_plain_run() {
 
 #[test]
 fn command_line_run_writes_the_library_result() {
-    let dir = std::env::temp_dir().join(format!("jointwear-determinism-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("determinism", "cli");
     let file = dir.join("scene.toml");
     let text = format!(
         "extends = {:?}\n[overrides]\n\"run.rotations\" = {ROTATIONS}\n\
@@ -121,15 +111,12 @@ fn command_line_run_writes_the_library_result() {
     );
     std::fs::write(&file, text).unwrap();
     let out = dir.join("out");
-    let o = Command::new(env!("CARGO_BIN_EXE_jointwear"))
-        .args([
-            "run",
-            file.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
+    let o = jointwear(&[
+        "run",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let (_, columns) = read_csv(&out.join("wear_rod-slider.csv")).unwrap();
     let library = simulate(&scene(1, 0)).unwrap();

@@ -2,11 +2,13 @@
 //! motion is chaotic and agree where it is not, offsets that keep every ideal joint closed, and
 //! `jointwear run --ensemble` end to end.
 
+mod common;
+
+use common::{jointwear, temp_dir};
 use jointwear::ensemble::{
     member_offsets, member_state, run, run_member, EnsembleSettings, OFFSET_RADIUS,
 };
 use jointwear::scene::{scene_path, Scene, SceneFile};
-use std::process::Command;
 
 fn short(name: &str, rotations: u32) -> Scene {
     let mut f = SceneFile::read(scene_path(name)).unwrap();
@@ -84,9 +86,7 @@ fn offsets_keep_every_ideal_joint_closed_and_move_the_journal_by_nanometres() {
 
 #[test]
 fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
-    let dir = std::env::temp_dir().join(format!("jointwear-ensemble-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("ensemble", "run");
     let file = dir.join("scene.toml");
     std::fs::write(
         &file,
@@ -98,14 +98,8 @@ fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
     )
     .unwrap();
     let out = dir.join("out");
-    let jw = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_jointwear"))
-            .args(args)
-            .output()
-            .unwrap()
-    };
     let (f, o) = (file.to_str().unwrap(), out.to_str().unwrap());
-    let r = jw(&["run", f, "--out", o, "--ensemble", "3", "--seed", "5"]);
+    let r = jointwear(&["run", f, "--out", o, "--ensemble", "3", "--seed", "5"]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     let text = String::from_utf8_lossy(&r.stdout);
     assert!(
@@ -123,7 +117,7 @@ fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
     // mean between min and max in every sector
     assert!((0..band[0].len()).all(|i| band[3][i] <= band[1][i] && band[1][i] <= band[9][i]));
     assert!(out.join("wear.png").exists());
-    let bad = jw(&["run", f, "--out", o, "--ensemble", "0"]);
+    let bad = jointwear(&["run", f, "--out", o, "--ensemble", "0"]);
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--ensemble"));
     let _ = std::fs::remove_dir_all(&dir);
@@ -131,29 +125,24 @@ fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
 
 #[test]
 fn sweep_runs_each_case_as_an_ensemble_with_mean_and_sd_columns() {
-    let dir = std::env::temp_dir().join(format!("jointwear-ens-sweep-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("ensemble", "sweep");
     let out = dir.join("sweep.csv");
-    let r = Command::new(env!("CARGO_BIN_EXE_jointwear"))
-        .args([
-            "sweep",
-            scene_path("standard").to_str().unwrap(),
-            "--set",
-            "run.rotations=1",
-            "--set",
-            "run.record_rotations=1",
-            "--set",
-            "run.wear_snapshots=[]",
-            "--set",
-            "clearance.0.clearance_mm=0.2,0.5",
-            "--ensemble",
-            "2",
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
+    let r = jointwear(&[
+        "sweep",
+        scene_path("standard").to_str().unwrap(),
+        "--set",
+        "run.rotations=1",
+        "--set",
+        "run.record_rotations=1",
+        "--set",
+        "run.wear_snapshots=[]",
+        "--set",
+        "clearance.0.clearance_mm=0.2,0.5",
+        "--ensemble",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     let text = std::fs::read_to_string(&out).unwrap();
     let mut lines = text.lines().filter(|l| !l.starts_with('#'));

@@ -370,11 +370,11 @@ fn run_ensemble(path: &Path, out: Option<PathBuf>, settings: EnsembleSettings) -
     let members = ensemble::run(
         &scene,
         &settings,
-        |_, o| (summarize(&scene, &o), o.final_wear, o.wall_time),
+        |_, o| ((summarize(&scene, &o), o.final_wear), o.wall_time),
         || bar.inc(1),
     );
     bar.finish_and_clear();
-    let members = members.map_err(bad)?;
+    let (members, walls): (Vec<Member>, Vec<f64>) = members.map_err(bad)?.into_iter().unzip();
     let wall = clock.elapsed().as_secs_f64();
     let title = format!(
         "jointwear run {} --ensemble {}",
@@ -382,7 +382,7 @@ fn run_ensemble(path: &Path, out: Option<PathBuf>, settings: EnsembleSettings) -
         settings.members
     );
     let stats = write_outputs(&dir, &title, || {
-        write_ensemble(&scene, &settings, &members, &dir)
+        write_ensemble(&scene, &settings, &members, &walls, &dir)
     })
     .map_err(bad)?;
     println!("{}", scene.title);
@@ -408,14 +408,15 @@ fn run_ensemble(path: &Path, out: Option<PathBuf>, settings: EnsembleSettings) -
     Ok(())
 }
 
-/// One member of `run --ensemble`: its joint summaries, final wear profiles and wall time.
-type Member = (Vec<JointSummary>, Vec<Vec<f64>>, f64);
+/// One member of `run --ensemble`: its joint summaries and final wear profiles.
+type Member = (Vec<JointSummary>, Vec<Vec<f64>>);
 
 /// The ensemble's CSVs and band plot; returns the statistics it wrote.
 fn write_ensemble(
     scene: &Scene,
     settings: &EnsembleSettings,
     members: &[Member],
+    walls: &[f64],
     dir: &Path,
 ) -> jointwear::Result<Vec<JointStatistics>> {
     let m = &scene.mechanism;
@@ -429,26 +430,26 @@ fn write_ensemble(
         ]);
     }
     head.extend(header(&[], &joints).into_iter().skip(1));
-    let rows = members.iter().enumerate().map(|(i, (summary, _, secs))| {
-        let mut row = vec![i.to_string()];
-        for d in member_offsets(settings.seed, i, joints.len()) {
-            row.extend([format!("{:e}", d.x), format!("{:e}", d.y)]);
-        }
-        let record = CaseResult {
-            case: i,
-            values: Vec::new(),
-            outcome: Ok((Outcome::Run(summary.clone()), *secs)),
-        }
-        .record(header(&[], &joints).len() - 3);
-        row.extend(record.into_iter().skip(1));
-        row
-    });
-    write_rows(&dir.join("ensemble_members.csv"), &head, rows)?;
-    let pairs: Vec<_> = members
+    let rows = members
         .iter()
-        .map(|(s, w, _)| (s.clone(), w.clone()))
-        .collect();
-    let stats = joint_statistics(scene, &pairs);
+        .zip(walls)
+        .enumerate()
+        .map(|(i, ((summary, _), secs))| {
+            let mut row = vec![i.to_string()];
+            for d in member_offsets(settings.seed, i, joints.len()) {
+                row.extend([format!("{:e}", d.x), format!("{:e}", d.y)]);
+            }
+            let record = CaseResult {
+                case: i,
+                values: Vec::new(),
+                outcome: Ok((Outcome::Run(summary.clone()), *secs)),
+            }
+            .record(header(&[], &joints).len() - 3);
+            row.extend(record.into_iter().skip(1));
+            row
+        });
+    write_rows(&dir.join("ensemble_members.csv"), &head, rows)?;
+    let stats = joint_statistics(scene, members);
     let q = QUANTILES.map(|p| format!("q{:02.0}", 100.0 * p));
     let mut head = vec!["joint", "quantity", "n", "mean", "sd", "min"];
     head.extend(q.iter().map(String::as_str));

@@ -3,6 +3,7 @@
 #![allow(dead_code)] // each test file uses a different subset
 
 use jointwear::scene::scene_path;
+use jointwear::simulation::RunOutput;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -74,4 +75,15 @@ pub fn assert_fails(o: &Output, code: i32, needles: &[&str]) {
     for n in needles {
         assert!(err.contains(n), "stderr lacks `{n}`: {err}");
     }
+}
+
+/// Bitwise equality of two runs' final wear, state, counters and snapshots (the first must
+/// have impacted, or the comparison would test nothing chaotic).
+pub fn assert_same_run(a: &RunOutput, b: &RunOutput) {
+    assert!(a.impacts[0] > 0, "the scene must impact to test anything");
+    assert_eq!(a.final_wear, b.final_wear);
+    assert_eq!(a.final_state, b.final_state);
+    assert_eq!(a.stats, b.stats);
+    assert_eq!(a.impacts, b.impacts);
+    assert_eq!(a.wear_snapshots, b.wear_snapshots);
 }
