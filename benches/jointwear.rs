@@ -5,11 +5,12 @@
 //! `cargo bench`, then `cargo run --release --bin bench_summary` writes `data/benchmarks.csv`.
 
 use criterion::{criterion_group, criterion_main, Criterion, SamplingMode};
-use jointwear::contact::NormalForceModel;
-use jointwear::ensemble::{run, EnsembleSettings};
-use jointwear::friction::FrictionModel;
-use jointwear::scene::{scene_path, Scene, SceneFile};
+use jointwear::laws::contact::NormalForceModel;
+use jointwear::laws::friction::FrictionModel;
+use jointwear::scene::{scene_path, SceneFile};
+use jointwear::simulation::ensemble::{run, EnsembleSettings};
 use jointwear::simulation::simulate;
+use jointwear::simulation::Scene;
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -92,10 +93,13 @@ fn rhs(c: &mut Criterion) {
         .find(|(scene, out)| {
             let (m, y) = (&scene.mechanism, &out.final_state);
             let n = m.coordinates();
-            m.contact_state(0, &y[..n], &y[n..2 * n]).f_n > 0.0
+            m.contact_state(&m.initial_state(), 0, &y[..n], &y[n..2 * n])
+                .f_n
+                > 0.0
         })
         .expect("the journal touches the bearing at the end of some rotation");
-    let mut mechanism = scene.mechanism.clone();
+    let mechanism = &scene.mechanism;
+    let (state, mut ws) = (mechanism.initial_state(), mechanism.workspace());
     let y = out.final_state;
     let mut dy = vec![0.0; y.len()];
     let t = out.period;
@@ -103,7 +107,7 @@ fn rhs(c: &mut Criterion) {
     group.bench_function("standard", |b| {
         b.iter(|| {
             mechanism
-                .rhs(black_box(t), black_box(&y), &mut dy)
+                .rhs(&state, &mut ws, black_box(t), black_box(&y), &mut dy)
                 .expect("rhs");
             black_box(&dy);
         })

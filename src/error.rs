@@ -17,16 +17,33 @@ pub enum Error {
         expected: String,
     },
     /// A file that could not be parsed (TOML syntax, unknown key, wrong type).
-    Parse { path: PathBuf, message: String },
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// The parser's message.
+        message: String,
+    },
     /// A file that could not be read or written.
     Io {
+        /// The file.
         path: PathBuf,
+        /// The operating system's error.
         source: std::io::Error,
     },
     /// The integrator failed (step size underflow, non-finite state, step limit).
-    Integration { time: f64, cause: String },
+    Integration {
+        /// Simulated time of the failure (s).
+        time: f64,
+        /// What went wrong, with the likely cause.
+        cause: String,
+    },
     /// Rendering a figure failed.
-    Plot { path: PathBuf, message: String },
+    Plot {
+        /// The figure file.
+        path: PathBuf,
+        /// The renderer's message.
+        message: String,
+    },
 }
 
 /// Library-wide result type.
@@ -45,6 +62,24 @@ impl Error {
             expected: expected.into(),
         }
     }
+}
+
+/// Exit code of a program that stops on `error`: 2 for bad input (a scene value, a file
+/// that cannot be parsed), 1 for a failure while running. The one map every program uses.
+pub fn exit_code(error: &Error) -> u8 {
+    match error {
+        Error::Invalid { .. } | Error::Parse { .. } => 2,
+        _ => 1,
+    }
+}
+
+/// Unwraps `result` or prints the error and exits with [`exit_code`]: the `main` of the
+/// figure and study programs.
+pub fn exit_on_error<T>(result: Result<T>) -> T {
+    result.unwrap_or_else(|e| {
+        eprintln!("error: {e}");
+        std::process::exit(exit_code(&e).into())
+    })
 }
 
 impl fmt::Display for Error {

@@ -5,11 +5,12 @@
 mod common;
 
 use common::{assert_same_run, jointwear, temp_dir};
-use jointwear::checkpoint::{read_checkpoint, write_checkpoint, CHECKPOINT_FILE};
-use jointwear::output::read_csv;
-use jointwear::scene::{scene_path, Scene, SceneFile};
+use jointwear::io::output::read_csv;
+use jointwear::scene::{scene_path, SceneFile};
+use jointwear::simulation::checkpoint::{read_checkpoint, write_checkpoint, CHECKPOINT_FILE};
+use jointwear::simulation::Scene;
 use jointwear::simulation::{RunOutput, Simulation};
-use jointwear::sweep_file::fingerprint;
+use jointwear::sweep::file::fingerprint;
 use std::path::{Path, PathBuf};
 
 /// The chaotic 0.5 mm scene, 5 rotations, the last 2 recorded, snapshots and history on.

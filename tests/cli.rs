@@ -1,6 +1,6 @@
 //! The `jointwear` program end to end: outputs, exit codes, error messages, sweeps and shards.
 
-use jointwear::output::read_csv;
+use jointwear::io::output::read_csv;
 use jointwear::scene::scene_path;
 use std::fs;
 use std::path::{Path, PathBuf};

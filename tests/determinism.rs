@@ -6,9 +6,10 @@
 mod common;
 
 use common::{assert_same_run, jointwear, temp_dir};
-use jointwear::longlife::{predict, LongLifeSettings};
-use jointwear::output::read_csv;
-use jointwear::scene::{scene_path, Scene, SceneFile};
+use jointwear::io::output::read_csv;
+use jointwear::scene::{scene_path, SceneFile};
+use jointwear::simulation::longlife::{predict, LongLifeSettings};
+use jointwear::simulation::Scene;
 use jointwear::simulation::{simulate, simulate_with_progress, Simulation};
 
 const ROTATIONS: u32 = 4;
@@ -39,10 +40,10 @@ fn progress_and_rotation_by_rotation_driving_change_nothing() {
     // Driven by hand, one rotation per call, reading the mechanism in between.
     let m = s.mechanism.clone();
     let y0 = m.assemble(&s.guess).unwrap();
-    let mut sim = Simulation::new(m, s.run.clone(), &y0);
+    let mut sim = Simulation::new(m, s.run.clone(), &y0).unwrap();
     while !sim.is_finished() {
         sim.advance_rotation().unwrap();
-        assert!(sim.mechanism().clearance_joints[0].profile.depths()[0] >= 0.0);
+        assert!(sim.state().joints[0].wear.depths()[0] >= 0.0);
     }
     let by_hand = sim.finish();
     assert_same_run(&whole, &by_hand);

@@ -5,10 +5,11 @@
 mod common;
 
 use common::{jointwear, temp_dir};
-use jointwear::ensemble::{
+use jointwear::scene::{scene_path, SceneFile};
+use jointwear::simulation::ensemble::{
     member_offsets, member_state, run, run_member, EnsembleSettings, OFFSET_RADIUS,
 };
-use jointwear::scene::{scene_path, Scene, SceneFile};
+use jointwear::simulation::Scene;
 
 fn short(name: &str, rotations: u32) -> Scene {
     let mut f = SceneFile::read(scene_path(name)).unwrap();
@@ -55,11 +56,12 @@ fn members_agree_where_the_motion_is_not_chaotic() {
 #[test]
 fn offsets_keep_every_ideal_joint_closed_and_move_the_journal_by_nanometres() {
     let scene = short("standard", 1);
-    let mut m = scene.mechanism.clone();
+    let m = &scene.mechanism;
+    let (state, mut ws) = (m.initial_state(), m.workspace());
     let base = m.assemble(&scene.guess).unwrap();
     let n = m.coordinates();
     assert!(
-        m.contact_kinematics(0, &base[..n], &base[n..2 * n])
+        m.contact_kinematics(&state, 0, &base[..n], &base[n..2 * n])
             .e
             .norm()
             < 1e-12
@@ -69,14 +71,14 @@ fn offsets_keep_every_ideal_joint_closed_and_move_the_journal_by_nanometres() {
         let d = member_offsets(1, member, 1)[0];
         let y = member_state(&scene, 1, member).unwrap();
         // e0 = R(phi_J) d, measured with the real journal point
-        let e = m.contact_kinematics(0, &y[..n], &y[n..2 * n]).e;
+        let e = m.contact_kinematics(&state, 0, &y[..n], &y[n..2 * n]).e;
         let rotated = nalgebra::Rotation2::new(y[3 * journal + 2]) * d;
         assert!(
             (e - rotated).norm() < 1e-6 * OFFSET_RADIUS,
             "{e:?} vs {rotated:?}"
         );
         assert!(e.norm() <= OFFSET_RADIUS && e.norm() > 0.0);
-        let phi = m.constraint_vector(0.0, &y[..n]);
+        let phi = m.constraint_vector(&mut ws, 0.0, &y[..n]);
         assert!(phi.iter().all(|p| p.abs() < 1e-12), "{phi:?}");
         // the member's run starts from that state
         let out = run_member(&scene, &scene.run, 1, member).unwrap();
@@ -106,14 +108,16 @@ fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
         text.contains("3 members (seed 5)") && text.contains("of 3 members"),
         "{text}"
     );
-    let (header, rows) = jointwear::output::read_rows(&out.join("ensemble_members.csv")).unwrap();
+    let (header, rows) =
+        jointwear::io::output::read_rows(&out.join("ensemble_members.csv")).unwrap();
     assert_eq!(rows.len(), 3);
     assert_eq!(header[0], "member");
-    let (_, summary) = jointwear::output::read_rows(&out.join("ensemble_summary.csv")).unwrap();
+    let (_, summary) = jointwear::io::output::read_rows(&out.join("ensemble_summary.csv")).unwrap();
     assert!(summary
         .iter()
         .any(|r| r[1] == "peak_wear_depth_m" && r[2] == "3"));
-    let (_, band) = jointwear::output::read_csv(&out.join("ensemble_wear_rod-slider.csv")).unwrap();
+    let (_, band) =
+        jointwear::io::output::read_csv(&out.join("ensemble_wear_rod-slider.csv")).unwrap();
     // mean between min and max in every sector
     assert!((0..band[0].len()).all(|i| band[3][i] <= band[1][i] && band[1][i] <= band[9][i]));
     assert!(out.join("wear.png").exists());

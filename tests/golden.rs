@@ -1,4 +1,4 @@
-//! Golden tests on ensemble statistics (`src/golden.rs` gives the bound and why).
+//! Golden tests on ensemble statistics (`src/paper/golden.rs` gives the bound and why).
 //!
 //! - The model's statistics match the recorded ones (`data/golden/ensemble.toml`) for the
 //!   recording seed and for another seed: a different sample of the same physics, as a change of
@@ -8,13 +8,14 @@
 //!   value lies within tolerance of the ensemble mean; where one is declared, it does not, so a
 //!   declared deviation is a real one.
 
-use jointwear::ensemble::EnsembleSettings;
-use jointwear::friction::FrictionModel;
-use jointwear::golden::{
-    angle_distance, compare, measure, EnsembleGolden, Golden, Violation, GOLDEN_NEEDS,
+use jointwear::laws::friction::FrictionModel;
+use jointwear::paper::cases::{case_of_scene, Runs, CASES};
+use jointwear::paper::golden::{
+    angle_distance, compare, measure, EnsembleGolden, Golden, Quantity, SteadyQuantity, Violation,
+    GOLDEN_NEEDS,
 };
-use jointwear::runs::{Runs, CASES};
 use jointwear::scene::SceneFile;
+use jointwear::simulation::ensemble::EnsembleSettings;
 
 fn runs(seed: u64, modify: &(dyn Fn(&mut SceneFile) + Sync)) -> Runs {
     let recorded = EnsembleGolden::load().unwrap();
@@ -68,21 +69,24 @@ fn a_change_of_physics_breaks_them() {
 fn paper_values_match_where_and_only_where_no_deviation_is_declared() {
     let golden = Golden::load().unwrap();
     let recorded = EnsembleGolden::load().unwrap();
-    let mean = |name: &str| {
+    let mean = |q: Quantity| {
+        let name = q.name();
         recorded
             .quantity
             .iter()
-            .find(|q| q.name == name)
+            .find(|r| r.name == name)
             .unwrap_or_else(|| panic!("{name} recorded"))
             .mean
     };
     let tol = golden.concordance_tolerance;
-    for ((name, _, _), row) in CASES.iter().zip(&golden.table3) {
-        let matches = (mean(&format!("{name}.pw")) - row.pw).abs() <= tol
-            && (mean(&format!("{name}.sw")) - row.sw).abs() <= tol
-            && (mean(&format!("{name}.continuous_contact")) >= 0.5)
+    for &(case, row) in CASES.zip(&golden.table3).list() {
+        let steady = |q| mean(Quantity::Steady(*case, q));
+        let matches = (steady(SteadyQuantity::Pw) - row.pw).abs() <= tol
+            && (steady(SteadyQuantity::Sw) - row.sw).abs() <= tol
+            && (steady(SteadyQuantity::ContinuousContact) >= 0.5)
                 == (row.motion == "continuous contact")
-            && (mean(&format!("{name}.pw_dominant")) >= 0.5) == (row.dominant() == "P-w");
+            && (steady(SteadyQuantity::PwDominant) >= 0.5) == (row.dominant() == "P-w");
+        let name = case.scene;
         assert_eq!(
             matches,
             row.deviation.is_none(),
@@ -97,12 +101,17 @@ fn paper_values_match_where_and_only_where_no_deviation_is_declared() {
     }
     for claim in [&golden.standard_wear, &golden.low_speed_wear] {
         let tol = claim.angle_tolerance_deg;
+        let case = case_of_scene(&claim.scene).unwrap();
         // the low-speed claim is about its deepest region only
         let regions = claim.scene != golden.standard_wear.scene
-            || claim.peak_angles_deg.iter().all(|a| {
-                mean(&format!("{}.region_near_{a:.0}_deg_offset", claim.scene)).abs() <= tol
+            || claim.peak_angles_deg.iter().all(|&a| {
+                let near = Quantity::RegionNearOffset {
+                    case,
+                    claimed_deg: a,
+                };
+                mean(near).abs() <= tol
             });
-        let deepest = mean(&format!("{}.deepest_region_deg_offset", claim.scene));
+        let deepest = mean(Quantity::DeepestRegionOffset(case));
         let matches = regions && angle_distance(deepest, 0.0) <= tol;
         assert_eq!(matches, claim.deviation.is_none(), "{}", claim.scene);
     }

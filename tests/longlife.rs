@@ -1,7 +1,7 @@
 //! Cycle-jump extrapolation against brute-force simulation.
 
-use jointwear::longlife::{predict, LongLifeSettings};
 use jointwear::scene::{scene_path, SceneFile};
+use jointwear::simulation::longlife::{predict, LongLifeSettings};
 use jointwear::simulation::simulate;
 
 fn l2(a: &[f64]) -> f64 {
@@ -130,7 +130,7 @@ fn wear_past_the_model_stops_a_run_within_a_rotation() {
     let scene = f.build().unwrap();
     let e = simulate(&scene).unwrap_err().to_string();
     assert!(
-        e.contains("beyond the wear model's limit") && e.contains("after 1 rotations"),
+        e.contains("beyond the wear model's limit") && e.contains("in driver rotation 1,"),
         "{e}"
     );
 }

@@ -4,8 +4,8 @@ use std::f64::consts::PI;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use jointwear::output::{read_csv, write_atomic, write_csv};
-use jointwear::plot::{render, render_polar, Axes, Series, Style};
+use jointwear::io::output::{read_csv, write_atomic, write_csv};
+use jointwear::io::plot::{render, render_polar, Axes, Series, Style};
 use jointwear::Error;
 
 /// A fresh, empty directory per test.
@@ -241,7 +241,7 @@ fn bad_input_is_an_error_and_writes_nothing() {
         )],
     ));
     let band = Axes {
-        shades: vec![jointwear::plot::Shade {
+        shades: vec![jointwear::io::plot::Shade {
             series: 0,
             lo: &x[..3],
             hi: &x,

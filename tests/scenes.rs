@@ -1,6 +1,7 @@
 //! Bad scenes give a clear error naming the field, the value and the valid range.
 
-use jointwear::scene::{scene_path, Scene, SceneFile};
+use jointwear::scene::{scene_path, SceneFile};
+use jointwear::simulation::Scene;
 use std::path::Path;
 
 fn standard_text() -> String {

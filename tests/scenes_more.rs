@@ -1,7 +1,7 @@
 //! The shipped scenes beyond the paper's mechanism: a four-bar linkage with a worn
 //! coupler-rocker joint, and the slider-crank with two clearance joints.
 
-use jointwear::friction::FrictionModel;
+use jointwear::laws::friction::FrictionModel;
 use jointwear::scene::{scene_path, SceneFile};
 use jointwear::simulation::{simulate, RunOutput};
 

@@ -2,7 +2,7 @@
 //! completes with finite values, bounded penetration and a closed energy balance, or fails
 //! with an error that names the time and the cause (never a panic or a hang).
 
-use jointwear::studies::{stability_case, stability_cases, StabilityRow};
+use jointwear::paper::studies::{stability_case, stability_cases, StabilityRow};
 
 /// Step guard of the short runs: the slowest completing case (stick-slip) needs ~250 000
 /// steps, most of them while it sticks in its first 5 ms.

@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use jointwear::sweep_file::SweepFile;
+use jointwear::sweep::file::SweepFile;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};

@@ -1,9 +1,9 @@
 //! Validity limits of the scene values: what the models cannot describe is refused when the
 //! scene is built, naming the field, the value, the limit and the likely cause.
 
-use jointwear::contact::NormalForceModel;
+use jointwear::laws::contact::NormalForceModel;
+use jointwear::laws::wear::PressureModel;
 use jointwear::scene::{scene_path, MethodSpec, SceneFile};
-use jointwear::wear::PressureModel;
 
 fn standard() -> SceneFile {
     SceneFile::read(scene_path("standard")).unwrap()

@@ -1,9 +1,9 @@
-//! The accuracy-dependence study (see `jointwear::studies`): writes
+//! The accuracy-dependence study (see `jointwear::paper::studies::accuracy`): writes
 //! `data/accuracy_dependence.csv` and prints, per paper result, which integrations reproduce it.
-use jointwear::figures::exit_on_error;
+use jointwear::error::exit_on_error;
 
 fn main() {
-    let a = exit_on_error(jointwear::studies::accuracy_dependence(|c, s| {
+    let a = exit_on_error(jointwear::paper::studies::accuracy_dependence(|c, s| {
         eprintln!("{c} {s}")
     }));
     println!("wrote data/accuracy_dependence.csv");

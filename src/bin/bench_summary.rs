@@ -1,6 +1,6 @@
 //! Collects criterion's estimates (run `cargo bench` first) into data/benchmarks.csv.
-use jointwear::figures::exit_on_error;
-use jointwear::performance::{benchmark_summary, criterion_dir};
+use jointwear::error::exit_on_error;
+use jointwear::paper::performance::{benchmark_summary, criterion_dir};
 
 fn main() {
     let results = exit_on_error(benchmark_summary(&criterion_dir()));

@@ -1,9 +1,10 @@
-//! The calibration study of the lost Table 2 (see `jointwear::calibration`): writes
+//! The calibration study of the lost Table 2 (see `jointwear::paper::calibration`): writes
 //! `data/calibration.csv` and `figures/calibration.png` and prints the best parameter sets.
-use jointwear::figures::exit_on_error;
+use jointwear::error::exit_on_error;
+use jointwear::paper::calibration::FACTORIAL_GROUP;
 
 fn main() {
-    let ranked = exit_on_error(jointwear::calibration::study(|done, total| {
+    let ranked = exit_on_error(jointwear::paper::calibration::study(|done, total| {
         eprint!("\r{done}/{total} parameter sets")
     }));
     eprintln!();
@@ -11,7 +12,7 @@ fn main() {
     // the scene takes the best admissible set of the factorial (one-at-a-time rows measure sensitivity)
     let best_admissible = ranked
         .iter()
-        .find(|r| r.1.admissible() && r.0 == "factorial");
+        .find(|r| r.1.admissible() && r.0 == FACTORIAL_GROUP);
     for (group, p, m) in ranked.iter().take(8).chain(best_admissible) {
         println!(
             "{} {:.3}  {group:9} {} mu_d {} v_s {} {:?} grazing {} k/H {:e} L {} sectors {} | peaks {:?} err {:.1} deg, 180 largest {}, modes {}/5, dominance {}/5, CMF rms {:.4}, 30 r/min wear at {:.0} deg",

@@ -1,10 +1,10 @@
 //! How ensemble statistics settle with the number of members, and the default size it picks:
 //! `data/ensemble_convergence.csv`, `figures/ensemble_convergence.png`. See
-//! `jointwear::convergence`.
-use jointwear::convergence::convergence_study;
-use jointwear::ensemble::DEFAULT_MEMBERS;
-use jointwear::figures::exit_on_error;
-use jointwear::output::progress_bar;
+//! `jointwear::paper::convergence`.
+use jointwear::error::exit_on_error;
+use jointwear::io::output::progress_bar;
+use jointwear::paper::convergence::convergence_study;
+use jointwear::simulation::ensemble::DEFAULT_MEMBERS;
 
 fn main() {
     let bar = progress_bar(0, "members");

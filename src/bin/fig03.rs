@@ -1,4 +1,4 @@
-//! Paper figure 3: see `jointwear::figures::fig03`.
+//! Paper figure 3: see `jointwear::paper::figures::time_series::fig03`.
 fn main() {
-    jointwear::figures::figure_main("fig03");
+    jointwear::paper::figures::figure_main("fig03");
 }

@@ -1,4 +1,4 @@
-//! Paper figure 4: see `jointwear::figures::fig04`.
+//! Paper figure 4: see `jointwear::paper::figures::time_series::fig04`.
 fn main() {
-    jointwear::figures::figure_main("fig04");
+    jointwear::paper::figures::figure_main("fig04");
 }

@@ -1,4 +1,4 @@
-//! Paper figure 5: see `jointwear::figures::fig05`.
+//! Paper figure 5: see `jointwear::paper::figures::wear_profiles::fig05`.
 fn main() {
-    jointwear::figures::figure_main("fig05");
+    jointwear::paper::figures::figure_main("fig05");
 }

@@ -1,5 +1,5 @@
 //! Paper figure 6, the main job: 40 rotations of coupled wear of the standard slider-crank;
-//! prints the deepest wear peaks. See `jointwear::figures::fig06`.
+//! prints the deepest wear peaks. See `jointwear::paper::figures::wear_profiles::fig06`.
 fn main() {
-    jointwear::figures::figure_main("fig06");
+    jointwear::paper::figures::figure_main("fig06");
 }

@@ -1,4 +1,4 @@
-//! Paper figure 7: see `jointwear::figures::fig07`.
+//! Paper figure 7: see `jointwear::paper::figures::wear_history::fig07`.
 fn main() {
-    jointwear::figures::figure_main("fig07");
+    jointwear::paper::figures::figure_main("fig07");
 }

@@ -1,4 +1,4 @@
-//! Paper figure 8: see `jointwear::figures::fig08`.
+//! Paper figure 8: see `jointwear::paper::figures::time_series::fig08`.
 fn main() {
-    jointwear::figures::figure_main("fig08");
+    jointwear::paper::figures::figure_main("fig08");
 }

@@ -1,4 +1,4 @@
-//! Paper figure 9: see `jointwear::figures::fig09`.
+//! Paper figure 9: see `jointwear::paper::figures::time_series::fig09`.
 fn main() {
-    jointwear::figures::figure_main("fig09");
+    jointwear::paper::figures::figure_main("fig09");
 }

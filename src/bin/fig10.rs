@@ -1,4 +1,4 @@
-//! Paper figure 10: see `jointwear::figures::fig10`.
+//! Paper figure 10: see `jointwear::paper::figures::wear_profiles::fig10`.
 fn main() {
-    jointwear::figures::figure_main("fig10");
+    jointwear::paper::figures::figure_main("fig10");
 }

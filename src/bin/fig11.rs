@@ -1,4 +1,4 @@
-//! Paper figure 11: see `jointwear::figures::fig11`.
+//! Paper figure 11: see `jointwear::paper::figures::wear_profiles::fig11`.
 fn main() {
-    jointwear::figures::figure_main("fig11");
+    jointwear::paper::figures::figure_main("fig11");
 }

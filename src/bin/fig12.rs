@@ -1,4 +1,4 @@
-//! Paper figure 12: see `jointwear::figures::fig12`.
+//! Paper figure 12: see `jointwear::paper::figures::time_series::fig12`.
 fn main() {
-    jointwear::figures::figure_main("fig12");
+    jointwear::paper::figures::figure_main("fig12");
 }

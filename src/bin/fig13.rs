@@ -1,4 +1,4 @@
-//! Paper figure 13: see `jointwear::figures::fig13`.
+//! Paper figure 13: see `jointwear::paper::figures::time_series::fig13`.
 fn main() {
-    jointwear::figures::figure_main("fig13");
+    jointwear::paper::figures::figure_main("fig13");
 }

@@ -1,4 +1,4 @@
-//! Paper figure 14: see `jointwear::figures::fig14`.
+//! Paper figure 14: see `jointwear::paper::figures::wear_profiles::fig14`.
 fn main() {
-    jointwear::figures::figure_main("fig14");
+    jointwear::paper::figures::figure_main("fig14");
 }

@@ -1,4 +1,4 @@
-//! Paper figure 15: see `jointwear::figures::fig15`.
+//! Paper figure 15: see `jointwear::paper::figures::wear_profiles::fig15`.
 fn main() {
-    jointwear::figures::figure_main("fig15");
+    jointwear::paper::figures::figure_main("fig15");
 }

@@ -2,20 +2,23 @@
 //! tests hold the model to. Run it only for a reason (a physics fix, a new statistic), given
 //! as the argument; the reason is written into the file and belongs in the commit message and
 //! in `paper.md`. Never to make a chaotic number pass: the bounds already allow for chaos.
-use jointwear::ensemble::EnsembleSettings;
-use jointwear::figures::exit_on_error;
-use jointwear::golden::{
+use jointwear::error::exit_on_error;
+use jointwear::io::output::write_atomic;
+use jointwear::paper::cases::Runs;
+use jointwear::paper::golden::{
     ensemble_path, measure, EnsembleGolden, Golden, Recorded, GOLDEN_MEMBERS, GOLDEN_NEEDS,
 };
-use jointwear::output::write_atomic;
-use jointwear::runs::Runs;
+use jointwear::simulation::ensemble::EnsembleSettings;
 use jointwear::Error;
 
 fn main() {
-    let Some(reason) = std::env::args().nth(1) else {
-        eprintln!("usage: golden_record \"REASON\"  (why the statistics are recorded)");
-        std::process::exit(2);
-    };
+    let reason = exit_on_error(std::env::args().nth(1).ok_or_else(|| {
+        Error::invalid(
+            "REASON",
+            "(missing)",
+            "why the statistics are recorded: golden_record \"REASON\"",
+        )
+    }));
     let golden = exit_on_error(Golden::load());
     let ensemble = EnsembleSettings {
         members: GOLDEN_MEMBERS,
@@ -24,12 +27,12 @@ fn main() {
     let runs = exit_on_error(Runs::compute(&GOLDEN_NEEDS, ensemble, &|_| {}, |_, _| {}));
     let quantity = exit_on_error(measure(&runs, &golden))
         .into_iter()
-        .map(|(name, d, floor)| Recorded {
-            name,
-            n: d.n,
-            mean: d.mean,
-            sd: d.sd,
-            floor,
+        .map(|m| Recorded {
+            name: m.quantity.name(),
+            n: m.distribution.n,
+            mean: m.distribution.mean,
+            sd: m.distribution.sd,
+            floor: m.floor,
         })
         .collect();
     let file = EnsembleGolden {
@@ -38,16 +41,16 @@ fn main() {
         reason,
         quantity,
     };
-    let body = toml::to_string(&file).unwrap_or_else(|e| {
-        eprintln!("error: the statistics do not serialise: {e}");
-        std::process::exit(1)
-    });
+    let path = ensemble_path();
+    let body = exit_on_error(toml::to_string(&file).map_err(|e| Error::Io {
+        path: path.clone(),
+        source: std::io::Error::other(e),
+    }));
     let text = format!(
         "# Recorded ensemble statistics of the model, written by `cargo run --release --bin \
          golden_record -- REASON`;\n# do not edit by hand. tests/golden.rs holds the model to them \
-         (src/golden.rs gives the bound).\n{body}"
+         (src/paper/golden.rs gives the bound).\n{body}"
     );
-    let path = ensemble_path();
     exit_on_error(write_atomic(&path, |tmp| {
         std::fs::write(tmp, &text).map_err(|source| Error::Io {
             path: tmp.to_path_buf(),

@@ -4,15 +4,13 @@
 //! them, reruns the accuracy-dependence study and the stability suite; `report --all` also
 //! reruns the slow studies (calibration, work-precision and the ensemble-size study, a few
 //! minutes) instead of reading their last results from `data/`.
-use jointwear::ensemble::EnsembleSettings;
-use jointwear::figures::exit_on_error;
-use jointwear::golden::Golden;
-use jointwear::output::progress_bar;
-use jointwear::report::{
-    performance_section, run_figures, stability_section, work_precision_section, write,
-};
-use jointwear::runs::CASES;
-use jointwear::{calibration, convergence, studies};
+use jointwear::error::exit_on_error;
+use jointwear::io::output::progress_bar;
+use jointwear::paper::cases::CASES;
+use jointwear::paper::golden::Golden;
+use jointwear::paper::report::{run_figures, write, Studies};
+use jointwear::paper::{calibration, convergence, studies};
+use jointwear::simulation::ensemble::EnsembleSettings;
 
 fn main() {
     let clock = std::time::Instant::now();
@@ -44,26 +42,25 @@ fn main() {
     }));
     bar.finish_and_clear();
     // every Table 3 case and the standard wear case, under each integration setting
-    let count = studies::accuracy_settings().len() * (CASES.len() + 1);
+    let count = studies::Setting::ALL.len() * (CASES.list().len() + 1);
     let bar = progress_bar(count as u64, "accuracy runs");
-    exit_on_error(studies::accuracy_dependence(|_, _| bar.inc(1)));
+    let accuracy = exit_on_error(studies::accuracy_dependence(|_, _| bar.inc(1)));
     bar.finish_and_clear();
     let bar = progress_bar(
         exit_on_error(studies::stability_cases()).len() as u64,
         "stability cases",
     );
-    exit_on_error(studies::stability(|_| bar.inc(1)));
+    let stability = exit_on_error(studies::stability(|_| bar.inc(1)));
     bar.finish_and_clear();
-    let sections = vec![
-        work_precision_section(),
-        stability_section(),
-        performance_section(),
-    ];
+    let studies = Studies {
+        accuracy: &accuracy,
+        stability: &stability,
+    };
     exit_on_error(write(
         &runs,
         &drawn,
         &golden,
-        &sections,
+        &studies,
         clock.elapsed().as_secs_f64(),
     ));
     println!("wrote paper.md in {:.1} s", clock.elapsed().as_secs_f64());

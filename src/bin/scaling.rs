@@ -2,6 +2,6 @@
 fn main() {
     print!(
         "{}",
-        jointwear::figures::exit_on_error(jointwear::performance::scaling_study())
+        jointwear::error::exit_on_error(jointwear::paper::performance::scaling_study())
     );
 }

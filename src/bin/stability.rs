@@ -1,8 +1,8 @@
-//! The stability study (see `jointwear::studies`): writes `data/stability.csv`.
-use jointwear::figures::exit_on_error;
+//! The stability study (see `jointwear::paper::studies::stability`): writes `data/stability.csv`.
+use jointwear::error::exit_on_error;
 
 fn main() {
-    let rows = exit_on_error(jointwear::studies::stability(|c| eprintln!("{c}")));
+    let rows = exit_on_error(jointwear::paper::studies::stability(|c| eprintln!("{c}")));
     println!("wrote data/stability.csv");
     for r in rows {
         let outcome = r.failure.as_deref().unwrap_or("completed");

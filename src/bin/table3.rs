@@ -1,5 +1,5 @@
 //! Table 3: motion mode and concordances of the five cases as ensemble statistics beside the
-//! paper's values; writes `data/table3.csv`. See `jointwear::figures::FIGURES`.
+//! paper's values; writes `data/table3.csv`. See `jointwear::paper::figures::table3`.
 fn main() {
-    jointwear::figures::figure_main("table3");
+    jointwear::paper::figures::figure_main("table3");
 }

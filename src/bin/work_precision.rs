@@ -1,9 +1,10 @@
-//! The work-precision study (see `jointwear::studies`): writes `data/work_precision.csv` and
-//! `figures/work_precision.png` and prints the error floor and the default tolerance.
-use jointwear::figures::exit_on_error;
+//! The work-precision study (see `jointwear::paper::studies::work_precision`): writes
+//! `data/work_precision.csv` and `figures/work_precision.png` and prints the error floor and
+//! the default tolerance.
+use jointwear::error::exit_on_error;
 
 fn main() {
-    let wp = exit_on_error(jointwear::studies::work_precision(|i| {
+    let wp = exit_on_error(jointwear::paper::studies::work_precision(|i| {
         eprintln!("{} {}", i.method_name(), i.setting())
     }));
     println!("wrote data/work_precision.csv and figures/work_precision.png");

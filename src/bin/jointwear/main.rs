@@ -1,0 +1,222 @@
+//! `jointwear`: simulate, check, sweep and predict long-life wear of any scene file.
+//!
+//! Exit codes: 0 success, 2 bad input (scene value, TOML, command-line syntax), 1 a failure
+//! while running (integration, writing outputs), 130 interrupted.
+//!
+//! This file owns the command line (arguments, help, dispatch) and the output naming shared by
+//! the subcommands; each subcommand lives in its own module: [`run`] (one run), [`ensemble`]
+//! (`run --ensemble`), [`check`], [`sweep`] (`sweep` and `sweep-merge`) and [`longlife`];
+//! [`failure`] turns errors into messages and exit codes.
+
+mod check;
+mod ensemble;
+mod failure;
+mod longlife;
+mod run;
+mod sweep;
+
+use clap::{Parser, Subcommand};
+use failure::{CliResult, Failure};
+use jointwear::io::interrupt;
+use jointwear::simulation::ensemble::{EnsembleSettings, DEFAULT_SEED};
+use jointwear::simulation::Scene;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+const EXAMPLES: &str = "\
+Examples:
+  jointwear check data/scenes/fourbar.toml
+  jointwear run data/scenes/standard.toml --out out/standard
+  jointwear run data/scenes/standard.toml --ensemble 16 --seed 1
+  jointwear sweep data/scenes/standard.toml \\
+      --set clearance.0.clearance_mm=0.02,0.1,0.5 --set driver.speed_rpm=600,2000 --out sweep.csv
+  jointwear sweep data/scenes/standard.toml --set driver.speed_rpm=500,1000,1500,2000 \\
+      --shard 2/4 --out shard2.csv
+  jointwear sweep-merge shard1.csv shard2.csv shard3.csv shard4.csv --out all.csv
+  jointwear longlife data/scenes/standard.toml --rotations 1e6 --k-over-h 1e-15";
+
+/// Wear prediction in planar mechanisms with clearance revolute joints.
+#[derive(Parser)]
+#[command(version, after_help = EXAMPLES)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Simulate a scene: time series and wear CSVs, plots and a summary.
+    #[command(
+        after_help = "Writes timeseries.csv (recorded rotations), wear_<joint>.csv (final \
+        profile), trajectory.png, normal_force.png and wear.png. With --ensemble N: \
+        ensemble_members.csv (one row per member), ensemble_summary.csv (mean, sd, min, \
+        quantiles and max of every scalar result), ensemble_wear_<joint>.csv (the per-sector \
+        band of the final wear profiles) and wear.png (mean profile, 5-95 % band shaded)."
+    )]
+    Run {
+        scene: PathBuf,
+        /// Output directory [default: out/<scene stem>]
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Run N members, each from an initial journal offset of at most 10 nm in a seeded
+        /// random direction, and report statistics over them instead of one trajectory
+        #[arg(long, value_name = "N")]
+        ensemble: Option<usize>,
+        /// Seed of the ensemble's initial offsets
+        #[arg(long, default_value_t = DEFAULT_SEED, requires = "ensemble")]
+        seed: u64,
+        /// Save the run's whole state to <out>/checkpoint.json every K rotations (removed when
+        /// the run completes)
+        #[arg(long, value_name = "K", conflicts_with = "ensemble")]
+        checkpoint_every: Option<u32>,
+        /// Continue the run saved in <out>/checkpoint.json, bit for bit as if it had never
+        /// stopped
+        #[arg(long, conflicts_with = "ensemble")]
+        resume: bool,
+    },
+    /// Validate a scene and print what it describes.
+    Check { scene: PathBuf },
+    /// Run the cartesian product of --set values in parallel, one summary CSV row per case.
+    #[command(
+        after_help = "KEY is a dotted path into the scene file, array elements by 0-based \
+        number (clearance.0.clearance_mm, run.method); values are TOML (0.02, [0.0, -9.81], \
+        \"rk4\" or rk4). Case k (last --set varying fastest) belongs to shard (k mod N) + 1."
+    )]
+    Sweep {
+        scene: PathBuf,
+        /// KEY=V1,V2,.. (repeatable)
+        #[arg(long = "set", value_name = "KEY=VALUES")]
+        sets: Vec<String>,
+        /// Run only shard I of N (1-based), for job arrays
+        #[arg(long, value_name = "I/N")]
+        shard: Option<String>,
+        /// Summary CSV [default: out/<scene stem>/sweep.csv, or sweep-I-of-N.csv]
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Keep the finished cases of an interrupted sweep in --out and run only the others
+        #[arg(long)]
+        resume: bool,
+        /// Run every case as an ensemble of N members (see `run --ensemble`): mean and sd
+        /// columns of every quantity instead of one run's values
+        #[arg(long, value_name = "N")]
+        ensemble: Option<usize>,
+        /// Seed of the ensembles' initial offsets
+        #[arg(long, default_value_t = DEFAULT_SEED, requires = "ensemble")]
+        seed: u64,
+    },
+    /// Join the shard files of one sweep, sorted by case.
+    #[command(
+        after_help = "Refuses a shard of another sweep (fingerprint), a shard given twice and, \
+        unless --allow-partial, a missing or unfinished shard."
+    )]
+    SweepMerge {
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        #[arg(long)]
+        out: PathBuf,
+        /// Merge even if shards are missing or unfinished (the result can be --resume'd)
+        #[arg(long)]
+        allow_partial: bool,
+    },
+    /// Predict the wear after many rotations by cycle-jump extrapolation.
+    Longlife {
+        scene: PathBuf,
+        /// Rotations to predict (1e6 is accepted)
+        #[arg(long, default_value = "1e6")]
+        rotations: f64,
+        /// Override k/H (1/Pa) of every worn joint
+        #[arg(long)]
+        k_over_h: Option<f64>,
+        /// Largest depth change per extrapolated block, as a fraction of the clearance
+        #[arg(long, default_value_t = 0.02)]
+        max_change: f64,
+        /// Rotations simulated before the first block
+        #[arg(long, default_value_t = 3)]
+        settle: u32,
+        /// Stop when the deepest wear of a joint reaches this depth (mm), and report the
+        /// rotations it took [default: each joint's radial clearance: the clearance doubled]
+        #[arg(long, value_name = "DEPTH_MM")]
+        until: Option<f64>,
+        /// Output directory [default: out/<scene stem>]
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    if let Err(e) = interrupt::install() {
+        eprintln!("warning: {e}; an interrupted run may leave temporary files");
+    }
+    let result = match cli.command {
+        Command::Run {
+            scene,
+            out,
+            ensemble: None,
+            checkpoint_every,
+            resume,
+            ..
+        } => run::run(&scene, out, checkpoint_every, resume),
+        Command::Run {
+            scene,
+            out,
+            ensemble: Some(members),
+            seed,
+            ..
+        } => ensemble::run_ensemble(&scene, out, EnsembleSettings { members, seed }),
+        Command::Check { scene } => check::check(&scene),
+        Command::Sweep {
+            scene,
+            sets,
+            shard,
+            out,
+            resume,
+            ensemble,
+            seed,
+        } => {
+            let ensemble = ensemble.map(|members| EnsembleSettings { members, seed });
+            sweep::sweep(&scene, &sets, shard.as_deref(), out, resume, ensemble)
+        }
+        Command::SweepMerge {
+            inputs,
+            out,
+            allow_partial,
+        } => sweep::sweep_merge(&inputs, &out, allow_partial),
+        Command::Longlife {
+            scene,
+            rotations,
+            k_over_h,
+            max_change,
+            settle,
+            out,
+            until,
+        } => longlife::longlife(&scene, rotations, k_over_h, max_change, settle, until, out),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => f.report(),
+    }
+}
+
+/// `out/<scene stem>` unless given.
+fn out_dir(scene: &Path, out: Option<PathBuf>) -> PathBuf {
+    out.unwrap_or_else(|| Path::new("out").join(scene.file_stem().unwrap_or(scene.as_os_str())))
+}
+
+/// A joint name usable in a file name.
+fn file_part(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// The scene file at `path`, built; its errors are errors of the input ([`Failure::input`]).
+fn load(path: &Path) -> CliResult<Scene> {
+    Scene::load(path).map_err(|e| Failure::input(path, e))
+}

@@ -1,0 +1,442 @@
+//! Atomic outputs (CSV tables and figures), and the crate's one CSV writer and reader.
+//!
+//! Every output is written to a temporary file in the same directory and renamed into place,
+//! so a failed run never leaves a half-written CSV or PNG behind: the target either keeps its
+//! previous content or receives the complete new one.
+//!
+//! Every CSV table of the crate is written here ([`write_csv`], [`write_rows`],
+//! [`write_table`], [`GrowingTable`]) and read here ([`read_csv`], [`read_rows`],
+//! [`parse_rows`]), in one dialect.
+
+use std::cell::RefCell;
+use std::ffi::OsString;
+use std::fs::{self, File};
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+use crate::io::interrupt;
+use crate::{Error, Result};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+fn io_error(path: &Path, source: std::io::Error) -> Error {
+    Error::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// Hidden temporary sibling of `path` that keeps the extension (`dir/.name.tmp.png` for
+/// `dir/name.png`), so writers that pick the format from the extension still work.
+fn temp_path(path: &Path) -> PathBuf {
+    let stem = path.file_stem().unwrap_or(path.as_os_str());
+    let mut name = OsString::from(".");
+    name.push(stem);
+    name.push(".tmp");
+    if let Some(ext) = path.extension() {
+        name.push(".");
+        name.push(ext);
+    }
+    path.with_file_name(name)
+}
+
+/// Writes `path` atomically: creates the parent directory, lets `write` produce the content
+/// at a temporary path next to `path`, then renames it into place. On failure the temporary
+/// file is removed and `path` is left untouched.
+pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    if path.file_name().is_none() {
+        return Err(io_error(
+            path,
+            std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "output path has no file name",
+            ),
+        ));
+    }
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        fs::create_dir_all(dir).map_err(|e| io_error(dir, e))?;
+    }
+    let tmp = temp_path(path);
+    // Registered while it exists, so that an interrupted program removes it.
+    let _registered = interrupt::temporary(&tmp).ok_or_else(|| {
+        io_error(
+            path,
+            std::io::Error::new(std::io::ErrorKind::Interrupted, "interrupted"),
+        )
+    })?;
+    let result = write(&tmp).and_then(|()| fs::rename(&tmp, path).map_err(|e| io_error(path, e)));
+    match result {
+        Ok(()) => WRITTEN.with_borrow_mut(|w| w.iter_mut().for_each(|w| w.push(path.into()))),
+        // Best effort: the writer may have failed before creating the file.
+        Err(_) => {
+            let _ = fs::remove_file(&tmp);
+        }
+    }
+    result
+}
+
+thread_local! {
+    /// The files [`write_atomic`] wrote on this thread while [`write_outputs`] collects them.
+    static WRITTEN: RefCell<Option<Vec<PathBuf>>> = const { RefCell::new(None) };
+}
+
+/// File listing the outputs of the last complete run written into a folder.
+pub const MANIFEST: &str = "jointwear-manifest.txt";
+
+/// The file names a folder's manifest lists (none without a manifest). Only plain names are
+/// taken: a manifest never makes this program touch anything outside its folder.
+fn manifest_files(dir: &Path) -> Vec<String> {
+    let text = fs::read_to_string(dir.join(MANIFEST)).unwrap_or_default();
+    text.lines()
+        .filter(|l| !l.starts_with('#') && !l.is_empty() && *l != MANIFEST)
+        .filter(|l| Path::new(l).file_name() == Some(std::ffi::OsStr::new(l)))
+        .map(str::to_owned)
+        .collect()
+}
+
+/// Writes the outputs of one run into `dir` so that old and new outputs never mix: the
+/// previous run's manifest is removed first (a folder without one holds an interrupted or
+/// failed write), `write` writes through [`write_atomic`] on this thread, the files of the
+/// previous run it did not rewrite are removed, and a new [`MANIFEST`] headed by `title`
+/// lists this run's files. Files this program did not write are left alone.
+pub fn write_outputs<T>(dir: &Path, title: &str, write: impl FnOnce() -> Result<T>) -> Result<T> {
+    let previous = manifest_files(dir);
+    let manifest = dir.join(MANIFEST);
+    if manifest.exists() {
+        fs::remove_file(&manifest).map_err(|e| io_error(&manifest, e))?;
+    }
+    WRITTEN.with_borrow_mut(|w| *w = Some(Vec::new()));
+    let result = write();
+    let written = WRITTEN.with_borrow_mut(Option::take).unwrap_or_default();
+    let value = result?;
+    let mut names: Vec<String> = Vec::new();
+    for p in written.iter().filter(|p| p.parent() == Some(dir)) {
+        let name = p.file_name().map(|n| n.to_string_lossy().into_owned());
+        if let Some(n) = name.filter(|n| !names.contains(n)) {
+            names.push(n);
+        }
+    }
+    for stale in previous.iter().filter(|p| !names.contains(p)) {
+        let path = dir.join(stale);
+        if path.is_file() {
+            fs::remove_file(&path).map_err(|e| io_error(&path, e))?;
+        }
+    }
+    let mut text =
+        format!("# {title}\n# the files of this run; other files here are not from it\n");
+    for n in &names {
+        text.push_str(n);
+        text.push('\n');
+    }
+    write_atomic(&manifest, |tmp| {
+        fs::write(tmp, &text).map_err(|e| io_error(tmp, e))
+    })?;
+    Ok(value)
+}
+
+/// Why `dir` cannot become a directory of outputs, if it cannot: it must be a writable
+/// directory, or be creatable (its nearest existing ancestor is a writable directory).
+/// Nothing is created but a probe file, removed at once.
+fn unwritable_dir(dir: &Path) -> Option<String> {
+    // The parent of a relative one-component path is "", the working directory.
+    let existing = dir
+        .ancestors()
+        .map(|a| {
+            if a.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                a
+            }
+        })
+        .find(|a| a.exists())
+        .unwrap_or(Path::new("."));
+    if !existing.is_dir() {
+        return Some(format!("{} is an existing file", existing.display()));
+    }
+    let probe = existing.join(format!(".jointwear-write-test-{}", std::process::id()));
+    let opened = fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe);
+    match opened {
+        Ok(_) => {
+            let _ = fs::remove_file(&probe);
+            None
+        }
+        Err(e) => Some(format!("{} cannot be written: {e}", existing.display())),
+    }
+}
+
+/// Checks, before any work is done, that `dir` can receive the outputs of a run (see
+/// `unwritable_dir`); `option` names the setting in the error (e.g. `--out`), which is bad
+/// input ([`Error::Invalid`]).
+pub fn check_output_dir(option: &str, dir: &Path) -> Result<()> {
+    match unwritable_dir(dir) {
+        None => Ok(()),
+        Some(why) => Err(Error::invalid(
+            option,
+            dir.display(),
+            format!("a directory that can be created and written ({why})"),
+        )),
+    }
+}
+
+/// Like [`check_output_dir`] for an output file: `file` must not be a directory, and its
+/// directory must be writable or creatable.
+pub fn check_output_file(option: &str, file: &Path) -> Result<()> {
+    let why = if file.is_dir() || file.file_name().is_none() {
+        Some("it is a directory".to_string())
+    } else {
+        unwritable_dir(file.parent().unwrap_or(Path::new(".")))
+    };
+    match why {
+        None => Ok(()),
+        Some(why) => Err(Error::invalid(
+            option,
+            file.display(),
+            format!("a file in a directory that can be created and written ({why})"),
+        )),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// CSV: every table the crate writes goes through `csv_writer`, every one it reads through
+// `csv_reader`, so that all share one dialect.
+
+/// The writer of every CSV table: the `csv` crate's dialect (comma separated, fields quoted only
+/// where needed, `\n` line ends), every record as long as the first.
+fn csv_writer<W: Write>(sink: W) -> csv::Writer<W> {
+    csv::WriterBuilder::new().from_writer(sink)
+}
+
+/// The reader of every CSV table, in the dialect of [`csv_writer`]; `flexible` takes rows of
+/// any length (the caller picks the complete ones), otherwise another length is an error.
+fn csv_reader<R: Read>(source: R, flexible: bool) -> csv::Reader<R> {
+    csv::ReaderBuilder::new()
+        .flexible(flexible)
+        .from_reader(source)
+}
+
+fn csv_error(path: &Path, err: csv::Error) -> Error {
+    let message = err.to_string();
+    match err.into_kind() {
+        csv::ErrorKind::Io(source) => io_error(path, source),
+        _ => Error::Parse {
+            path: path.to_path_buf(),
+            message,
+        },
+    }
+}
+
+/// Writes equally long `columns` under `header` as CSV, atomically. Numbers are written in the
+/// shortest form that parses back to the identical `f64` (e.g. `1.25e-9`).
+pub fn write_csv(path: &Path, header: &[&str], columns: &[&[f64]]) -> Result<()> {
+    let field = |what: &str| format!("{} {what}", path.display());
+    if header.len() != columns.len() {
+        return Err(Error::invalid(
+            field("header"),
+            format!("{} names", header.len()),
+            format!("one name per column ({} columns)", columns.len()),
+        ));
+    }
+    let rows = columns.first().map_or(0, |c| c.len());
+    if let Some((i, c)) = columns.iter().enumerate().find(|(_, c)| c.len() != rows) {
+        return Err(Error::invalid(
+            field(&format!("column `{}`", header[i])),
+            format!("{} values", c.len()),
+            format!("{rows} values, like column `{}`", header[0]),
+        ));
+    }
+    write_rows(
+        path,
+        header,
+        (0..rows).map(|row| columns.iter().map(|c| format!("{:e}", c[row])).collect()),
+    )
+}
+
+/// Writes text rows under `header` as CSV, atomically (for tables with text columns).
+pub fn write_rows(
+    path: &Path,
+    header: &[impl AsRef<str>],
+    rows: impl IntoIterator<Item = Vec<String>>,
+) -> Result<()> {
+    write_table(path, None, header, rows)
+}
+
+/// Like [`write_rows`], with `first_line` (e.g. a `#` line naming what the table holds) written
+/// as is before the header.
+pub fn write_table(
+    path: &Path,
+    first_line: Option<&str>,
+    header: &[impl AsRef<str>],
+    rows: impl IntoIterator<Item = Vec<String>>,
+) -> Result<()> {
+    write_atomic(path, |tmp| {
+        let mut file = File::create(tmp).map_err(|e| io_error(tmp, e))?;
+        if let Some(line) = first_line {
+            file.write_all(format!("{line}\n").as_bytes())
+                .map_err(|e| io_error(tmp, e))?;
+        }
+        let mut w = csv_writer(file);
+        w.write_record(header.iter().map(AsRef::as_ref))
+            .map_err(|e| csv_error(tmp, e))?;
+        for record in rows {
+            w.write_record(&record).map_err(|e| csv_error(tmp, e))?;
+        }
+        w.flush().map_err(|e| io_error(tmp, e))
+    })
+}
+
+/// A CSV table that grows a row at a time (a sweep's results as its cases finish): written
+/// atomically with its first rows by [`GrowingTable::create`], then appended to by
+/// [`GrowingTable::append`], each row in a single write that is flushed at once, so that rows
+/// appended from parallel threads never interleave and an interrupted program keeps every row
+/// appended before.
+#[derive(Debug)]
+pub struct GrowingTable {
+    path: PathBuf,
+    file: Mutex<File>,
+}
+
+impl GrowingTable {
+    /// Writes the table at `path` as [`write_table`] does, then opens it for appending.
+    pub fn create(
+        path: &Path,
+        first_line: Option<&str>,
+        header: &[impl AsRef<str>],
+        rows: impl IntoIterator<Item = Vec<String>>,
+    ) -> Result<GrowingTable> {
+        write_table(path, first_line, header, rows)?;
+        let file = fs::OpenOptions::new()
+            .append(true)
+            .open(path)
+            .map_err(|e| io_error(path, e))?;
+        Ok(GrowingTable {
+            path: path.to_path_buf(),
+            file: Mutex::new(file),
+        })
+    }
+
+    /// Appends `row` (one CSV record, in the dialect of [`write_rows`]) in a single write.
+    pub fn append(&self, row: &[String]) -> Result<()> {
+        let failed = |e: String| Error::invalid("CSV row", row.join(","), e);
+        let mut w = csv_writer(Vec::new());
+        w.write_record(row).map_err(|e| failed(e.to_string()))?;
+        let line = w.into_inner().map_err(|e| failed(e.to_string()))?;
+        let mut file = self.file.lock().unwrap_or_else(|e| e.into_inner());
+        file.write_all(&line)
+            .and_then(|()| file.flush())
+            .map_err(|e| io_error(&self.path, e))
+    }
+
+    /// The table's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+/// Reads any CSV as text: returns the header and the rows.
+pub fn read_rows(path: &Path) -> Result<(Vec<String>, Vec<Vec<String>>)> {
+    let file = File::open(path).map_err(|e| io_error(path, e))?;
+    read_table(path, file, false)
+}
+
+/// Reads CSV text of the file at `path` (e.g. what follows a first line [`write_table`] wrote)
+/// as [`read_rows`] does, except that rows may have any length: the caller picks the complete
+/// ones.
+pub fn parse_rows(path: &Path, text: &str) -> Result<(Vec<String>, Vec<Vec<String>>)> {
+    read_table(path, text.as_bytes(), true)
+}
+
+/// The header and the rows of the CSV `source` (the file at `path`).
+fn read_table<R: Read>(
+    path: &Path,
+    source: R,
+    flexible: bool,
+) -> Result<(Vec<String>, Vec<Vec<String>>)> {
+    let mut r = csv_reader(source, flexible);
+    let header = r
+        .headers()
+        .map_err(|e| csv_error(path, e))?
+        .iter()
+        .map(str::to_owned)
+        .collect();
+    let rows = r
+        .records()
+        .map(|rec| {
+            rec.map(|rec| rec.iter().map(str::to_owned).collect())
+                .map_err(|e| csv_error(path, e))
+        })
+        .collect::<Result<Vec<Vec<String>>>>()?;
+    Ok((header, rows))
+}
+
+/// Reads a CSV written by [`write_csv`]: returns the header and the columns.
+pub fn read_csv(path: &Path) -> Result<(Vec<String>, Vec<Vec<f64>>)> {
+    let file = File::open(path).map_err(|e| io_error(path, e))?;
+    let mut r = csv_reader(file, false);
+    let header: Vec<String> = r
+        .headers()
+        .map_err(|e| csv_error(path, e))?
+        .iter()
+        .map(str::to_owned)
+        .collect();
+    let mut columns = vec![Vec::new(); header.len()];
+    for (line, record) in r.records().enumerate() {
+        let record = record.map_err(|e| csv_error(path, e))?;
+        for (column, field) in columns.iter_mut().zip(record.iter()) {
+            let value = field.trim().parse().map_err(|_| Error::Parse {
+                path: path.to_path_buf(),
+                message: format!("data row {}: `{field}` is not a number", line + 1),
+            })?;
+            column.push(value);
+        }
+    }
+    Ok((header, columns))
+}
+
+/// A progress bar of `len` `unit`s on stderr (hidden when stderr is not a terminal).
+pub fn progress_bar(len: u64, unit: &str) -> ProgressBar {
+    let style = ProgressStyle::with_template(&format!(
+        "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {unit} (eta {{eta}})"
+    ))
+    .unwrap_or_else(|_| ProgressStyle::default_bar());
+    ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr()).with_style(style)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The bytes of the one CSV dialect: sweep files (tests/sweeps.rs) depend on them.
+    #[test]
+    fn tables_are_written_grown_and_read_in_one_dialect() {
+        let dir = std::env::temp_dir().join(format!("jointwear-output-{}", std::process::id()));
+        let path = dir.join("table.csv");
+        let header = ["case", "value", "error"];
+        let kept = vec![vec!["0".to_string(), "1e0".into(), String::new()]];
+        let table = GrowingTable::create(&path, Some("# a table"), &header, kept).unwrap();
+        let quoted = ["1".to_string(), "a,b".into(), "say \"no\"".into()];
+        table.append(&quoted).unwrap();
+        table
+            .append(&["2".to_string(), "-".into(), String::new()])
+            .unwrap();
+        drop(table);
+        let text = fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            text,
+            "# a table\ncase,value,error\n0,1e0,\n1,\"a,b\",\"say \"\"no\"\"\"\n2,-,\n"
+        );
+        let (head, rows) = parse_rows(&path, text.split_once('\n').unwrap().1).unwrap();
+        assert_eq!(head, header);
+        assert_eq!(rows[1], quoted);
+        write_rows(&path, &header, rows.clone()).unwrap();
+        assert_eq!(read_rows(&path).unwrap(), (head, rows));
+        // A cut last row is read as it is (its reader picks the complete rows); a table that
+        // is not flexible refuses it.
+        assert_eq!(parse_rows(&path, "a,b\n1,2\n3").unwrap().1[1], ["3"]);
+        fs::write(&path, "a,b\n1,2\n3").unwrap();
+        assert!(matches!(read_rows(&path), Err(Error::Parse { .. })));
+        fs::remove_dir_all(&dir).unwrap();
+    }
+}

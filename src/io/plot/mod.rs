@@ -1,0 +1,168 @@
+//! Shared plotting helpers. Every figure of the crate is drawn through [`render`] or
+//! [`render_polar`]; no binary contains plotting code of its own, so all figures share one look:
+//!
+//! - white background, 1200x800 px per panel (panels side by side, four as 2x2);
+//! - DejaVu Sans, embedded in the binary (no fontconfig/freetype needed);
+//! - a title per panel (prefixed "(a)", "(b)", ... when there are several), axis labels as given
+//!   by the caller (with units), a legend when a panel has more than one labelled series, placed
+//!   in the corner with the least data;
+//! - a tight x-range and a y-range padded by 5 %, unless the caller fixes them; very small or
+//!   large values get a common "×10ⁿ" factor at the end of the axis instead of long tick labels;
+//! - non-finite samples are skipped and break the line they belong to;
+//! - ensemble bands ([`Shade`]) are filled in a light tint of their series' colour, under the
+//!   lines.
+//!
+//! Files are written through [`crate::io::output::write_atomic`].
+//!
+//! The code, by what it does:
+//!
+//! - this file: the public description of a figure ([`Axes`], [`Series`], [`Shade`], [`Style`])
+//!   and [`render`];
+//! - `theme`: the shared look (sizes, margins, font, text styles, palette);
+//! - `axis`: axis ranges, tick labels and "×10ⁿ" factors;
+//! - `panel`: a panel checked and laid out (ranges, equal aspect, legend corner) before any file
+//!   is created;
+//! - `draw`: drawing laid-out panels on Cartesian axes into the PNG;
+//! - `polar`: closed profiles as polar pictures ([`render_polar`]).
+
+mod axis;
+mod draw;
+mod panel;
+mod polar;
+mod theme;
+
+pub use polar::render_polar;
+
+use std::path::Path;
+
+use crate::{Error, Result};
+use draw::draw_figure;
+use panel::Panel;
+
+/// How a series is drawn. Colours come from a fixed colour-blind-friendly palette, in the order
+/// of the series in the panel (reference curves are grey and take no palette colour).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Style {
+    /// Solid line, left axis.
+    #[default]
+    Line,
+    /// Dashed line, left axis.
+    Dashed,
+    /// Markers only, left axis.
+    Points,
+    /// Solid line on the right axis (requires [`Axes::y2_label`]).
+    LineOnSecondaryAxis,
+    /// Grey dashed line for reference curves (ideal joint, nominal profile), left axis.
+    Reference,
+}
+
+/// One data series: `x[i]`, `y[i]` pairs (equal lengths).
+#[derive(Clone, Debug)]
+pub struct Series<'a> {
+    /// Legend label (an empty label keeps the series out of the legend).
+    pub label: String,
+    /// The x values.
+    pub x: &'a [f64],
+    /// The y values, one per x value.
+    pub y: &'a [f64],
+    /// How the series is drawn.
+    pub style: Style,
+}
+
+impl<'a> Series<'a> {
+    /// A series labelled `label` through the points `(x[i], y[i])`, drawn as `style`.
+    pub fn new(label: impl Into<String>, x: &'a [f64], y: &'a [f64], style: Style) -> Self {
+        Series {
+            label: label.into(),
+            x,
+            y,
+            style,
+        }
+    }
+}
+
+/// One panel. Start from `Axes::new(..)` or `Axes { .., ..Default::default() }`.
+#[derive(Clone, Debug, Default)]
+pub struct Axes<'a> {
+    /// Panel title (prefixed "(a)", "(b)", ... in a figure of several panels).
+    pub title: String,
+    /// Label of the x axis with units, e.g. `"time (s)"`.
+    pub x_label: String,
+    /// Label of the (left) y axis with units.
+    pub y_label: String,
+    /// The series, drawn in order (palette colours in order).
+    pub series: Vec<Series<'a>>,
+    /// Label of the right axis; required when a series uses [`Style::LineOnSecondaryAxis`].
+    pub y2_label: Option<String>,
+    /// Fixed x range instead of the automatic one (with `equal_aspect` it may be widened).
+    pub x_range: Option<(f64, f64)>,
+    /// Fixed y range instead of the automatic one (with `equal_aspect` it may be widened).
+    pub y_range: Option<(f64, f64)>,
+    /// Same scale on both axes (trajectories, profiles).
+    pub equal_aspect: bool,
+    /// Circle outlines `(cx, cy, r)` in data units, e.g. the clearance circle.
+    pub circles: Vec<(f64, f64, f64)>,
+    /// Filled bands around series (e.g. the 5-95 % range of an ensemble).
+    pub shades: Vec<Shade<'a>>,
+}
+
+/// The band between `lo` and `hi` at the x values of series `series` of the same panel.
+#[derive(Clone, Debug)]
+pub struct Shade<'a> {
+    /// Index of the series whose x values and colour the band takes.
+    pub series: usize,
+    /// Lower edge, one value per x.
+    pub lo: &'a [f64],
+    /// Upper edge, one value per x.
+    pub hi: &'a [f64],
+}
+
+impl<'a> Axes<'a> {
+    /// A panel titled `title` with axis labels and `series`; the other settings at their
+    /// defaults (automatic ranges, no right axis, circles or bands).
+    pub fn new(
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+        series: Vec<Series<'a>>,
+    ) -> Self {
+        Axes {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series,
+            ..Default::default()
+        }
+    }
+}
+
+/// Renders one figure of 1-3 panels side by side (4 panels as 2x2, more in rows of 3) as PNG.
+/// Panel titles get "(a)", "(b)", ... prefixes when there is more than one panel.
+pub fn render(path: &Path, panels: &[Axes]) -> Result<()> {
+    if panels.is_empty() {
+        return Err(plot_error(path, "a figure needs at least one panel"));
+    }
+    let tagged = panels.len() > 1;
+    let prepared = panels
+        .iter()
+        .enumerate()
+        .map(|(i, axes)| {
+            let title = if tagged {
+                format!("({}) {}", char::from(b'a' + (i % 26) as u8), axes.title)
+            } else {
+                axes.title.clone()
+            };
+            Panel::new(axes, title, None)
+        })
+        .collect::<std::result::Result<Vec<_>, String>>()
+        .map_err(|message| plot_error(path, message))?;
+    draw_figure(path, &prepared)
+}
+
+/// The error of the figure at `path` that cannot be drawn, saying why.
+fn plot_error(path: &Path, message: impl ToString) -> Error {
+    Error::Plot {
+        path: path.to_path_buf(),
+        message: message.to_string(),
+    }
+}

@@ -1,0 +1,313 @@
+//! A panel prepared for drawing: everything that can fail on bad input (lengths, ranges, a
+//! band naming no series) is checked here, before a file is created; then the curves are cut at
+//! non-finite samples, the ranges chosen (padded, fixed or of equal aspect) and the legend put
+//! in the corner with the least data.
+
+use plotters::prelude::*;
+
+use super::axis::Axis;
+use super::theme::{
+    GREY, LEGEND_CHAR_PX, LEGEND_PX, MARGIN, PALETTE, PANEL_SIZE, TITLE_BAND, X_LABEL_AREA,
+    X_TICKS, Y_TICKS,
+};
+use super::{Axes, Style};
+
+/// A series ready to draw.
+pub(super) struct Curve {
+    /// Legend label.
+    pub(super) label: String,
+    /// How it is drawn.
+    pub(super) style: Style,
+    /// Its palette colour (grey for reference curves).
+    pub(super) color: RGBColor,
+    /// Runs of finite points; a non-finite sample ends a run.
+    pub(super) segments: Vec<Vec<(f64, f64)>>,
+}
+
+/// A panel ready to draw.
+pub(super) struct Panel {
+    /// Title, tagged "(a)", "(b)", ... in a figure of several panels.
+    pub(super) title: String,
+    /// Label of the x axis.
+    pub(super) x_label: String,
+    /// Label of the left y axis.
+    pub(super) y_label: String,
+    /// Label of the right y axis, if a series uses it.
+    pub(super) y2_label: Option<String>,
+    /// The series.
+    pub(super) curves: Vec<Curve>,
+    /// Circle outlines as closed polylines.
+    pub(super) circles: Vec<Vec<(f64, f64)>>,
+    /// Closed outlines of the bands, with their colours.
+    pub(super) shades: Vec<(RGBColor, Vec<(f64, f64)>)>,
+    /// The x axis.
+    pub(super) x: Axis,
+    /// The left y axis.
+    pub(super) y: Axis,
+    /// The right y axis, if a series uses it.
+    pub(super) y2: Option<Axis>,
+    /// Corner of the legend, when there is one.
+    pub(super) legend: Option<SeriesLabelPosition>,
+    /// Polar pictures have no axes, only this note.
+    pub(super) polar_note: Option<String>,
+}
+
+fn finite_runs(x: &[f64], y: &[f64]) -> Vec<Vec<(f64, f64)>> {
+    let pairs: Vec<(f64, f64)> = x.iter().copied().zip(y.iter().copied()).collect();
+    pairs
+        .split(|(x, y)| !(x.is_finite() && y.is_finite()))
+        .filter(|run| !run.is_empty())
+        .map(<[_]>::to_vec)
+        .collect()
+}
+
+fn extent(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    values.fold(None, |acc, v| match acc {
+        None => Some((v, v)),
+        Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
+    })
+}
+
+/// Widens `(lo, hi)` by `frac` of its span on each side; a degenerate range gets a unit span
+/// (or 5 % of its value).
+fn pad((lo, hi): (f64, f64), frac: f64) -> (f64, f64) {
+    let span = hi - lo;
+    if span > 1e-12 * lo.abs().max(hi.abs()) {
+        (lo - frac * span, hi + frac * span)
+    } else {
+        let d = if lo == 0.0 { 0.5 } else { 0.05 * lo.abs() };
+        (lo - d, hi + d)
+    }
+}
+
+fn check_range(name: &str, r: Option<(f64, f64)>) -> std::result::Result<(), String> {
+    match r {
+        Some((lo, hi)) if !(lo.is_finite() && hi.is_finite() && lo < hi) => {
+            Err(format!("{name} ({lo}, {hi}) must be finite and increasing"))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Plotting-area size in pixels for given left/right label areas (mirrors `draw::draw_panel`).
+fn plot_size(left: u32, right: u32, polar: bool) -> (f64, f64) {
+    let (top, bottom, l, r) = MARGIN;
+    let x_area = if polar { 0 } else { X_LABEL_AREA };
+    (
+        f64::from(PANEL_SIZE.0 - l - r - left - right),
+        f64::from(PANEL_SIZE.1 - TITLE_BAND - top - bottom - x_area),
+    )
+}
+
+/// Widens the ranges around their centres so that one data unit has the same length on both axes.
+fn equalize(x: (f64, f64), y: (f64, f64), (w, h): (f64, f64)) -> ((f64, f64), (f64, f64)) {
+    let scale = ((x.1 - x.0) / w).max((y.1 - y.0) / h);
+    let around = |(lo, hi): (f64, f64), px: f64| {
+        let (c, half) = (0.5 * (lo + hi), 0.5 * scale * px);
+        (c - half, c + half)
+    };
+    (around(x, w), around(y, h))
+}
+
+impl Panel {
+    /// Checks and lays out `axes` under `title`; `polar_note` makes it a polar picture (no
+    /// axes, the note in a corner). The error says what is wrong with the panel.
+    pub(super) fn new(
+        axes: &Axes,
+        title: String,
+        polar_note: Option<String>,
+    ) -> std::result::Result<Self, String> {
+        let polar = polar_note.is_some();
+        let name = &axes.title;
+        if axes.series.is_empty() {
+            return Err(format!("panel `{name}` has no series"));
+        }
+        if let Some(s) = axes.series.iter().find(|s| s.x.len() != s.y.len()) {
+            return Err(format!(
+                "series `{}` of panel `{name}` has {} x values but {} y values",
+                s.label,
+                s.x.len(),
+                s.y.len()
+            ));
+        }
+        check_range("x range", axes.x_range)?;
+        check_range("y range", axes.y_range)?;
+        let has_y2 = axes
+            .series
+            .iter()
+            .any(|s| s.style == Style::LineOnSecondaryAxis);
+        if has_y2 && axes.y2_label.is_none() {
+            return Err(format!(
+                "panel `{name}` has a right-axis series but no y2_label"
+            ));
+        }
+
+        let mut palette = PALETTE.iter().cycle();
+        let curves: Vec<Curve> = axes
+            .series
+            .iter()
+            .map(|s| Curve {
+                label: s.label.clone(),
+                style: s.style,
+                color: if s.style == Style::Reference {
+                    GREY
+                } else {
+                    *palette.next().expect("cycle")
+                },
+                segments: finite_runs(s.x, s.y),
+            })
+            .collect();
+        let circles: Vec<Vec<(f64, f64)>> = axes
+            .circles
+            .iter()
+            .filter(|(cx, cy, r)| cx.is_finite() && cy.is_finite() && r.is_finite())
+            .map(|&(cx, cy, r)| {
+                (0..=360)
+                    .map(|d| f64::from(d).to_radians())
+                    .map(|t| (cx + r * t.cos(), cy + r * t.sin()))
+                    .collect()
+            })
+            .collect();
+
+        let mut shades = Vec::new();
+        for sh in &axes.shades {
+            let (Some(s), Some(c)) = (axes.series.get(sh.series), curves.get(sh.series)) else {
+                return Err(format!("a band of panel `{name}` names no series"));
+            };
+            if sh.lo.len() != s.x.len() || sh.hi.len() != s.x.len() {
+                return Err(format!(
+                    "the band of series `{}` has the wrong length",
+                    s.label
+                ));
+            }
+            let lower = s.x.iter().zip(sh.lo);
+            let upper = s.x.iter().zip(sh.hi).rev();
+            let outline: Vec<(f64, f64)> = lower
+                .chain(upper)
+                .map(|(x, y)| (*x, *y))
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .collect();
+            shades.push((c.color, outline));
+        }
+
+        let points = |on_y2: bool| {
+            let curve_points = curves
+                .iter()
+                .filter(move |c| (c.style == Style::LineOnSecondaryAxis) == on_y2)
+                .flat_map(|c| c.segments.iter().flatten());
+            let circle_points = circles.iter().flatten().filter(move |_| !on_y2);
+            let shade_points = shades.iter().flat_map(|(_, o)| o).filter(move |_| !on_y2);
+            curve_points
+                .chain(circle_points)
+                .chain(shade_points)
+                .copied()
+        };
+        let data_x = extent(points(false).chain(points(true)).map(|p| p.0))
+            .ok_or_else(|| format!("panel `{name}` has no finite data point"))?;
+        let x_auto = if axes.equal_aspect {
+            pad(data_x, 0.05)
+        } else {
+            pad(data_x, 0.0)
+        };
+        let mut x_range = axes.x_range.unwrap_or(x_auto);
+        let mut y_range = match axes.y_range {
+            Some(r) => r,
+            None => pad(
+                extent(points(false).map(|p| p.1)).unwrap_or((0.0, 1.0)),
+                0.05,
+            ),
+        };
+        let y2 = has_y2.then(|| {
+            let r = extent(points(true).map(|p| p.1)).unwrap_or((0.0, 1.0));
+            Axis::new(pad(r, 0.05), Y_TICKS)
+        });
+        let right_area = y2.as_ref().map_or(0, Axis::label_area);
+        let left_area = |y: &Axis| left_label_area(y, polar);
+
+        let mut y = Axis::new(y_range, Y_TICKS);
+        if axes.equal_aspect {
+            // The label area depends on the tick labels, which depend on the range: iterate.
+            let requested = (x_range, y_range);
+            for _ in 0..3 {
+                let size = plot_size(left_area(&y), right_area, polar);
+                (x_range, y_range) = equalize(requested.0, requested.1, size);
+                let widened = Axis::new(y_range, Y_TICKS);
+                let stable = left_area(&widened) == left_area(&y);
+                y = widened;
+                if stable {
+                    break;
+                }
+            }
+        }
+        let x = Axis::new(x_range, X_TICKS);
+        let size = plot_size(left_area(&y), right_area, polar);
+        let labelled: Vec<&Curve> = curves.iter().filter(|c| !c.label.is_empty()).collect();
+        let legend = (labelled.len() > 1).then(|| {
+            let widest = labelled
+                .iter()
+                .map(|c| c.label.chars().count())
+                .max()
+                .unwrap_or(0) as u32
+                + if has_y2 { 13 } else { 0 }; // " (right axis)"
+            let w = f64::from(widest * LEGEND_CHAR_PX + 90) / size.0;
+            let h = f64::from(labelled.len() as u32 * (LEGEND_PX + 12) + 40) / size.1;
+            let normalized = |(px, py): (f64, f64), on_y2: bool| {
+                let ya = if on_y2 { y2.as_ref().unwrap_or(&y) } else { &y };
+                ((px - x.lo) / x.span(), (py - ya.lo) / ya.span())
+            };
+            let uv: Vec<(f64, f64)> = points(false)
+                .map(|p| normalized(p, false))
+                .chain(points(true).map(|p| normalized(p, true)))
+                .collect();
+            least_crowded_corner(&uv, w, h)
+        });
+
+        Ok(Panel {
+            title,
+            x_label: axes.x_label.clone(),
+            y_label: axes.y_label.clone(),
+            y2_label: axes.y2_label.clone().filter(|_| has_y2),
+            curves,
+            circles,
+            shades,
+            x,
+            y,
+            y2,
+            legend,
+            polar_note,
+        })
+    }
+}
+
+/// Polar pictures have no y axis.
+pub(super) fn left_label_area(y: &Axis, polar: bool) -> u32 {
+    if polar {
+        0
+    } else {
+        y.label_area()
+    }
+}
+
+/// The corner whose `w` x `h` box (in plot-normalised units) covers the fewest points.
+fn least_crowded_corner(uv: &[(f64, f64)], w: f64, h: f64) -> SeriesLabelPosition {
+    use SeriesLabelPosition::*;
+    let corners = [
+        (UpperRight, true, true),
+        (UpperLeft, false, true),
+        (LowerRight, true, false),
+        (LowerLeft, false, false),
+    ];
+    let count = |right: bool, upper: bool| {
+        uv.iter()
+            .filter(|(u, v)| {
+                (if right { *u >= 1.0 - w } else { *u <= w })
+                    && (if upper { *v >= 1.0 - h } else { *v <= h })
+            })
+            .count()
+    };
+    corners
+        .into_iter()
+        .min_by_key(|&(_, right, upper)| count(right, upper))
+        .map(|(pos, _, _)| pos)
+        .unwrap_or(UpperRight)
+}

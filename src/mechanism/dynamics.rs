@@ -1,0 +1,122 @@
+//! The right-hand side of eq. 10-12: gravity and the clearance joints' contact and friction
+//! forces (eq. 11, switched by eq. 12's unit step) as applied forces, then the constrained
+//! accelerations; and the energy powers when accounting is on.
+
+use super::kinematics::perp;
+use super::workspace::Workspace;
+use super::{BodyIndex, Mechanism, RunState, MAX_PENETRATION_RATIO};
+use crate::{Error, Result};
+use nalgebra::Vector2;
+
+/// Adds a force `f` applied at rotated offset `s` from the centre of mass of body `b`.
+#[inline]
+fn add_force(force: &mut [f64], b: BodyIndex, s: Vector2<f64>, f: Vector2<f64>) {
+    if let Some(i) = b {
+        force[3 * i] += f.x;
+        force[3 * i + 1] += f.y;
+        force[3 * i + 2] += s.x * f.y - s.y * f.x;
+    }
+}
+
+impl Mechanism {
+    /// Generalised forces: gravity plus clearance-joint contact forces (eq. 11), with the body
+    /// rotations of the last [`Mechanism::constraints`] call.
+    /// Returns (normal-force power, friction power) into the system, or the clearance joint
+    /// and penetration beyond [`MAX_PENETRATION_RATIO`] of its journal radius.
+    fn applied_forces(
+        &self,
+        state: &RunState,
+        ws: &mut Workspace,
+        q: &[f64],
+        v: &[f64],
+    ) -> std::result::Result<(f64, f64), (usize, f64)> {
+        let mut force = std::mem::take(&mut ws.force);
+        for (i, b) in self.bodies.iter().enumerate() {
+            force[3 * i] = b.mass * self.gravity.x;
+            force[3 * i + 1] = b.mass * self.gravity.y;
+            force[3 * i + 2] = 0.0;
+        }
+        let (mut p_normal, mut p_friction) = (0.0, 0.0);
+        let rot = &ws.rot;
+        for k in 0..self.clearance_joints.len() {
+            let (cs, sj, sb) = self.contact_geometry(state, k, q, v, |i| rot[i]);
+            let cs = self.with_forces(state, k, cs);
+            let cj = &self.clearance_joints[k];
+            if cs.delta > MAX_PENETRATION_RATIO * cj.r_journal {
+                ws.force = force;
+                return Err((k, cs.delta));
+            }
+            if cs.f_n == 0.0 {
+                continue;
+            }
+            let (n, t) = (cs.n, perp(cs.n));
+            let on_journal = -n * cs.f_n + t * cs.f_t;
+            add_force(
+                &mut force,
+                cj.journal.body,
+                sj + n * cj.r_journal,
+                on_journal,
+            );
+            add_force(
+                &mut force,
+                cj.bearing.body,
+                sb + n * cj.r_bearing,
+                -on_journal,
+            );
+            p_normal -= cs.f_n * cs.e_rate;
+            p_friction += cs.f_t * cs.v_t;
+        }
+        ws.force = force;
+        Ok((p_normal, p_friction))
+    }
+
+    /// The error of clearance joint `k` penetrating `delta` beyond the contact laws at `t`.
+    fn overload(&self, t: f64, k: usize, delta: f64) -> Error {
+        let cj = &self.clearance_joints[k];
+        Error::Integration {
+            time: t,
+            cause: format!(
+                "clearance joint `{}` (journal on {}, bearing on {}) penetrates {delta:.3e} m at \
+                 driver angle {}, beyond {} % of its journal radius ({:.3e} m) where the \
+                 small-strain contact laws hold: the linkage forces the joint apart (links \
+                 that cannot reach at this angle lock the mechanism) or a material is far too \
+                 soft",
+                cj.name,
+                self.body_name(cj.journal.body),
+                self.body_name(cj.bearing.body),
+                self.driver_angle_text(t),
+                100.0 * MAX_PENETRATION_RATIO,
+                MAX_PENETRATION_RATIO * cj.r_journal
+            ),
+        }
+    }
+
+    /// The right-hand side y' = f(t, y) of eq. 10 with Baumgarte stabilisation, for the wear
+    /// profiles and onset velocities of `state`, in the scratch space `ws`.
+    pub fn rhs(
+        &self,
+        state: &RunState,
+        ws: &mut Workspace,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+    ) -> Result<()> {
+        let n = self.coordinates();
+        let (q, v) = (&y[..n], &y[n..2 * n]);
+        let mut phi = std::mem::take(&mut ws.lambda);
+        self.constraints(ws, t, q, v, Some(&mut phi));
+        ws.lambda = phi;
+        let (p_normal, p_friction) = self
+            .applied_forces(state, ws, q, v)
+            .map_err(|(k, delta)| self.overload(t, k, delta))?;
+        self.accelerations(ws, t, v, &mut dy[n..2 * n])?;
+        dy[..n].copy_from_slice(v);
+        if self.energy_accounting {
+            let driven = 3 * self.driver.body + 2;
+            dy[2 * n] = ws.driver_torque(&dy[n..2 * n]) * v[driven];
+            dy[2 * n + 1] = p_normal;
+            dy[2 * n + 2] = p_friction;
+        }
+        Ok(())
+    }
+}

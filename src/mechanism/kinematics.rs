@@ -1,0 +1,204 @@
+//! Clearance-joint kinematics (paper eq. 1 and section 2): the eccentricity `e = r_J − r_B`,
+//! normal `n = e/|e|`, contact angle θ in the bearing frame, penetration
+//! `δ = |e| − c − h(θ)` with the worn depth `h` of the run state, its rate, and the sliding
+//! velocity `v_t = ė·t + φ̇_J R_J − φ̇_B R_B`; with forces from [`crate::laws`].
+
+use super::{BodyIndex, Mechanism, RunState};
+use crate::laws::friction::FrictionModel;
+use crate::laws::wear::wrap_angle;
+use nalgebra::Vector2;
+
+/// Kinematics and forces of one clearance joint at one state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactState {
+    /// Journal centre relative to bearing centre, global frame (m).
+    pub e: Vector2<f64>,
+    /// Contact normal e/|e| (zero when exactly centred).
+    pub n: Vector2<f64>,
+    /// Contact angle in the bearing frame, in [0, 2π) (rad).
+    pub theta: f64,
+    /// Penetration δ (m); negative while the journal flies free.
+    pub delta: f64,
+    /// dδ/dt (m/s).
+    pub delta_dot: f64,
+    /// Local radial clearance including wear, c + h(θ) (m).
+    pub local_clearance: f64,
+    /// Relative tangential (sliding) velocity (m/s).
+    pub v_t: f64,
+    /// Normal force magnitude (N), ≥ 0.
+    pub f_n: f64,
+    /// Friction force along the tangent on the journal (N).
+    pub f_t: f64,
+    /// d|e|/dt (m/s), for the power of the normal force.
+    pub e_rate: f64,
+}
+
+impl ContactState {
+    /// Whether the bodies touch (eq. 12's unit step).
+    pub fn in_contact(&self) -> bool {
+        self.delta >= 0.0
+    }
+}
+
+#[inline]
+pub(super) fn perp(v: Vector2<f64>) -> Vector2<f64> {
+    Vector2::new(-v.y, v.x)
+}
+
+/// Rotates `v` by the angle whose `(sin, cos)` is `sc`.
+#[inline]
+pub(super) fn rotate((s, c): (f64, f64), v: Vector2<f64>) -> Vector2<f64> {
+    Vector2::new(c * v.x - s * v.y, s * v.x + c * v.y)
+}
+
+/// Position, angle, velocity, angular velocity and `(sin, cos)` of the angle of a body
+/// (ground: at rest at the origin, angle 0).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Frame {
+    pub(super) r: Vector2<f64>,
+    pub(super) phi: f64,
+    pub(super) rd: Vector2<f64>,
+    pub(super) w: f64,
+    pub(super) sc: (f64, f64),
+}
+
+impl Frame {
+    /// `sc` gives the `(sin, cos)` of a body's angle: cached, or computed on demand.
+    #[inline(always)]
+    pub(super) fn of(
+        q: &[f64],
+        v: &[f64],
+        b: BodyIndex,
+        sc: impl Fn(usize) -> (f64, f64),
+    ) -> Frame {
+        match b {
+            Some(i) => {
+                let k = 3 * i;
+                Frame {
+                    r: Vector2::new(q[k], q[k + 1]),
+                    phi: q[k + 2],
+                    rd: Vector2::new(v[k], v[k + 1]),
+                    w: v[k + 2],
+                    sc: sc(i),
+                }
+            }
+            None => Frame {
+                r: Vector2::zeros(),
+                phi: 0.0,
+                rd: Vector2::zeros(),
+                w: 0.0,
+                sc: (0.0, 1.0),
+            },
+        }
+    }
+
+    /// Global position and velocity of the point at `local`, and its rotated local vector.
+    #[inline]
+    pub(super) fn point(&self, local: Vector2<f64>) -> (Vector2<f64>, Vector2<f64>, Vector2<f64>) {
+        let s = rotate(self.sc, local);
+        (self.r + s, self.rd + perp(s) * self.w, s)
+    }
+}
+
+/// `(sin, cos)` of body `i`'s angle, computed from q.
+#[inline]
+pub(super) fn sin_cos(q: &[f64]) -> impl Fn(usize) -> (f64, f64) + Copy + '_ {
+    move |i| q[3 * i + 2].sin_cos()
+}
+
+impl Mechanism {
+    /// Kinematics of clearance joint `k` at state (q, v), without forces.
+    #[inline]
+    pub fn contact_kinematics(
+        &self,
+        state: &RunState,
+        k: usize,
+        q: &[f64],
+        v: &[f64],
+    ) -> ContactState {
+        self.contact_geometry(state, k, q, v, sin_cos(q)).0
+    }
+
+    /// Kinematics of clearance joint `k`, with the rotated local vectors of journal and
+    /// bearing centre (`sc`: the bodies' `(sin, cos)`, see [`Frame::of`]).
+    #[inline]
+    pub(super) fn contact_geometry(
+        &self,
+        state: &RunState,
+        k: usize,
+        q: &[f64],
+        v: &[f64],
+        sc: impl Fn(usize) -> (f64, f64) + Copy,
+    ) -> (ContactState, Vector2<f64>, Vector2<f64>) {
+        let cj = &self.clearance_joints[k];
+        let fj = Frame::of(q, v, cj.journal.body, sc);
+        let fb = Frame::of(q, v, cj.bearing.body, sc);
+        let (rj, vj, sj) = fj.point(cj.journal.local);
+        let (rb, vb, sb) = fb.point(cj.bearing.local);
+        let (wj, wb) = (fj.w, fb.w);
+        let e = rj - rb;
+        let e_dot = vj - vb;
+        let dist = e.norm();
+        let c = cj.clearance();
+        if dist == 0.0 {
+            // Exactly centred: no direction, far from contact.
+            let cs = ContactState {
+                delta: -c,
+                local_clearance: c,
+                ..Default::default()
+            };
+            return (cs, sj, sb);
+        }
+        let n = e / dist;
+        let t = perp(n);
+        let theta = wrap_angle(n.y.atan2(n.x) - fb.phi);
+        let theta_rate = t.dot(&e_dot) / dist - wb;
+        let (h, dh) = match cj.wear {
+            Some(_) => state.joints[k].wear.depth_at(theta),
+            None => (0.0, 0.0),
+        };
+        let e_rate = n.dot(&e_dot);
+        let cs = ContactState {
+            e,
+            n,
+            theta,
+            delta: dist - c - h,
+            delta_dot: e_rate - dh * theta_rate,
+            local_clearance: c + h,
+            v_t: t.dot(&e_dot) + wj * cj.r_journal - wb * cj.r_bearing,
+            f_n: 0.0,
+            f_t: 0.0,
+            e_rate,
+        };
+        (cs, sj, sb)
+    }
+
+    /// Kinematics and forces of clearance joint `k`.
+    #[inline]
+    pub fn contact_state(&self, state: &RunState, k: usize, q: &[f64], v: &[f64]) -> ContactState {
+        self.with_forces(state, k, self.contact_kinematics(state, k, q, v))
+    }
+
+    /// Adds the normal and friction forces of clearance joint `k` to its kinematics.
+    #[inline]
+    pub(super) fn with_forces(
+        &self,
+        state: &RunState,
+        k: usize,
+        mut cs: ContactState,
+    ) -> ContactState {
+        let cj = &self.clearance_joints[k];
+        if cs.in_contact() {
+            cs.f_n = cj.contact.force(
+                cs.delta,
+                cs.delta_dot,
+                state.joints[k].onset_velocity,
+                cs.local_clearance,
+            );
+            if cj.friction != FrictionModel::None {
+                cs.f_t = cj.friction.force(cs.f_n, cs.v_t);
+            }
+        }
+        cs
+    }
+}

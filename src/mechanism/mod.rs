@@ -1,0 +1,281 @@
+//! Planar multibody dynamics with clearance joints as force elements (paper eq. 10-12).
+//!
+//! ```text
+//! M q̈ + Φ_qᵀ λ = F + F_c,     Φ(q, t) = 0                                   (10)
+//! F_c = u(δ) (F_n + F_t),      u(δ) = 1 for δ ≥ 0, 0 otherwise              (11, 12)
+//! ```
+//! Each body has absolute coordinates `(x, y, φ)` of its centre of mass; M is diagonal
+//! (`m, m, J` per body), so the multipliers come from the small SPD system
+//! `(Φ_q M⁻¹ Φ_qᵀ) λ = Φ_q M⁻¹ F − γ̂` and `q̈ = M⁻¹ (F − Φ_qᵀ λ)`; no n×n matrix is ever formed.
+//! A constraint equation whose only non-zero column outside the coordinates already fixed is
+//! a constant one (the driver; a revolute pin to the ground of a driven body; the angle lock
+//! of a translational joint on the ground) fixes that coordinate's acceleration by itself: it
+//! is solved for it directly, in order, and leaves the system. For the slider-crank the
+//! system shrinks from 7×7 to 2×2 (the crank-rod pin).
+//! The paper's `C q̇ + K_g q` terms are zero for rigid bodies and are not modelled.
+//!
+//! Constraint stabilisation is Baumgarte's, `γ̂ = γ − 2α Φ̇ − β² Φ`. It keeps the right-hand
+//! side a smooth ODE, which the adaptive integrator's error control, dense output and
+//! contact-onset location rely on; a post-step projection would change the state between
+//! steps and invalidate the first-same-as-last stage and the dense output.
+//!
+//! A clearance joint connects a journal point on one body to a bearing point on another.
+//! With `e = r_J − r_B`, the contact normal is `n = e/|e|`, the contact angle θ is the
+//! angle of `n` in the bearing body's frame (counter-clockwise from its +x axis), and the
+//! penetration is `δ = |e| − c − h(θ)` with `h` the bearing's wear depth ([`crate::laws::wear`]).
+//! The normal force is [`crate::laws::contact`]'s law; friction ([`crate::laws::friction`]) acts along the
+//! tangent `t = (−n_y, n_x)` against the relative velocity of the material points in contact,
+//! `v_t = ė·t + φ̇_J R_J − φ̇_B R_B`.
+//!
+//! The module keeps apart what a mechanism *is* ([`Mechanism`], immutable once built), what a
+//! run *changes* ([`RunState`]: wear profiles and onset velocities; `q`, `q̇` live in the
+//! integrator's state vector) and the *scratch* space of an evaluation ([`Workspace`]).
+//! Files: `kinematics` (clearance-joint geometry and forces), `constraints` (Φ, Φ_q, γ and
+//! the accelerations), `workspace` (layout of the solve and LDLᵀ), `dynamics` (the
+//! right-hand side), `assembly` (initial state), `energy`.
+
+mod assembly;
+mod constraints;
+mod dynamics;
+mod energy;
+mod kinematics;
+mod workspace;
+
+pub use kinematics::ContactState;
+pub use workspace::Workspace;
+
+use crate::laws::contact::ContactLaw;
+use crate::laws::friction::FrictionModel;
+use crate::laws::wear::{WearLaw, WearProfile};
+use crate::Result;
+use nalgebra::Vector2;
+
+/// A body's coordinate index, or `None` for the ground (fixed, at the origin, angle 0).
+pub type BodyIndex = Option<usize>;
+
+/// Rigid body: mass (kg) and moment of inertia about its centre of mass (kg m²).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Body {
+    /// Name, as the scene writes it.
+    pub name: String,
+    /// Mass (kg).
+    pub mass: f64,
+    /// Moment of inertia about the centre of mass (kg m²).
+    pub inertia: f64,
+}
+
+/// A point fixed in a body: body index and local coordinates (m) from its centre of mass.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyPoint {
+    /// The body (`None`: ground).
+    pub body: BodyIndex,
+    /// Coordinates in the body frame from the centre of mass (m).
+    pub local: Vector2<f64>,
+}
+
+/// Ideal revolute joint: two body points coincide (2 equations).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Revolute {
+    /// The first point.
+    pub a: BodyPoint,
+    /// The second point.
+    pub b: BodyPoint,
+}
+
+/// Ideal translational joint: body `a` keeps its angle relative to `b`, and point `a` stays
+/// on the line through point `b` whose unit normal is `normal` in `b`'s frame (2 equations).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Translational {
+    /// The sliding point.
+    pub a: BodyPoint,
+    /// A point of the guide line.
+    pub b: BodyPoint,
+    /// Unit normal of the guide line in `b`'s frame.
+    pub normal: Vector2<f64>,
+    /// φ_a − φ_b held constant (rad).
+    pub relative_angle: f64,
+}
+
+/// Constant-speed driver: `φ_body = angle0 + ω t` (1 equation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Driver {
+    /// The driven body.
+    pub body: usize,
+    /// Angular speed ω (rad/s), positive counter-clockwise.
+    pub omega: f64,
+    /// Angle at t = 0 (rad).
+    pub angle0: f64,
+}
+
+/// A clearance revolute joint with its contact, friction and (optional) wear models.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClearanceJoint {
+    /// Name, as the scene writes it.
+    pub name: String,
+    /// Journal centre.
+    pub journal: BodyPoint,
+    /// Bearing centre.
+    pub bearing: BodyPoint,
+    /// Journal radius R_j (m).
+    pub r_journal: f64,
+    /// Unworn bearing radius R_i (m).
+    pub r_bearing: f64,
+    /// Normal contact law (eq. 1-3).
+    pub contact: ContactLaw,
+    /// Friction law (eq. 4).
+    pub friction: FrictionModel,
+    /// `None`: the scene computes no wear.
+    pub wear: Option<WearLaw>,
+    /// The bearing's profile at the start of a run: its sectors and any initial wear. The
+    /// profile a run wears is in its [`RunState`].
+    pub initial_profile: WearProfile,
+}
+
+impl ClearanceJoint {
+    /// Radial clearance `c = R_i − R_j` of the unworn joint (m).
+    pub fn clearance(&self) -> f64 {
+        self.r_bearing - self.r_journal
+    }
+}
+
+/// What a clearance joint carries from one instant of a run to the next besides the
+/// coordinates: its worn profile and eq. 3's memory of the onset velocity.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointState {
+    /// The bearing's worn profile h(θ) (eq. 5-9).
+    pub wear: WearProfile,
+    /// Normal velocity δ̇⁻ captured at the onset of the current contact (m/s), eq. 3.
+    pub onset_velocity: f64,
+}
+
+/// The state of a run that is not in the integrator's state vector `y = (q, q̇, energies)`:
+/// one [`JointState`] per clearance joint. The mechanism is immutable; this is what a run
+/// changes (by wear and contact onsets) between steps.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunState {
+    /// Per clearance joint, in the mechanism's order.
+    pub joints: Vec<JointState>,
+}
+
+/// Powers integrated when energy accounting is on (extra ODE states, outside error control).
+pub const ENERGY_STATES: usize = 3;
+
+/// Smallest LDLᵀ pivot of the constraint system relative to its diagonal entry before
+/// elimination: the squared sine of the angle between a constraint row and the span of the
+/// earlier ones (in the M⁻¹ metric). Below it the rows are dependent to 1e-5 rad, the
+/// linkage is at a lock (dead-centre) position or has redundant joints, and the reactions
+/// grow without bound: the run stops there, naming the joints, instead of crawling into the
+/// step limit.
+pub const MIN_RELATIVE_PIVOT: f64 = 1e-10;
+
+/// Largest penetration of a clearance joint, as a fraction of its journal radius, that the
+/// contact laws describe: they are linear-elastic small-strain laws, and a tenth of the
+/// radius is a strain of order 10 %. A run goes past it only when the linkage forces the
+/// joint apart (links that cannot reach lock the mechanism against the contact) or a material
+/// is far too soft; it stops there instead of crawling on with meganewton forces.
+pub const MAX_PENETRATION_RATIO: f64 = 0.1;
+
+/// A planar mechanism: bodies, ideal joints, one driver, clearance joints, gravity.
+#[derive(Clone, Debug)]
+pub struct Mechanism {
+    /// Ideal revolute joints.
+    pub revolutes: Vec<Revolute>,
+    /// Ideal translational joints.
+    pub translationals: Vec<Translational>,
+    /// The driver.
+    pub driver: Driver,
+    /// Clearance joints, as force elements.
+    pub clearance_joints: Vec<ClearanceJoint>,
+    /// Gravitational acceleration (m/s²).
+    pub gravity: Vector2<f64>,
+    /// Baumgarte parameters α, β (1/s).
+    pub baumgarte: (f64, f64),
+    /// Integrate driver work, normal-contact work and friction work as extra states.
+    pub energy_accounting: bool,
+    /// Fixed at construction: the inverse masses and the equations solved for one coordinate
+    /// derive from them.
+    bodies: Vec<Body>,
+    /// The layout of the constraint solve with buffers sized, derived once from the joints:
+    /// the template of every run's [`Workspace`], never written to.
+    layout: Workspace,
+}
+
+impl Mechanism {
+    /// Builds a mechanism and lays out its constraint solve; errors on redundant joints.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        bodies: Vec<Body>,
+        revolutes: Vec<Revolute>,
+        translationals: Vec<Translational>,
+        driver: Driver,
+        clearance_joints: Vec<ClearanceJoint>,
+        gravity: Vector2<f64>,
+        baumgarte: (f64, f64),
+        energy_accounting: bool,
+    ) -> Result<Self> {
+        let mut m = Mechanism {
+            bodies,
+            revolutes,
+            translationals,
+            driver,
+            clearance_joints,
+            gravity,
+            baumgarte,
+            energy_accounting,
+            layout: Workspace::default(),
+        };
+        // Laid out here, so that redundant joints are refused when the mechanism is built.
+        m.layout = Workspace::new(&m)?;
+        Ok(m)
+    }
+
+    /// The bodies, in coordinate order.
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    /// Number of generalised coordinates, 3 per body.
+    pub fn coordinates(&self) -> usize {
+        3 * self.bodies.len()
+    }
+
+    /// Number of constraint equations.
+    pub fn constraint_count(&self) -> usize {
+        2 * self.revolutes.len() + 2 * self.translationals.len() + 1
+    }
+
+    /// Length of the ODE state: positions, velocities, and the energy quadratures if on.
+    pub fn state_len(&self) -> usize {
+        2 * self.coordinates()
+            + if self.energy_accounting {
+                ENERGY_STATES
+            } else {
+                0
+            }
+    }
+
+    /// A fresh workspace for the right-hand side of this mechanism (a copy of the layout
+    /// made once in [`Mechanism::new`]).
+    pub fn workspace(&self) -> Workspace {
+        self.layout.clone()
+    }
+
+    /// The run state at the start: every joint with its initial profile and no contact.
+    pub fn initial_state(&self) -> RunState {
+        RunState {
+            joints: (self.clearance_joints.iter())
+                .map(|cj| JointState {
+                    wear: cj.initial_profile.clone(),
+                    onset_velocity: 0.0,
+                })
+                .collect(),
+        }
+    }
+
+    /// Position (m) and angle (rad) of body `b` at coordinates `q` (ground: origin, 0).
+    pub fn pose(&self, q: &[f64], b: BodyIndex) -> (Vector2<f64>, f64) {
+        b.map_or((Vector2::zeros(), 0.0), |i| {
+            (Vector2::new(q[3 * i], q[3 * i + 1]), q[3 * i + 2])
+        })
+    }
+}

@@ -1,0 +1,614 @@
+//! One-step ODE integrators for y' = f(t, y) with a dynamic-length state.
+//!
+//! # Methods
+//!
+//! Every method is an explicit Runge-Kutta tableau held as data (`tableau.rs`); one stepping
+//! routine runs them all.
+//!
+//! * [`Method::Dopri5`]: the explicit Dormand-Prince pair 5(4) (7 stages, first-same-as-last, so
+//!   6 evaluations per attempted step), advancing with the 5th-order solution. Dense output is
+//!   Shampine's 4th-order continuous extension (Hairer's coefficients `d1..d7`), written in
+//!   Hairer's nested form
+//!   `y(t_prev + θh) = y0 + θ(Δ + (1-θ)(hf0 - Δ + θ(Δ - hf1 - (hf0 - Δ) + (1-θ) r5)))`,
+//!   `Δ = y1 - y0`, which is the cubic Hermite interpolant plus one extra term `r5`.
+//! * [`Method::Dop853`]: Hairer's explicit 8(5,3) pair (12 stages, 11 evaluations per attempt
+//!   plus 1 per accepted step for f at the new point). Its error estimate blends the 5th- and
+//!   3rd-order embedded differences as in Hairer's DOP853:
+//!   `err = |h| E5² / sqrt(n (E5² + 0.01 E3²))`. Dense output is the cubic Hermite interpolant
+//!   of (y, f) at both ends, which is only 3rd-order accurate: the 7th-order extension would cost
+//!   3 more evaluations per step and nothing here needs it.
+//! * [`Method::Rk4`]: the classical 4th-order Runge-Kutta method with a fixed step (the last step
+//!   shortened to land on `t_limit`), no error control; cubic Hermite dense output.
+//!
+//! # Error control
+//!
+//! The error norm is the RMS over the controlled components (index `< n_controlled`) of
+//! `err_i / (atol + rtol * max(|y_i|, |y_new_i|))`; later components (energy-accounting
+//! quadratures) are integrated but never shrink the step. A step is accepted when the norm is
+//! `<= 1`. With `q` the order of the error estimate (5, 8) the next step is
+//! `h * clamp(safety * err^-(1/q - 0.75 β) * err_prev^β, fac_min, fac_max)` where `β = 0` is the
+//! plain (I) controller and `β ≈ 0.04` Hairer's PI controller ([`StepControl`]); `fac_max` is
+//! replaced by 1 for the step that follows a rejection, and `|h|` never exceeds `max_step`.
+//! After a rejection the step shrinks by `max(fac_min, safety * err^(-1/q))`. A trial whose
+//! right-hand side fails ([`OdeSystem::rhs`] returns an error, e.g. a contact far outside the
+//! model's validity) or overflows is rejected and retried `fac_min` times smaller; only when
+//! the step size underflows is it an error, and then the first such failure is reported.
+//!
+//! # Events
+//!
+//! [`Integrator::earliest_event`] finds the first sign change from negative to non-negative
+//! of a set of event functions inside the last accepted step, on its dense output, with
+//! [`locate_root`]; the driver decides what the event does and restarts with
+//! [`Integrator::reset`].
+//!
+//! # Why our own integrator
+//!
+//! Crates like `ode_solvers` integrate over a whole interval and own the loop. The simulation
+//! needs a hook after every accepted step (wear update, energy bookkeeping), root finding for
+//! contact events on the dense output of the last step, restarts after discontinuities, a
+//! checkpoint of the exact stepping state ([`IntegratorState`]) and a hot loop that never
+//! allocates: every buffer is sized once in [`Integrator::new`]. ARCHITECTURE.md records the
+//! comparison with the `diffsol` and `differential-equations` crates.
+
+mod events;
+mod tableau;
+#[cfg(test)]
+mod tests;
+
+pub use events::{locate_root, Event};
+
+use crate::{Error, Result};
+use tableau::{Dense, Estimate};
+
+/// The right-hand side y' = f(t, y). `&mut self` because systems keep scratch buffers.
+pub trait OdeSystem {
+    /// Length of the state vector.
+    fn dim(&self) -> usize;
+    /// Writes f(t, y) into `dy`, or fails where f is not defined (the integrator retries a
+    /// smaller step and reports the failure if none succeeds).
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()>;
+}
+
+/// Accuracy requirements of an adaptive run.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Tolerances {
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance.
+    pub atol: f64,
+    /// Upper bound on the step size (`f64::INFINITY` for none).
+    pub max_step: f64,
+    /// First step size; 0 selects it automatically (Hairer's heuristic).
+    pub initial_step: f64,
+}
+
+/// Step-size controller parameters (see the module documentation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepControl {
+    /// Safety factor applied to the optimal step.
+    pub safety: f64,
+    /// Smallest ratio between successive steps.
+    pub fac_min: f64,
+    /// Largest ratio between successive steps.
+    pub fac_max: f64,
+    /// PI gain on the previous error; 0 gives the classical I controller.
+    pub beta: f64,
+}
+
+impl Default for StepControl {
+    fn default() -> Self {
+        StepControl {
+            safety: 0.9,
+            fac_min: 0.2,
+            fac_max: 5.0,
+            beta: 0.0,
+        }
+    }
+}
+
+/// Work counters, accumulated over the lifetime of an [`Integrator`] (restarts included).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Stats {
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected step attempts.
+    pub rejected: u64,
+    /// Evaluations of the right-hand side (Jacobian columns included).
+    pub evaluations: u64,
+    /// Events handled by the driver ([`Integrator::record_event`]).
+    pub events: u64,
+}
+
+/// The integration method.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum Method {
+    /// Dormand-Prince 5(4) with 4th-order dense output.
+    Dopri5,
+    /// Hairer's DOP853, 8(5,3), with cubic Hermite dense output.
+    Dop853,
+    /// Classical Runge-Kutta with a fixed step.
+    Rk4 {
+        /// The fixed step (s).
+        step: f64,
+    },
+}
+
+/// How an accepted step ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// Inside the interval, short of `t_limit`.
+    Step,
+    /// Exactly on `t_limit`.
+    Limit,
+}
+
+/// What an [`Integrator`] carries from one accepted step to the next: restoring it continues
+/// the same step sequence bit for bit.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct IntegratorState {
+    t: f64,
+    t_prev: f64,
+    h: f64,
+    err_prev: f64,
+    y: Vec<f64>,
+    y_prev: Vec<f64>,
+    dy: Vec<f64>,
+    dy_prev: Vec<f64>,
+    dense5: Vec<f64>,
+    stats: Stats,
+}
+
+impl IntegratorState {
+    /// The state vector at the current time.
+    pub fn y(&self) -> &[f64] {
+        &self.y
+    }
+}
+
+/// A one-step integrator; see the module documentation.
+pub struct Integrator {
+    method: Method,
+    tol: Tolerances,
+    control: StepControl,
+    n_controlled: usize,
+    t: f64,
+    t_prev: f64,
+    /// Proposed size of the next step.
+    h: f64,
+    /// Error norm of the last accepted step (memory of the PI controller).
+    err_prev: f64,
+    y: Vec<f64>,
+    y_prev: Vec<f64>,
+    dy: Vec<f64>,
+    dy_prev: Vec<f64>,
+    y_new: Vec<f64>,
+    dy_new: Vec<f64>,
+    y_stage: Vec<f64>,
+    /// Stage derivatives k2, k3, ... (k1 is `dy`, first-same-as-last).
+    k: Vec<Vec<f64>>,
+    /// Term `r5` of the dense output; zero for the cubic Hermite methods.
+    dense5: Vec<f64>,
+    stats: Stats,
+}
+
+/// `out = y + h (row[0] k1 + Σ_{j≥1} row[j] k[j-1])`, skipping the many zero coefficients.
+fn combine(out: &mut [f64], y: &[f64], k1: &[f64], k: &[Vec<f64>], row: &[f64], h: f64) {
+    let h0 = h * row.first().copied().unwrap_or(0.0);
+    for ((o, &yi), &k1i) in out.iter_mut().zip(y).zip(k1) {
+        *o = yi + h0 * k1i;
+    }
+    for (&a, kj) in row.iter().skip(1).zip(k) {
+        if a != 0.0 {
+            let ha = h * a;
+            for (o, &kji) in out.iter_mut().zip(kj) {
+                *o += ha * kji;
+            }
+        }
+    }
+}
+
+/// `Σ_j w_j k_j` of component `i` over the stages k1 (`k1`), k2.. (`k`) and, last, f at the
+/// new point (`k_new`), skipping zero weights.
+fn weighted(w: &[f64], i: usize, k1: &[f64], k: &[Vec<f64>], k_new: &[f64]) -> f64 {
+    let last = w.len() - 1;
+    let mut sum = 0.0;
+    for (j, &wj) in w.iter().enumerate() {
+        if wj != 0.0 {
+            let kj = match j {
+                0 => k1[i],
+                j if j == last => k_new[i],
+                j => k[j - 1][i],
+            };
+            sum += wj * kj;
+        }
+    }
+    sum
+}
+
+/// Error scale of component i.
+fn scale(tol: &Tolerances, y: f64, y_new: f64) -> f64 {
+    tol.atol + tol.rtol * y.abs().max(y_new.abs())
+}
+
+fn integration_error(time: f64, cause: String) -> Error {
+    Error::Integration { time, cause }
+}
+
+impl Integrator {
+    /// Allocates every buffer for a state of length `dim`, of which the first `n_controlled`
+    /// components enter the error norm.
+    pub fn new(method: Method, dim: usize, n_controlled: usize, tol: Tolerances) -> Self {
+        assert!(
+            n_controlled <= dim,
+            "n_controlled ({n_controlled}) exceeds dim ({dim})"
+        );
+        Integrator {
+            method,
+            tol,
+            control: StepControl::default(),
+            n_controlled,
+            t: 0.0,
+            t_prev: 0.0,
+            h: 0.0,
+            err_prev: 1e-4,
+            y: vec![0.0; dim],
+            y_prev: vec![0.0; dim],
+            dy: vec![0.0; dim],
+            dy_prev: vec![0.0; dim],
+            y_new: vec![0.0; dim],
+            dy_new: vec![0.0; dim],
+            y_stage: vec![0.0; dim],
+            k: vec![vec![0.0; dim]; method.tableau().a.len() - 1],
+            dense5: vec![0.0; dim],
+            stats: Stats::default(),
+        }
+    }
+
+    /// What the next steps depend on (the stage buffers are scratch).
+    pub fn state(&self) -> IntegratorState {
+        IntegratorState {
+            t: self.t,
+            t_prev: self.t_prev,
+            h: self.h,
+            err_prev: self.err_prev,
+            y: self.y.clone(),
+            y_prev: self.y_prev.clone(),
+            dy: self.dy.clone(),
+            dy_prev: self.dy_prev.clone(),
+            dense5: self.dense5.clone(),
+            stats: self.stats,
+        }
+    }
+
+    /// Continues from a saved state; fails (changing nothing) if its vectors do not have this
+    /// integrator's length.
+    pub fn restore(&mut self, s: IntegratorState) -> Result<()> {
+        let n = self.y.len();
+        if [&s.y, &s.y_prev, &s.dy, &s.dy_prev, &s.dense5]
+            .iter()
+            .any(|v| v.len() != n)
+        {
+            return Err(integration_error(
+                s.t,
+                "saved state of another length".into(),
+            ));
+        }
+        (self.t, self.t_prev, self.h, self.err_prev) = (s.t, s.t_prev, s.h, s.err_prev);
+        (self.y, self.y_prev, self.dy, self.dy_prev) = (s.y, s.y_prev, s.dy, s.dy_prev);
+        self.dense5 = s.dense5;
+        self.stats = s.stats;
+        Ok(())
+    }
+
+    /// Replaces the step-size controller parameters (e.g. to enable PI control).
+    pub fn with_control(mut self, control: StepControl) -> Self {
+        self.control = control;
+        self
+    }
+
+    /// Start (or restart after a discontinuity) at (t, y): evaluates f(t, y) and chooses the
+    /// initial step if `tol.initial_step` is 0 (Hairer's heuristic, one more evaluation).
+    pub fn reset(&mut self, sys: &mut impl OdeSystem, t: f64, y: &[f64]) -> Result<()> {
+        assert_eq!(
+            sys.dim(),
+            self.y.len(),
+            "system dimension differs from the integrator's"
+        );
+        self.t = t;
+        self.t_prev = t;
+        self.y.copy_from_slice(y);
+        self.y_prev.copy_from_slice(y);
+        self.stats.evaluations += 1;
+        sys.rhs(t, &self.y, &mut self.dy)?;
+        self.dy_prev.copy_from_slice(&self.dy);
+        self.dense5.fill(0.0);
+        self.err_prev = 1e-4;
+        self.h = match self.method {
+            Method::Rk4 { step } => step,
+            _ if self.tol.initial_step > 0.0 => self.tol.initial_step.min(self.tol.max_step),
+            m => self.initial_step(sys, m.tableau().order)?,
+        };
+        Ok(())
+    }
+
+    /// Hairer's starting step: make the Euler step's change and its local error estimate small.
+    fn initial_step(&mut self, sys: &mut impl OdeSystem, order: f64) -> Result<f64> {
+        let n = self.n_controlled.max(1) as f64;
+        let (mut d0, mut d1) = (0.0, 0.0);
+        for i in 0..self.n_controlled {
+            let sc = scale(&self.tol, self.y[i], self.y[i]);
+            d0 += (self.y[i] / sc).powi(2);
+            d1 += (self.dy[i] / sc).powi(2);
+        }
+        let (d0, d1) = ((d0 / n).sqrt(), (d1 / n).sqrt());
+        let h0 = if d0 < 1e-5 || d1 < 1e-5 {
+            1e-6
+        } else {
+            0.01 * d0 / d1
+        }
+        .min(self.tol.max_step);
+        combine(&mut self.y_stage, &self.y, &self.dy, &[], &[1.0], h0);
+        self.stats.evaluations += 1;
+        sys.rhs(self.t + h0, &self.y_stage, &mut self.dy_new)?;
+        let mut d2 = 0.0;
+        for i in 0..self.n_controlled {
+            let sc = scale(&self.tol, self.y[i], self.y[i]);
+            d2 += ((self.dy_new[i] - self.dy[i]) / sc).powi(2);
+        }
+        let d2 = (d2 / n).sqrt() / h0;
+        let dmax = d1.max(d2);
+        let h1 = if dmax <= 1e-15 {
+            (h0 * 1e-3).max(1e-6)
+        } else {
+            (0.01 / dmax).powf(1.0 / order)
+        };
+        Ok((100.0 * h0).min(h1).min(self.tol.max_step))
+    }
+
+    /// Take ONE accepted step (retrying rejected attempts internally), never stepping past
+    /// `t_limit`; a step that ends within 1 % of a step size of `t_limit` lands on it exactly.
+    ///
+    /// Errors: `t_limit` not ahead of `t()`, step size below 1e-14·|t| (underflow, reported
+    /// as the first failed right-hand side of the step if there was one), a failed
+    /// right-hand side or non-finite values with a fixed step.
+    pub fn step(&mut self, sys: &mut impl OdeSystem, t_limit: f64) -> Result<Stop> {
+        if t_limit <= self.t || t_limit.is_nan() {
+            return Err(integration_error(
+                self.t,
+                format!("step limit {t_limit:e} is not ahead of t"),
+            ));
+        }
+        let tableau = self.method.tableau();
+        if let Method::Rk4 { step } = self.method {
+            if step.is_nan() || step <= 0.0 {
+                return Err(integration_error(
+                    self.t,
+                    format!("Rk4 step {step:e} is not positive"),
+                ));
+            }
+            let last = self.t + step * (1.0 + 1e-9) >= t_limit;
+            let h = if last { t_limit - self.t } else { step };
+            self.attempt(sys, h)?;
+            self.check_finite()?;
+            self.finish_step(sys, h)?;
+            return Ok(self.accept(h, last, t_limit));
+        }
+        let mut rejected = false;
+        // Why the last attempt was thrown away, for the underflow message.
+        let mut blow_up: Option<String> = None;
+        let mut failure: Option<Error> = None;
+        loop {
+            if self.h <= 1e-14 * self.t.abs() || self.h < f64::MIN_POSITIVE {
+                if let Some(e) = failure {
+                    return Err(e);
+                }
+                let why = blow_up.map_or(String::new(), |b| format!(" after {b}"));
+                return Err(integration_error(
+                    self.t,
+                    format!("step size underflow (h = {:e}){why}", self.h),
+                ));
+            }
+            let last = self.t + 1.01 * self.h >= t_limit;
+            let h = if last { t_limit - self.t } else { self.h };
+            // A trial whose right-hand side fails, that overflows (a step far too large for
+            // stiff contact) or gives a NaN estimate is rejected and retried smaller.
+            blow_up = match self.attempt(sys, h) {
+                Err(e) => {
+                    failure.get_or_insert(e);
+                    Some("a failed right-hand side".into())
+                }
+                Ok(err) => match self.non_finite_component() {
+                    Some(i) => Some(format!("a non-finite state component {i}")),
+                    None if !err.is_finite() => Some("a non-finite error estimate".into()),
+                    None if err <= 1.0 => {
+                        self.control_accepted(h, err, rejected);
+                        self.finish_step(sys, h)?;
+                        return Ok(self.accept(h, last, t_limit));
+                    }
+                    None => {
+                        let c = self.control;
+                        self.h = h * (c.safety * err.powf(-1.0 / tableau.order)).max(c.fac_min);
+                        None
+                    }
+                },
+            };
+            self.stats.rejected += 1;
+            rejected = true;
+            if blow_up.is_some() {
+                self.h = h * self.control.fac_min;
+            }
+        }
+    }
+
+    /// The next step size after an accepted step of size `h` with error norm `err`.
+    fn control_accepted(&mut self, h: f64, err: f64, after_rejection: bool) {
+        let c = self.control;
+        let order = self.method.tableau().order;
+        let fac_max = if after_rejection { 1.0 } else { c.fac_max };
+        let fac = c.safety * err.powf(-(1.0 / order - 0.75 * c.beta)) * self.err_prev.powf(c.beta);
+        self.err_prev = err.max(1e-4);
+        self.h = (h * fac.clamp(c.fac_min, fac_max)).min(self.tol.max_step);
+    }
+
+    /// One attempt of size `h`: fills `y_new` (and `dy_new` for first-same-as-last methods)
+    /// and returns the error norm (0 without an estimate).
+    fn attempt(&mut self, sys: &mut impl OdeSystem, h: f64) -> Result<f64> {
+        let tab = self.method.tableau();
+        for s in 1..tab.a.len() {
+            combine(&mut self.y_stage, &self.y, &self.dy, &self.k, tab.a[s], h);
+            self.stats.evaluations += 1;
+            sys.rhs(self.t + tab.c[s] * h, &self.y_stage, &mut self.k[s - 1])?;
+        }
+        combine(&mut self.y_new, &self.y, &self.dy, &self.k, tab.b, h);
+        if tab.fsal {
+            self.stats.evaluations += 1;
+            sys.rhs(self.t + h, &self.y_new, &mut self.dy_new)?;
+        }
+        Ok(match tab.estimate {
+            Estimate::None => 0.0,
+            Estimate::Embedded(e) => {
+                let (k, k1, k_new) = (&self.k, &self.dy, &self.dy_new);
+                self.error_norm(|i| h * weighted(e, i, k1, k, k_new))
+            }
+            Estimate::Blended { er, bhh } => self.blended_error(h, tab.b, er, bhh),
+        })
+    }
+
+    /// Hairer's DOP853 error norm (see [`Estimate::Blended`]).
+    fn blended_error(&self, h: f64, b: &[f64], er: &[f64], bhh: [f64; 3]) -> f64 {
+        let (mut err5, mut err3) = (0.0, 0.0);
+        for i in 0..self.n_controlled {
+            let stage = |j: usize| if j == 0 { self.dy[i] } else { self.k[j - 1][i] };
+            let (mut e5, mut bi) = (0.0, 0.0);
+            for j in 0..b.len() {
+                e5 += er[j] * stage(j);
+                bi += b[j] * stage(j);
+            }
+            let e3 = bi - bhh[0] * stage(0) - bhh[1] * stage(8) - bhh[2] * stage(11);
+            let sc = scale(&self.tol, self.y[i], self.y_new[i]);
+            err5 += (e5 / sc).powi(2);
+            err3 += (e3 / sc).powi(2);
+        }
+        let deno = err5 + 0.01 * err3;
+        let deno = if deno > 0.0 { deno } else { 1.0 };
+        h * err5 / (self.n_controlled.max(1) as f64 * deno).sqrt()
+    }
+
+    /// What an accepted step needs before it becomes current: the dense-output term, or f at
+    /// the new point for methods that do not evaluate it with every attempt.
+    fn finish_step(&mut self, sys: &mut impl OdeSystem, h: f64) -> Result<()> {
+        let tab = self.method.tableau();
+        if let Dense::Shampine(d) = tab.dense {
+            let (k, k1, k_new) = (&self.k, &self.dy, &self.dy_new);
+            for (i, r) in self.dense5.iter_mut().enumerate() {
+                *r = h * weighted(d, i, k1, k, k_new);
+            }
+        }
+        if !tab.fsal {
+            self.stats.evaluations += 1;
+            sys.rhs(self.t + h, &self.y_new, &mut self.dy_new)?;
+        }
+        Ok(())
+    }
+
+    /// Index of the first non-finite component of the trial state, if any.
+    fn non_finite_component(&self) -> Option<usize> {
+        self.y_new.iter().position(|v| !v.is_finite())
+    }
+
+    fn check_finite(&self) -> Result<()> {
+        match self.non_finite_component() {
+            None => Ok(()),
+            Some(i) => Err(integration_error(
+                self.t,
+                format!("non-finite state component {i}"),
+            )),
+        }
+    }
+
+    /// Makes `y_new`, `dy_new` the current point of a step of size `h`, landing exactly on
+    /// `t_limit` if it is the `last`.
+    fn accept(&mut self, h: f64, last: bool, t_limit: f64) -> Stop {
+        let t_new = if last { t_limit } else { self.t + h };
+        debug_assert!((t_new - self.t - h).abs() <= 1e-12 * t_new.abs().max(h));
+        std::mem::swap(&mut self.y_prev, &mut self.y);
+        std::mem::swap(&mut self.y, &mut self.y_new);
+        std::mem::swap(&mut self.dy_prev, &mut self.dy);
+        std::mem::swap(&mut self.dy, &mut self.dy_new);
+        self.t_prev = self.t;
+        self.t = t_new;
+        self.stats.steps += 1;
+        if last {
+            Stop::Limit
+        } else {
+            Stop::Step
+        }
+    }
+
+    /// RMS norm over the controlled components of `e_i(i) / scale_i`.
+    fn error_norm(&self, e_i: impl Fn(usize) -> f64) -> f64 {
+        let mut sum = 0.0;
+        for i in 0..self.n_controlled {
+            sum += (e_i(i) / scale(&self.tol, self.y[i], self.y_new[i])).powi(2);
+        }
+        (sum / self.n_controlled.max(1) as f64).sqrt()
+    }
+
+    /// End of the last accepted step.
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+
+    /// Start of the last accepted step.
+    pub fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+
+    /// State at [`t`](Self::t).
+    pub fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    /// State at [`t_prev`](Self::t_prev).
+    pub fn y_prev(&self) -> &[f64] {
+        &self.y_prev
+    }
+
+    /// f(t, y) at [`t`](Self::t).
+    pub fn dy(&self) -> &[f64] {
+        &self.dy
+    }
+
+    /// Dense output inside the last accepted step [t_prev, t]: writes y(t_eval) into `out`.
+    /// Exact at both ends.
+    pub fn dense(&self, t_eval: f64, out: &mut [f64]) {
+        if t_eval == self.t {
+            out.copy_from_slice(&self.y);
+            return;
+        }
+        let h = self.t - self.t_prev;
+        let th = (t_eval - self.t_prev) / h;
+        let th1 = 1.0 - th;
+        for (i, o) in out.iter_mut().enumerate() {
+            let d = self.y[i] - self.y_prev[i];
+            let b = h * self.dy_prev[i] - d;
+            let c = d - h * self.dy[i] - b;
+            *o = self.y_prev[i] + th * (d + th1 * (b + th * (c + th1 * self.dense5[i])));
+        }
+    }
+
+    /// Work counters.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// Counts an event handled by the driver, so that [`stats`](Self::stats) tells the whole story.
+    pub fn record_event(&mut self) {
+        self.stats.events += 1;
+    }
+
+    /// Currently proposed size of the next step.
+    pub fn step_size(&self) -> f64 {
+        self.h
+    }
+}

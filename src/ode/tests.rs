@@ -1,0 +1,549 @@
+//! Unit tests of the integrators: convergence orders, an independent oracle, dense output,
+//! events, failures and work counters.
+
+use super::*;
+use approx::assert_relative_eq;
+use ode_solvers::{SVector, System};
+use std::f64::consts::PI;
+
+/// A system from a closure.
+struct Sys<F>(usize, F);
+
+impl<F: FnMut(f64, &[f64], &mut [f64])> OdeSystem for Sys<F> {
+    fn dim(&self) -> usize {
+        self.0
+    }
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
+        (self.1)(t, y, dy);
+        Ok(())
+    }
+}
+
+const ALL: [Method; 3] = [Method::Dopri5, Method::Dop853, Method::Rk4 { step: 0.01 }];
+
+fn tol(rtol: f64, atol: f64) -> Tolerances {
+    Tolerances {
+        rtol,
+        atol,
+        max_step: f64::INFINITY,
+        initial_step: 0.0,
+    }
+}
+
+/// Tolerances so loose that every step is accepted at exactly `h`.
+fn fixed(h: f64) -> Tolerances {
+    Tolerances {
+        rtol: 1e10,
+        atol: 1e10,
+        max_step: h,
+        initial_step: h,
+    }
+}
+
+/// Integrates from (t0, y0) to t_end; the last step must land on t_end exactly.
+fn run(
+    method: Method,
+    tol: Tolerances,
+    n_controlled: usize,
+    sys: &mut impl OdeSystem,
+    t0: f64,
+    y0: &[f64],
+    t_end: f64,
+) -> Integrator {
+    let mut int = Integrator::new(method, y0.len(), n_controlled, tol);
+    int.reset(sys, t0, y0).unwrap();
+    while int.t() < t_end {
+        int.step(sys, t_end).unwrap();
+        assert!(int.t() <= t_end);
+    }
+    assert_eq!(int.t(), t_end);
+    int
+}
+
+/// Rotation q' = p, p' = -q together with the non-autonomous z' = -z + sin t.
+fn rotation_forced() -> Sys<impl FnMut(f64, &[f64], &mut [f64])> {
+    Sys(3, |t: f64, y: &[f64], dy: &mut [f64]| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+        dy[2] = -y[2] + t.sin();
+    })
+}
+
+fn rotation_forced_exact(t: f64) -> [f64; 3] {
+    [
+        t.cos(),
+        -t.sin(),
+        1.5 * (-t).exp() + 0.5 * (t.sin() - t.cos()),
+    ]
+}
+
+fn global_error(method: Method, h: f64) -> f64 {
+    let t_end = 4.0;
+    let int = run(
+        method,
+        fixed(h),
+        3,
+        &mut rotation_forced(),
+        0.0,
+        &[1.0, 0.0, 1.0],
+        t_end,
+    );
+    let exact = rotation_forced_exact(t_end);
+    int.y()
+        .iter()
+        .zip(exact)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn integrator_convergence_orders() {
+    // (method, coarse step, expected order)
+    let cases = [(Method::Dopri5, 0.2, 5), (Method::Dop853, 0.4, 8)];
+    for (method, h, order) in cases {
+        let ratio = global_error(method, h) / global_error(method, h / 2.0);
+        let ideal = 2f64.powi(order);
+        assert!(
+            ratio > 0.75 * ideal && ratio < 1.3 * ideal,
+            "{method:?}: ratio {ratio}, ideal {ideal}"
+        );
+    }
+    let rk4 = |h| global_error(Method::Rk4 { step: h }, 1.0);
+    let ratio = rk4(0.1) / rk4(0.05);
+    assert!(ratio > 14.0 && ratio < 18.0, "Rk4: ratio {ratio}");
+    // Same step, much higher order.
+    assert!(global_error(Method::Dop853, 0.2) < 1e-3 * global_error(Method::Dopri5, 0.2));
+}
+
+/// Van der Pol with mu = 5.
+fn van_der_pol(y: &[f64], dy: &mut [f64]) {
+    dy[0] = y[1];
+    dy[1] = 5.0 * (1.0 - y[0] * y[0]) * y[1] - y[0];
+}
+
+/// Kepler problem (mu = 1).
+fn kepler(y: &[f64], dy: &mut [f64]) {
+    let r3 = (y[0] * y[0] + y[1] * y[1]).powf(1.5);
+    dy[0] = y[2];
+    dy[1] = y[3];
+    dy[2] = -y[0] / r3;
+    dy[3] = -y[1] / r3;
+}
+
+/// An autonomous right-hand side seen by the oracle crate.
+struct Oracle(fn(&[f64], &mut [f64]));
+
+impl<const D: usize> System<f64, SVector<f64, D>> for Oracle {
+    fn system(&self, _t: f64, y: &SVector<f64, D>, dy: &mut SVector<f64, D>) {
+        (self.0)(y.as_slice(), dy.as_mut_slice());
+    }
+}
+
+/// Final states and accepted steps of ours and the oracle: (ours, theirs, our steps, their steps).
+type Comparison = (Vec<f64>, Vec<f64>, u64, u64);
+
+/// Our Dopri5 and ode_solvers' on the same problem.
+fn against_oracle<const D: usize>(
+    rhs: fn(&[f64], &mut [f64]),
+    y0: [f64; D],
+    t_end: f64,
+    rtol: f64,
+) -> Comparison {
+    let mut sys = Sys(D, |_t: f64, y: &[f64], dy: &mut [f64]| rhs(y, dy));
+    let ours = run(
+        Method::Dopri5,
+        tol(rtol, rtol),
+        D,
+        &mut sys,
+        0.0,
+        &y0,
+        t_end,
+    );
+    let mut theirs = ode_solvers::Dopri5::new(
+        Oracle(rhs),
+        0.0,
+        t_end,
+        t_end,
+        SVector::from(y0),
+        rtol,
+        rtol,
+    );
+    theirs.set_output(ode_solvers::OutputType::Sparse);
+    let stats = theirs.integrate().unwrap();
+    let last = theirs.y_out().last().unwrap().as_slice().to_vec();
+    (
+        ours.y().to_vec(),
+        last,
+        ours.stats().steps,
+        stats.accepted_steps as u64,
+    )
+}
+
+/// Kepler orbit of eccentricity 0.5 over three periods.
+fn kepler_case(rtol: f64) -> Comparison {
+    let e: f64 = 0.5;
+    let y0 = [1.0 - e, 0.0, 0.0, ((1.0 + e) / (1.0 - e)).sqrt()];
+    against_oracle(kepler, y0, 3.0 * 2.0 * PI, rtol)
+}
+
+#[test]
+fn integrator_dopri5_matches_ode_solvers() {
+    for problem in ["vdp", "kepler"] {
+        let case = |rtol| match problem {
+            "vdp" => against_oracle(van_der_pol, [2.0, 0.0], 30.0, rtol),
+            _ => kepler_case(rtol),
+        };
+        let (ours, theirs, _, _) = case(1e-10);
+        let size = theirs.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (a, b) in ours.iter().zip(&theirs) {
+            assert!(
+                (a - b).abs() < 1e-7 * size,
+                "{problem}: {ours:?} vs {theirs:?}"
+            );
+        }
+        let (_, _, our_steps, their_steps) = case(1e-6);
+        let rel = (our_steps as f64 - their_steps as f64).abs() / their_steps as f64;
+        assert!(rel < 0.2, "{problem}: {our_steps} steps vs {their_steps}");
+    }
+    // The Kepler orbit also returns to its start after whole periods.
+    let (ours, _, _, _) = kepler_case(1e-10);
+    let e: f64 = 0.5;
+    assert_relative_eq!(ours[0], 1.0 - e, epsilon = 1e-7);
+    assert_relative_eq!(ours[3], ((1.0 + e) / (1.0 - e)).sqrt(), epsilon = 1e-7);
+}
+
+#[test]
+fn integrator_pi_control_matches_i_control() {
+    let e: f64 = 0.5;
+    let y0 = [1.0 - e, 0.0, 0.0, ((1.0 + e) / (1.0 - e)).sqrt()];
+    let t_end = 2.0 * PI;
+    let orbit = |control| {
+        let mut sys = Sys(4, |_t: f64, y: &[f64], dy: &mut [f64]| kepler(y, dy));
+        let mut int = Integrator::new(Method::Dopri5, 4, 4, tol(1e-8, 1e-8)).with_control(control);
+        int.reset(&mut sys, 0.0, &y0).unwrap();
+        while int.t() < t_end {
+            int.step(&mut sys, t_end).unwrap();
+        }
+        let error = int
+            .y()
+            .iter()
+            .zip(y0)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        (error, int.stats().steps)
+    };
+    let (i_error, i_steps) = orbit(StepControl::default());
+    let (pi_error, pi_steps) = orbit(StepControl {
+        beta: 0.04,
+        fac_max: 10.0,
+        ..StepControl::default()
+    });
+    assert!(
+        i_error < 1e-5 && pi_error < 1e-5,
+        "errors {i_error}, {pi_error}"
+    );
+    assert!(
+        pi_steps.abs_diff(i_steps) * 5 < i_steps,
+        "steps {pi_steps} vs {i_steps}"
+    );
+}
+
+#[test]
+fn integrator_dense_output() {
+    let mid_error = |method: Method, h: f64| {
+        let mut sys = Sys(1, |t: f64, _y: &[f64], dy: &mut [f64]| dy[0] = t.cos());
+        let t0 = 0.3;
+        let tol = if let Method::Rk4 { .. } = method {
+            fixed(1.0)
+        } else {
+            fixed(h)
+        };
+        let mut int = Integrator::new(method, 1, 1, tol);
+        int.reset(&mut sys, t0, &[t0.sin()]).unwrap();
+        int.step(&mut sys, t0 + h).unwrap();
+        let mut out = [0.0];
+        // Exact at both ends.
+        int.dense(int.t_prev(), &mut out);
+        assert_eq!(out, int.y_prev());
+        int.dense(int.t(), &mut out);
+        assert_eq!(out, int.y());
+        let tm = t0 + 0.37 * h;
+        int.dense(tm, &mut out);
+        (out[0] - tm.sin()).abs()
+    };
+    // Dopri5's continuous extension is 4th order: local error O(h^5).
+    let (coarse, fine) = (
+        mid_error(Method::Dopri5, 0.4),
+        mid_error(Method::Dopri5, 0.2),
+    );
+    assert!(coarse / fine > 24.0, "Dopri5 dense ratio {}", coarse / fine);
+    assert!(fine < 1e-6 * 0.2, "Dopri5 dense error {fine}");
+    // Cubic Hermite: local error O(h^4).
+    for method in [Method::Dop853, Method::Rk4 { step: 1.0 }] {
+        let ratio = mid_error(method, 0.4) / mid_error(method, 0.2);
+        assert!(
+            ratio > 12.0 && ratio < 24.0,
+            "{method:?} dense ratio {ratio}"
+        );
+    }
+    // Hermite is exact on cubics, Shampine's extension is not needed for that.
+    let mut sys = Sys(1, |t: f64, _y: &[f64], dy: &mut [f64]| dy[0] = 3.0 * t * t);
+    let mut int = Integrator::new(Method::Dop853, 1, 1, fixed(1.0));
+    int.reset(&mut sys, 0.0, &[0.0]).unwrap();
+    int.step(&mut sys, 1.0).unwrap();
+    let mut out = [0.0];
+    int.dense(0.5, &mut out);
+    assert_relative_eq!(out[0], 0.125, epsilon = 1e-14);
+}
+
+#[test]
+fn integrator_dopri5_energy_drift() {
+    let mut sys = Sys(2, |_t: f64, y: &[f64], dy: &mut [f64]| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+    });
+    let t_end = 10.0 * 2.0 * PI;
+    let mut int = Integrator::new(Method::Dopri5, 2, 2, tol(1e-10, 1e-10));
+    int.reset(&mut sys, 0.0, &[1.0, 0.0]).unwrap();
+    let mut drift: f64 = 0.0;
+    while int.t() < t_end {
+        int.step(&mut sys, t_end).unwrap();
+        let y = int.y();
+        drift = drift.max((0.5 * (y[0] * y[0] + y[1] * y[1]) - 0.5).abs());
+    }
+    assert!(drift < 1e-8, "energy drift {drift}");
+    assert!(drift > 0.0);
+}
+
+#[test]
+fn integrator_locate_root() {
+    let t = locate_root(f64::cos, 1.0, 1f64.cos(), 2.0, 2f64.cos(), 1e-12);
+    assert!((t - PI / 2.0).abs() < 1e-12, "root {t}");
+    // Superlinear on a curved g: plain regula falsi, stuck at one end, needs far more.
+    let mut evaluations = 0;
+    let g = |t: f64| {
+        evaluations += 1;
+        t.exp() - 2.0
+    };
+    let t = locate_root(g, 0.0, -1.0, 3.0, 3f64.exp() - 2.0, 1e-12);
+    assert!((t - 2f64.ln()).abs() < 1e-12, "root {t}");
+    assert!(evaluations <= 15, "{evaluations} evaluations");
+    assert!(
+        t.exp() - 2.0 >= 0.0,
+        "the root is returned from the far side of the sign change"
+    );
+    // g(tb) == 0 returns tb without evaluating g.
+    let t = locate_root(
+        |_| panic!("no evaluation needed"),
+        1.0,
+        -1.0,
+        2.0,
+        0.0,
+        1e-12,
+    );
+    assert_eq!(t, 2.0);
+    // A root at ta is approached from above.
+    let t = locate_root(|t| t - 1.0, 1.0, 0.0, 3.0, 2.0, 1e-10);
+    assert!((t - 1.0).abs() < 1e-10, "root {t}");
+}
+
+#[test]
+fn integrator_reports_non_finite_state() {
+    for method in ALL {
+        let mut sys = Sys(2, |t: f64, _y: &[f64], dy: &mut [f64]| {
+            dy[0] = 1.0;
+            dy[1] = if t > 0.5 { f64::NAN } else { 0.0 };
+        });
+        let mut int = Integrator::new(method, 2, 1, tol(1e-6, 1e-6));
+        int.reset(&mut sys, 0.0, &[0.0, 0.0]).unwrap();
+        let result = (0..10_000)
+            .map(|_| int.step(&mut sys, 1.0))
+            .find(Result::is_err);
+        match result {
+            Some(Err(Error::Integration { time, cause })) => {
+                assert!((0.0..=0.5).contains(&time), "{method:?}: {time} {cause}");
+                assert!(cause.contains("non-finite"), "{method:?}: {cause}");
+            }
+            other => panic!("{method:?}: expected an integration error, got {other:?}"),
+        }
+    }
+    // A step limit behind t is an error too.
+    let mut sys = Sys(1, |_t: f64, _y: &[f64], dy: &mut [f64]| dy[0] = 1.0);
+    let mut int = Integrator::new(Method::Dopri5, 1, 1, tol(1e-6, 1e-6));
+    int.reset(&mut sys, 1.0, &[0.0]).unwrap();
+    assert!(matches!(
+        int.step(&mut sys, 0.5),
+        Err(Error::Integration { .. })
+    ));
+}
+
+#[test]
+fn integrator_uncontrolled_components_do_not_limit_the_step() {
+    let make = || {
+        Sys(3, |t: f64, y: &[f64], dy: &mut [f64]| {
+            dy[0] = y[1];
+            dy[1] = -y[0];
+            dy[2] = 1e12 * (40.0 * t).sin(); // a wildly varying quadrature
+        })
+    };
+    let steps = |n_controlled| {
+        let int = run(
+            Method::Dopri5,
+            tol(1e-8, 1e-8),
+            n_controlled,
+            &mut make(),
+            0.0,
+            &[1.0, 0.0, 0.0],
+            10.0,
+        );
+        int.stats().steps
+    };
+    let mut plain = Sys(2, |_t: f64, y: &[f64], dy: &mut [f64]| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+    });
+    let reference = run(
+        Method::Dopri5,
+        tol(1e-8, 1e-8),
+        2,
+        &mut plain,
+        0.0,
+        &[1.0, 0.0],
+        10.0,
+    )
+    .stats()
+    .steps;
+    assert_eq!(steps(2), reference);
+    assert!(steps(3) > 2 * reference, "{} vs {reference}", steps(3));
+}
+
+#[test]
+fn integrator_counts_evaluations() {
+    let vdp = || Sys(2, |_t: f64, y: &[f64], dy: &mut [f64]| van_der_pol(y, dy));
+    let y0 = [2.0, 0.0];
+    // A deliberately large first step provokes rejections.
+    let given = Tolerances {
+        initial_step: 0.5,
+        ..tol(1e-6, 1e-6)
+    };
+
+    let s = run(Method::Dopri5, given, 2, &mut vdp(), 0.0, &y0, 5.0).stats();
+    assert!(s.rejected > 0);
+    assert_eq!(s.evaluations, 1 + 6 * (s.steps + s.rejected));
+    let s = run(
+        Method::Dopri5,
+        tol(1e-6, 1e-6),
+        2,
+        &mut vdp(),
+        0.0,
+        &y0,
+        5.0,
+    )
+    .stats();
+    assert_eq!(
+        s.evaluations,
+        2 + 6 * (s.steps + s.rejected),
+        "automatic initial step costs one"
+    );
+
+    let s = run(Method::Dop853, given, 2, &mut vdp(), 0.0, &y0, 5.0).stats();
+    assert!(s.rejected > 0);
+    assert_eq!(s.evaluations, 1 + 11 * (s.steps + s.rejected) + s.steps);
+
+    let s = run(
+        Method::Rk4 { step: 0.01 },
+        given,
+        2,
+        &mut vdp(),
+        0.0,
+        &y0,
+        5.0,
+    )
+    .stats();
+    assert_eq!((s.steps, s.rejected), (500, 0));
+    assert_eq!(s.evaluations, 1 + 4 * s.steps);
+
+    let mut int = Integrator::new(Method::Dopri5, 2, 2, given);
+    int.record_event();
+    assert_eq!(int.stats().events, 1);
+}
+
+#[test]
+fn integrator_reset_restarts_at_a_discontinuity() {
+    let mut sys = Sys(1, |_t: f64, _y: &[f64], dy: &mut [f64]| dy[0] = 1.0);
+    let mut int = Integrator::new(Method::Dopri5, 1, 1, tol(1e-8, 1e-8));
+    int.reset(&mut sys, 0.0, &[0.0]).unwrap();
+    int.step(&mut sys, 1.0).unwrap();
+    int.reset(&mut sys, 2.0, &[5.0]).unwrap();
+    assert_eq!(
+        (int.t(), int.t_prev(), int.y(), int.y_prev(), int.dy()),
+        (2.0, 2.0, &[5.0][..], &[5.0][..], &[1.0][..])
+    );
+    int.step(&mut sys, 3.0).unwrap();
+    assert!(int.t() > 2.0 && int.t() <= 3.0 && int.step_size() > 0.0);
+    assert_relative_eq!(int.y()[0], 5.0 + int.t() - 2.0, epsilon = 1e-12);
+}
+
+/// A right-hand side that fails above `y = 1` (as the contact law fails beyond its validity).
+fn failing_above_one() -> impl OdeSystem {
+    struct Failing;
+    impl OdeSystem for Failing {
+        fn dim(&self) -> usize {
+            1
+        }
+        fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
+            if y[0] > 1.0 {
+                return Err(integration_error(t, format!("y = {} beyond 1", y[0])));
+            }
+            dy[0] = 1.0;
+            Ok(())
+        }
+    }
+    Failing
+}
+
+#[test]
+fn integrator_steps_around_a_failed_right_hand_side_and_reports_it_when_it_cannot() {
+    // Trial steps that overshoot y = 1 are rejected and retried smaller, so the run gets as
+    // close to the wall as the step size allows, and then reports the system's own error.
+    let mut sys = failing_above_one();
+    let mut int = Integrator::new(Method::Dopri5, 1, 1, tol(1e-8, 1e-8));
+    int.reset(&mut sys, 0.0, &[0.0]).unwrap();
+    let err = loop {
+        match int.step(&mut sys, 10.0) {
+            Ok(_) => assert!(int.y()[0] <= 1.0),
+            Err(e) => break e,
+        }
+    };
+    assert!(err.to_string().contains("beyond 1"), "{err}");
+    assert!(int.y()[0] > 1.0 - 1e-9, "stopped at {}", int.y()[0]);
+    assert!(int.stats().rejected > 0);
+    // A fixed step cannot retry: the failure comes out at once.
+    let mut int = Integrator::new(Method::Rk4 { step: 0.3 }, 1, 1, fixed(0.3));
+    int.reset(&mut sys, 0.0, &[0.0]).unwrap();
+    let steps = (0..10)
+        .map(|_| int.step(&mut sys, 10.0))
+        .take_while(|r| r.is_ok());
+    assert_eq!(steps.count(), 3);
+}
+
+#[test]
+fn integrator_locates_the_earliest_event_of_a_step() {
+    // y = t: the events y − 0.3 and y − 0.2 both cross inside the one step [0, 1].
+    let mut sys = Sys(1, |_t: f64, _y: &[f64], dy: &mut [f64]| dy[0] = 1.0);
+    let mut int = Integrator::new(Method::Dopri5, 1, 1, fixed(1.0));
+    int.reset(&mut sys, 0.0, &[0.0]).unwrap();
+    assert_eq!(int.step(&mut sys, 1.0).unwrap(), Stop::Limit);
+    let levels = [0.3, 0.2, 2.0];
+    let mut g = [-0.3, -0.2, -2.0];
+    let mut scratch = [0.0];
+    let event = int.earliest_event(&mut g, |i, y| y[0] - levels[i], &mut scratch);
+    let event = event.expect("two events in the step");
+    assert_eq!(event.index, 1);
+    assert_relative_eq!(event.t, 0.2, epsilon = 1e-12);
+    // The values move on to the step end, so the same crossings are not found again.
+    assert_relative_eq!(g[0], 0.7, epsilon = 1e-12);
+    assert!(int
+        .earliest_event(&mut g, |i, y| y[0] - levels[i], &mut scratch)
+        .is_none());
+}

@@ -1,0 +1,154 @@
+//! Table 3 of the paper (section 6.4): the motion state of each case and the concordance of
+//! the wear rate with the contact pressure (P-w) and with the sliding distance (s-w), as
+//! ensemble statistics beside the paper's values.
+//!
+//! Owns [`Table3Row`], what each case measured against the paper's row: the report's Table 3
+//! (section 2 of `paper.md`) and `data/table3.csv` are both written from it.
+
+use super::output_path;
+use crate::analysis::statistics::Distribution;
+use crate::io::output::write_rows;
+use crate::paper::cases::{Case, PerCase, Runs, CASES};
+use crate::paper::golden::{Golden, Table3Golden};
+use crate::Result;
+
+/// One case of Table 3: what its steady ensemble measured, beside the paper's row.
+#[derive(Clone, Debug)]
+pub struct Table3Row<'a> {
+    /// The case.
+    pub case: Case,
+    /// The paper's row.
+    pub paper: &'a Table3Golden,
+    /// Members of the ensemble.
+    pub members: usize,
+    /// CMF(P, w) over the members.
+    pub pw: Distribution,
+    /// CMF(s, w) over the members.
+    pub sw: Distribution,
+    /// Share of the recorded time in contact, over the members.
+    pub contact_fraction: Distribution,
+    /// Contact onsets per rotation, over the members.
+    pub impacts_per_rotation: Distribution,
+    /// Members in continuous contact.
+    pub continuous: usize,
+    /// Members whose P-w concordance exceeds their s-w one.
+    pub pressure_dominated: usize,
+}
+
+impl Table3Row<'_> {
+    /// Whether the paper's P-w lies within the members' 5-95 % band.
+    pub fn paper_pw_in_band(&self) -> bool {
+        in_band(&self.pw, self.paper.pw)
+    }
+
+    /// Whether the paper's s-w lies within the members' 5-95 % band.
+    pub fn paper_sw_in_band(&self) -> bool {
+        in_band(&self.sw, self.paper.sw)
+    }
+}
+
+fn in_band(d: &Distribution, v: f64) -> bool {
+    let (lo, hi) = d.band90();
+    (lo..=hi).contains(&v)
+}
+
+/// Table 3 measured on `runs` (which must hold every case's steady ensemble).
+pub fn table3_rows<'a>(runs: &Runs, golden: &'a Golden) -> Result<PerCase<Table3Row<'a>>> {
+    CASES.zip(&golden.table3).try_map(|&(case, paper)| {
+        let e = runs.steady(case.scene)?;
+        Ok(Table3Row {
+            case: *case,
+            paper,
+            members: e.members.len(),
+            pw: e.stat(|m| m.concordance.pressure_wear),
+            sw: e.stat(|m| m.concordance.sliding_wear),
+            contact_fraction: e.stat(|m| m.motion.contact_fraction),
+            impacts_per_rotation: e.stat(|m| m.motion.impacts_per_rotation),
+            continuous: e.continuous(),
+            pressure_dominated: e.pressure_dominated(),
+        })
+    })
+}
+
+/// Table 3: per case, mean ± sd over the members of the concordances and the motion measures,
+/// the members per motion mode and dominance, and whether the paper's values lie within the
+/// 5-95 % band; writes `data/table3.csv`.
+pub fn table3(runs: &Runs) -> Result<Vec<String>> {
+    let golden = Golden::load()?;
+    let header = [
+        "clearance_mm",
+        "speed_rpm",
+        "members",
+        "paper_motion",
+        "continuous_contact_members",
+        "paper_pw",
+        "pw_mean",
+        "pw_sd",
+        "pw_q05",
+        "pw_q95",
+        "paper_sw",
+        "sw_mean",
+        "sw_sd",
+        "sw_q05",
+        "sw_q95",
+        "paper_dominant",
+        "pw_dominant_members",
+        "paper_pw_in_band",
+        "paper_sw_in_band",
+        "contact_fraction_mean",
+        "contact_fraction_sd",
+        "impacts_per_rotation_mean",
+        "impacts_per_rotation_sd",
+    ];
+    let mut rows = Vec::new();
+    let mut lines = Vec::new();
+    for row in table3_rows(runs, &golden)?.list() {
+        let (c_mm, rpm, n, g) = (
+            row.case.clearance_mm,
+            row.case.speed_rpm,
+            row.members,
+            row.paper,
+        );
+        let (pw, sw) = (&row.pw, &row.sw);
+        let num = |x: f64| format!("{x:.4}");
+        rows.push(vec![
+            c_mm.to_string(),
+            rpm.to_string(),
+            n.to_string(),
+            g.motion.clone(),
+            row.continuous.to_string(),
+            num(g.pw),
+            num(pw.mean),
+            num(pw.sd),
+            num(pw.quantiles[0]),
+            num(pw.quantiles[4]),
+            num(g.sw),
+            num(sw.mean),
+            num(sw.sd),
+            num(sw.quantiles[0]),
+            num(sw.quantiles[4]),
+            g.dominant().to_string(),
+            row.pressure_dominated.to_string(),
+            row.paper_pw_in_band().to_string(),
+            row.paper_sw_in_band().to_string(),
+            num(row.contact_fraction.mean),
+            num(row.contact_fraction.sd),
+            format!("{:.2}", row.impacts_per_rotation.mean),
+            format!("{:.2}", row.impacts_per_rotation.sd),
+        ]);
+        lines.push(format!(
+            "{c_mm} mm, {rpm} r/min: paper {} P-w {:.4} s-w {:.4} ({}) | ours: continuous contact in \
+             {} of {n}, P-w {}, s-w {}, P-w dominant in {} of {n}",
+            g.motion,
+            g.pw,
+            g.sw,
+            g.dominant(),
+            row.continuous,
+            pw.mean_sd(1.0, 4),
+            sw.mean_sd(1.0, 4),
+            row.pressure_dominated
+        ));
+    }
+    write_rows(&output_path("data", "table3.csv"), &header, rows)?;
+    Ok(lines)
+}

@@ -1,0 +1,182 @@
+//! The time-series figures of a steady run (section 6 of the paper): slider acceleration
+//! against wear rate (figures 3, 9 and 13) and the journal trajectory in the bearing (figures
+//! 4, 8 and 12), for the standard case, the larger clearances (section 6.2) and the lower
+//! speeds (section 6.3).
+//!
+//! Each draws the first member of each case's steady ensemble (a trajectory cannot be
+//! averaged), writes its series to `data/<name>.csv` in long format (one block per case) and
+//! returns summary lines of mean ± sd over all members.
+
+use super::{first_of, output_path, standard_panel, CasePanel, Varied};
+use crate::analysis::statistics::fractions;
+use crate::io::output::write_csv;
+use crate::io::plot::{render, Axes, Series, Style};
+use crate::paper::cases::{clearance, Runs, SteadyEnsemble, Traces};
+use crate::{Error, Result};
+
+/// A panel of slider acceleration with the wear rate on a second axis (figures 3, 9, 13).
+fn acceleration_panel(title: String, t: &Traces) -> Axes<'_> {
+    Axes {
+        y2_label: Some("wear rate (µm/s)".into()),
+        ..Axes::new(
+            title,
+            "crank angle over the two recorded rotations (deg)",
+            "slider acceleration (m/s²)",
+            vec![
+                Series::new(
+                    "slider acceleration",
+                    &t.crank_deg,
+                    &t.slider_acc,
+                    Style::Line,
+                ),
+                Series::new(
+                    "wear rate",
+                    &t.crank_deg,
+                    &t.wear_rate_um_s,
+                    Style::LineOnSecondaryAxis,
+                ),
+            ],
+        )
+    }
+}
+
+/// A panel of the journal centre's path inside the clearance circle of radius `c` (m)
+/// (figures 4, 8, 12).
+fn trajectory_panel(title: String, t: &Traces, c: f64) -> Axes<'_> {
+    Axes {
+        equal_aspect: true,
+        circles: vec![(0.0, 0.0, c * 1e6)],
+        ..Axes::new(
+            title,
+            "journal centre x relative to bearing (µm)",
+            "journal centre y relative to bearing (µm)",
+            vec![Series::new(
+                "journal centre",
+                &t.ex_um,
+                &t.ey_um,
+                Style::Line,
+            )],
+        )
+    }
+}
+
+/// The lines a steady ensemble's figure prints: mean ± sd over the members.
+fn steady_lines(name: &str, e: &SteadyEnsemble) -> String {
+    let n = e.members.len();
+    let modes: Vec<String> = fractions(e.members.iter().map(|m| m.motion.mode()))
+        .iter()
+        .map(|(mode, k)| format!("{mode} in {k} of {n}"))
+        .collect();
+    let unsteady = e.members.iter().filter(|m| !m.settling.steady).count();
+    format!(
+        "{name} ({n} members): {}; in contact {} %, {} impacts/rotation; max |slider acc| {} m/s², \
+         max force {} N, max penetration {} µm; CMF P-w {}, s-w {}{}",
+        modes.join(", "),
+        e.stat(|m| m.motion.contact_fraction).mean_sd(100.0, 1),
+        e.stat(|m| m.motion.impacts_per_rotation).mean_sd(1.0, 1),
+        e.stat(|m| m.max_slider_acc).mean_sd(1.0, 0),
+        e.stat(|m| m.max_normal_force).mean_sd(1.0, 0),
+        e.stat(|m| m.max_penetration).mean_sd(1e6, 2),
+        e.stat(|m| m.concordance.pressure_wear).mean_sd(1.0, 4),
+        e.stat(|m| m.concordance.sliding_wear).mean_sd(1.0, 4),
+        if unsteady > 0 {
+            format!("; the orbit of {unsteady} members never repeated (chaotic; recorded anyway)")
+        } else {
+            String::new()
+        }
+    )
+}
+
+/// The first member's traces of a steady ensemble.
+fn first_traces(e: &SteadyEnsemble) -> Result<&Traces> {
+    e.members
+        .first()
+        .and_then(|m| m.traces.as_ref())
+        .ok_or_else(|| Error::invalid("ensemble", "no traces", "a first member with traces"))
+}
+
+/// Writes the first member's time series of steady runs in long format, one block per case.
+fn write_steady_csv(name: &str, cases: &[(f64, &Traces)]) -> Result<()> {
+    let mut cols: [Vec<f64>; 6] = Default::default();
+    for (case, t) in cases {
+        cols[0].extend(std::iter::repeat_n(*case, t.crank_deg.len()));
+        cols[1].extend(&t.crank_deg);
+        cols[2].extend(&t.slider_acc);
+        cols[3].extend(&t.wear_rate_um_s);
+        cols[4].extend(&t.ex_um);
+        cols[5].extend(&t.ey_um);
+    }
+    let header = [
+        "case",
+        "crank_deg",
+        "slider_acc_m_s2",
+        "wear_rate_um_s",
+        "journal_x_um",
+        "journal_y_um",
+    ];
+    let refs: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
+    write_csv(&output_path("data", &format!("{name}.csv")), &header, &refs)
+}
+
+/// A time-series figure of one or two steady cases: `panel` draws each case's first member.
+fn steady_figure(
+    runs: &Runs,
+    name: &str,
+    cases: &[CasePanel],
+    panel: impl for<'a> Fn(String, &'a Traces, f64) -> Axes<'a>,
+) -> Result<Vec<String>> {
+    let mut lines = Vec::new();
+    let mut drawn = Vec::new();
+    for CasePanel { case, key, title } in cases {
+        let e = runs.steady(case.scene)?;
+        lines.push(steady_lines(case.scene, e));
+        let title = format!("{title} ({})", first_of(e.members.len()));
+        drawn.push((*key, title, first_traces(e)?, clearance(&e.scene)));
+    }
+    let panels: Vec<Axes> = drawn
+        .iter()
+        .map(|(_, title, t, c)| panel(title.clone(), t, *c))
+        .collect();
+    render(&output_path("figures", &format!("{name}.png")), &panels)?;
+    let csv: Vec<(f64, &Traces)> = drawn.iter().map(|(key, _, t, _)| (*key, *t)).collect();
+    write_steady_csv(name, &csv)?;
+    Ok(lines)
+}
+
+/// Figure 3: slider acceleration and wear rate of the standard case (section 6.1).
+pub fn fig03(runs: &Runs) -> Result<Vec<String>> {
+    let title = "Slider acceleration and wear rate (0.02 mm, 2000 r/min)";
+    steady_figure(runs, "fig03", &standard_panel(title), |t, tr, _| {
+        acceleration_panel(t, tr)
+    })
+}
+
+/// Figure 4: journal trajectory of the standard case (section 6.1).
+pub fn fig04(runs: &Runs) -> Result<Vec<String>> {
+    let title = "Journal trajectory (0.02 mm, 2000 r/min)";
+    steady_figure(runs, "fig04", &standard_panel(title), trajectory_panel)
+}
+
+/// Figure 8: journal trajectories at 0.2 and 0.5 mm (section 6.2).
+pub fn fig08(runs: &Runs) -> Result<Vec<String>> {
+    let panels = Varied::Clearance.panels("Journal trajectory");
+    steady_figure(runs, "fig08", &panels, trajectory_panel)
+}
+
+/// Figure 9: slider acceleration and wear rate at 0.2 and 0.5 mm (section 6.2).
+pub fn fig09(runs: &Runs) -> Result<Vec<String>> {
+    let panels = Varied::Clearance.panels("Slider acceleration and wear rate");
+    steady_figure(runs, "fig09", &panels, |t, tr, _| acceleration_panel(t, tr))
+}
+
+/// Figure 12: journal trajectories at 30 and 600 r/min (section 6.3).
+pub fn fig12(runs: &Runs) -> Result<Vec<String>> {
+    let panels = Varied::Speed.panels("Journal trajectory");
+    steady_figure(runs, "fig12", &panels, trajectory_panel)
+}
+
+/// Figure 13: slider acceleration and wear rate at 30 and 600 r/min (section 6.3).
+pub fn fig13(runs: &Runs) -> Result<Vec<String>> {
+    let panels = Varied::Speed.panels("Slider acceleration and wear rate");
+    steady_figure(runs, "fig13", &panels, |t, tr, _| acceleration_panel(t, tr))
+}

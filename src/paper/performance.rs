@@ -1,0 +1,356 @@
+//! Run-time measurements for the report.
+//!
+//! [`scaling_study`] measures the wall time of the standard scene's simulation (the run alone,
+//! without loading and assembly) against the number of simulated crank rotations (1-40, the
+//! coupled wear run of figure 6) and against the radial clearance (0.005-0.5 mm, a few rotations
+//! each without wear), with the integrator's work counters; it writes `data/scaling.csv` and
+//! `figures/scaling.png`. Wall times depend on the machine and its load: the counters
+//! (steps, rejected steps, right-hand-side evaluations) are the reproducible part.
+//!
+//! [`benchmark_summary`] collects criterion's estimates of `cargo bench` into
+//! `data/benchmarks.csv`.
+
+use crate::io::output::write_rows;
+use crate::io::plot::{render, Axes, Series, Style};
+use crate::paper::cases::CASES;
+use crate::paper::figures::output_path;
+use crate::scene::{scene_path, SceneFile};
+use crate::simulation::simulate;
+use crate::{Error, Result};
+use serde::Deserialize;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Run-time targets of the hot paths: criterion bench and its budget (ns).
+pub const TARGETS: [(&str, f64); 5] = [
+    ("contact_force/hybrid", 20.0),
+    ("contact_force/lankarani-nikravesh", 20.0),
+    ("rhs/standard", 300.0),
+    ("wear_run/standard_40", 0.25e9),
+    ("ensemble/standard_40x16", 2e9),
+];
+/// Budget of the whole default `report` run (s).
+pub const REPORT_BUDGET_S: f64 = 60.0;
+
+/// Rotation counts of the rotation sweep.
+pub const ROTATIONS: [u32; 6] = [1, 2, 5, 10, 20, 40];
+/// Radial clearances (mm) of the clearance sweep.
+pub const CLEARANCES_MM: [f64; 5] = [0.005, 0.02, 0.1, 0.2, 0.5];
+/// Rotations simulated per clearance.
+pub const CLEARANCE_ROTATIONS: u32 = 3;
+
+/// Which parameter a [`ScalingPoint`] varies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sweep {
+    /// Simulated rotations of the coupled wear run.
+    Rotations,
+    /// Radial clearance (mm), no wear.
+    Clearance,
+}
+
+impl Sweep {
+    /// The name used in the `kind` column.
+    pub fn name(self) -> &'static str {
+        match self {
+            Sweep::Rotations => "rotations",
+            Sweep::Clearance => "clearance_mm",
+        }
+    }
+}
+
+/// One measured run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScalingPoint {
+    /// Which sweep it belongs to.
+    pub kind: Sweep,
+    /// Rotations or clearance (mm), per `kind`.
+    pub value: f64,
+    /// Rotations simulated.
+    pub rotations: u32,
+    /// Wall time of the run (s).
+    pub wall_time: f64,
+    /// Accepted integrator steps.
+    pub steps: u64,
+    /// Rejected integrator steps.
+    pub rejected: u64,
+    /// Right-hand-side evaluations.
+    pub evaluations: u64,
+}
+
+/// The scaling study's measurements, in sweep order; `Display` prints them as a table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scaling {
+    /// Every measured run.
+    pub points: Vec<ScalingPoint>,
+}
+
+impl Scaling {
+    fn sweep(&self, kind: Sweep) -> impl Iterator<Item = &ScalingPoint> {
+        self.points.iter().filter(move |p| p.kind == kind)
+    }
+}
+
+impl fmt::Display for Scaling {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{:>12} {:>7} {:>9} {:>11} {:>8} {:>8} {:>11}",
+            "kind", "value", "rotations", "wall (s)", "steps", "rejected", "evaluations"
+        )?;
+        for p in &self.points {
+            writeln!(
+                f,
+                "{:>12} {:>7} {:>9} {:>11.4} {:>8} {:>8} {:>11}",
+                p.kind.name(),
+                p.value,
+                p.rotations,
+                p.wall_time,
+                p.steps,
+                p.rejected,
+                p.evaluations
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Runs the scaling study and writes `data/scaling.csv` and `figures/scaling.png`.
+pub fn scaling_study() -> Result<Scaling> {
+    let standard = SceneFile::read(scene_path(CASES.standard.scene))?;
+    let mut points = Vec::new();
+    let mut measure = |kind: Sweep, value: f64, file: &SceneFile| -> Result<()> {
+        let out = simulate(&file.build()?)?;
+        points.push(ScalingPoint {
+            kind,
+            value,
+            rotations: file.run.rotations,
+            wall_time: out.wall_time,
+            steps: out.stats.steps,
+            rejected: out.stats.rejected,
+            evaluations: out.stats.evaluations,
+        });
+        Ok(())
+    };
+    for rotations in ROTATIONS {
+        let mut f = standard.clone();
+        f.run.rotations = rotations;
+        f.run.record_rotations = 0;
+        f.run.wear_snapshots.retain(|&r| r <= rotations);
+        measure(Sweep::Rotations, rotations as f64, &f)?;
+    }
+    for clearance in CLEARANCES_MM {
+        let mut f = standard.clone();
+        f.run.rotations = CLEARANCE_ROTATIONS;
+        f.run.record_rotations = 0;
+        f.run.wear_snapshots.clear();
+        for c in &mut f.clearance {
+            c.clearance_mm = clearance;
+            c.wear = None;
+        }
+        measure(Sweep::Clearance, clearance, &f)?;
+    }
+    let scaling = Scaling { points };
+    write_scaling(&scaling)?;
+    Ok(scaling)
+}
+
+fn write_scaling(s: &Scaling) -> Result<()> {
+    let column = |get: fn(&ScalingPoint) -> f64| s.points.iter().map(get).collect::<Vec<_>>();
+    let labels: Vec<&str> = s.points.iter().map(|p| p.kind.name()).collect();
+    write_rows(
+        &output_path("data", "scaling.csv"),
+        &[
+            "kind",
+            "value",
+            "rotations",
+            "wall_time_s",
+            "steps",
+            "rejected",
+            "evaluations",
+        ],
+        labelled_rows(
+            &labels,
+            &[
+                &column(|p| p.value),
+                &column(|p| p.rotations as f64),
+                &column(|p| p.wall_time),
+                &column(|p| p.steps as f64),
+                &column(|p| p.rejected as f64),
+                &column(|p| p.evaluations as f64),
+            ],
+        ),
+    )?;
+    let xy = |kind: Sweep, y: fn(&ScalingPoint) -> f64| -> (Vec<f64>, Vec<f64>) {
+        s.sweep(kind).map(|p| (p.value, y(p))).unzip()
+    };
+    let (rot, rot_time) = xy(Sweep::Rotations, |p| p.wall_time);
+    let (_, rot_evals) = xy(Sweep::Rotations, |p| p.evaluations as f64 * 1e-6);
+    let (clr, clr_time) = xy(Sweep::Clearance, |p| p.wall_time / p.rotations as f64);
+    let (_, clr_evals) = xy(Sweep::Clearance, |p| {
+        p.evaluations as f64 * 1e-3 / p.rotations as f64
+    });
+    render(
+        &output_path("figures", "scaling.png"),
+        &[
+            Axes {
+                y2_label: Some("right-hand-side evaluations (millions)".into()),
+                ..Axes::new(
+                    "Coupled wear run of the standard scene",
+                    "crank rotations",
+                    "wall time (s)",
+                    vec![
+                        Series::new("wall time", &rot, &rot_time, Style::Line),
+                        Series::new("evaluations", &rot, &rot_evals, Style::LineOnSecondaryAxis),
+                    ],
+                )
+            },
+            Axes {
+                y2_label: Some("evaluations per rotation (thousands)".into()),
+                ..Axes::new(
+                    format!(
+                        "Per rotation against clearance (no wear, {CLEARANCE_ROTATIONS} rotations)"
+                    ),
+                    "radial clearance (mm)",
+                    "wall time per rotation (s)",
+                    vec![
+                        Series::new("wall time", &clr, &clr_time, Style::Line),
+                        Series::new("evaluations", &clr, &clr_evals, Style::LineOnSecondaryAxis),
+                    ],
+                )
+            },
+        ],
+    )
+}
+
+/// Rows of a CSV whose first column is a text label and the others numbers (written like
+/// [`crate::io::output::write_csv`] does, in the shortest form that reads back identically).
+fn labelled_rows<'a>(
+    labels: &'a [&str],
+    columns: &'a [&[f64]],
+) -> impl Iterator<Item = Vec<String>> + 'a {
+    labels.iter().enumerate().map(move |(i, label)| {
+        std::iter::once(label.to_string())
+            .chain(columns.iter().map(|c| format!("{:e}", c[i])))
+            .collect()
+    })
+}
+
+/// Criterion's estimate of one bench (ns).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BenchEstimate {
+    /// `group/bench`, as criterion names it.
+    pub bench: String,
+    /// Median (ns).
+    pub median: f64,
+    /// 95 % confidence interval of the median: lower end.
+    pub ci_low: f64,
+    /// 95 % confidence interval of the median: upper end.
+    pub ci_high: f64,
+    /// Median absolute deviation.
+    pub mad: f64,
+}
+
+#[derive(Deserialize)]
+struct Estimates {
+    median: Estimate,
+    median_abs_dev: Estimate,
+}
+
+#[derive(Deserialize)]
+struct Estimate {
+    point_estimate: f64,
+    confidence_interval: Interval,
+}
+
+#[derive(Deserialize)]
+struct Interval {
+    lower_bound: f64,
+    upper_bound: f64,
+}
+
+/// Where criterion keeps its results, as criterion chooses it: `$CRITERION_HOME`, else
+/// `$CARGO_TARGET_DIR/criterion`, else `target/criterion` under the crate root.
+pub fn criterion_dir() -> PathBuf {
+    let env = |name| std::env::var_os(name).map(PathBuf::from);
+    env("CRITERION_HOME").unwrap_or_else(|| {
+        env("CARGO_TARGET_DIR")
+            .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("target"))
+            .join("criterion")
+    })
+}
+
+/// Reads `<dir>/<group>/<bench>/new/estimates.json` of every bench, sorted by name, and
+/// writes them to `data/benchmarks.csv`. Errors if `dir` holds no results.
+pub fn benchmark_summary(dir: &Path) -> Result<Vec<BenchEstimate>> {
+    let io = |path: &Path, source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let subdirs = |d: &Path| -> Result<Vec<PathBuf>> {
+        let mut v = Vec::new();
+        for entry in std::fs::read_dir(d).map_err(|e| io(d, e))? {
+            let path = entry.map_err(|e| io(d, e))?.path();
+            if path.is_dir() && path.file_name().is_some_and(|n| n != "report") {
+                v.push(path);
+            }
+        }
+        v.sort();
+        Ok(v)
+    };
+    let missing = || {
+        Error::invalid(
+            "criterion results",
+            format!("none in {}", dir.display()),
+            "`cargo bench` run first (with the same CARGO_TARGET_DIR)",
+        )
+    };
+    if !dir.is_dir() {
+        return Err(missing());
+    }
+    let mut results = Vec::new();
+    for group in subdirs(dir)? {
+        for bench in subdirs(&group)? {
+            let path = bench.join("new").join("estimates.json");
+            if !path.is_file() {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
+            let e: Estimates = serde_json::from_str(&text).map_err(|e| Error::Parse {
+                path: path.clone(),
+                message: e.to_string(),
+            })?;
+            let name = |p: &Path| {
+                p.file_name()
+                    .unwrap_or_default()
+                    .to_string_lossy()
+                    .into_owned()
+            };
+            results.push(BenchEstimate {
+                bench: format!("{}/{}", name(&group), name(&bench)),
+                median: e.median.point_estimate,
+                ci_low: e.median.confidence_interval.lower_bound,
+                ci_high: e.median.confidence_interval.upper_bound,
+                mad: e.median_abs_dev.point_estimate,
+            });
+        }
+    }
+    if results.is_empty() {
+        return Err(missing());
+    }
+    let labels: Vec<&str> = results.iter().map(|r| r.bench.as_str()).collect();
+    let column = |get: fn(&BenchEstimate) -> f64| results.iter().map(get).collect::<Vec<_>>();
+    write_rows(
+        &output_path("data", "benchmarks.csv"),
+        &["bench", "median_ns", "ci_low_ns", "ci_high_ns", "mad_ns"],
+        labelled_rows(
+            &labels,
+            &[
+                &column(|r| r.median),
+                &column(|r| r.ci_low),
+                &column(|r| r.ci_high),
+                &column(|r| r.mad),
+            ],
+        ),
+    )?;
+    Ok(results)
+}

@@ -1,0 +1,92 @@
+//! The claims of section 6.3 of the paper, the effect of crank speed (30, 600 and 2000 r/min
+//! at 0.02 mm): figure 12 (rebounds at 30 r/min, permanent contact at 600 r/min), figures 12
+//! and 14 (wear at the bottom of the bearing at 30 r/min), figures 12-13 (penetration,
+//! acceleration and wear rate rise with speed) and figures 14-15 (wear spreads with speed).
+
+use super::{across, decreasing, deepest_angle, increasing, Claims, Ensembles};
+use crate::paper::cases::SteadyMember;
+use crate::paper::golden::{angle_distance, Golden};
+
+/// Adds the claims of figures 12-15.
+pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
+    let slow = e.steady.speed_30rpm;
+    c.claim(
+        "Fig. 12",
+        "at 30 r/min the journal rebounds after impacts instead of staying in contact",
+        "contact onsets occur and contact < 90% of the time",
+        format!(
+            "{} contact onsets per rotation, in contact {} % of the time",
+            slow.stat(|m| m.motion.impacts_per_rotation).mean_sd(1.0, 1),
+            slow.stat(|m| m.motion.contact_fraction).mean_sd(100.0, 1)
+        ),
+        &|m| {
+            let s = m.steady.speed_30rpm;
+            vec![s.motion.impacts_per_rotation > 0.0 && s.motion.contact_fraction < 0.9]
+        },
+    );
+    let low = &golden.low_speed_wear;
+    c.claim(
+        "Fig. 12, 14",
+        "at 30 r/min contact and wear concentrate at the bottom of the bearing, around 270 deg",
+        "deepest wear within the golden tolerance (10 deg) of 270 deg",
+        format!(
+            "deepest wear at {} deg",
+            e.wear.speed_30rpm.angle_stat(deepest_angle).mean_sd(1.0, 0)
+        ),
+        &|m| {
+            let a = deepest_angle(m.wear.speed_30rpm);
+            vec![angle_distance(a, low.largest_peak_deg) <= low.angle_tolerance_deg]
+        },
+    );
+    let mid = e.steady.speed_600rpm;
+    c.claim(
+        "Fig. 12",
+        "at 600 r/min the journal is in permanent contact and the whole bearing surface sees contact",
+        "contact ≥ 90% of the time and ≥ 90% of the circumference touched",
+        format!(
+            "in contact {} % of the time, {} % of the circumference touched",
+            mid.stat(|m| m.motion.contact_fraction).mean_sd(100.0, 1),
+            mid.stat(|m| m.contact_coverage).mean_sd(100.0, 0)
+        ),
+        &|m| {
+            let s = m.steady.speed_600rpm;
+            vec![s.motion.contact_fraction >= 0.9, s.contact_coverage >= 0.9]
+        },
+    );
+    let sp = e.steady.by_speed().map(|s| *s);
+    c.claim(
+        "Fig. 12, 13",
+        "penetration, slider acceleration and wear rate rise with crank speed",
+        "all three increase with speed",
+        format!(
+            "at 30 / 600 / 2000 r/min: max penetration {} µm; max |acceleration| {} m/s²; max wear rate {} µm/s",
+            across(&sp, |e| e.stat(|m| m.max_penetration), 1e6, 2),
+            across(&sp, |e| e.stat(|m| m.max_slider_acc), 1.0, 0),
+            across(&sp, |e| e.stat(|m| m.max_wear_rate), 1e6, 3)
+        ),
+        &|m| {
+            let v = |f: &dyn Fn(&SteadyMember) -> f64| -> Vec<f64> {
+                m.steady.by_speed().iter().map(|s| f(s)).collect()
+            };
+            vec![
+                increasing(&v(&|s| s.max_penetration)),
+                increasing(&v(&|s| s.max_slider_acc)),
+                increasing(&v(&|s| s.max_wear_rate)),
+            ]
+        },
+    );
+    let wsp = e.wear.by_speed().map(|w| *w);
+    c.claim(
+        "Fig. 14, 15",
+        "with speed the wear regions spread to a more uniform distribution; low speed concentrates wear",
+        "deepest / mean wear depth decreases with speed",
+        format!(
+            "deepest / mean wear depth {} at 30 / 600 / 2000 r/min",
+            across(&wsp, |e| e.stat(|m| m.max_depth() / m.mean_depth()), 1.0, 1)
+        ),
+        &|m| {
+            let u = m.wear.by_speed().map(|w| w.max_depth() / w.mean_depth());
+            vec![decreasing(&u)]
+        },
+    );
+}

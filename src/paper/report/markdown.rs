@@ -1,0 +1,54 @@
+//! Markdown and environment helpers of the report: tables, the CSV tables of `data/`, and
+//! what the report says about the machine it ran on.
+
+use crate::io::output::read_rows;
+use crate::paper::figures::output_path;
+use std::fmt::Write as _;
+
+/// A markdown table.
+pub(super) fn md_table(out: &mut String, header: &[&str], rows: &[Vec<String>]) {
+    let _ = writeln!(out, "| {} |", header.join(" | "));
+    let _ = writeln!(out, "|{}", "---|".repeat(header.len()));
+    for row in rows {
+        let _ = writeln!(out, "| {} |", row.join(" | "));
+    }
+    out.push('\n');
+}
+
+/// A CSV of `data/` as a markdown table, or a note of the command that makes it.
+pub(super) fn csv_table(out: &mut String, file: &str, command: &str) {
+    match read_rows(&output_path("data", file)) {
+        Ok((header, rows)) => {
+            let header: Vec<&str> = header.iter().map(String::as_str).collect();
+            md_table(out, &header, &rows);
+        }
+        Err(_) => {
+            let _ = writeln!(out, "*`data/{file}` is missing: run `{command}`.*\n");
+        }
+    }
+}
+
+/// The trimmed standard output of a command, or `unknown`.
+pub(super) fn command_output(program: &str, args: &[&str]) -> String {
+    std::process::Command::new(program)
+        .args(args)
+        .output()
+        .ok()
+        .and_then(|o| String::from_utf8(o.stdout).ok())
+        .map(|s| s.trim().to_string())
+        .filter(|s| !s.is_empty())
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// The CPU model named in `/proc/cpuinfo`, or `unknown`.
+pub(super) fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|c| {
+            c.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown".into())
+}

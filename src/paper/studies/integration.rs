@@ -1,0 +1,75 @@
+//! An integration setting (method, tolerances, step cap) and how it is applied to a scene:
+//! the variable of the work-precision and accuracy-dependence studies.
+
+use super::work_precision::wp_max_step;
+use crate::ode::Method;
+use crate::scene::{MethodSpec, SceneFile};
+
+/// An integration setting applied to a scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Integration {
+    /// The integrator.
+    pub method: Method,
+    /// Relative tolerance (unused by fixed-step methods).
+    pub rtol: f64,
+    /// Absolute tolerance in state units (m, rad, m/s, rad/s).
+    pub atol: f64,
+    /// Largest step (s).
+    pub max_step: f64,
+}
+
+impl Integration {
+    /// Adaptive `method` at `rtol`, `atol = 1e-3·rtol`, with the work-precision step cap of
+    /// the method ([`wp_max_step`]).
+    pub fn adaptive(method: Method, rtol: f64) -> Integration {
+        Integration {
+            method,
+            rtol,
+            atol: 1e-3 * rtol,
+            max_step: wp_max_step(method),
+        }
+    }
+
+    /// Classical RK4 with a fixed `step` (s); tolerances unused.
+    pub fn rk4(step: f64) -> Integration {
+        Integration {
+            method: Method::Rk4 { step },
+            rtol: 1.0,
+            atol: 1.0,
+            max_step: step,
+        }
+    }
+
+    /// Sets the scene's run to this integration.
+    pub fn apply(&self, f: &mut SceneFile) {
+        let run = &mut f.run;
+        run.method = match self.method {
+            Method::Dopri5 => MethodSpec::Dopri5,
+            Method::Dop853 => MethodSpec::Dop853,
+            Method::Rk4 { step } => {
+                run.fixed_step_s = Some(step);
+                MethodSpec::Rk4
+            }
+        };
+        run.rtol = self.rtol;
+        run.atol = self.atol;
+        run.max_step_s = self.max_step;
+    }
+
+    /// Method name as in the CSV files.
+    pub fn method_name(&self) -> &'static str {
+        match self.method {
+            Method::Dopri5 => "dopri5",
+            Method::Dop853 => "dop853",
+            Method::Rk4 { .. } => "rk4",
+        }
+    }
+
+    /// `"rtol=1e-6 max_step=1e-3"` or `"h=1e-5"`.
+    pub fn setting(&self) -> String {
+        match self.method {
+            Method::Rk4 { step } => format!("h={step:e}"),
+            _ => format!("rtol={:e} max_step={:e}", self.rtol, self.max_step),
+        }
+    }
+}

@@ -1,0 +1,28 @@
+//! Numerical studies of the integration itself: how error trades against run
+//! time ([`work_precision`](mod@work_precision)), whether the paper's results depend on
+//! integration accuracy ([`accuracy`]), and whether stiff and extreme cases run to completion
+//! ([`stability`](mod@stability)). Each study writes `data/<study>.csv` (and a figure where it
+//! has one) atomically and returns what it measured, which the report (sections 5 and 6 of
+//! `paper.md`) reads; the `src/bin/` programs only call them.
+//!
+//! Owns: the studies' shared notion of an integration setting ([`Integration`]).
+
+pub mod accuracy;
+pub mod integration;
+pub mod stability;
+pub mod work_precision;
+
+pub use accuracy::{
+    accuracy_dependence, accuracy_settings, AccuracyDependence, AccuracyRow, Finding, Setting,
+    Subject, ACCURACY_HEADER,
+};
+pub use integration::Integration;
+pub use stability::{
+    stability, stability_case, stability_cases, StabilityRow, STABILITY_HEADER,
+    STABILITY_MAX_STEPS, STABILITY_ROTATIONS,
+};
+pub use work_precision::{
+    work_precision, work_precision_settings, wp_max_step, EnsembleWearError, Errors, WorkPrecision,
+    WorkRow, FORCE_BOUND, ORBIT_BOUND_UM, REFERENCE, SECOND_REFERENCE, WP_ENSEMBLE_MAX_EVALUATIONS,
+    WP_MAX_STEP, WP_MEMBERS,
+};

@@ -1,0 +1,487 @@
+//! The work-precision study: how the integration error trades against run time, and the
+//! choice of the scenes' default tolerance (section 5 of `paper.md`).
+//!
+//! The standard scene (wear on, 40 rotations) is run with adaptive Dopri5 at rtol 1e-3 … 1e-10,
+//! and DOP853 at a few tolerances, always with `atol = 1e-3·rtol` (one atol
+//! for every controlled state component: positions in m and rad, velocities in m/s and rad/s)
+//! and `max_step = 1e-3 s`, loose enough that the step cap does not decide the step of an
+//! adaptive run (DOP853 keeps the scene's 1e-4 s, see [`wp_max_step`]). Fixed-step RK4 runs
+//! at 1e-5 … 1e-6 s. Each setting is measured twice with
+//! identical steps: one rotation recorded every 1 µs (orbit, contact force), and the 40
+//! rotations of wear without recording, whose wall time is the cost reported. Errors are taken
+//! against [`REFERENCE`] (DOP853 at rtol 1e-12); [`SECOND_REFERENCE`] (Dopri5 at rtol 1e-11)
+//! measured against it gives the error floor, below which no error is meaningful:
+//! * orbit: max |e − e_ref| of the journal centre over the first rotation (µm). The journal
+//!   impacts within the first rotation and impact motion is sensitive to its initial state, so
+//!   this measure is meaningful only while trajectories have not yet separated; once they do it
+//!   saturates at about the clearance;
+//! * force: relative error of the peak contact force over the first rotation;
+//! * wear: RMS difference of the 40-rotation wear profile over the maximum reference depth. One
+//!   run's profile follows one impact sequence, so this single-run error saturates at the
+//!   ensemble spread (a few per cent) whatever the tolerance. The meaningful measure is the
+//!   *ensemble* one: the RMS difference between the mean profile of a [`WP_MEMBERS`]-member
+//!   ensemble and that of a reference ensemble ([`SECOND_REFERENCE`]'s setting), over the
+//!   deepest reference mean wear, beside its sampling error
+//!   `sqrt(mean over sectors of (sd² + sd_ref²) / N)` over the same depth: an error within about
+//!   twice its sampling error is indistinguishable from the reference at that ensemble size.
+//!   Settings whose single run takes more than [`WP_ENSEMBLE_MAX_EVALUATIONS`] evaluations are left out of the
+//!   ensemble measure (their 16 members would take minutes) and say so.
+//!
+//! Rule for the default tolerance ([`WorkPrecision::default_rtol`]): the loosest Dopri5 rtol
+//! at which, and at every tighter rtol, the first-rotation orbit error is at most
+//! [`ORBIT_BOUND_UM`] (0.5 % of the standard clearance) and the peak-force error at most
+//! [`FORCE_BOUND`]: the trajectories, forces and concordances of the figures are then converged.
+//! The 40-rotation wear profile is reported, not used: after many impacts it can follow another
+//! impact sequence (about 1 % RMS, without a trend in the tolerance).
+
+use super::integration::Integration;
+use crate::analysis::statistics::{Band, Distribution};
+use crate::io::output::{read_rows, write_rows};
+use crate::io::plot::{render, Axes, Series, Style};
+use crate::ode::{Method, Stats};
+use crate::paper::cases::{wear_run_with, Need, Runs, CASES};
+use crate::paper::figures::output_path;
+use crate::scene::{scene_path, SceneFile};
+use crate::simulation::ensemble::EnsembleSettings;
+use crate::simulation::simulate;
+use crate::Result;
+
+/// Step cap of the adaptive work-precision runs (s): far above the steps the tolerances choose.
+pub const WP_MAX_STEP: f64 = 1e-3;
+
+/// Step cap of `method` in the work-precision sweep: [`WP_MAX_STEP`], except DOP853, which is
+/// kept at the scene's 1e-4 s because its 12-stage trial steps of ~1e-3 s reach deep into the
+/// contact and overflow, to be rejected (one DOP853 row at 1e-3 s measures what that costs).
+pub fn wp_max_step(method: Method) -> f64 {
+    match method {
+        Method::Dop853 => 1e-4,
+        _ => WP_MAX_STEP,
+    }
+}
+/// Recording interval of the first-rotation runs (s).
+const WP_RECORD_INTERVAL: f64 = 1e-6;
+/// Reference of the work-precision study.
+pub const REFERENCE: Integration = Integration {
+    method: Method::Dop853,
+    rtol: 1e-12,
+    atol: 1e-15,
+    max_step: 1e-4,
+};
+/// Second reference: its error against [`REFERENCE`] is the error floor.
+pub const SECOND_REFERENCE: Integration = Integration {
+    method: Method::Dopri5,
+    rtol: 1e-11,
+    atol: 1e-14,
+    max_step: WP_MAX_STEP,
+};
+
+/// What the work-precision study compares between two runs.
+struct Measured {
+    ex: Vec<f64>,
+    ey: Vec<f64>,
+    peak_force: f64,
+    wear: Vec<f64>,
+    wall_time: f64,
+    stats: Stats,
+}
+
+/// Errors of one run against the reference.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Errors {
+    /// Max journal-centre distance over the first rotation (µm).
+    pub orbit_um: f64,
+    /// Relative error of the peak contact force over the first rotation.
+    pub force_rel: f64,
+    /// RMS wear-profile difference after 40 rotations over the max reference depth.
+    pub wear_rel: f64,
+}
+
+/// Members of the work-precision study's wear ensembles.
+pub const WP_MEMBERS: usize = 16;
+/// Right-hand-side evaluations of a single run above which a setting gets no wear ensemble
+/// (about 5 s of wall time here). A count, not a wall time, so that which rows are measured
+/// does not depend on the machine or its load.
+pub const WP_ENSEMBLE_MAX_EVALUATIONS: u64 = 20_000_000;
+
+/// Error of a setting's ensemble-mean wear profile against the reference ensemble's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnsembleWearError {
+    /// RMS difference of the mean profiles over the deepest reference mean wear.
+    pub error: f64,
+    /// Its sampling error, on the same scale.
+    pub sampling: f64,
+}
+
+/// One setting of the work-precision study.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorkRow {
+    /// The setting.
+    pub integration: Integration,
+    /// The ensemble wear error, where measured.
+    pub ensemble: Option<EnsembleWearError>,
+    /// Wall time of the 40 rotations (s), 0 on failure.
+    pub wall_time: f64,
+    /// Work counters of the 40 rotations.
+    pub stats: Stats,
+    /// `None` when the run failed.
+    pub errors: Option<Errors>,
+    /// The error (with its time) of a failed run.
+    pub failure: Option<String>,
+}
+
+/// Result of [`work_precision`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorkPrecision {
+    /// Every setting, the two references last.
+    pub rows: Vec<WorkRow>,
+    /// Error of [`SECOND_REFERENCE`] against [`REFERENCE`].
+    pub floor: Errors,
+    /// Default rtol by the module's rule; `None` if no Dopri5 setting meets it.
+    pub default_rtol: Option<f64>,
+}
+
+fn standard() -> Result<SceneFile> {
+    SceneFile::read(scene_path(CASES.standard.scene))
+}
+
+/// Step guard of each 40-rotation run but the reference's (which needs about 5e6 steps): the
+/// other settings need at most 3e6.
+const WP_MAX_STEPS: u64 = 4_000_000;
+
+fn measure(int: &Integration) -> Result<Measured> {
+    let apply = |f: &mut SceneFile| {
+        int.apply(f);
+        if *int != REFERENCE {
+            f.run.max_steps = WP_MAX_STEPS;
+        }
+    };
+    let mut f = standard()?;
+    apply(&mut f);
+    f.run.rotations = 1;
+    f.run.record_rotations = 1;
+    f.run.record_interval_s = WP_RECORD_INTERVAL;
+    f.run.wear_snapshots.clear();
+    let first = simulate(&f.build()?)?;
+    let j = &first.recording.joints[0];
+    let (_, wear) = wear_run_with(CASES.standard.scene, 0, apply)?;
+    Ok(Measured {
+        ex: j.ex.clone(),
+        ey: j.ey.clone(),
+        peak_force: j.normal_force.iter().cloned().fold(0.0, f64::max),
+        wear: wear.final_wear[0].clone(),
+        wall_time: wear.wall_time,
+        stats: wear.stats,
+    })
+}
+
+fn errors(m: &Measured, r: &Measured) -> Errors {
+    let orbit =
+        m.ex.iter()
+            .zip(&m.ey)
+            .zip(r.ex.iter().zip(&r.ey))
+            .map(|((x, y), (xr, yr))| (x - xr).hypot(y - yr))
+            .fold(0.0, f64::max);
+    let ms = m
+        .wear
+        .iter()
+        .zip(&r.wear)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum::<f64>()
+        / r.wear.len() as f64;
+    let depth = r.wear.iter().cloned().fold(0.0, f64::max);
+    Errors {
+        orbit_um: orbit * 1e6,
+        force_rel: (m.peak_force - r.peak_force).abs() / r.peak_force,
+        wear_rel: ms.sqrt() / depth,
+    }
+}
+
+/// The settings of the work-precision sweep, references excluded.
+pub fn work_precision_settings() -> Vec<Integration> {
+    let adaptive = |method, rtols: &[f64]| -> Vec<Integration> {
+        rtols
+            .iter()
+            .map(|&r| Integration::adaptive(method, r))
+            .collect()
+    };
+    let mut s = adaptive(
+        Method::Dopri5,
+        &[1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10],
+    );
+    s.extend(adaptive(Method::Dop853, &[1e-5, 1e-7, 1e-9, 1e-11]));
+    s.push(Integration {
+        max_step: WP_MAX_STEP,
+        ..Integration::adaptive(Method::Dop853, 1e-7)
+    });
+    s.extend([1e-5, 5e-6, 2e-6, 1e-6].map(Integration::rk4));
+    s
+}
+
+/// The work-precision study (see the module documentation); `progress` is told each setting.
+/// Writes `data/work_precision.csv` and `figures/work_precision.png`.
+pub fn work_precision(progress: impl Fn(&Integration)) -> Result<WorkPrecision> {
+    progress(&REFERENCE);
+    let reference = measure(&REFERENCE)?;
+    let row = |int: Integration, m: &Measured| WorkRow {
+        integration: int,
+        ensemble: None,
+        wall_time: m.wall_time,
+        stats: m.stats,
+        errors: Some(errors(m, &reference)),
+        failure: None,
+    };
+    let mut rows = Vec::new();
+    for int in work_precision_settings()
+        .into_iter()
+        .chain([SECOND_REFERENCE])
+    {
+        progress(&int);
+        rows.push(match measure(&int) {
+            Ok(m) => row(int, &m),
+            Err(e) => WorkRow {
+                integration: int,
+                ensemble: None,
+                wall_time: 0.0,
+                stats: Stats::default(),
+                errors: None,
+                failure: Some(e.to_string()),
+            },
+        });
+    }
+    rows.push(row(REFERENCE, &reference));
+    let floor = rows
+        .iter()
+        .find(|r| r.integration == SECOND_REFERENCE)
+        .and_then(|r| r.errors)
+        .ok_or_else(|| crate::Error::Integration {
+            time: 0.0,
+            cause: "the second reference failed".into(),
+        })?;
+    // the reference ensemble draws other offsets, so the two means are independent samples
+    let reference = wear_ensemble(&SECOND_REFERENCE, 2)?;
+    for r in rows.iter_mut().filter(|r| {
+        r.failure.is_none()
+            && r.stats.evaluations <= WP_ENSEMBLE_MAX_EVALUATIONS
+            && r.integration != REFERENCE
+    }) {
+        progress(&r.integration);
+        let e = wear_ensemble(&r.integration, 1)?;
+        r.ensemble = Some(ensemble_error(&e, &reference));
+    }
+    let default_rtol = pick_default(&rows);
+    write_work_precision(&rows)?;
+    plot_work_precision(&rows, &floor)?;
+    Ok(WorkPrecision {
+        rows,
+        floor,
+        default_rtol,
+    })
+}
+
+/// Per sector, the mean and sd of the 40-rotation wear profile over [`WP_MEMBERS`] members.
+fn wear_ensemble(int: &Integration, seed: u64) -> Result<Band> {
+    let apply = |f: &mut SceneFile| {
+        int.apply(f);
+        f.run.max_steps = WP_MAX_STEPS;
+    };
+    let ensemble = EnsembleSettings {
+        members: WP_MEMBERS,
+        seed,
+    };
+    let needs = [Need::Wear(CASES.standard.scene)];
+    let runs = Runs::compute(&needs, ensemble, &apply, |_, _| {})?;
+    Ok(runs.wear(CASES.standard.scene)?.band())
+}
+
+/// The ensemble-mean wear error of `e` against `reference` (see the module documentation).
+fn ensemble_error(e: &Band, reference: &Band) -> EnsembleWearError {
+    let depth = reference.mean().iter().cloned().fold(0.0, f64::max);
+    let sectors = reference.sectors.len() as f64;
+    let (mut sq, mut var) = (0.0, 0.0);
+    for (a, b) in e.sectors.iter().zip(&reference.sectors) {
+        sq += (a.mean - b.mean).powi(2);
+        var += a.sd.powi(2) / a.n as f64 + b.sd.powi(2) / b.n as f64;
+    }
+    EnsembleWearError {
+        error: (sq / sectors).sqrt() / depth,
+        sampling: (var / sectors).sqrt() / depth,
+    }
+}
+
+/// Largest first-rotation orbit error of the default tolerance (µm): 0.5 % of 20 µm.
+pub const ORBIT_BOUND_UM: f64 = 0.1;
+/// Largest relative peak-force error of the default tolerance.
+pub const FORCE_BOUND: f64 = 1e-4;
+
+/// The module's rule: loosest Dopri5 rtol from which on (tighter) the orbit and force errors
+/// are within their bounds.
+fn pick_default(rows: &[WorkRow]) -> Option<f64> {
+    let mut sweep: Vec<&WorkRow> = rows
+        .iter()
+        .filter(|r| r.integration.method == Method::Dopri5 && r.integration != SECOND_REFERENCE)
+        .collect();
+    sweep.sort_by(|a, b| a.integration.rtol.total_cmp(&b.integration.rtol));
+    // tightest first: walk towards looser while the bound holds
+    sweep
+        .iter()
+        .take_while(|r| {
+            r.errors
+                .is_some_and(|e| e.orbit_um <= ORBIT_BOUND_UM && e.force_rel <= FORCE_BOUND)
+        })
+        .last()
+        .map(|r| r.integration.rtol)
+}
+
+/// Column of `data/work_precision.csv`: the method.
+const METHOD: &str = "method";
+/// Column of `data/work_precision.csv`: the setting.
+const SETTING: &str = "setting";
+/// Column of `data/work_precision.csv`: [`EnsembleWearError::error`].
+const ENSEMBLE_ERROR: &str = "ensemble_wear_err_rel";
+/// Column of `data/work_precision.csv`: [`EnsembleWearError::sampling`].
+const ENSEMBLE_SAMPLING: &str = "ensemble_wear_sampling_rel";
+
+/// Columns of `data/work_precision.csv`.
+pub const WORK_PRECISION_HEADER: [&str; 12] = [
+    METHOD,
+    SETTING,
+    "wall_time_s",
+    "steps",
+    "rejected",
+    "evaluations",
+    "orbit_err_um",
+    "force_err_rel",
+    "wear_err_rel",
+    ENSEMBLE_ERROR,
+    ENSEMBLE_SAMPLING,
+    "failure",
+];
+
+/// The ensemble wear errors an earlier run of the study wrote to `data/work_precision.csv`:
+/// `(method, setting, error)` of every setting that has one, in file order; `None` when the
+/// file or one of those columns is missing.
+pub fn read_ensemble_wear_errors() -> Option<Vec<(String, String, EnsembleWearError)>> {
+    let (header, rows) = read_rows(&output_path("data", "work_precision.csv")).ok()?;
+    let col = |name: &str| header.iter().position(|h| h == name);
+    let (method, setting) = (col(METHOD)?, col(SETTING)?);
+    let (error, sampling) = (col(ENSEMBLE_ERROR)?, col(ENSEMBLE_SAMPLING)?);
+    let parsed = rows
+        .iter()
+        .filter_map(|r| {
+            let e = EnsembleWearError {
+                error: r[error].parse().ok()?,
+                sampling: r[sampling].parse().ok()?,
+            };
+            Some((r[method].clone(), r[setting].clone(), e))
+        })
+        .collect();
+    Some(parsed)
+}
+
+fn write_work_precision(rows: &[WorkRow]) -> Result<()> {
+    let num = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.4e}"));
+    write_rows(
+        &output_path("data", "work_precision.csv"),
+        &WORK_PRECISION_HEADER,
+        rows.iter().map(|r| {
+            let role = match r.integration {
+                i if i == REFERENCE => " (reference)",
+                i if i == SECOND_REFERENCE => " (second reference)",
+                _ => "",
+            };
+            vec![
+                r.integration.method_name().to_string(),
+                format!("{}{role}", r.integration.setting()),
+                format!("{:.3}", r.wall_time),
+                r.stats.steps.to_string(),
+                r.stats.rejected.to_string(),
+                r.stats.evaluations.to_string(),
+                num(r.errors.map(|e| e.orbit_um)),
+                num(r.errors.map(|e| e.force_rel)),
+                num(r.errors.map(|e| e.wear_rel)),
+                num(r.ensemble.map(|e| e.error)),
+                num(r.ensemble.map(|e| e.sampling)),
+                r.failure.clone().unwrap_or_default(),
+            ]
+        }),
+    )
+}
+
+/// log10 of an error, clamped so an exact zero (the reference itself) stays on the plot.
+fn log_err(e: f64) -> f64 {
+    e.max(1e-16).log10()
+}
+
+fn plot_work_precision(rows: &[WorkRow], floor: &Errors) -> Result<()> {
+    type Pick = fn(&WorkRow) -> Option<f64>;
+    let measures: [(&str, &str, Pick); 3] = [
+        (
+            "Journal orbit, first rotation",
+            "log10 max orbit error (µm)",
+            |r| r.errors.map(|e| e.orbit_um),
+        ),
+        (
+            "Peak contact force, first rotation",
+            "log10 relative peak-force error",
+            |r| r.errors.map(|e| e.force_rel),
+        ),
+        (
+            "Wear after 40 rotations, ensemble mean of 16",
+            "log10 RMS error of the mean profile / max depth",
+            |r| r.ensemble.map(|e| e.error),
+        ),
+    ];
+    let methods = ["dopri5", "dop853", "rk4"];
+    let measured = |r: &&WorkRow| r.integration != REFERENCE && r.integration != SECOND_REFERENCE;
+    // [measure][method] = (log10 wall time, log10 error) of the completed sweep runs
+    let series: Vec<Vec<(Vec<f64>, Vec<f64>)>> = measures
+        .iter()
+        .map(|(_, _, pick)| {
+            methods
+                .iter()
+                .map(|m| {
+                    rows.iter()
+                        .filter(measured)
+                        .filter(|r| r.integration.method_name() == *m)
+                        .filter_map(|r| pick(r).map(|e| (r.wall_time.log10(), log_err(e))))
+                        .unzip()
+                })
+                .collect()
+        })
+        .collect();
+    let times: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.errors.is_some())
+        .map(|r| r.wall_time.log10())
+        .collect();
+    let span = [
+        times.iter().cloned().fold(f64::INFINITY, f64::min),
+        times.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+    ];
+    // the floors: the second reference's error for one run, the sampling error for ensembles
+    let sampling = Distribution::of(rows.iter().filter_map(|r| r.ensemble.map(|e| e.sampling)));
+    let floors = [
+        ("floor (reference disagreement)", log_err(floor.orbit_um)),
+        ("floor (reference disagreement)", log_err(floor.force_rel)),
+        (
+            "sampling error of the difference (median)",
+            log_err(sampling.median()),
+        ),
+    ]
+    .map(|(l, y)| (l, [y; 2]));
+    let panels: Vec<Axes> = measures
+        .iter()
+        .zip(&series)
+        .zip(&floors)
+        .map(|(((title, y, _), per_method), (label, fl))| {
+            let mut s: Vec<Series> = methods
+                .iter()
+                .zip(per_method)
+                .map(|(m, (x, y))| Series::new(*m, x, y, Style::Points))
+                .collect();
+            s.push(Series::new(*label, &span, fl, Style::Reference));
+            Axes::new(*title, "log10 wall time of one 40-rotation run (s)", *y, s)
+        })
+        .collect();
+    render(&output_path("figures", "work_precision.png"), &panels)
+}

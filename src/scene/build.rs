@@ -1,0 +1,438 @@
+//! Converts a scene file to SI and builds the mechanism and run settings, validating every
+//! value on the way ([`SceneFile::build`]).
+
+use super::validation::*;
+use super::*;
+use crate::laws::contact::{compound_modulus, ContactLaw, NormalForceModel};
+use crate::laws::wear::{PressureModel, WearLaw, WearProfile};
+use crate::mechanism::{
+    Body, BodyIndex, BodyPoint, ClearanceJoint, Driver, Mechanism, Revolute, Translational,
+};
+use crate::ode::{Method, Tolerances};
+use crate::simulation::{RunSettings, Scene, SteadyState};
+use crate::{Error, Result};
+use nalgebra::Vector2;
+
+const MM: f64 = 1e-3;
+const GPA: f64 = 1e9;
+
+impl SceneFile {
+    /// Validates every value and converts the scene to SI.
+    pub fn build(&self) -> Result<Scene> {
+        if let Some(g) =
+            (self.gravity_m_s2.iter()).find(|g| !(g.is_finite() && g.abs() <= GRAVITY_M_S2))
+        {
+            return Err(Error::invalid(
+                "gravity_m_s2",
+                number(*g),
+                format!("finite components within ±{GRAVITY_M_S2:e} m/s² (1000 g)"),
+            ));
+        }
+        if self.bodies.is_empty() {
+            return Err(Error::invalid("bodies", "none", "at least one body"));
+        }
+        let mut bodies = Vec::new();
+        let mut guess = Vec::new();
+        for (i, b) in self.bodies.iter().enumerate() {
+            let f = |k: &str| format!("bodies[{i}].{k}");
+            if b.name == "ground" || self.bodies[..i].iter().any(|o| o.name == b.name) {
+                return Err(Error::invalid(
+                    f("name"),
+                    &b.name,
+                    "a unique name other than `ground`",
+                ));
+            }
+            bodies.push(Body {
+                name: b.name.clone(),
+                mass: within(&f("mass_kg"), b.mass_kg, &MASS_KG)?,
+                inertia: within(&f("inertia_kg_m2"), b.inertia_kg_m2, &INERTIA_KG_M2)?,
+            });
+            check_coordinates(&f("position_mm"), &b.position_mm)?;
+            check_finite(&f("angle_deg"), &[b.angle_deg])?;
+            for (name, p) in &b.points_mm {
+                check_coordinates(&f(&format!("points_mm.{name}")), p)?;
+            }
+            guess.extend([
+                b.position_mm[0] * MM,
+                b.position_mm[1] * MM,
+                b.angle_deg.to_radians(),
+            ]);
+        }
+        let revolutes = self
+            .revolute
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                Ok(Revolute {
+                    a: self.point(&format!("revolute[{i}].a"), &r.a)?,
+                    b: self.point(&format!("revolute[{i}].b"), &r.b)?,
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let translationals = self
+            .translational
+            .iter()
+            .enumerate()
+            .map(|(i, t)| {
+                let a = self.point(&format!("translational[{i}].a"), &t.a)?;
+                let b = self.point(&format!("translational[{i}].b"), &t.b)?;
+                let axis = check(
+                    &format!("translational[{i}].axis_deg"),
+                    t.axis_deg,
+                    -360.0,
+                    360.0,
+                )?
+                .to_radians();
+                let angle = |p: &BodyPoint| p.body.map_or(0.0, |k| guess[3 * k + 2]);
+                Ok(Translational {
+                    a,
+                    b,
+                    normal: Vector2::new(-axis.sin(), axis.cos()),
+                    relative_angle: angle(&a) - angle(&b),
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let driver_body = self
+            .body_index(&self.driver.body)
+            .flatten()
+            .ok_or_else(|| {
+                Error::invalid(
+                    "driver.body",
+                    &self.driver.body,
+                    "the name of a body (not ground)",
+                )
+            })?;
+        let speed = self.driver.speed_rpm;
+        if !(speed.is_finite() && speed != 0.0 && speed.abs() <= 1e5) {
+            return Err(Error::invalid(
+                "driver.speed_rpm",
+                speed,
+                "a finite non-zero number in [-1e5, 1e5]",
+            ));
+        }
+        let driver = Driver {
+            body: driver_body,
+            omega: speed * std::f64::consts::TAU / 60.0,
+            angle0: check("driver.angle_deg", self.driver.angle_deg, -360.0, 360.0)?.to_radians(),
+        };
+        guess[3 * driver_body + 2] = driver.angle0;
+        let clearance_joints = self
+            .clearance
+            .iter()
+            .enumerate()
+            .map(|(i, c)| self.clearance_joint(i, c))
+            .collect::<Result<Vec<_>>>()?;
+        let run = self.run.build()?;
+        let mechanism = Mechanism::new(
+            bodies,
+            revolutes,
+            translationals,
+            driver,
+            clearance_joints,
+            Vector2::new(self.gravity_m_s2[0], self.gravity_m_s2[1]),
+            (run.baumgarte, run.baumgarte),
+            run.energy_accounting,
+        )?;
+        let dof = mechanism.coordinates() as i64 - mechanism.constraint_count() as i64;
+        if dof < 0 {
+            return Err(Error::invalid(
+                "joints",
+                format!("{dof} degrees of freedom"),
+                "a mechanism that is not over-constrained",
+            ));
+        }
+        let scene = Scene {
+            title: self.title.clone(),
+            mechanism,
+            guess,
+            run,
+        };
+        scene.check_record_budget()?;
+        scene.check_step_budget()?;
+        Ok(scene)
+    }
+
+    /// `Some(None)` for the ground, `Some(Some(i))` for body i, `None` if unknown.
+    fn body_index(&self, name: &str) -> Option<BodyIndex> {
+        if name == "ground" {
+            return Some(None);
+        }
+        self.bodies.iter().position(|b| b.name == name).map(Some)
+    }
+
+    /// Resolves `"body.point"` (local coordinates converted to m).
+    fn point(&self, field: &str, spec: &str) -> Result<BodyPoint> {
+        let bad = || {
+            Error::invalid(
+                field,
+                format!("\"{spec}\""),
+                "\"body.point\" naming a body (or ground) and one of its points",
+            )
+        };
+        let (body, point) = spec.split_once('.').ok_or_else(bad)?;
+        let index = self.body_index(body).ok_or_else(bad)?;
+        let points = match index {
+            None => &self.ground.points_mm,
+            Some(i) => &self.bodies[i].points_mm,
+        };
+        let p = points.get(point).ok_or_else(bad)?;
+        check_coordinates(field, p)?;
+        Ok(BodyPoint {
+            body: index,
+            local: Vector2::new(p[0] * MM, p[1] * MM),
+        })
+    }
+
+    fn material(&self, field: &str, name: &str) -> Result<(f64, f64)> {
+        let m = self.materials.get(name).ok_or_else(|| {
+            Error::invalid(
+                field,
+                format!("\"{name}\""),
+                "the name of a [materials] entry",
+            )
+        })?;
+        let mf = format!("materials.{name}");
+        Ok((
+            within(
+                &format!("{mf}.youngs_modulus_gpa"),
+                m.youngs_modulus_gpa,
+                &YOUNGS_MODULUS_GPA,
+            )? * GPA,
+            check(&format!("{mf}.poisson_ratio"), m.poisson_ratio, 0.0, 0.4999)?,
+        ))
+    }
+
+    fn clearance_joint(&self, i: usize, c: &ClearanceSpec) -> Result<ClearanceJoint> {
+        let f = |k: &str| format!("clearance[{i}].{k}");
+        let journal = self.point(&f("journal"), &c.journal)?;
+        let bearing = self.point(&f("bearing"), &c.bearing)?;
+        if journal.body == bearing.body {
+            return Err(Error::invalid(
+                f("bearing"),
+                &c.bearing,
+                "a point on another body than the journal's",
+            ));
+        }
+        let r_bearing = within(
+            &f("bearing_radius_mm"),
+            c.bearing_radius_mm,
+            &BEARING_RADIUS_MM,
+        )? * MM;
+        let clearance = c.clearance_mm * MM;
+        if !(clearance.is_finite() && clearance >= 0.0 && clearance < r_bearing) {
+            return Err(Error::invalid(
+                f("clearance_mm"),
+                c.clearance_mm,
+                format!(
+                    "a finite number in [0, {}) (the journal must fit in the bearing)",
+                    c.bearing_radius_mm
+                ),
+            ));
+        }
+        let r_journal = r_bearing - clearance;
+        let (ej, nj) = self.material(&f("journal_material"), &c.journal_material)?;
+        let (eb, nb) = self.material(&f("bearing_material"), &c.bearing_material)?;
+        let e_star = compound_modulus(eb, nb, ej, nj);
+        let k = &c.contact;
+        let contact = ContactLaw::new(
+            k.model,
+            e_star,
+            r_bearing,
+            r_journal,
+            check(&f("contact.exponent"), k.exponent, 1.0, 3.0)?,
+            check_open(&f("contact.restitution"), k.restitution, 0.0, 1.0)?,
+            check_open(
+                &f("contact.grazing_velocity_m_s"),
+                k.grazing_velocity_m_s,
+                0.0,
+                10.0,
+            )?,
+        );
+        validate_friction(&f("friction"), &c.friction)?;
+        let hertz = [
+            (
+                k.model == NormalForceModel::LankaraniNikravesh,
+                "contact.model",
+                "model = \"hybrid\" (the paper's law, whose elastic-foundation stiffness \
+                 holds down to zero clearance)",
+            ),
+            (
+                c.wear
+                    .as_ref()
+                    .is_some_and(|w| w.pressure == PressureModel::HertzLine),
+                "wear.pressure",
+                "pressure = \"elastic-foundation\" (the Winkler overlap model, valid for \
+                 conformal contact down to zero clearance)",
+            ),
+        ];
+        // mm over mm: the ratio of the numbers as written (1 µm in 10 mm is exactly 1e-4).
+        let ratio = c.clearance_mm / c.bearing_radius_mm;
+        if let Some((_, key, instead)) = hertz
+            .iter()
+            .find(|(hertz, _, _)| *hertz && ratio < MIN_HERTZ_CLEARANCE_RATIO)
+        {
+            return Err(Error::invalid(
+                f("clearance_mm"),
+                c.clearance_mm,
+                format!(
+                    "at least {MIN_HERTZ_CLEARANCE_RATIO:e} x the bearing radius ({} mm) with \
+                     the Hertz-based {key}: its contact half-width must stay small against the \
+                     radius, and as the clearance goes to zero it is unbounded (zero pressure); \
+                     use {instead}",
+                    number(MIN_HERTZ_CLEARANCE_RATIO * c.bearing_radius_mm)
+                ),
+            ));
+        }
+        let (wear, sectors) = match &c.wear {
+            None => (None, 8),
+            Some(w) => {
+                let sectors = w.sectors;
+                if !(8..=36000).contains(&sectors) {
+                    return Err(Error::invalid(
+                        f("wear.sectors"),
+                        sectors,
+                        "an integer in [8, 36000]",
+                    ));
+                }
+                let law = WearLaw {
+                    k_over_h: check(&f("wear.k_over_h_per_pa"), w.k_over_h_per_pa, 0.0, 1e-6)?,
+                    pressure: w.pressure,
+                    length: within(&f("wear.length_mm"), w.length_mm, &BEARING_LENGTH_MM)? * MM,
+                    e_star,
+                    r_bearing,
+                    r_journal,
+                };
+                (Some(law), sectors)
+            }
+        };
+        Ok(ClearanceJoint {
+            name: c.name.clone(),
+            journal,
+            bearing,
+            r_journal,
+            r_bearing,
+            contact,
+            friction: c.friction,
+            wear,
+            initial_profile: WearProfile::new(sectors),
+        })
+    }
+}
+
+impl RunSpec {
+    fn build(&self) -> Result<RunSettings> {
+        if !(1..=1_000_000).contains(&self.rotations) {
+            return Err(Error::invalid(
+                "run.rotations",
+                self.rotations,
+                "an integer in [1, 1000000]",
+            ));
+        }
+        if self.record_rotations > self.rotations {
+            return Err(Error::invalid(
+                "run.record_rotations",
+                self.record_rotations,
+                format!("an integer in [0, {}]", self.rotations),
+            ));
+        }
+        if let Some(&s) = self
+            .wear_snapshots
+            .iter()
+            .find(|&&s| s == 0 || s > self.rotations)
+        {
+            return Err(Error::invalid(
+                "run.wear_snapshots",
+                s,
+                format!("rotation counts in [1, {}]", self.rotations),
+            ));
+        }
+        let tolerances = Tolerances {
+            rtol: check("run.rtol", self.rtol, 1e-13, 1.0)?,
+            atol: check_open("run.atol", self.atol, 0.0, 1.0)?,
+            max_step: check_open("run.max_step_s", self.max_step_s, 0.0, 1.0)?,
+            initial_step: 0.0,
+        };
+        let method = match self.method {
+            MethodSpec::Dopri5 => Method::Dopri5,
+            MethodSpec::Dop853 => Method::Dop853,
+            MethodSpec::Rk4 => {
+                let step = self.fixed_step_s.ok_or_else(|| {
+                    Error::invalid(
+                        "run.fixed_step_s",
+                        "missing",
+                        "a step in (0, 1] s for method rk4",
+                    )
+                })?;
+                Method::Rk4 {
+                    step: check_open("run.fixed_step_s", step, 0.0, 1.0)?,
+                }
+            }
+        };
+        let mut wear_snapshots = self.wear_snapshots.clone();
+        wear_snapshots.sort_unstable();
+        wear_snapshots.dedup();
+        Ok(RunSettings {
+            rotations: self.rotations,
+            record_rotations: self.record_rotations,
+            record_interval: check_open("run.record_interval_s", self.record_interval_s, 0.0, 1.0)?,
+            wear_snapshots,
+            method,
+            tolerances,
+            baumgarte: check("run.baumgarte_per_s", self.baumgarte_per_s, 0.0, 1e6)?,
+            energy_accounting: self.energy_accounting,
+            settle: match (&self.settle, &self.steady_state) {
+                (false, _) => None,
+                (true, Some(spec)) => Some(spec.build()?),
+                (true, None) => {
+                    return Err(Error::invalid(
+                        "run.steady_state",
+                        "missing",
+                        "a steady-state criterion when run.settle is true",
+                    ))
+                }
+            },
+            profile_history_per_rotation: match self.profile_history_per_rotation {
+                h @ 0..=3600 => h,
+                h => {
+                    return Err(Error::invalid(
+                        "run.profile_history_per_rotation",
+                        h,
+                        "an integer in [0, 3600]",
+                    ))
+                }
+            },
+            max_steps: match self.max_steps {
+                m @ 1..=10_000_000_000 => m,
+                m => {
+                    return Err(Error::invalid(
+                        "run.max_steps",
+                        m,
+                        "an integer in [1, 1e10]",
+                    ))
+                }
+            },
+        })
+    }
+}
+
+impl SteadyStateSpec {
+    fn build(&self) -> Result<SteadyState> {
+        let max_rotations = self.max_rotations;
+        if !(2..=10000).contains(&max_rotations) {
+            return Err(Error::invalid(
+                "run.steady_state.max_rotations",
+                max_rotations,
+                "an integer in [2, 10000]",
+            ));
+        }
+        Ok(SteadyState {
+            tolerance: check_open(
+                "run.steady_state.orbit_tolerance",
+                self.orbit_tolerance,
+                0.0,
+                1.0,
+            )?,
+            max_rotations,
+        })
+    }
+}

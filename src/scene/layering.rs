@@ -1,0 +1,145 @@
+//! Reading scene files: `extends` chains and `[overrides]` (see the module documentation of
+//! [`crate::scene`]), dotted keys for sweeps, and the paths of the shipped scenes.
+
+use super::SceneFile;
+use crate::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// How deep `extends` chains may go (a cycle would otherwise recurse forever).
+const MAX_EXTENDS_DEPTH: usize = 8;
+
+pub(super) fn read_table(path: &Path, depth: usize) -> Result<toml::Table> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_table(&text, path, depth)
+}
+
+/// Parses a scene document and resolves its `extends` and `[overrides]`.
+pub(super) fn parse_table(text: &str, path: &Path, depth: usize) -> Result<toml::Table> {
+    let parse_error = |message: String| Error::Parse {
+        path: path.to_path_buf(),
+        message,
+    };
+    let mut table: toml::Table = toml::from_str(text).map_err(|e| parse_error(e.to_string()))?;
+    let Some(base) = table.remove("extends") else {
+        if table.contains_key("overrides") {
+            return Err(parse_error(
+                "`overrides` needs `extends = \"base.toml\"`".into(),
+            ));
+        }
+        return Ok(table);
+    };
+    let base = base
+        .as_str()
+        .ok_or_else(|| parse_error("`extends` must be a file name".into()))?;
+    if depth >= MAX_EXTENDS_DEPTH {
+        return Err(parse_error(format!(
+            "`extends` chains deeper than {MAX_EXTENDS_DEPTH} (a cycle?)"
+        )));
+    }
+    let base_path = path.parent().unwrap_or(Path::new(".")).join(base);
+    // A base that cannot be read is this scene's error: name the scene that refers to it.
+    let mut merged = read_table(&base_path, depth + 1).map_err(|e| match e {
+        Error::Io { path: p, source } => parse_error(format!(
+            "`extends = \"{base}\"`: cannot read {}: {source}",
+            p.display()
+        )),
+        e => e,
+    })?;
+    let overrides = match table.remove("overrides") {
+        Some(toml::Value::Table(o)) => o,
+        Some(_) => {
+            return Err(parse_error(
+                "`overrides` must be a table of dotted keys".into(),
+            ))
+        }
+        None => toml::Table::new(),
+    };
+    merged.extend(table);
+    let mut doc = toml::Value::Table(merged);
+    for (key, value) in overrides {
+        set_dotted(&mut doc, &key, value).map_err(|e| parse_error(format!("override: {e}")))?;
+    }
+    match doc {
+        toml::Value::Table(t) => Ok(t),
+        _ => unreachable!("a scene document is a table"),
+    }
+}
+
+/// Path of a shipped scene, `data/scenes/<name>.toml`, relative to the crate root.
+pub fn scene_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("data/scenes")
+        .join(format!("{name}.toml"))
+}
+
+/// Sets the value at a dotted `key` of a scene document: table keys by name, array elements
+/// by a 0-based number (`clearance.0.clearance_mm`, `driver.speed_rpm`). Every part but the
+/// last must exist; the last may add a key to a table (an unknown key is then rejected when
+/// the document is converted by [`SceneFile::from_document`]).
+pub fn set_dotted(doc: &mut toml::Value, key: &str, value: toml::Value) -> Result<()> {
+    let bad = |at: &str, expected: String| Error::invalid(key, format!("(at `{at}`)"), expected);
+    let parts: Vec<&str> = key.split('.').collect();
+    let mut node = doc;
+    for (i, part) in parts.iter().enumerate() {
+        let last = i + 1 == parts.len();
+        node = match node {
+            toml::Value::Table(table) if last => {
+                table.insert(part.to_string(), value);
+                return Ok(());
+            }
+            toml::Value::Table(table) => {
+                if !table.contains_key(*part) {
+                    let keys: Vec<&str> = table.keys().map(String::as_str).collect();
+                    return Err(bad(part, format!("one of the keys {}", keys.join(", "))));
+                }
+                &mut table[*part]
+            }
+            toml::Value::Array(items) => {
+                let len = items.len();
+                let slot = part
+                    .parse::<usize>()
+                    .ok()
+                    .and_then(|k| items.get_mut(k))
+                    .ok_or_else(|| bad(part, format!("an array index in [0, {len})")))?;
+                if last {
+                    *slot = value;
+                    return Ok(());
+                }
+                slot
+            }
+            _ => return Err(bad(part, "a table or an array before it".into())),
+        };
+    }
+    Err(Error::invalid(key, "empty", "a dotted key"))
+}
+
+impl SceneFile {
+    /// Reads a scene file (resolving `extends`) without validating its values, so that it
+    /// can be varied before [`SceneFile::build`].
+    pub fn read(path: impl AsRef<Path>) -> Result<SceneFile> {
+        let path = path.as_ref();
+        SceneFile::from_document(SceneFile::read_document(path)?, path)
+    }
+
+    /// Parses scene text; `path` is used in error messages and to resolve `extends`.
+    pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
+        SceneFile::from_document(toml::Value::Table(parse_table(text, path, 0)?), path)
+    }
+
+    /// Reads a scene file as a TOML document (with `extends` resolved), to be varied with
+    /// [`set_dotted`].
+    pub fn read_document(path: impl AsRef<Path>) -> Result<toml::Value> {
+        read_table(path.as_ref(), 0).map(toml::Value::Table)
+    }
+
+    /// Converts a (varied) scene document; `path` is only used in error messages.
+    pub fn from_document(doc: toml::Value, path: &Path) -> Result<SceneFile> {
+        doc.try_into().map_err(|e: toml::de::Error| Error::Parse {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })
+    }
+}

@@ -1,0 +1,252 @@
+//! Scene files: a mechanism, its joints, materials, driver and run settings as TOML data.
+//!
+//! Scene files use engineering units, spelled in each key (`_mm`, `_deg`, `_rpm`, `_gpa`,
+//! `_kg`, `_s`, `_m_s`, `_per_pa`); [`crate::simulation::Scene::load`] converts them once to SI and validates
+//! every value: a bad scene is an [`crate::Error`] naming the field, the value and the valid range.
+//! Unknown keys are rejected. Angles are counter-clockwise from +x; point coordinates are in
+//! the body frame, whose origin is the body's centre of mass. The shipped scenes in
+//! `data/scenes/` document every key.
+//!
+//! A scene may extend another: `extends = "standard.toml"` (relative to the file) takes the
+//! base scene, replaces its top-level keys by the ones given (e.g. `title`), then applies the
+//! `[overrides]` table, whose keys are dotted paths into the base document with array indices
+//! as numbers, e.g. `"clearance.0.clearance_mm" = 0.2`. A path that does not exist in the base
+//! is an error, so a typo cannot silently leave the base value in place.
+
+mod build;
+mod layering;
+mod validation;
+
+pub use layering::{scene_path, set_dotted};
+pub use validation::{
+    Limit, BEARING_LENGTH_MM, BEARING_RADIUS_MM, COORDINATE_MM, GRAVITY_M_S2, INERTIA_KG_M2,
+    MASS_KG, MIN_HERTZ_CLEARANCE_RATIO, RECORD_BUDGET_BYTES, YOUNGS_MODULUS_GPA,
+};
+
+use crate::laws::contact::NormalForceModel;
+use crate::laws::friction::FrictionModel;
+use crate::laws::wear::PressureModel;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// A scene file as written (engineering units).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Free text shown on figures and summaries.
+    pub title: String,
+    /// Gravitational acceleration (m/s²), e.g. `[0.0, -9.81]`.
+    pub gravity_m_s2: [f64; 2],
+    /// Named materials used by clearance joints.
+    pub materials: BTreeMap<String, MaterialSpec>,
+    /// Named points fixed to the ground (mm).
+    pub ground: GroundSpec,
+    /// The moving bodies; each has 3 coordinates (x, y, φ).
+    pub bodies: Vec<BodySpec>,
+    #[serde(default)]
+    /// Ideal revolute joints.
+    pub revolute: Vec<RevoluteSpec>,
+    #[serde(default)]
+    /// Ideal translational joints.
+    pub translational: Vec<TranslationalSpec>,
+    /// The one driver.
+    pub driver: DriverSpec,
+    #[serde(default)]
+    /// Clearance revolute joints, where contact, friction and wear act.
+    pub clearance: Vec<ClearanceSpec>,
+    /// How to run the scene.
+    pub run: RunSpec,
+}
+
+/// Elastic constants of a material (eq. 2).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// Young's modulus (GPa), [0.1, 10000] ([`YOUNGS_MODULUS_GPA`]).
+    pub youngs_modulus_gpa: f64,
+    /// Poisson's ratio, [0, 0.5).
+    pub poisson_ratio: f64,
+}
+
+/// The ground (fixed frame).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroundSpec {
+    /// Named points fixed to the ground (mm).
+    pub points_mm: BTreeMap<String, [f64; 2]>,
+}
+
+/// A rigid body.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// Name, as joints refer to it (`"name.point"`).
+    pub name: String,
+    /// Mass (kg), [1e-6, 1e6] ([`MASS_KG`]).
+    pub mass_kg: f64,
+    /// Moment of inertia about the centre of mass (kg m²), [1e-12, 1e6] ([`INERTIA_KG_M2`]).
+    pub inertia_kg_m2: f64,
+    /// Initial guess of the centre of mass (mm); assembled exactly at load.
+    pub position_mm: [f64; 2],
+    /// Initial guess of the body angle (deg).
+    pub angle_deg: f64,
+    /// Named points in the body frame (mm).
+    pub points_mm: BTreeMap<String, [f64; 2]>,
+}
+
+/// Ideal revolute joint between two points, written `"body.point"` (`"ground.O"`).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RevoluteSpec {
+    /// The first point, `"body.point"`.
+    pub a: String,
+    /// The second point, `"body.point"`.
+    pub b: String,
+}
+
+/// Ideal translational joint: point `a` slides along the line through point `b` whose
+/// direction is `axis_deg` in `b`'s body frame; the bodies keep their relative angle.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TranslationalSpec {
+    /// The sliding point, `"body.point"`.
+    pub a: String,
+    /// The point on the guide line, `"body.point"`.
+    pub b: String,
+    /// Direction of the guide line in `b`'s body frame (deg).
+    pub axis_deg: f64,
+}
+
+/// Constant-speed driver of one body's absolute angle.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DriverSpec {
+    /// The driven body.
+    pub body: String,
+    /// Speed (r/min), non-zero, |speed| ≤ 100000; positive is counter-clockwise.
+    pub speed_rpm: f64,
+    /// Angle at t = 0 (deg).
+    pub angle_deg: f64,
+}
+
+/// A clearance revolute joint: a journal in a bearing with a radial clearance (eq. 1-9).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClearanceSpec {
+    /// Name, for messages and output files.
+    pub name: String,
+    /// Journal centre, `"body.point"`.
+    pub journal: String,
+    /// Bearing centre, `"body.point"`; the bearing is the part that wears.
+    pub bearing: String,
+    /// Unworn bearing radius R_i (mm), [0.1, 10000] ([`BEARING_RADIUS_MM`]).
+    pub bearing_radius_mm: f64,
+    /// Radial clearance c = R_i − R_j (mm), [0, R_i); at least
+    /// [`MIN_HERTZ_CLEARANCE_RATIO`] R_i with a Hertz-based contact or pressure law.
+    pub clearance_mm: f64,
+    /// The journal's material, a key of `materials`.
+    pub journal_material: String,
+    /// The bearing's material, a key of `materials`.
+    pub bearing_material: String,
+    /// Normal contact law (eq. 1-3).
+    pub contact: ContactSpec,
+    /// Friction law (velocities in m/s); `{ model = "none" }` computes no friction.
+    pub friction: FrictionModel,
+    /// Absent: the scene computes no wear.
+    pub wear: Option<WearSpec>,
+}
+
+/// The normal contact law of a clearance joint (eq. 1-3).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    /// Which law: the paper's hybrid law or one of the classical ones.
+    pub model: NormalForceModel,
+    /// Coefficient of restitution c_e, (0, 1].
+    pub restitution: f64,
+    /// Exponent n, [1, 3]; the paper uses 1.5.
+    pub exponent: f64,
+    /// Floor of the captured impact velocity (m/s), (0, 10].
+    pub grazing_velocity_m_s: f64,
+}
+
+/// Archard wear of a clearance joint's bearing (eq. 5-9).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WearSpec {
+    /// Archard coefficient over hardness k/H (1/Pa), [0, 1e-6].
+    pub k_over_h_per_pa: f64,
+    /// Contact pressure model for eq. 9.
+    pub pressure: PressureModel,
+    /// Bearing length L (mm), [0.1, 10000] ([`BEARING_LENGTH_MM`]).
+    pub length_mm: f64,
+    /// Number of sectors of the bearing profile, [8, 36000].
+    pub sectors: usize,
+}
+
+/// Integration method of a scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MethodSpec {
+    /// Dormand-Prince 5(4), adaptive (the default).
+    Dopri5,
+    /// Hairer's DOP853, adaptive.
+    Dop853,
+    /// Classical Runge-Kutta with `run.fixed_step_s`.
+    Rk4,
+}
+
+/// Run settings (units in the key names).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSpec {
+    /// Driver rotations to simulate, [1, 1000000].
+    pub rotations: u32,
+    /// How many of the last rotations to record as time series, [0, rotations].
+    pub record_rotations: u32,
+    /// Recording grid spacing (s), (0, 1].
+    pub record_interval_s: f64,
+    /// Rotation counts after which the wear profile is saved, each in [1, rotations].
+    #[serde(default)]
+    pub wear_snapshots: Vec<u32>,
+    /// Integration method.
+    pub method: MethodSpec,
+    /// Relative tolerance, [1e-13, 1].
+    pub rtol: f64,
+    /// Absolute tolerance, (0, 1].
+    pub atol: f64,
+    /// Largest step (s), (0, 1].
+    pub max_step_s: f64,
+    /// Step of `rk4` (s), required by it, (0, 1].
+    pub fixed_step_s: Option<f64>,
+    /// Baumgarte stabilisation α = β (1/s), [0, 1e6].
+    pub baumgarte_per_s: f64,
+    /// Integrate the energy balance (driver, contact and friction work).
+    #[serde(default)]
+    pub energy_accounting: bool,
+    /// Settle to the steady state of `steady_state` before simulating `rotations` more.
+    #[serde(default)]
+    pub settle: bool,
+    /// Required when `settle` is true.
+    pub steady_state: Option<SteadyStateSpec>,
+    /// Wear profiles saved per rotation for the wear history (0: none), [0, 3600].
+    #[serde(default)]
+    pub profile_history_per_rotation: u32,
+    /// Accepted steps after which the run fails with an error, [1, 1e10].
+    #[serde(default = "default_max_steps")]
+    pub max_steps: u64,
+}
+
+fn default_max_steps() -> u64 {
+    20_000_000
+}
+
+/// Steady state: the journal orbit repeats from one rotation to the next.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SteadyStateSpec {
+    /// Largest RMS change of the journal orbit between rotations over the clearance, (0, 1].
+    pub orbit_tolerance: f64,
+    /// Rotations after which settling gives up (chaotic motion), [2, 10000].
+    pub max_rotations: u32,
+}

@@ -1,0 +1,283 @@
+//! The valid ranges of scene values and the budgets a run must fit in (steps, recorded
+//! bytes): each check names the field, the value, the range and the likely cause.
+
+use super::SceneFile;
+use crate::laws::friction::FrictionModel;
+use crate::mechanism::Mechanism;
+use crate::ode::Method;
+use crate::simulation::Scene;
+use crate::{Error, Result};
+use std::path::Path;
+
+const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+
+/// Checks that `value` is finite and inside `[lo, hi]`.
+pub(super) fn check(field: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
+    if value.is_finite() && value >= lo && value <= hi {
+        Ok(value)
+    } else {
+        Err(Error::invalid(
+            field,
+            value,
+            format!("a finite number in [{lo:e}, {hi:e}]"),
+        ))
+    }
+}
+
+/// Checks that `value` is finite, `> lo` and `≤ hi`.
+pub(super) fn check_open(field: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
+    if value.is_finite() && value > lo && value <= hi {
+        Ok(value)
+    } else {
+        Err(Error::invalid(
+            field,
+            value,
+            format!("a finite number in ({lo:e}, {hi:e}]"),
+        ))
+    }
+}
+
+/// A validity limit of the models: the range of a scene value and why values outside it are
+/// refused (the README's "Validity limits" table states the same).
+pub struct Limit {
+    /// Smallest valid value.
+    pub lo: f64,
+    /// Largest valid value.
+    pub hi: f64,
+    /// Why values outside are refused, and their likely cause.
+    pub why: &'static str,
+}
+
+/// Body mass (kg).
+pub const MASS_KG: Limit = Limit {
+    lo: 1e-6,
+    hi: 1e6,
+    why: "a body lighter than 1 mg turns newtons of contact force into accelerations the \
+          integrator cannot resolve (1e-300 kg gave infinite penetration); likely cause: a \
+          mass in the wrong unit",
+};
+
+/// Moment of inertia about the centre of mass (kg m²).
+pub const INERTIA_KG_M2: Limit = Limit {
+    lo: 1e-12,
+    hi: 1e6,
+    why: "below 1 mg at 1 mm radius of gyration the angular accelerations of contact torques \
+          cannot be resolved; likely cause: an inertia in g mm² or another unit",
+};
+
+/// Young's modulus (GPa).
+pub const YOUNGS_MODULUS_GPA: Limit = Limit {
+    lo: 0.1,
+    hi: 1e4,
+    why: "the contact laws are linear-elastic small-strain models of metals, ceramics and \
+          engineering polymers; below 0.1 GPa (elastomers) the penetration reaches the \
+          clearance (1e-300 GPa gave 115 mm); likely cause: a modulus in Pa or MPa",
+};
+
+/// Bearing radius R_i (mm).
+pub const BEARING_RADIUS_MM: Limit = Limit {
+    lo: 0.1,
+    hi: 1e4,
+    why: "a pin thinner than 0.2 mm is outside the rigid-pin contact model; likely cause: a \
+          radius in m",
+};
+
+/// Bearing length L (mm).
+pub const BEARING_LENGTH_MM: Limit = Limit {
+    lo: 0.1,
+    hi: 1e4,
+    why: "the contact pressure and the wear rate grow as 1/L: below 0.1 mm they are unbounded \
+          (1e-300 mm wore the bearing away at once, leaving zero force); likely cause: a \
+          length in m",
+};
+
+/// Largest |coordinate| of a point or position guess (mm).
+pub const COORDINATE_MM: f64 = 1e6;
+
+/// Largest |gravity| component (m/s²): 1000 g.
+pub const GRAVITY_M_S2: f64 = 1e4;
+
+/// Smallest clearance over bearing radius, c/R_i, of the Hertz-based laws (Hertz line-contact
+/// pressure, Lankarani-Nikravesh force). Hertz treats the surfaces as half-spaces, so its
+/// contact half-width must stay small against the radius; for conformal cylinders
+/// `b/R_i = sqrt((8/π)(p̄/E*)/(c/R_i))` with `p̄ = F/(2 R_i L)` the projected bearing
+/// pressure. At c/R_i = 1e-4 a typical steel bearing (p̄/E* ≈ 1e-5) already has
+/// b/R_i ≈ 0.5, and as c → 0 the effective radius R* = R_i R_j / c is unbounded: at zero
+/// clearance the half-width is infinite and the pressure zero (435 N of force, no wear).
+pub const MIN_HERTZ_CLEARANCE_RATIO: f64 = 1e-4;
+
+/// A number as a message shows it: scientific for very small or large magnitudes.
+pub(super) fn number(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e6).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
+    }
+}
+
+/// Checks that `value` is finite and within `limit`, saying why if not.
+pub(super) fn within(field: &str, value: f64, limit: &Limit) -> Result<f64> {
+    if value.is_finite() && value >= limit.lo && value <= limit.hi {
+        Ok(value)
+    } else {
+        Err(Error::invalid(
+            field,
+            number(value),
+            format!(
+                "a finite number in [{:e}, {:e}]: {}",
+                limit.lo, limit.hi, limit.why
+            ),
+        ))
+    }
+}
+
+/// Checks that every coordinate is finite and within ±[`COORDINATE_MM`].
+pub(super) fn check_coordinates(field: &str, values: &[f64]) -> Result<()> {
+    match values
+        .iter()
+        .find(|v| !(v.is_finite() && v.abs() <= COORDINATE_MM))
+    {
+        Some(v) => Err(Error::invalid(
+            field,
+            number(*v),
+            format!(
+                "finite coordinates within ±{COORDINATE_MM:e} mm (1 km; likely cause: a \
+                 coordinate in µm or another unit)"
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+pub(super) fn check_finite(field: &str, values: &[f64]) -> Result<()> {
+    match values.iter().find(|v| !v.is_finite()) {
+        Some(v) => Err(Error::invalid(field, v, "finite numbers")),
+        None => Ok(()),
+    }
+}
+
+/// Memory budget of what a run records (bytes): 2 GiB of `f64`s. A run holds its time series
+/// and wear history in memory until it ends, growing them by doubling (briefly twice the
+/// size), and writes them as CSV text about three times larger; 2 GiB keeps that within an
+/// ordinary workstation, where a larger estimate is almost always an interval in the wrong
+/// unit, and fails at validation instead of on a failed allocation deep into the run.
+pub const RECORD_BUDGET_BYTES: f64 = 2.0 * GIB;
+
+/// Recorded `f64`s per time-series row: time and driver angle, position and acceleration
+/// (x, y, φ) per body, and per clearance joint e_x, e_y, θ, δ, F_n, F_t, v_t, p and dh/dt.
+pub(super) fn record_columns(mechanism: &Mechanism) -> usize {
+    2 + 6 * mechanism.bodies().len() + 9 * mechanism.clearance_joints.len()
+}
+
+impl Scene {
+    /// Reads, validates and converts a scene file.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scene> {
+        SceneFile::read(path)?.build()
+    }
+
+    /// The driver's period (s).
+    pub fn period(&self) -> f64 {
+        std::f64::consts::TAU / self.mechanism.driver.omega.abs()
+    }
+
+    /// Checks that the run can finish within `run.max_steps` at all: its largest step (the
+    /// fixed step of `rk4`) needs at least `rotations` × period / step steps. A smaller step
+    /// would crawl into the step limit (1e-300 s took 78 s to fail); it fails here at once.
+    pub fn check_step_budget(&self) -> Result<()> {
+        let run = &self.run;
+        let (field, step) = match run.method {
+            Method::Rk4 { step } => ("run.fixed_step_s", step),
+            _ => ("run.max_step_s", run.tolerances.max_step),
+        };
+        let period = self.period();
+        let needed = run.rotations as f64 * period / step;
+        if needed <= run.max_steps as f64 {
+            return Ok(());
+        }
+        Err(Error::invalid(
+            field,
+            format!("{step:e} s"),
+            format!(
+                "a step with which {} rotations of {period:.4e} s can finish within \
+                 run.max_steps = {}: they need at least {needed:.3e} steps of it; likely cause: \
+                 a step in the wrong unit (seconds), or raise run.max_steps",
+                run.rotations, run.max_steps
+            ),
+        ))
+    }
+
+    /// Checks that the time series (`run.record_rotations` of the driver period sampled every
+    /// `run.record_interval_s`) and the wear history fit in [`RECORD_BUDGET_BYTES`], naming the
+    /// setting that dominates the estimate if not.
+    pub fn check_record_budget(&self) -> Result<()> {
+        let (run, m) = (&self.run, &self.mechanism);
+        let period = self.period();
+        let rows = (run.record_rotations as f64 * period / run.record_interval).floor() + 1.0;
+        let columns = record_columns(m);
+        let series = rows * columns as f64 * 8.0;
+        let points = run.rotations as f64 * run.profile_history_per_rotation as f64;
+        let sectors: usize = m
+            .clearance_joints
+            .iter()
+            .map(|c| c.initial_profile.depths().len())
+            .sum();
+        let history = points * sectors as f64 * 8.0;
+        if series + history <= RECORD_BUDGET_BYTES {
+            return Ok(());
+        }
+        let budget = format!("the record budget of {:.0} GiB", RECORD_BUDGET_BYTES / GIB);
+        Err(if series >= history {
+            Error::invalid(
+                "run.record_interval_s",
+                format!("{:e} s", run.record_interval),
+                format!(
+                    "an interval whose recording fits in {budget}: {} recorded rotations of \
+                     {period:.4e} s every {:e} s are {rows:.3e} rows x {columns} columns = \
+                     {:.3e} GiB; likely cause: an interval in the wrong unit (seconds) or too \
+                     many recorded rotations (run.record_rotations)",
+                    run.record_rotations,
+                    run.record_interval,
+                    series / GIB
+                ),
+            )
+        } else {
+            Error::invalid(
+                "run.profile_history_per_rotation",
+                run.profile_history_per_rotation,
+                format!(
+                    "a wear history that fits in {budget}: {points:.3e} profiles x {sectors} \
+                     sectors = {:.3e} GiB; likely cause: a history of every rotation of a long \
+                     run (save fewer per rotation, or use run.wear_snapshots)",
+                    history / GIB
+                ),
+            )
+        })
+    }
+}
+
+pub(super) fn validate_friction(field: &str, friction: &FrictionModel) -> Result<()> {
+    match *friction {
+        FrictionModel::None => {}
+        FrictionModel::Coulomb { mu } => {
+            check(&format!("{field}.mu"), mu, 0.0, 2.0)?;
+        }
+        FrictionModel::Modified {
+            mu_s,
+            mu_d,
+            v_s,
+            v_d,
+        } => {
+            check(&format!("{field}.mu_s"), mu_s, 0.0, 2.0)?;
+            check(&format!("{field}.mu_d"), mu_d, 0.0, 2.0)?;
+            check_open(&format!("{field}.v_s"), v_s, 0.0, 100.0)?;
+            if !(v_d.is_finite() && v_d > v_s && v_d <= 100.0) {
+                return Err(Error::invalid(
+                    format!("{field}.v_d"),
+                    v_d,
+                    format!("a finite number in ({v_s:e}, 1e2] (above v_s)"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}

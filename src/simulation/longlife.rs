@@ -1,0 +1,276 @@
+//! Long-life wear by cycle-jump extrapolation, and runs continued in chunks.
+//!
+//! Real Archard coefficients (k/H ~ 1e-15 1/Pa) need millions of rotations before the wear
+//! changes the joint's dynamics; simulating each one is out of reach. Wear changes the
+//! dynamics only slowly, so one rotation stands for many:
+//!
+//! 1. run `settle_rotations` rotations (with wear, without recording) to reach the periodic
+//!    or statistically steady motion;
+//! 2. simulate `sample_rotations` rotations and take their mean wear increment per sector;
+//! 3. extrapolate it over a block of `B` further rotations, `h += B · Δh`, with `B` as large as
+//!    allowed by `max_change`: no sector of any joint may deepen by more than
+//!    `max_change · (c + max h)` (the joint's current effective clearance) per block, so the
+//!    contact geometry the increment was measured on stays representative;
+//! 4. repeat from 2, continuing the dynamics from the last simulated state, until the target
+//!    rotation count or until the deepest wear of a joint reaches its limit (`until`; by
+//!    default the joint's radial clearance, so the answer is "rotations until the clearance
+//!    doubles"). Blocks also stop at the requested snapshot counts, and never carry a sector
+//!    past the limit: the sample rotations after a block find the rotation that reaches it, to
+//!    within `sample_rotations`.
+//!
+//! Against brute-force simulation (`tests/longlife.rs`: 100 rotations of the standard scene
+//! with k/H accelerated to 5e-12 1/Pa, about 10 µm of wear on the 20 µm clearance, 2 % blocks)
+//! the predicted profile's peak depth is within 3.4 % and the L2 norm of the profile difference
+//! within 3.3 % of the simulated profile's (asserted: 5 %, 10 %). Once wear outgrows the
+//! clearance the motion turns to ever stronger impacts and one rotation no longer represents a
+//! block: at k/H = 1e-11 (36 µm in 100 rotations) the prediction is 57 % too deep. Predictions
+//! are meant for wear small against the clearance, the regime of a joint still in service.
+//!
+//! The dynamics run on without a restart through the settling and sample rotations; only a
+//! block jump, which changes the gap discontinuously, restarts the integrator. So the settling
+//! rotations are bit-identical to a plain run of that many rotations.
+
+use crate::simulation::Scene;
+use crate::simulation::{wear_limit, RunSettings, Simulation, MAX_WEAR_RATIO};
+use crate::{Error, Result};
+
+/// Settings of a long-life prediction.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LongLifeSettings {
+    /// Rotations to predict, ≥ 1.
+    pub rotations: u64,
+    /// Rotations simulated first to reach steady motion (their wear counts).
+    pub settle_rotations: u32,
+    /// Rotations simulated per block to measure the wear increment, ≥ 1.
+    pub sample_rotations: u32,
+    /// Largest depth change of a block, as a fraction of the effective clearance, (0, 1].
+    pub max_change: f64,
+    /// Rotation counts at which the profiles are saved (the final count is always saved).
+    pub snapshots: Vec<u64>,
+    /// Wear depth (m) at which the prediction stops, for every joint; `None`: each joint's own
+    /// radial clearance (the clearance doubled). At most [`MAX_WEAR_RATIO`] of the bearing
+    /// radius.
+    pub until: Option<f64>,
+}
+
+impl Default for LongLifeSettings {
+    fn default() -> Self {
+        LongLifeSettings {
+            rotations: 1_000_000,
+            settle_rotations: 3,
+            sample_rotations: 1,
+            max_change: 0.02,
+            snapshots: Vec::new(),
+            until: None,
+        }
+    }
+}
+
+/// Wear profiles after a number of rotations.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stage {
+    /// Rotations completed.
+    pub rotations: u64,
+    /// Depth per joint per sector (m).
+    pub depths: Vec<Vec<f64>>,
+}
+
+impl Stage {
+    /// Deepest wear of joint `k` (m).
+    pub fn max_depth(&self, k: usize) -> f64 {
+        self.depths[k].iter().cloned().fold(0.0, f64::max)
+    }
+}
+
+/// Result of [`predict`].
+#[derive(Clone, Debug)]
+pub struct LongLife {
+    /// Profiles after every block, from the unworn bearing to the target count.
+    pub history: Vec<Stage>,
+    /// Profiles at the requested snapshot counts and the target count.
+    pub snapshots: Vec<Stage>,
+    /// Rotations actually simulated.
+    pub simulated: u64,
+    /// Radial clearance of each joint (m).
+    pub clearances: Vec<f64>,
+    /// The wear-depth limit of each joint (m).
+    pub limits: Vec<f64>,
+    /// `(rotations, joint)` at which a joint's deepest wear first reached its limit; the
+    /// prediction stops there. `None`: not within the rotations asked for.
+    pub reached: Option<(u64, usize)>,
+    /// Wall-clock time (s).
+    pub wall_time: f64,
+}
+
+/// Predicts the wear after `settings.rotations` rotations by cycle-jump extrapolation (see
+/// the module documentation); `progress(done, total)` is called after each block.
+pub fn predict(
+    scene: &Scene,
+    settings: &LongLifeSettings,
+    mut progress: impl FnMut(u64, u64),
+) -> Result<LongLife> {
+    let clock = std::time::Instant::now();
+    let target = settings.rotations;
+    if !(1..=1_000_000_000_000).contains(&target) {
+        return Err(Error::invalid(
+            "rotations",
+            target,
+            "an integer in [1, 1e12]",
+        ));
+    }
+    if !(settings.max_change > 0.0 && settings.max_change <= 1.0) {
+        return Err(Error::invalid(
+            "max_change",
+            settings.max_change,
+            "a fraction in (0, 1]",
+        ));
+    }
+    if settings.sample_rotations == 0 {
+        return Err(Error::invalid("sample_rotations", 0, "at least 1"));
+    }
+    let mechanism = scene.mechanism.clone();
+    let y0 = mechanism.assemble(&scene.guess)?;
+    let clearances: Vec<f64> = mechanism
+        .clearance_joints
+        .iter()
+        .map(|cj| cj.clearance())
+        .collect();
+    // The caller decides when to stop, so the run's own length is only a bound.
+    let plain = RunSettings {
+        rotations: u32::MAX,
+        record_rotations: 0,
+        wear_snapshots: Vec::new(),
+        settle: None,
+        profile_history_per_rotation: 0,
+        ..scene.run.clone()
+    };
+    let limits: Vec<f64> = match settings.until {
+        None => clearances.clone(),
+        Some(d) => vec![d; clearances.len()],
+    };
+    for (cj, &l) in mechanism.clearance_joints.iter().zip(&limits) {
+        let most = wear_limit(cj);
+        if !(l > 0.0 && l <= most) {
+            return Err(Error::invalid(
+                "--until",
+                format!("{l:e} m for joint `{}`", cj.name),
+                format!(
+                    "a wear depth in (0, {most:e}] m: the wear model holds to {:.0} % of the \
+                     bearing radius (the default, the radial clearance, needs c > 0)",
+                    100.0 * MAX_WEAR_RATIO
+                ),
+            ));
+        }
+    }
+    let mut sim = Simulation::new(mechanism, plain, &y0)?;
+    let stage = |sim: &Simulation, rotations| Stage {
+        rotations,
+        depths: depths(sim),
+    };
+    let mut history = vec![stage(&sim, 0)];
+    let mut snapshots = Vec::new();
+    let mut wanted: Vec<u64> = settings
+        .snapshots
+        .iter()
+        .copied()
+        .filter(|&s| s > 0 && s < target)
+        .chain([target])
+        .collect();
+    wanted.sort_unstable();
+    wanted.dedup();
+    let mut next_snapshot = wanted.iter().peekable();
+    let mut done = 0u64;
+    // Simulates whole rotations, continuing the dynamics; returns the wear they added.
+    let simulate = |sim: &mut Simulation, rotations: u32| -> Result<Vec<Vec<f64>>> {
+        let before = depths(sim);
+        for _ in 0..rotations {
+            sim.advance_rotation()?;
+        }
+        Ok(depths(sim)
+            .iter()
+            .zip(before)
+            .map(|(after, before)| after.iter().zip(before).map(|(a, b)| a - b).collect())
+            .collect())
+    };
+    // The first joint whose deepest wear reached its limit.
+    let at_limit = |sim: &Simulation| {
+        depths(sim)
+            .iter()
+            .zip(&limits)
+            .position(|(d, l)| d.iter().any(|h| h >= l))
+    };
+    let mut reached = None;
+    let settle = (settings.settle_rotations as u64).min(target) as u32;
+    if settle > 0 {
+        simulate(&mut sim, settle)?;
+        done += settle as u64;
+        reached = at_limit(&sim).map(|k| (done, k));
+        if reached.is_some() {
+            history.push(stage(&sim, done));
+        }
+    }
+    while done < target && reached.is_none() {
+        let sample = (settings.sample_rotations as u64).min(target - done) as u32;
+        let increments = simulate(&mut sim, sample)?;
+        done += sample as u64;
+        if let Some(k) = at_limit(&sim) {
+            reached = Some((done, k));
+            history.push(stage(&sim, done));
+            break;
+        }
+        let stop = next_snapshot.peek().map_or(target, |&&s| s.max(done));
+        let block = (sim.state().joints.iter())
+            .zip(&increments)
+            .zip(clearances.iter().zip(&limits))
+            .filter_map(|((joint, inc), (c, limit))| {
+                let depth = joint.wear.depths();
+                let per_rotation = inc.iter().cloned().fold(0.0, f64::max) / sample as f64;
+                let deepest = depth.iter().cloned().fold(0.0, f64::max);
+                // no sector may pass the limit within the block: the sample rotations that
+                // follow find the rotation at which one reaches it
+                let to_limit = depth
+                    .iter()
+                    .zip(inc)
+                    .filter(|(_, i)| **i > 0.0)
+                    .map(|(h, i)| ((limit - h) * sample as f64 / i).floor() as u64)
+                    .min()
+                    .unwrap_or(u64::MAX);
+                (per_rotation > 0.0).then(|| {
+                    ((settings.max_change * (c + deepest) / per_rotation).floor() as u64)
+                        .min(to_limit)
+                })
+            })
+            .min()
+            .unwrap_or(u64::MAX)
+            .min(stop - done);
+        if block > 0 {
+            sim.add_wear(&increments, block as f64 / sample as f64)?;
+        }
+        done += block;
+        history.push(stage(&sim, done));
+        while next_snapshot.peek().is_some_and(|&&s| s <= done) {
+            next_snapshot.next();
+            snapshots.push(stage(&sim, done));
+        }
+        progress(done, target);
+    }
+    if snapshots.last().is_none_or(|s| s.rotations != done) {
+        snapshots.push(stage(&sim, done));
+    }
+    Ok(LongLife {
+        history,
+        snapshots,
+        limits,
+        reached,
+        simulated: sim.rotations_done() as u64,
+        clearances,
+        wall_time: clock.elapsed().as_secs_f64(),
+    })
+}
+
+/// Wear depth of every joint's sectors (m).
+fn depths(sim: &Simulation) -> Vec<Vec<f64>> {
+    (sim.state().joints.iter())
+        .map(|j| j.wear.depths().to_vec())
+        .collect()
+}

@@ -1,0 +1,241 @@
+//! The coupled method of section 5: dynamics, contact, friction and wear advanced together.
+//!
+//! One run integrates eq. 10 with the adaptive integrator and, after every accepted step:
+//! 1. locates the onset of each new contact (the zero of the gap δ(t) on the step's dense
+//!    output), captures the normal velocity δ̇⁻ there for eq. 3, truncates the step at the
+//!    onset and restarts the integrator from it;
+//! 2. adds the step's Archard wear (eq. 9) to the bearing profile, evaluated at the step
+//!    midpoint: `Δs = |v_t| Δt`, pressure from the joint's pressure model; the worn profile
+//!    enters the gap of every later step (the paper's "coupled iterative" update);
+//! 3. samples the recorded rotations on a uniform time grid from the dense output.
+//!
+//! Only what the scene asks for is computed: wear only for joints with a wear model,
+//! samples only in the recorded rotations, energy quadratures only when requested.
+//!
+//! A run's answer does not depend on how it is driven: progress reports, recording, wear
+//! snapshots, wear history and settling only read the dense output, and the integrator runs
+//! through rotation ends without a restart ([`Simulation`]). Impact dynamics are chaotic, so
+//! anything that changes the step sequence (a restart, a tolerance, an initial offset of a
+//! nanometre) moves a single trajectory by as much as the ensemble spread of
+//! [`crate::simulation::ensemble`]; results are statistics over such ensembles.
+
+pub mod checkpoint;
+pub mod ensemble;
+pub mod longlife;
+mod record;
+mod run;
+
+pub use checkpoint::Checkpoint;
+pub use run::Simulation;
+
+use crate::mechanism::{ClearanceJoint, Mechanism};
+use crate::ode::{Method, Stats, Tolerances};
+use crate::Result;
+use serde::{Deserialize, Serialize};
+
+/// A validated scene in SI units, ready to simulate: what a run is made of. Scene files
+/// are read, checked and converted to it by [`crate::scene`].
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The scene's title, for figures and reports.
+    pub title: String,
+    /// The mechanism (immutable description).
+    pub mechanism: Mechanism,
+    /// Initial guess of the coordinates, `(x, y, φ)` per body (m, rad).
+    pub guess: Vec<f64>,
+    /// How to run it.
+    pub run: RunSettings,
+}
+
+/// Run settings of a scene (SI).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunSettings {
+    /// Driver rotations to simulate.
+    pub rotations: u32,
+    /// Number of final rotations recorded as time series.
+    pub record_rotations: u32,
+    /// Recording grid spacing (s).
+    pub record_interval: f64,
+    /// Rotation counts after which the wear profile is saved (sorted, unique).
+    pub wear_snapshots: Vec<u32>,
+    /// Integration method.
+    pub method: Method,
+    /// Error tolerances and step bounds.
+    pub tolerances: Tolerances,
+    /// Baumgarte α = β (1/s).
+    pub baumgarte: f64,
+    /// Integrate driver, normal-contact and friction work for the energy balance.
+    pub energy_accounting: bool,
+    /// Settle to a steady state first; then `rotations` more are simulated.
+    pub settle: Option<SteadyState>,
+    /// Wear profiles saved per rotation (0: none), for the wear history of figure 7.
+    pub profile_history_per_rotation: u32,
+    /// Accepted steps after which the run fails instead of going on (a guard against runs
+    /// that crawl, e.g. a stiff contact resolved by ever smaller steps).
+    pub max_steps: u64,
+}
+
+/// Steady-state criterion: the journal orbit of each clearance joint, sampled at
+/// [`ORBIT_PHASES`] driver phases per rotation, changes from one rotation to the next by an RMS
+/// of at most `tolerance` times the radial clearance.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SteadyState {
+    /// Largest RMS orbit change between rotations, as a fraction of the clearance.
+    pub tolerance: f64,
+    /// Give up settling after this many rotations (chaotic impact motion never repeats).
+    pub max_rotations: u32,
+}
+
+/// Deepest wear, as a fraction of the bearing radius, that the wear model describes: the gap
+/// takes the worn bearing as a circle whose radius grows by h(θ) along its own normal, with the
+/// contact normal along the journal's eccentricity; past a tenth of the radius the worn bore is
+/// no longer a slightly perturbed circle and that geometry, like the constant Archard
+/// coefficient of mild wear, no longer holds. A run stops there (checked after every step).
+pub const MAX_WEAR_RATIO: f64 = 0.1;
+
+/// The deepest wear (m) the wear model describes in joint `cj` ([`MAX_WEAR_RATIO`]).
+pub fn wear_limit(cj: &ClearanceJoint) -> f64 {
+    MAX_WEAR_RATIO * cj.r_bearing
+}
+
+/// Orbit samples per rotation for the steady-state test.
+pub const ORBIT_PHASES: usize = 360;
+
+/// How a run settled before recording.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Settling {
+    /// Rotations simulated before the recorded ones.
+    pub rotations: u32,
+    /// RMS orbit change of the last settling rotation over the clearance.
+    pub orbit_change: f64,
+    /// Whether the criterion was met (false: `max_rotations` was reached).
+    pub steady: bool,
+}
+
+/// Time series of one clearance joint on the recording grid.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct JointTrace {
+    /// Journal centre relative to the bearing centre (m).
+    pub ex: Vec<f64>,
+    /// See `ex`.
+    pub ey: Vec<f64>,
+    /// Contact angle in the bearing frame (rad).
+    pub theta: Vec<f64>,
+    /// Penetration (m), negative in free flight.
+    pub delta: Vec<f64>,
+    /// Normal force (N).
+    pub normal_force: Vec<f64>,
+    /// Friction force on the journal along the tangent (N).
+    pub friction_force: Vec<f64>,
+    /// Relative sliding velocity (m/s).
+    pub sliding_velocity: Vec<f64>,
+    /// Peak contact pressure (Pa), zero out of contact or without a wear model.
+    pub pressure: Vec<f64>,
+    /// Wear rate dh/dt at the contact centre (m/s): k/H · P · |v_t|.
+    pub wear_rate: Vec<f64>,
+}
+
+/// Time series on the recording grid.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Recording {
+    /// Time (s).
+    pub time: Vec<f64>,
+    /// Driver angle (rad).
+    pub driver_angle: Vec<f64>,
+    /// Positions `(x, y, φ)` of every body (m, rad), indexed `[body][component]`.
+    pub positions: Vec<[Vec<f64>; 3]>,
+    /// Accelerations `(ẍ, ÿ, φ̈)` of every body (m/s², rad/s²), indexed `[body][component]`.
+    pub accelerations: Vec<[Vec<f64>; 3]>,
+    /// Per clearance joint.
+    pub joints: Vec<JointTrace>,
+}
+
+/// Wear depth of every sector of every joint after a number of rotations (m).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WearSnapshot {
+    /// Rotations completed.
+    pub rotation: u32,
+    /// Depth per joint per sector (m).
+    pub depths: Vec<Vec<f64>>,
+}
+
+/// Energy account of a run with `energy_accounting` (J).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EnergyAccount {
+    /// Work done by the driver.
+    pub driver_work: f64,
+    /// Work of the normal contact forces on the system (elastic + damping).
+    pub normal_work: f64,
+    /// Work of the friction forces (≤ 0).
+    pub friction_work: f64,
+    /// Change of kinetic + gravitational + contact elastic energy.
+    pub mechanical_change: f64,
+    /// Change of the contact elastic energy alone.
+    pub elastic_change: f64,
+}
+
+impl EnergyAccount {
+    /// Energy dissipated by contact damping: −(normal work) − elastic energy change.
+    pub fn damping_loss(&self) -> f64 {
+        -self.normal_work - self.elastic_change
+    }
+
+    /// driver work − (mechanical change + damping + friction losses), relative to driver work
+    /// (or to the mechanical change when the driver does no net work).
+    pub fn residual(&self) -> f64 {
+        let losses = self.damping_loss() - self.friction_work;
+        let r = self.driver_work - (self.mechanical_change + losses);
+        r / self
+            .driver_work
+            .abs()
+            .max(self.mechanical_change.abs())
+            .max(f64::MIN_POSITIVE)
+    }
+}
+
+/// Everything a run produces.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RunOutput {
+    /// Time series of the recorded rotations.
+    pub recording: Recording,
+    /// Profiles at the scene's snapshot rotations.
+    pub wear_snapshots: Vec<WearSnapshot>,
+    /// `(time, depths per joint)` at `profile_history_per_rotation` points per rotation (each at
+    /// the end of the first step that reaches it).
+    pub profile_history: Vec<(f64, Vec<Vec<f64>>)>,
+    /// Final wear depth per joint per sector (m).
+    pub final_wear: Vec<Vec<f64>>,
+    /// State at the end.
+    pub final_state: Vec<f64>,
+    /// Integrator work counters of the whole run.
+    pub stats: Stats,
+    /// Largest penetration of each joint at the accepted step ends (m).
+    pub max_penetration: Vec<f64>,
+    /// Contact onsets of each joint.
+    pub impacts: Vec<u64>,
+    /// Energy balance, with `energy_accounting`.
+    pub energy: Option<EnergyAccount>,
+    /// Settling phase, for runs with [`RunSettings::settle`].
+    pub settling: Option<Settling>,
+    /// Driver rotation period (s).
+    pub period: f64,
+    /// Wall-clock time of the run (s).
+    pub wall_time: f64,
+}
+
+/// Simulates a scene.
+pub fn simulate(scene: &Scene) -> Result<RunOutput> {
+    simulate_with_progress(scene, |_, _| {})
+}
+
+/// Simulates a scene, calling `progress(done, total)` after every driver rotation (`total` is
+/// `None` while the run settles to its steady state). Observing a run never changes it: the
+/// result is bit-identical to [`simulate`]'s.
+pub fn simulate_with_progress(
+    scene: &Scene,
+    progress: impl FnMut(u32, Option<u32>),
+) -> Result<RunOutput> {
+    let mut sim = Simulation::start(scene)?;
+    sim.run_to_end(progress)?;
+    Ok(sim.finish())
+}

@@ -1,0 +1,503 @@
+//! A coupled run in progress ([`Simulation`]): after every accepted step it locates contact
+//! onsets (eq. 3's onset velocity), adds the step's Archard wear (eq. 9) and feeds the recorder.
+
+use super::checkpoint::Checkpoint;
+use super::record::{Sampler, Settler};
+use super::*;
+use crate::mechanism::{Mechanism, RunState, Workspace};
+use crate::ode::{Event, Integrator, OdeSystem};
+use crate::{Error, Result};
+use std::f64::consts::TAU;
+
+/// The mechanism seen as an ODE, at the run's wear profiles and onset velocities.
+struct Dynamics<'a> {
+    mechanism: &'a Mechanism,
+    state: &'a RunState,
+    ws: &'a mut Workspace,
+}
+
+impl OdeSystem for Dynamics<'_> {
+    fn dim(&self) -> usize {
+        self.mechanism.state_len()
+    }
+
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
+        self.mechanism.rhs(self.state, self.ws, t, y, dy)
+    }
+}
+
+/// A coupled run in progress: the integrator, the contact bookkeeping and the outputs so far.
+///
+/// A run is advanced one driver rotation at a time ([`Simulation::advance_rotation`]); the
+/// integrator is never restarted between rotations, so however a caller drives the run (in one
+/// go, rotation by rotation with progress reports, or with long-life wear jumps in between,
+/// which do restart it) the step sequence is the same for the same calls.
+pub struct Simulation {
+    mechanism: Mechanism,
+    state: RunState,
+    ws: Workspace,
+    settings: RunSettings,
+    integrator: Integrator,
+    period: f64,
+    /// The length of the run, known up front unless it first settles to a steady state.
+    end_rotation: Option<u32>,
+    settler: Option<Settler>,
+    sampler: Option<Sampler>,
+    history_interval: f64,
+    next_history: f64,
+    energy_start: Option<(f64, f64)>,
+    /// Penetration of each joint at the end of the last accepted step.
+    gaps: Vec<f64>,
+    y_event: Vec<f64>,
+    y_mid: Vec<f64>,
+    wears: bool,
+    rotation: u32,
+    out: RunOutput,
+    clock: std::time::Instant,
+}
+
+impl Simulation {
+    /// Starts a run of `mechanism` from coordinates and velocities `y0` with the joints'
+    /// initial wear profiles and no contact.
+    pub fn new(mechanism: Mechanism, settings: RunSettings, y0: &[f64]) -> Result<Simulation> {
+        let state = mechanism.initial_state();
+        Simulation::with_state(mechanism, state, settings, y0)
+    }
+
+    /// Starts a run from `y0` and the run state `state`.
+    fn with_state(
+        mechanism: Mechanism,
+        state: RunState,
+        settings: RunSettings,
+        y0: &[f64],
+    ) -> Result<Simulation> {
+        let clock = std::time::Instant::now();
+        let n = mechanism.coordinates();
+        let joints = mechanism.clearance_joints.len();
+        let period = TAU / mechanism.driver.omega.abs();
+        let dim = mechanism.state_len();
+        let mut integrator = Integrator::new(settings.method, dim, 2 * n, settings.tolerances);
+        let settler = settings.settle.map(|s| Settler::new(&mechanism, s, period));
+        let end_rotation = settler.is_none().then_some(settings.rotations);
+        // Wear history points do not cut steps (that would change the run they describe): a
+        // point is taken at the end of the first step that reaches it.
+        let history_interval = period / settings.profile_history_per_rotation.max(1) as f64;
+        let next_history = if settings.profile_history_per_rotation > 0 {
+            history_interval
+        } else {
+            f64::INFINITY
+        };
+        let energy_start = settings
+            .energy_accounting
+            .then(|| mechanical_energy(&mechanism, &state, y0));
+        let gaps = (0..joints)
+            .map(|k| gap(&mechanism, &state, k, y0))
+            .collect();
+        let wears = mechanism.clearance_joints.iter().any(|c| c.wear.is_some());
+        let mut ws = mechanism.workspace();
+        let mut sys = Dynamics {
+            mechanism: &mechanism,
+            state: &state,
+            ws: &mut ws,
+        };
+        integrator.reset(&mut sys, 0.0, y0)?;
+        let mut sim = Simulation {
+            mechanism,
+            state,
+            ws,
+            integrator,
+            period,
+            end_rotation,
+            settler,
+            sampler: None,
+            history_interval,
+            next_history,
+            energy_start,
+            gaps,
+            y_event: vec![0.0; dim],
+            y_mid: vec![0.0; dim],
+            wears,
+            rotation: 0,
+            out: RunOutput {
+                recording: Recording::default(),
+                wear_snapshots: Vec::new(),
+                profile_history: Vec::new(),
+                final_wear: Vec::new(),
+                final_state: Vec::new(),
+                stats: Stats::default(),
+                max_penetration: vec![f64::NEG_INFINITY; joints],
+                impacts: vec![0; joints],
+                energy: None,
+                settling: None,
+                period,
+                wall_time: 0.0,
+            },
+            clock,
+            settings,
+        };
+        sim.sampler = end_rotation.map(|end| sim.recording_window(end));
+        Ok(sim)
+    }
+
+    /// The recorder of the `record_rotations` rotations that end at rotation `end`.
+    fn recording_window(&self, end: u32) -> Sampler {
+        let start = end.saturating_sub(self.settings.record_rotations) as f64 * self.period;
+        Sampler::new(
+            self.mechanism.state_len(),
+            start,
+            self.settings.record_interval,
+            end as f64 * self.period,
+        )
+    }
+
+    /// Starts a run of `scene` from its assembled configuration.
+    pub fn start(scene: &Scene) -> Result<Simulation> {
+        let y0 = scene.mechanism.assemble(&scene.guess)?;
+        Simulation::new(scene.mechanism.clone(), scene.run.clone(), &y0)
+    }
+
+    /// The state to [`Simulation::resume`] this run from, taken between rotations.
+    pub fn checkpoint(&self) -> Checkpoint {
+        let joints = &self.state.joints;
+        let mut out = self.out.clone();
+        out.wall_time += self.clock.elapsed().as_secs_f64();
+        Checkpoint {
+            rotation: self.rotation,
+            end_rotation: self.end_rotation,
+            integrator: self.integrator.state(),
+            gaps: self.gaps.clone(),
+            profiles: joints.iter().map(|j| j.wear.depths().to_vec()).collect(),
+            impact_velocities: joints.iter().map(|j| j.onset_velocity).collect(),
+            settler: self.settler.clone(),
+            sampler: self.sampler.clone(),
+            next_history: self.next_history.is_finite().then_some(self.next_history),
+            energy_start: self.energy_start,
+            out,
+        }
+    }
+
+    /// Continues the run of `scene` saved in `checkpoint`: the same steps, bit for bit, as
+    /// the run that wrote it. Fails if the checkpoint does not fit the scene's mechanism.
+    pub fn resume(scene: &Scene, checkpoint: Checkpoint) -> Result<Simulation> {
+        let c = checkpoint;
+        let mechanism = scene.mechanism.clone();
+        let mut state = mechanism.initial_state();
+        let misfit = |what: &str| {
+            Error::invalid(
+                "checkpoint",
+                format!("its {what} do not fit the scene"),
+                "a checkpoint written by a run of this scene",
+            )
+        };
+        let joints = mechanism.clearance_joints.len();
+        if c.profiles.len() != joints
+            || c.impact_velocities.len() != joints
+            || c.gaps.len() != joints
+        {
+            return Err(misfit("clearance joints"));
+        }
+        for ((joint, depths), v) in (state.joints.iter_mut())
+            .zip(&c.profiles)
+            .zip(&c.impact_velocities)
+        {
+            if !joint.wear.set_depths(depths) {
+                return Err(misfit("wear profiles"));
+            }
+            joint.onset_velocity = *v;
+        }
+        let y: Vec<f64> = c.integrator.y().to_vec();
+        if y.len() != mechanism.state_len() {
+            return Err(misfit("states"));
+        }
+        let mut sim = Simulation::with_state(mechanism, state, scene.run.clone(), &y)?;
+        sim.integrator
+            .restore(c.integrator)
+            .map_err(|_| misfit("integrator buffers"))?;
+        sim.rotation = c.rotation;
+        sim.end_rotation = c.end_rotation;
+        sim.gaps = c.gaps;
+        sim.settler = c.settler;
+        sim.sampler = c.sampler;
+        sim.next_history = c.next_history.unwrap_or(f64::INFINITY);
+        sim.energy_start = c.energy_start;
+        sim.out = c.out;
+        Ok(sim)
+    }
+
+    /// Driver rotations completed.
+    pub fn rotations_done(&self) -> u32 {
+        self.rotation
+    }
+
+    /// Rotations of the whole run; `None` while it settles to its steady state.
+    pub fn total_rotations(&self) -> Option<u32> {
+        self.end_rotation
+    }
+
+    /// Whether the run has simulated all its rotations.
+    pub fn is_finished(&self) -> bool {
+        self.end_rotation.is_some_and(|end| self.rotation >= end)
+    }
+
+    /// The mechanism being run.
+    pub fn mechanism(&self) -> &Mechanism {
+        &self.mechanism
+    }
+
+    /// The run's current wear profiles and onset velocities.
+    pub fn state(&self) -> &RunState {
+        &self.state
+    }
+
+    /// Runs the remaining rotations, calling `progress(done, total)` after each.
+    pub fn run_to_end(&mut self, mut progress: impl FnMut(u32, Option<u32>)) -> Result<()> {
+        while !self.is_finished() {
+            self.advance_rotation()?;
+            progress(self.rotation, self.end_rotation);
+        }
+        Ok(())
+    }
+
+    /// Deepens every joint's wear profile by `factor` times `increments` (per joint, per
+    /// sector), as a long-life block jump does, and restarts the integrator at the current
+    /// state: the gap, and so the right-hand side, changed discontinuously.
+    pub fn add_wear(&mut self, increments: &[Vec<f64>], factor: f64) -> Result<()> {
+        for (joint, inc) in self.state.joints.iter_mut().zip(increments) {
+            joint.wear.add_depths(inc, factor);
+        }
+        self.check_wear_depth()?;
+        let (t, y) = (self.integrator.t(), self.integrator.y().to_vec());
+        for (k, g) in self.gaps.iter_mut().enumerate() {
+            *g = gap(&self.mechanism, &self.state, k, &y);
+        }
+        self.restart(t, &y)
+    }
+
+    /// Restarts the integrator at (t, y) after a discontinuity of the right-hand side.
+    fn restart(&mut self, t: f64, y: &[f64]) -> Result<()> {
+        let mut sys = Dynamics {
+            mechanism: &self.mechanism,
+            state: &self.state,
+            ws: &mut self.ws,
+        };
+        self.integrator.reset(&mut sys, t, y)
+    }
+
+    /// Integrates one driver rotation: accepted steps up to the rotation's end, each followed
+    /// by contact-onset location, wear and recording (see the module documentation).
+    pub fn advance_rotation(&mut self) -> Result<()> {
+        let boundary = (self.rotation + 1) as f64 * self.period;
+        loop {
+            self.accepted_step(boundary)?;
+            if self.integrator.t() >= boundary {
+                break;
+            }
+        }
+        self.rotation += 1;
+        if self
+            .settings
+            .wear_snapshots
+            .binary_search(&self.rotation)
+            .is_ok()
+        {
+            self.out.wear_snapshots.push(WearSnapshot {
+                rotation: self.rotation,
+                depths: wear_depths(&self.state),
+            });
+        }
+        if self.end_rotation.is_none() {
+            if let Some(settled) = self
+                .settler
+                .as_mut()
+                .and_then(|s| s.end_rotation(self.rotation))
+            {
+                self.out.settling = Some(settled);
+                let end = self.rotation + self.settings.rotations;
+                self.end_rotation = Some(end);
+                self.sampler = Some(self.recording_window(end));
+                self.settler = None;
+            }
+        }
+        Ok(())
+    }
+
+    /// Stops a run whose wear left the model's validity ([`MAX_WEAR_RATIO`]).
+    fn check_wear_depth(&self) -> Result<()> {
+        for (k, joint) in self.state.joints.iter().enumerate() {
+            let deepest = joint.wear.depths().iter().cloned().fold(0.0, f64::max);
+            if deepest > wear_limit(&self.mechanism.clearance_joints[k]) {
+                return Err(self.wear_limit_error(k, deepest));
+            }
+        }
+        Ok(())
+    }
+
+    /// The error of joint `k`'s wear `deepest` (m) beyond its [`wear_limit`].
+    fn wear_limit_error(&self, k: usize, deepest: f64) -> Error {
+        let cj = &self.mechanism.clearance_joints[k];
+        Error::Integration {
+            time: self.integrator.t(),
+            cause: format!(
+                "wear of clearance joint `{}` is {deepest:.3e} m deep in driver rotation {}, \
+                 beyond the wear model's limit of {:.0} % of its bearing radius ({:.3e} m): \
+                 k/H far too large (a unit error?) or a life far past the bearing's; \
+                 `jointwear longlife --until` stops at a stated depth",
+                cj.name,
+                self.rotation + 1,
+                100.0 * MAX_WEAR_RATIO,
+                wear_limit(cj)
+            ),
+        }
+    }
+
+    /// One accepted step towards `boundary`, cut at the earliest contact onset in it.
+    fn accepted_step(&mut self, boundary: f64) -> Result<()> {
+        let n = self.mechanism.coordinates();
+        let mut sys = Dynamics {
+            mechanism: &self.mechanism,
+            state: &self.state,
+            ws: &mut self.ws,
+        };
+        self.integrator.step(&mut sys, boundary)?;
+        let (ta, tb) = (self.integrator.t_prev(), self.integrator.t());
+        if self.integrator.stats().steps >= self.settings.max_steps {
+            return Err(Error::Integration {
+                time: tb,
+                cause: format!("step limit of {} steps reached", self.settings.max_steps),
+            });
+        }
+        let (mechanism, integrator, y_event) =
+            (&self.mechanism, &self.integrator, &mut self.y_event);
+        // 1. Contact onsets: the earliest gap sign change from free flight to contact.
+        let state = &self.state;
+        let onset =
+            integrator.earliest_event(&mut self.gaps, |k, y| gap(mechanism, state, k, y), y_event);
+        let t_stop = onset.map_or(tb, |e| e.t);
+        // 2. Wear at the interval midpoint, 3. samples, both over [ta, t_stop].
+        if self.wears {
+            integrator.dense(0.5 * (ta + t_stop), &mut self.y_mid);
+            let y_mid = &self.y_mid[..2 * n];
+            if let Some((k, deepest)) = add_wear(mechanism, &mut self.state, y_mid, t_stop - ta) {
+                return Err(self.wear_limit_error(k, deepest));
+            }
+        }
+        let state = &self.state;
+        if let Some(s) = self.sampler.as_mut() {
+            s.sample(
+                mechanism,
+                state,
+                &mut self.ws,
+                integrator,
+                ta,
+                t_stop,
+                &mut self.out.recording,
+                y_event,
+            )?;
+        }
+        if let Some(s) = self.settler.as_mut() {
+            s.sample(mechanism, state, integrator, ta, t_stop, y_event);
+        }
+        if let Some(Event { index: k, t }) = onset {
+            integrator.dense(t, y_event);
+            let cs = mechanism.contact_kinematics(state, k, &y_event[..n], &y_event[n..2 * n]);
+            self.state.joints[k].onset_velocity = cs.delta_dot;
+            self.out.impacts[k] += 1;
+            for (j, g) in self.gaps.iter_mut().enumerate() {
+                *g = if j == k {
+                    0.0
+                } else {
+                    gap(mechanism, &self.state, j, y_event)
+                };
+            }
+            self.integrator.record_event();
+            let y = std::mem::take(&mut self.y_event);
+            let restarted = self.restart(t, &y);
+            self.y_event = y;
+            restarted?;
+        }
+        for (m, g) in self.out.max_penetration.iter_mut().zip(&self.gaps) {
+            *m = m.max(*g);
+        }
+        if t_stop >= self.next_history * (1.0 - 1e-12) {
+            self.out
+                .profile_history
+                .push((t_stop, wear_depths(&self.state)));
+            self.next_history += self.history_interval;
+        }
+        Ok(())
+    }
+
+    /// The outputs of the run so far.
+    pub fn finish(mut self) -> RunOutput {
+        let n = self.mechanism.coordinates();
+        let y = self.integrator.y().to_vec();
+        if let Some(start) = self.energy_start {
+            let end = mechanical_energy(&self.mechanism, &self.state, &y);
+            self.out.energy = Some(EnergyAccount {
+                driver_work: y[2 * n],
+                normal_work: y[2 * n + 1],
+                friction_work: y[2 * n + 2],
+                mechanical_change: end.0 - start.0,
+                elastic_change: end.1 - start.1,
+            });
+        }
+        self.out.stats = self.integrator.stats();
+        self.out.final_wear = wear_depths(&self.state);
+        self.out.final_state = y;
+        self.out.wall_time += self.clock.elapsed().as_secs_f64();
+        self.out
+    }
+}
+
+/// Penetration of joint `k` at state `y`.
+fn gap(m: &Mechanism, state: &RunState, k: usize, y: &[f64]) -> f64 {
+    let n = m.coordinates();
+    m.contact_kinematics(state, k, &y[..n], &y[n..2 * n]).delta
+}
+
+fn wear_depths(state: &RunState) -> Vec<Vec<f64>> {
+    (state.joints.iter())
+        .map(|j| j.wear.depths().to_vec())
+        .collect()
+}
+
+/// (kinetic + gravitational + contact elastic energy, contact elastic energy) at state y.
+fn mechanical_energy(mechanism: &Mechanism, state: &RunState, y: &[f64]) -> (f64, f64) {
+    let n = mechanism.coordinates();
+    let (q, v) = (&y[..n], &y[n..2 * n]);
+    let elastic = mechanism.contact_energy(state, q, v);
+    (
+        mechanism.kinetic_energy(v) + mechanism.potential_energy(q) + elastic,
+        elastic,
+    )
+}
+
+/// Archard wear of an interval of length `dt` evaluated at state `y` (eq. 9).
+/// Returns the first joint whose wear this deepened beyond its [`wear_limit`], and that depth:
+/// the run stops there, before the contact geometry turns absurd.
+fn add_wear(
+    mechanism: &Mechanism,
+    state: &mut RunState,
+    y: &[f64],
+    dt: f64,
+) -> Option<(usize, f64)> {
+    let n = mechanism.coordinates();
+    let mut beyond = None;
+    for k in 0..mechanism.clearance_joints.len() {
+        let Some(law) = mechanism.clearance_joints[k].wear else {
+            continue;
+        };
+        let cs = mechanism.contact_state(state, k, &y[..n], &y[n..2 * n]);
+        if cs.f_n > 0.0 {
+            let p = law.pressure(cs.f_n, cs.delta, cs.local_clearance);
+            let deepest =
+                state.joints[k]
+                    .wear
+                    .add_wear(cs.theta, &p, law.k_over_h, cs.v_t.abs() * dt);
+            if deepest > wear_limit(&mechanism.clearance_joints[k]) {
+                beyond = beyond.or(Some((k, deepest)));
+            }
+        }
+    }
+    beyond
+}

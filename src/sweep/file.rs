@@ -1,0 +1,480 @@
+//! Sweep CSV files that lose no work.
+//!
+//! A sweep file is one line naming the sweep, the CSV header, then one row per finished case:
+//! ```text
+//! # jointwear sweep fingerprint=5f1c0a9e3b7d2c41 shard=2/4 cases=3 total=12
+//! case,clearance.0.clearance_mm,…,wall_time_s,error
+//! ```
+//! * Rows are appended as cases finish, one write each, so an interrupted or killed sweep
+//!   keeps every finished case: the partial file is CSV under its header (read it with `#` as
+//!   the comment character), and `jointwear sweep --resume` skips the cases it holds. A line
+//!   cut by a kill (no final newline) is dropped when the file is read back. A sweep that
+//!   finishes rewrites its file in case order, atomically.
+//! * The fingerprint is a hash (64-bit FNV-1a) of the scene document, `extends` resolved, and
+//!   of the `--set` assignments: a file of another sweep is recognised when resuming or
+//!   merging. `shard=I/N` and `cases` (rows the shard holds when complete) let [`merge`]
+//!   refuse a missing, repeated or unfinished shard; `total` is the whole sweep's case count.
+
+use crate::io::output::{parse_rows, write_table, GrowingTable};
+use crate::sweep::{case_count, Assignment, Shard, Sweep};
+use crate::{Error, Result};
+use std::collections::HashSet;
+use std::path::Path;
+use std::sync::Mutex;
+
+/// What sweep, and which part of it, a sweep file holds.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SweepId {
+    /// Hash of the sweep definition (16 hex digits).
+    pub fingerprint: String,
+    /// The shard the file holds.
+    pub shard: Shard,
+    /// Cases of the shard (rows of the complete file).
+    pub cases: usize,
+    /// Cases of the whole sweep.
+    pub total: usize,
+}
+
+const PREFIX: &str = "# jointwear sweep ";
+
+impl SweepId {
+    /// The first line of a sweep file (without the newline).
+    pub fn line(&self) -> String {
+        format!(
+            "{PREFIX}fingerprint={} shard={}/{} cases={} total={}",
+            self.fingerprint, self.shard.index, self.shard.count, self.cases, self.total
+        )
+    }
+
+    /// Parses [`SweepId::line`].
+    pub fn parse(line: &str) -> Option<SweepId> {
+        let fields = line.strip_prefix(PREFIX)?;
+        let value = |key: &str| {
+            fields
+                .split_whitespace()
+                .find_map(|f| f.strip_prefix(key)?.strip_prefix('='))
+        };
+        Some(SweepId {
+            fingerprint: value("fingerprint")?.to_string(),
+            shard: Shard::parse(value("shard")?).ok()?,
+            cases: value("cases")?.parse().ok()?,
+            total: value("total")?.parse().ok()?,
+        })
+    }
+
+    /// The id of the whole sweep this shard belongs to.
+    fn whole(&self) -> SweepId {
+        SweepId {
+            shard: Shard::ALL,
+            cases: self.total,
+            ..self.clone()
+        }
+    }
+}
+
+/// 64-bit FNV-1a: a stable hash (the standard library's may change between releases).
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// Fingerprint of a sweep: the scene document (`extends` resolved) and the assignments.
+pub fn fingerprint(doc: &toml::Value, sets: &[Assignment]) -> String {
+    let mut text = doc.to_string();
+    for a in sets {
+        // Unit separators: no key or value can run into the next.
+        text.push_str(&format!("\u{1f}{}={}", a.key, a.values.join("\u{1e}")));
+    }
+    format!("{:016x}", fnv1a(text.as_bytes()))
+}
+
+/// A fingerprint combined with more of a sweep's definition (e.g. its ensemble size).
+pub fn salted(fingerprint: &str, salt: &str) -> String {
+    format!(
+        "{:016x}",
+        fnv1a(format!("{fingerprint}\u{1f}{salt}").as_bytes())
+    )
+}
+
+impl Sweep {
+    /// The id of this sweep's file.
+    pub fn id(&self) -> SweepId {
+        SweepId {
+            fingerprint: self.fingerprint.clone(),
+            shard: self.shard,
+            cases: self.len(),
+            total: case_count(&self.sets),
+        }
+    }
+}
+
+/// A sweep file read back.
+#[derive(Clone, Debug)]
+pub struct SweepFile {
+    /// What sweep and shard the file holds.
+    pub id: SweepId,
+    /// The CSV header.
+    pub header: Vec<String>,
+    /// Complete rows, in file order.
+    pub rows: Vec<Vec<String>>,
+}
+
+fn parse_error(path: &Path, message: String) -> Error {
+    Error::Parse {
+        path: path.to_path_buf(),
+        message,
+    }
+}
+
+/// The case number of a row.
+fn case_of(path: &Path, row: &[String]) -> Result<usize> {
+    row[0].parse().map_err(|_| {
+        parse_error(
+            path,
+            format!(
+                "case `{}` is not an integer (row {})",
+                row[0],
+                row.join(",")
+            ),
+        )
+    })
+}
+
+impl SweepFile {
+    /// Reads a sweep file; a last line without its newline (cut by a kill) is dropped.
+    pub fn read(path: &Path) -> Result<SweepFile> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let complete = &text[..text.rfind('\n').map_or(0, |i| i + 1)];
+        let (first, rest) = complete.split_once('\n').unwrap_or((complete, ""));
+        let id = SweepId::parse(first).ok_or_else(|| {
+            parse_error(
+                path,
+                format!(
+                    "not a sweep file: its first line is not the sweep header line \
+                     `{PREFIX}fingerprint=… shard=I/N cases=K total=T`"
+                ),
+            )
+        })?;
+        let (header, all) = parse_rows(path, rest)?;
+        if header.first().map(String::as_str) != Some("case") {
+            return Err(parse_error(
+                path,
+                format!("header `{}` does not start with `case`", header.join(",")),
+            ));
+        }
+        let mut rows = Vec::new();
+        for row in all.into_iter().filter(|row| row.len() == header.len()) {
+            case_of(path, &row)?;
+            rows.push(row);
+        }
+        Ok(SweepFile { id, header, rows })
+    }
+}
+
+/// Writes a sweep file atomically: id line, header, rows.
+fn write_file(path: &Path, id: &SweepId, header: &[String], rows: Vec<Vec<String>>) -> Result<()> {
+    write_table(path, Some(&id.line()), header, rows)
+}
+
+/// Writes a sweep file with `rows` in case order, atomically.
+pub fn write_sweep_file(
+    path: &Path,
+    id: &SweepId,
+    header: &[String],
+    mut rows: Vec<Vec<String>>,
+) -> Result<()> {
+    rows.sort_by_key(|r| r[0].parse::<usize>().unwrap_or(usize::MAX));
+    write_file(path, id, header, rows)
+}
+
+/// A sweep file that receives each case's row as it finishes.
+#[derive(Debug)]
+pub struct Journal {
+    table: GrowingTable,
+}
+
+impl Journal {
+    /// Starts the file at `path` with `kept` rows (a resumed sweep's finished cases).
+    pub fn create(
+        path: &Path,
+        id: &SweepId,
+        header: &[String],
+        kept: &[Vec<String>],
+    ) -> Result<Journal> {
+        let table = GrowingTable::create(path, Some(&id.line()), header, kept.iter().cloned())?;
+        Ok(Journal { table })
+    }
+
+    /// Appends one row in a single write, so that rows of parallel cases never interleave.
+    pub fn append(&self, row: &[String]) -> Result<()> {
+        self.table.append(row)
+    }
+
+    /// Rewrites the file with `rows` in case order, atomically (the sweep finished).
+    pub fn finish(self, id: &SweepId, header: &[String], rows: Vec<Vec<String>>) -> Result<()> {
+        let path = self.table.path().to_path_buf();
+        drop(self.table);
+        write_sweep_file(&path, id, header, rows)
+    }
+}
+
+/// A sweep whose cases are appended to its file as they finish.
+pub struct JournaledSweep<'a> {
+    sweep: &'a mut Sweep,
+    id: SweepId,
+    header: Vec<String>,
+    /// Rows of cases finished before (a resumed sweep).
+    kept: Vec<Vec<String>>,
+    journal: Journal,
+}
+
+impl<'a> JournaledSweep<'a> {
+    /// Starts the file `out` of `sweep`; with `resume`, keeps the rows the file holds of the
+    /// same sweep and shard (an error if it holds another) and drops their cases from `sweep`.
+    pub fn open(sweep: &'a mut Sweep, out: &Path, resume: bool) -> Result<JournaledSweep<'a>> {
+        let id = sweep.id();
+        let header = sweep.header();
+        let kept = if resume {
+            resume_rows(out, &id, &header)?
+        } else {
+            Vec::new()
+        };
+        let finished: HashSet<usize> = kept.iter().filter_map(|r| r[0].parse().ok()).collect();
+        sweep.retain(|case| !finished.contains(&case));
+        let journal = Journal::create(out, &id, &header, &kept)?;
+        Ok(JournaledSweep {
+            sweep,
+            id,
+            header,
+            kept,
+            journal,
+        })
+    }
+
+    /// The sweep file's id.
+    pub fn id(&self) -> SweepId {
+        self.id.clone()
+    }
+
+    /// Cases already finished before this run.
+    pub fn finished(&self) -> usize {
+        self.kept.len()
+    }
+
+    /// Runs the remaining cases in parallel, appending each row as its case finishes and
+    /// calling `done`, then rewrites the file in case order. Returns the number of rows and
+    /// the cases that failed while running (an error in their last column). A row that
+    /// cannot be appended does not stop the sweep: the final rewrite holds it, and the first
+    /// such error is returned after it.
+    pub fn run(self, done: impl Fn() + Sync) -> Result<(usize, Vec<usize>)> {
+        let JournaledSweep {
+            sweep,
+            id,
+            header,
+            kept,
+            journal,
+        } = self;
+        let cells = sweep.cells();
+        let append_error = Mutex::new(None);
+        let results = sweep.run(|r| {
+            if let Err(e) = journal.append(&r.record(cells)) {
+                let mut first = append_error.lock().unwrap_or_else(|e| e.into_inner());
+                first.get_or_insert(e);
+            }
+            done();
+        });
+        let mut rows = kept;
+        rows.extend(results.iter().map(|r| r.record(cells)));
+        let mut failed: Vec<usize> = (rows.iter())
+            .filter(|r| r.last().is_some_and(|e| !e.is_empty()))
+            .filter_map(|r| r[0].parse().ok())
+            .collect();
+        failed.sort_unstable();
+        let count = rows.len();
+        journal.finish(&id, &header, rows)?;
+        match append_error.into_inner().unwrap_or_else(|e| e.into_inner()) {
+            Some(e) => Err(e),
+            None => Ok((count, failed)),
+        }
+    }
+}
+
+/// The finished rows of the sweep `id` under `header` in the file at `path`, to resume it:
+/// none if there is no file; an error if it holds another sweep, shard or header.
+pub fn resume_rows(path: &Path, id: &SweepId, header: &[String]) -> Result<Vec<Vec<String>>> {
+    if !path.exists() {
+        return Ok(Vec::new());
+    }
+    let file = SweepFile::read(path)?;
+    if file.id.fingerprint != id.fingerprint || file.id.shard != id.shard || file.header != header {
+        return Err(Error::invalid(
+            "--resume",
+            path.display(),
+            format!(
+                "a file of this sweep and shard (fingerprint {}, shard {}/{}); it holds \
+                 fingerprint {}, shard {}/{}{}: another scene, other --set values or another \
+                 shard (use another --out, or remove the file to start over)",
+                id.fingerprint,
+                id.shard.index,
+                id.shard.count,
+                file.id.fingerprint,
+                file.id.shard.index,
+                file.id.shard.count,
+                if file.header != header {
+                    ", another header"
+                } else {
+                    ""
+                }
+            ),
+        ));
+    }
+    Ok(file.rows)
+}
+
+/// Joins the shard files of one sweep into `out`, sorted by case, as the file of the whole
+/// sweep (resumable if partial). Refused: a file of another sweep (fingerprint, shard count
+/// or header), a shard given twice, a case in two files, and, unless `allow_partial`, a
+/// missing shard or one whose cases did not all finish. Returns the number of rows.
+pub fn merge(inputs: &[impl AsRef<Path>], out: &Path, allow_partial: bool) -> Result<usize> {
+    let files = inputs
+        .iter()
+        .map(|p| SweepFile::read(p.as_ref()).map(|f| (p.as_ref(), f)))
+        .collect::<Result<Vec<_>>>()?;
+    let Some((first_path, first)) = files.first() else {
+        return Err(Error::invalid("inputs", "none", "at least one shard file"));
+    };
+    let bad = |path: &Path, value: String, expected: String| {
+        Error::invalid(
+            format!("{} (sweep-merge input)", path.display()),
+            value,
+            expected,
+        )
+    };
+    let mut shards = vec![None; first.id.shard.count];
+    let mut rows = Vec::new();
+    for (path, f) in &files {
+        if f.id.fingerprint != first.id.fingerprint || f.id.shard.count != first.id.shard.count {
+            return Err(bad(
+                path,
+                format!(
+                    "fingerprint {}, shard {}/{}",
+                    f.id.fingerprint, f.id.shard.index, f.id.shard.count
+                ),
+                format!(
+                    "a shard of the sweep of {} (fingerprint {}, {} shards): this is a shard of \
+                     another sweep (another scene, other --set values or another shard count)",
+                    first_path.display(),
+                    first.id.fingerprint,
+                    first.id.shard.count
+                ),
+            ));
+        }
+        if f.header != first.header {
+            return Err(bad(
+                path,
+                format!("header {}", f.header.join(",")),
+                format!(
+                    "the header of {}: {}",
+                    first_path.display(),
+                    first.header.join(",")
+                ),
+            ));
+        }
+        let slot = &mut shards[f.id.shard.index - 1];
+        if let Some(other) = slot.replace(*path) {
+            return Err(bad(
+                path,
+                format!("shard {}/{}", f.id.shard.index, f.id.shard.count),
+                format!("each shard once (also given as {})", other.display()),
+            ));
+        }
+        if !allow_partial && f.rows.len() != f.id.cases {
+            return Err(bad(
+                path,
+                format!("{} of its {} cases", f.rows.len(), f.id.cases),
+                "a finished shard (resume it with `jointwear sweep --resume`, or merge with \
+                 --allow-partial)"
+                    .into(),
+            ));
+        }
+        for row in &f.rows {
+            rows.push((case_of(path, row)?, row.clone()));
+        }
+    }
+    if let (false, Some(missing)) = (allow_partial, shards.iter().position(Option::is_none)) {
+        return Err(Error::invalid(
+            "inputs",
+            format!("no shard {}/{}", missing + 1, first.id.shard.count),
+            "every shard of the sweep (or --allow-partial)",
+        ));
+    }
+    rows.sort_by_key(|(case, _)| *case);
+    if let Some(w) = rows.windows(2).find(|w| w[0].0 == w[1].0) {
+        return Err(Error::invalid(
+            "case",
+            w[0].0,
+            "each case in only one shard file",
+        ));
+    }
+    let rows: Vec<Vec<String>> = rows.into_iter().map(|(_, r)| r).collect();
+    let count = rows.len();
+    write_file(out, &first.id.whole(), &first.header, rows)?;
+    Ok(count)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_hash_is_fnv1a_so_fingerprints_agree_across_builds() {
+        // The published FNV-1a 64 test vectors.
+        assert_eq!(fnv1a(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a(b"a"), 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(fnv1a(b"foobar"), 0x8594_4171_f739_67e8);
+    }
+
+    #[test]
+    fn fingerprints_tell_sweeps_apart() {
+        let table = |text: &str| toml::Value::Table(text.parse().unwrap());
+        let doc = table("a = 1\n[b]\nc = 2.5\n");
+        let sets = |s: &str| vec![Assignment::parse(s).unwrap()];
+        let f = fingerprint(&doc, &sets("b.c=1,2"));
+        assert_eq!(f.len(), 16);
+        assert_eq!(f, fingerprint(&doc, &sets("b.c=1,2")));
+        assert_ne!(f, fingerprint(&doc, &sets("b.c=1,3")));
+        assert_ne!(f, fingerprint(&doc, &sets("b.c=12")));
+        let other = table("a = 2\n[b]\nc = 2.5\n");
+        assert_ne!(f, fingerprint(&other, &sets("b.c=1,2")));
+    }
+
+    #[test]
+    fn the_id_line_round_trips_and_rejects_other_lines() {
+        let id = SweepId {
+            fingerprint: "0123456789abcdef".into(),
+            shard: Shard::parse("2/4").unwrap(),
+            cases: 3,
+            total: 12,
+        };
+        assert_eq!(
+            id.line(),
+            "# jointwear sweep fingerprint=0123456789abcdef shard=2/4 cases=3 total=12"
+        );
+        assert_eq!(SweepId::parse(&id.line()), Some(id.clone()));
+        assert_eq!(
+            id.whole().line(),
+            "# jointwear sweep fingerprint=0123456789abcdef shard=1/1 cases=12 total=12"
+        );
+        for bad in [
+            "case,x",
+            "# jointwear sweep shard=2/4 cases=3 total=12",
+            "# jointwear sweep fingerprint=f shard=5/4 cases=3 total=12",
+        ] {
+            assert_eq!(SweepId::parse(bad), None, "{bad}");
+        }
+    }
+}

@@ -1,0 +1,576 @@
+//! Parameter sweeps: a scene varied over the cartesian product of `--set KEY=V1,V2,..`
+//! assignments, one summary row per case, shardable across independent jobs.
+//!
+//! * Keys are dotted paths into the scene's TOML document ([`crate::scene::set_dotted`]);
+//!   values are TOML values (`0.02`, `"rk4"`, `[0.0, -9.81]`; a bare word is a string).
+//! * Case `k` is numbered in the order of the product, the last key varying fastest; shard
+//!   `I/N` (1-based) runs the cases with `k mod N = I − 1`, a slice that depends only on the
+//!   assignments, so independent jobs of a batch array cover every case exactly once and
+//!   [`crate::sweep::file::merge`] puts their files back in case order.
+//! * Every case is built before any runs: a bad value stops the sweep as invalid input. A case
+//!   that fails while running gets its error in the `error` column; the others go on.
+
+pub mod file;
+
+use crate::analysis::statistics::{Band, Distribution};
+use crate::analysis::PEAK_PROMINENCE;
+use crate::analysis::{peaks, Motion, Peak};
+use crate::scene::{set_dotted, SceneFile};
+use crate::simulation::ensemble::EnsembleSettings;
+use crate::simulation::Scene;
+use crate::simulation::{simulate, RunOutput};
+use crate::sweep::file::{fingerprint, salted, write_sweep_file};
+use crate::{Error, Result};
+use rayon::prelude::*;
+use std::path::Path;
+
+/// One `--set KEY=V1,V2,..` argument.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Assignment {
+    /// Dotted key into the scene document.
+    pub key: String,
+    /// The values as written.
+    pub values: Vec<String>,
+}
+
+impl Assignment {
+    /// Parses `KEY=V1,V2,..`; commas inside brackets or quotes belong to the value.
+    pub fn parse(arg: &str) -> Result<Assignment> {
+        let bad = |why: &str| Error::invalid("--set", arg, format!("KEY=VALUE[,VALUE..] ({why})"));
+        let (key, list) = arg.split_once('=').ok_or_else(|| bad("no `=`"))?;
+        let key = key.trim();
+        if key.is_empty() || key.split('.').any(str::is_empty) {
+            return Err(bad("empty key or key part"));
+        }
+        let mut values = Vec::new();
+        let (mut depth, mut quoted, mut start) = (0i32, false, 0);
+        for (i, ch) in list.char_indices() {
+            match ch {
+                '"' => quoted = !quoted,
+                '[' | '{' if !quoted => depth += 1,
+                ']' | '}' if !quoted => depth -= 1,
+                ',' if !quoted && depth == 0 => {
+                    values.push(list[start..i].trim().to_string());
+                    start = i + 1;
+                }
+                _ => {}
+            }
+        }
+        values.push(list[start..].trim().to_string());
+        if values.iter().any(String::is_empty) {
+            return Err(bad("empty value"));
+        }
+        Ok(Assignment {
+            key: key.to_string(),
+            values,
+        })
+    }
+}
+
+/// A TOML value as written on the command line; a bare word that is not TOML is a string.
+pub fn parse_value(text: &str) -> toml::Value {
+    text.parse()
+        .unwrap_or_else(|_| toml::Value::String(text.to_string()))
+}
+
+/// Shard `index` of `count` (1-based).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    /// This shard, 1-based.
+    pub index: usize,
+    /// Shards in all.
+    pub count: usize,
+}
+
+impl Shard {
+    /// The whole sweep.
+    pub const ALL: Shard = Shard { index: 1, count: 1 };
+
+    /// Parses `I/N` with 1 ≤ I ≤ N.
+    pub fn parse(arg: &str) -> Result<Shard> {
+        let bad = || Error::invalid("--shard", arg, "I/N with integers 1 <= I <= N");
+        let (i, n) = arg.split_once('/').ok_or_else(bad)?;
+        let (index, count) = (
+            i.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
+        if index == 0 || index > count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+
+    /// Whether case `case` belongs to this shard.
+    pub fn contains(&self, case: usize) -> bool {
+        case % self.count == self.index - 1
+    }
+}
+
+/// Number of cases of the product (1 without assignments).
+pub fn case_count(sets: &[Assignment]) -> usize {
+    sets.iter().map(|a| a.values.len()).product()
+}
+
+/// The value of each assignment in case `case` (last key varying fastest).
+pub fn case_values(sets: &[Assignment], case: usize) -> Vec<&str> {
+    let mut rest = case;
+    let mut values: Vec<&str> = sets
+        .iter()
+        .rev()
+        .map(|a| {
+            let v = &a.values[rest % a.values.len()];
+            rest /= a.values.len();
+            v.as_str()
+        })
+        .collect();
+    values.reverse();
+    values
+}
+
+/// `e` of case `case` (with `values`): a bad value names the case in its field.
+fn in_case(e: Error, case: usize, values: &[&str]) -> Error {
+    match e {
+        Error::Invalid {
+            field,
+            value,
+            expected,
+        } => Error::Invalid {
+            field: format!("{field} (case {case}: {})", values.join(", ")),
+            value,
+            expected,
+        },
+        e => e,
+    }
+}
+
+/// The scene document `doc` (read from `path`) with `values` assigned to the keys of `sets`.
+pub fn vary(doc: &toml::Value, path: &Path, sets: &[Assignment], values: &[&str]) -> Result<Scene> {
+    let mut doc = doc.clone();
+    for (a, v) in sets.iter().zip(values) {
+        set_dotted(&mut doc, &a.key, parse_value(v))?;
+    }
+    SceneFile::from_document(doc, path)?.build()
+}
+
+/// Summary of one clearance joint over a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointSummary {
+    /// The joint's name.
+    pub name: String,
+    /// Largest sampled normal force of the recorded rotations (N), NaN if none recorded.
+    pub max_normal_force: f64,
+    /// Largest penetration at the accepted steps of the whole run (m).
+    pub max_penetration: f64,
+    /// Motion of the recorded rotations, if any were recorded.
+    pub motion: Option<Motion>,
+    /// Wear regions of the final profile, deepest first (empty without wear).
+    pub peaks: Vec<Peak>,
+}
+
+/// Summarises every clearance joint of a run of `scene`.
+pub fn summarize(scene: &Scene, out: &RunOutput) -> Vec<JointSummary> {
+    let rec = &out.recording;
+    let dt = scene.run.record_interval;
+    scene
+        .mechanism
+        .clearance_joints
+        .iter()
+        .enumerate()
+        .map(|(k, cj)| {
+            let trace = rec.joints.get(k).filter(|t| !t.delta.is_empty());
+            JointSummary {
+                name: cj.name.clone(),
+                max_normal_force: trace.map_or(f64::NAN, |t| {
+                    t.normal_force.iter().cloned().fold(0.0, f64::max)
+                }),
+                max_penetration: out.max_penetration[k],
+                motion: trace
+                    .map(|t| Motion::classify(&t.delta, dt, scene.run.record_rotations as f64)),
+                peaks: peaks(&out.final_wear[k], PEAK_PROMINENCE),
+            }
+        })
+        .collect()
+}
+
+impl JointSummary {
+    /// The joint's scalar results by name: the numeric sweep columns, and
+    /// `continuous_contact` as 1 or 0 (NaN where nothing was recorded), whose mean over an
+    /// ensemble is the share of members in continuous contact.
+    pub fn scalars(&self) -> [(&'static str, f64); 7] {
+        let peak = self.peaks.first();
+        let motion = |f: fn(&Motion) -> f64| self.motion.as_ref().map_or(f64::NAN, f);
+        let values = [
+            self.max_normal_force,
+            self.max_penetration,
+            peak.map_or(f64::NAN, |p| p.angle_deg),
+            peak.map_or(f64::NAN, |p| p.depth),
+            motion(|m| m.contact_fraction),
+            motion(|m| m.impacts_per_rotation),
+            motion(|m| f64::from(u8::from(m.mode() == "continuous contact"))),
+        ];
+        std::array::from_fn(|i| (SCALARS[i], values[i]))
+    }
+}
+
+/// Statistics of one clearance joint over the members of an ensemble.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointStatistics {
+    /// The joint's name.
+    pub name: String,
+    /// Distribution of each of [`JointSummary::scalars`] (angles unwrapped around their
+    /// circular mean).
+    pub scalars: Vec<(&'static str, Distribution)>,
+    /// Per-sector band of the final wear profiles, for a joint with a wear model.
+    pub wear: Option<Band>,
+}
+
+/// Statistics of every clearance joint over `members`: each member's joint summaries and
+/// final wear profiles.
+pub fn joint_statistics(
+    scene: &Scene,
+    members: &[(Vec<JointSummary>, Vec<Vec<f64>>)],
+) -> Vec<JointStatistics> {
+    scene
+        .mechanism
+        .clearance_joints
+        .iter()
+        .enumerate()
+        .map(|(k, cj)| {
+            let scalars = SCALARS
+                .iter()
+                .enumerate()
+                .map(|(i, &name)| {
+                    let values = members.iter().map(|(s, _)| s[k].scalars()[i].1);
+                    let d = if name.ends_with("_deg") {
+                        Distribution::of_angles_deg(values)
+                    } else {
+                        Distribution::of(values)
+                    };
+                    (name, d)
+                })
+                .collect();
+            JointStatistics {
+                name: cj.name.clone(),
+                scalars,
+                wear: cj
+                    .wear
+                    .is_some()
+                    .then(|| Band::of(members.iter().map(|(_, w)| w[k].as_slice()))),
+            }
+        })
+        .collect()
+}
+
+/// Per-joint columns of a sweep row, after the joint's name and a dot.
+const JOINT_COLUMNS: [&str; 7] = [
+    "max_normal_force_n",
+    "max_penetration_m",
+    "peak_wear_angle_deg",
+    "peak_wear_depth_m",
+    "motion_mode",
+    "contact_fraction",
+    "impacts_per_rotation",
+];
+
+/// Header of a sweep CSV.
+pub fn header(sets: &[Assignment], joints: &[String]) -> Vec<String> {
+    let mut h = vec!["case".to_string()];
+    h.extend(sets.iter().map(|a| a.key.clone()));
+    for j in joints {
+        h.extend(JOINT_COLUMNS.iter().map(|c| format!("{j}.{c}")));
+    }
+    h.extend(["wall_time_s".to_string(), "error".to_string()]);
+    h
+}
+
+/// Header of a sweep CSV whose cases run as ensembles: after the set values the member count,
+/// then per joint the mean and sd of every scalar of [`JointSummary::scalars`].
+pub fn ensemble_header(sets: &[Assignment], joints: &[String]) -> Vec<String> {
+    let mut h = vec!["case".to_string()];
+    h.extend(sets.iter().map(|a| a.key.clone()));
+    h.push("members".into());
+    for j in joints {
+        for name in SCALARS {
+            h.extend([format!("{j}.{name}.mean"), format!("{j}.{name}.sd")]);
+        }
+    }
+    h.extend(["wall_time_s".to_string(), "error".to_string()]);
+    h
+}
+
+/// The names of [`JointSummary::scalars`], in order.
+pub const SCALARS: [&str; 7] = [
+    "max_normal_force_n",
+    "max_penetration_m",
+    "peak_wear_angle_deg",
+    "peak_wear_depth_m",
+    "contact_fraction",
+    "impacts_per_rotation",
+    "continuous_contact",
+];
+
+/// What a case measured: one run's joint summaries, or an ensemble's joint statistics.
+#[derive(Clone, Debug)]
+pub enum Outcome {
+    /// One run.
+    Run(Vec<JointSummary>),
+    /// An ensemble of this many members.
+    Ensemble(usize, Vec<JointStatistics>),
+}
+
+/// One case's outcome.
+#[derive(Clone, Debug)]
+pub struct CaseResult {
+    /// Case number in the whole sweep.
+    pub case: usize,
+    /// The set values of the case, as written.
+    pub values: Vec<String>,
+    /// What the case measured and the wall time, or the error of the run.
+    pub outcome: std::result::Result<(Outcome, f64), String>,
+}
+
+impl CaseResult {
+    /// The CSV record under the sweep's header, which has `cells` columns between the set
+    /// values and the wall time ([`Sweep::cells`]).
+    pub fn record(&self, cells: usize) -> Vec<String> {
+        let mut r = vec![self.case.to_string()];
+        r.extend(self.values.iter().cloned());
+        let number = |x: f64| {
+            if x.is_nan() {
+                String::new()
+            } else {
+                format!("{x:e}")
+            }
+        };
+        match &self.outcome {
+            Ok((Outcome::Ensemble(members, stats), wall)) => {
+                r.push(members.to_string());
+                for j in stats {
+                    for (_, d) in &j.scalars {
+                        r.extend([number(d.mean), number(d.sd)]);
+                    }
+                }
+                r.extend([number(*wall), String::new()]);
+            }
+            Ok((Outcome::Run(summaries), wall)) => {
+                for s in summaries {
+                    let peak = s.peaks.first();
+                    r.extend([
+                        number(s.max_normal_force),
+                        number(s.max_penetration),
+                        peak.map_or(String::new(), |p| number(p.angle_deg)),
+                        peak.map_or(String::new(), |p| number(p.depth)),
+                        s.motion.map_or(String::new(), |m| m.mode().to_string()),
+                        s.motion
+                            .map_or(String::new(), |m| number(m.contact_fraction)),
+                        s.motion
+                            .map_or(String::new(), |m| number(m.impacts_per_rotation)),
+                    ]);
+                }
+                r.extend([number(*wall), String::new()]);
+            }
+            Err(e) => {
+                r.extend(std::iter::repeat_n(String::new(), cells + 1));
+                r.push(e.clone());
+            }
+        }
+        r
+    }
+}
+
+/// A sweep ready to run: the shard's cases, each built and validated.
+pub struct Sweep {
+    /// The `--set` assignments.
+    pub sets: Vec<Assignment>,
+    /// Clearance joint names (identical in every case).
+    pub joints: Vec<String>,
+    /// The sweep definition's fingerprint ([`crate::sweep::file::fingerprint`]).
+    pub fingerprint: String,
+    /// The part of the sweep this one runs.
+    pub shard: Shard,
+    /// Run every case as an ensemble of this size and seed.
+    pub ensemble: Option<EnsembleSettings>,
+    cases: Vec<(usize, Vec<String>, Scene)>,
+}
+
+impl Sweep {
+    /// Builds the cases of `shard`. Every case records at least its last rotation, which the
+    /// motion columns need.
+    pub fn new(path: &Path, sets: Vec<Assignment>, shard: Shard) -> Result<Sweep> {
+        let doc = SceneFile::read_document(path)?;
+        let mut cases = Vec::new();
+        let mut joints = None;
+        for case in (0..case_count(&sets)).filter(|&k| shard.contains(k)) {
+            let values = case_values(&sets, case);
+            let mut scene = vary(&doc, path, &sets, &values)?;
+            scene.run.record_rotations = scene.run.record_rotations.max(1);
+            scene.check_record_budget()?;
+            // A case whose loop cannot close is bad input: found before any case runs.
+            scene
+                .mechanism
+                .assemble(&scene.guess)
+                .map_err(|e| in_case(e, case, &values))?;
+            let names: Vec<String> = scene
+                .mechanism
+                .clearance_joints
+                .iter()
+                .map(|cj| cj.name.clone())
+                .collect();
+            if joints.get_or_insert_with(|| names.clone()) != &names {
+                return Err(Error::invalid(
+                    "--set",
+                    format!("case {case} ({})", values.join(", ")),
+                    "the same clearance joints in every case",
+                ));
+            }
+            cases.push((case, values.iter().map(|v| v.to_string()).collect(), scene));
+        }
+        // A shard without cases still writes the joint columns, which merging needs.
+        let joints = match joints {
+            Some(j) => j,
+            None => vary(&doc, path, &sets, &case_values(&sets, 0))?
+                .mechanism
+                .clearance_joints
+                .iter()
+                .map(|cj| cj.name.clone())
+                .collect(),
+        };
+        Ok(Sweep {
+            fingerprint: fingerprint(&doc, &sets),
+            sets,
+            joints,
+            shard,
+            ensemble: None,
+            cases,
+        })
+    }
+
+    /// Runs every case as an ensemble; a different sweep, so it has its own fingerprint.
+    pub fn with_ensemble(mut self, ensemble: EnsembleSettings) -> Result<Sweep> {
+        ensemble.validate()?;
+        let salt = format!("ensemble {} seed {}", ensemble.members, ensemble.seed);
+        self.fingerprint = salted(&self.fingerprint, &salt);
+        self.ensemble = Some(ensemble);
+        Ok(self)
+    }
+
+    /// The header of this sweep's file.
+    pub fn header(&self) -> Vec<String> {
+        match self.ensemble {
+            Some(_) => ensemble_header(&self.sets, &self.joints),
+            None => header(&self.sets, &self.joints),
+        }
+    }
+
+    /// Columns between the set values and the wall time.
+    pub fn cells(&self) -> usize {
+        self.header().len() - self.sets.len() - 3
+    }
+
+    /// Keeps only the cases `keep` accepts (a resumed sweep drops its finished ones).
+    pub fn retain(&mut self, keep: impl Fn(usize) -> bool) {
+        self.cases.retain(|(case, _, _)| keep(*case));
+    }
+
+    /// Cases left to run.
+    pub fn len(&self) -> usize {
+        self.cases.len()
+    }
+
+    /// Whether no case is left to run.
+    pub fn is_empty(&self) -> bool {
+        self.cases.is_empty()
+    }
+
+    /// Runs the cases in parallel, calling `done` with each result as it finishes; results in
+    /// case order.
+    pub fn run(&self, done: impl Fn(&CaseResult) + Sync) -> Vec<CaseResult> {
+        self.cases
+            .par_iter()
+            .map(|(case, values, scene)| {
+                let outcome = match &self.ensemble {
+                    None => simulate(scene)
+                        .map(|out| (Outcome::Run(summarize(scene, &out)), out.wall_time)),
+                    Some(e) => run_ensemble(scene, e),
+                }
+                .map_err(|e| e.to_string());
+                let result = CaseResult {
+                    case: *case,
+                    values: values.clone(),
+                    outcome,
+                };
+                done(&result);
+                result
+            })
+            .collect()
+    }
+
+    /// Writes the results as this sweep's file ([`crate::sweep::file`]) in case order,
+    /// atomically.
+    pub fn write(&self, path: &Path, results: &[CaseResult]) -> Result<()> {
+        let rows = (results.iter()).map(|r| r.record(self.cells())).collect();
+        write_sweep_file(path, &self.id(), &self.header(), rows)
+    }
+}
+
+/// An ensemble of one case: its joint statistics and wall time.
+fn run_ensemble(scene: &Scene, settings: &EnsembleSettings) -> Result<(Outcome, f64)> {
+    let clock = std::time::Instant::now();
+    let members = crate::simulation::ensemble::run(
+        scene,
+        settings,
+        |_, out| (summarize(scene, &out), out.final_wear),
+        || (),
+    )?;
+    let stats = joint_statistics(scene, &members);
+    Ok((
+        Outcome::Ensemble(settings.members, stats),
+        clock.elapsed().as_secs_f64(),
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn assignments_split_on_top_level_commas() {
+        let a = Assignment::parse("gravity_m_s2=[0.0, -9.81],[0.0, 0.0]").unwrap();
+        assert_eq!(a.values, vec!["[0.0, -9.81]", "[0.0, 0.0]"]);
+        let a = Assignment::parse("clearance.0.clearance_mm=0.02,0.1, 0.5").unwrap();
+        assert_eq!(a.key, "clearance.0.clearance_mm");
+        assert_eq!(a.values, vec!["0.02", "0.1", "0.5"]);
+        for bad in ["novalue", "=1", "a..b=1", "a=1,,2", "a="] {
+            assert!(Assignment::parse(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn product_order_and_shards_cover_every_case_once() {
+        let sets = vec![
+            Assignment::parse("a=1,2,3").unwrap(),
+            Assignment::parse("b=x,y").unwrap(),
+        ];
+        assert_eq!(case_count(&sets), 6);
+        assert_eq!(case_values(&sets, 0), vec!["1", "x"]);
+        assert_eq!(case_values(&sets, 1), vec!["1", "y"]);
+        assert_eq!(case_values(&sets, 5), vec!["3", "y"]);
+        let shards: Vec<Shard> = (1..=4)
+            .map(|i| Shard::parse(&format!("{i}/4")).unwrap())
+            .collect();
+        for k in 0..6 {
+            assert_eq!(shards.iter().filter(|s| s.contains(k)).count(), 1);
+        }
+        for bad in ["0/3", "4/3", "1", "a/b", "1/0"] {
+            assert!(Shard::parse(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn values_are_toml_or_bare_strings() {
+        assert_eq!(parse_value("0.5"), toml::Value::Float(0.5));
+        assert_eq!(parse_value("600"), toml::Value::Integer(600));
+        assert_eq!(parse_value("rk4"), toml::Value::String("rk4".into()));
+        assert_eq!(parse_value("\"rk4\""), toml::Value::String("rk4".into()));
+    }
+}
