@@ -5,6 +5,7 @@
 //! `cargo bench`, then `cargo run --release --bin bench_summary` writes `data/benchmarks.csv`.
 
 use criterion::{criterion_group, criterion_main, Criterion, SamplingMode};
+use jointwear::io::progress::Silent;
 use jointwear::laws::contact::NormalForceModel;
 use jointwear::laws::friction::FrictionModel;
 use jointwear::scene::{scene_path, SceneFile};
@@ -145,7 +146,9 @@ fn runs(c: &mut Criterion) {
         .sample_size(10)
         .measurement_time(Duration::from_secs(20));
     group.bench_function("standard_40x16", |b| {
-        b.iter(|| run(black_box(&scene), &settings, |_, o| o.final_wear, || ()).expect("ensemble"))
+        b.iter(|| {
+            run(black_box(&scene), &settings, |_, o| o.final_wear, &Silent).expect("ensemble")
+        })
     });
     group.finish();
 }

@@ -6,6 +6,7 @@ mod common;
 
 use common::{assert_same_run, jointwear, temp_dir};
 use jointwear::io::output::read_csv;
+use jointwear::io::progress::Silent;
 use jointwear::scene::{scene_path, SceneFile};
 use jointwear::simulation::checkpoint::{read_checkpoint, write_checkpoint, CHECKPOINT_FILE};
 use jointwear::simulation::Scene;
@@ -48,13 +49,13 @@ fn interrupted(scene: &Scene, stop: u32, file: &Path) -> RunOutput {
     write_checkpoint(file, "fp", first.checkpoint()).unwrap();
     drop(first);
     let mut second = Simulation::resume(scene, read_checkpoint(file, "fp").unwrap()).unwrap();
-    second.run_to_end(|_, _| {}).unwrap();
+    second.run_to_end(&Silent).unwrap();
     second.finish()
 }
 
 fn whole(scene: &Scene) -> RunOutput {
     let mut sim = Simulation::start(scene).unwrap();
-    sim.run_to_end(|_, _| {}).unwrap();
+    sim.run_to_end(&Silent).unwrap();
     sim.finish()
 }
 

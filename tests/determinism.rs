@@ -7,6 +7,7 @@ mod common;
 
 use common::{assert_same_run, jointwear, temp_dir};
 use jointwear::io::output::read_csv;
+use jointwear::io::progress::Silent;
 use jointwear::scene::{scene_path, SceneFile};
 use jointwear::simulation::longlife::{predict, LongLifeSettings};
 use jointwear::simulation::Scene;
@@ -27,12 +28,13 @@ fn scene(record_rotations: u32, history: u32) -> Scene {
 fn progress_and_rotation_by_rotation_driving_change_nothing() {
     let s = scene(1, 0);
     let whole = simulate(&s).unwrap();
-    let mut seen = Vec::new();
-    let observed = simulate_with_progress(&s, |done, total| seen.push((done, total))).unwrap();
+    let seen = std::sync::Mutex::new(Vec::new());
+    let observer = |done, total| seen.lock().unwrap().push((done, total));
+    let observed = simulate_with_progress(&s, &observer).unwrap();
     assert_eq!(
-        seen,
-        (1..=ROTATIONS)
-            .map(|r| (r, Some(ROTATIONS)))
+        seen.into_inner().unwrap(),
+        (1..=ROTATIONS as u64)
+            .map(|r| (r, Some(ROTATIONS as u64)))
             .collect::<Vec<_>>()
     );
     assert_same_run(&whole, &observed);
@@ -96,7 +98,7 @@ fn settling_phase_of_long_life_is_a_plain_run() {
         settle_rotations: ROTATIONS,
         ..LongLifeSettings::default()
     };
-    let life = predict(&s, &settings, |_, _| ()).unwrap();
+    let life = predict(&s, &settings, &Silent).unwrap();
     assert_eq!(life.simulated, ROTATIONS as u64);
     assert_eq!(life.snapshots.last().unwrap().depths, plain.final_wear);
 }

@@ -5,6 +5,7 @@
 mod common;
 
 use common::{jointwear, temp_dir};
+use jointwear::io::progress::Silent;
 use jointwear::scene::{scene_path, SceneFile};
 use jointwear::simulation::ensemble::{
     member_offsets, member_state, run, run_member, EnsembleSettings, OFFSET_RADIUS,
@@ -25,7 +26,7 @@ fn final_wear(scene: &Scene, members: usize, threads: usize) -> Vec<Vec<f64>> {
         .num_threads(threads)
         .build()
         .unwrap()
-        .install(|| run(scene, &settings, |_, o| o.final_wear[0].clone(), || ()))
+        .install(|| run(scene, &settings, |_, o| o.final_wear[0].clone(), &Silent))
         .unwrap()
 }
 

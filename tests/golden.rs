@@ -8,6 +8,7 @@
 //!   value lies within tolerance of the ensemble mean; where one is declared, it does not, so a
 //!   declared deviation is a real one.
 
+use jointwear::io::progress::Silent;
 use jointwear::laws::friction::FrictionModel;
 use jointwear::paper::cases::{case_of_scene, Runs, CASES};
 use jointwear::paper::golden::{
@@ -23,7 +24,7 @@ fn runs(seed: u64, modify: &(dyn Fn(&mut SceneFile) + Sync)) -> Runs {
         members: recorded.members,
         seed,
     };
-    Runs::compute(&GOLDEN_NEEDS, ensemble, modify, |_, _| {}).unwrap()
+    Runs::compute(&GOLDEN_NEEDS, ensemble, modify, &Silent).unwrap()
 }
 
 fn violations(seed: u64, modify: &(dyn Fn(&mut SceneFile) + Sync)) -> Vec<Violation> {

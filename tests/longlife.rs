@@ -1,5 +1,6 @@
 //! Cycle-jump extrapolation against brute-force simulation.
 
+use jointwear::io::progress::Silent;
 use jointwear::scene::{scene_path, SceneFile};
 use jointwear::simulation::longlife::{predict, LongLifeSettings};
 use jointwear::simulation::simulate;
@@ -27,12 +28,15 @@ fn extrapolation_matches_brute_force() {
         rotations: 100,
         ..LongLifeSettings::default()
     };
-    let mut calls = 0;
-    let life = predict(&scene, &settings, |_, _| calls += 1).unwrap();
+    let calls = std::sync::atomic::AtomicUsize::new(0);
+    let count = |_, _| {
+        calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    };
+    let life = predict(&scene, &settings, &count).unwrap();
     let stage = life.snapshots.last().unwrap();
     assert_eq!(stage.rotations, 100);
     assert!(life.simulated < 60, "simulated {}", life.simulated);
-    assert_eq!(calls, life.history.len() - 1);
+    assert_eq!(calls.into_inner(), life.history.len() - 1);
     let predicted = &stage.depths[0];
     let max = |d: &[f64]| d.iter().cloned().fold(0.0, f64::max);
     let diff: Vec<f64> = predicted.iter().zip(&brute).map(|(a, b)| a - b).collect();
@@ -63,7 +67,7 @@ fn realistic_coefficient_doubles_the_clearance_within_a_million_rotations_quickl
         snapshots: vec![250_000, 500_000],
         ..LongLifeSettings::default()
     };
-    let life = predict(&scene, &settings, |_, _| ()).unwrap();
+    let life = predict(&scene, &settings, &Silent).unwrap();
     let counts: Vec<u64> = life.snapshots.iter().map(|s| s.rotations).collect();
     // the clearance doubles (the default limit) between 500 000 and a million rotations
     let (at, _) = life.reached.expect("the clearance doubles");
@@ -88,7 +92,7 @@ fn prediction_stops_when_the_clearance_doubles() {
         rotations: 1_000_000,
         ..LongLifeSettings::default()
     };
-    let life = predict(&scene, &settings, |_, _| ()).unwrap();
+    let life = predict(&scene, &settings, &Silent).unwrap();
     let (at, joint) = life.reached.expect("the clearance doubles");
     assert_eq!(joint, 0);
     let c = life.clearances[0];
@@ -116,9 +120,7 @@ fn a_limit_beyond_the_wear_model_is_refused() {
         until: Some(2e-3), // 20 % of the 10 mm bearing radius
         ..LongLifeSettings::default()
     };
-    let e = predict(&scene, &settings, |_, _| ())
-        .unwrap_err()
-        .to_string();
+    let e = predict(&scene, &settings, &Silent).unwrap_err().to_string();
     assert!(e.contains("--until") && e.contains("10 %"), "{e}");
 }
 

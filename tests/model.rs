@@ -3,6 +3,7 @@
 //! file (a 1-D impact integrated by RK4, a closed-form free fall, the contact angles and the
 //! Archard integral of a recorded run), never with the library's own laws.
 
+use jointwear::io::progress::Silent;
 use jointwear::laws::wear::PressureModel;
 use jointwear::scene::{scene_path, SceneFile};
 use jointwear::simulation::{simulate, RunOutput, Simulation};
@@ -143,7 +144,7 @@ fn single_impact_restitution_matches_the_contact_ode() {
             y0[N + JX + k] = v0 * dir[k];
         }
         let mut sim = Simulation::new(scene.mechanism.clone(), scene.run.clone(), &y0).unwrap();
-        sim.run_to_end(|_, _| {}).unwrap();
+        sim.run_to_end(&Silent).unwrap();
         let out = sim.finish();
         assert_eq!(out.impacts[0], 1, "c_e = {ce}: one impact");
         // Free flight before and after: the entry normal velocity is v0, the exit one is the
@@ -171,7 +172,7 @@ fn free_fall_onset(g: [f64; 2]) -> (f64, u64) {
     f.run.rotations = 4;
     let scene = f.build().unwrap();
     let mut sim = Simulation::start(&scene).unwrap();
-    sim.run_to_end(|_, _| {}).unwrap();
+    sim.run_to_end(&Silent).unwrap();
     let captured = sim.state().joints[0].onset_velocity;
     (captured, sim.finish().impacts[0])
 }

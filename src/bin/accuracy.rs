@@ -1,11 +1,12 @@
 //! The accuracy-dependence study (see `jointwear::paper::studies::accuracy`): writes
 //! `data/accuracy_dependence.csv` and prints, per paper result, which integrations reproduce it.
 use jointwear::error::exit_on_error;
+use jointwear::io::progress::progress_bar;
 
 fn main() {
-    let a = exit_on_error(jointwear::paper::studies::accuracy_dependence(|c, s| {
-        eprintln!("{c} {s}")
-    }));
+    let bar = progress_bar(0, "accuracy runs");
+    let a = exit_on_error(jointwear::paper::studies::accuracy_dependence(&bar));
+    bar.finish_and_clear();
     println!("wrote data/accuracy_dependence.csv");
     for f in &a.findings {
         println!(

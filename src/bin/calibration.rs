@@ -1,13 +1,13 @@
 //! The calibration study of the lost Table 2 (see `jointwear::paper::calibration`): writes
 //! `data/calibration.csv` and `figures/calibration.png` and prints the best parameter sets.
 use jointwear::error::exit_on_error;
+use jointwear::io::progress::progress_bar;
 use jointwear::paper::calibration::FACTORIAL_GROUP;
 
 fn main() {
-    let ranked = exit_on_error(jointwear::paper::calibration::study(|done, total| {
-        eprint!("\r{done}/{total} parameter sets")
-    }));
-    eprintln!();
+    let bar = progress_bar(0, "parameter sets");
+    let ranked = exit_on_error(jointwear::paper::calibration::study(&bar));
+    bar.finish_and_clear();
     println!("best parameter sets (lower score is better; * = admissible, friction present):");
     // the scene takes the best admissible set of the factorial (one-at-a-time rows measure sensitivity)
     let best_admissible = ranked

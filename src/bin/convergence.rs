@@ -2,16 +2,13 @@
 //! `data/ensemble_convergence.csv`, `figures/ensemble_convergence.png`. See
 //! `jointwear::paper::convergence`.
 use jointwear::error::exit_on_error;
-use jointwear::io::output::progress_bar;
+use jointwear::io::progress::progress_bar;
 use jointwear::paper::convergence::convergence_study;
 use jointwear::simulation::ensemble::DEFAULT_MEMBERS;
 
 fn main() {
     let bar = progress_bar(0, "members");
-    let study = exit_on_error(convergence_study(|done, total| {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-    }));
+    let study = exit_on_error(convergence_study(&bar));
     bar.finish_and_clear();
     println!("wrote data/ensemble_convergence.csv and figures/ensemble_convergence.png");
     for (n, rms, width) in &study.profile {

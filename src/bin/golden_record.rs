@@ -4,6 +4,7 @@
 //! in `paper.md`. Never to make a chaotic number pass: the bounds already allow for chaos.
 use jointwear::error::exit_on_error;
 use jointwear::io::output::write_atomic;
+use jointwear::io::progress::progress_bar;
 use jointwear::paper::cases::Runs;
 use jointwear::paper::golden::{
     ensemble_path, measure, EnsembleGolden, Golden, Recorded, GOLDEN_MEMBERS, GOLDEN_NEEDS,
@@ -24,7 +25,9 @@ fn main() {
         members: GOLDEN_MEMBERS,
         ..EnsembleSettings::default()
     };
-    let runs = exit_on_error(Runs::compute(&GOLDEN_NEEDS, ensemble, &|_| {}, |_, _| {}));
+    let bar = progress_bar(0, "ensemble members");
+    let runs = exit_on_error(Runs::compute(&GOLDEN_NEEDS, ensemble, &|_| {}, &bar));
+    bar.finish_and_clear();
     let quantity = exit_on_error(measure(&runs, &golden))
         .into_iter()
         .map(|m| Recorded {

@@ -5,8 +5,7 @@
 //! reruns the slow studies (calibration, work-precision and the ensemble-size study, a few
 //! minutes) instead of reading their last results from `data/`.
 use jointwear::error::exit_on_error;
-use jointwear::io::output::progress_bar;
-use jointwear::paper::cases::CASES;
+use jointwear::io::progress::progress_bar;
 use jointwear::paper::golden::Golden;
 use jointwear::paper::report::{run_figures, write, Studies};
 use jointwear::paper::{calibration, convergence, studies};
@@ -17,40 +16,23 @@ fn main() {
     let golden = exit_on_error(Golden::load());
     if std::env::args().any(|a| a == "--all") {
         let bar = progress_bar(0, "calibration sets");
-        exit_on_error(calibration::study(|done, total| {
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
-        }));
+        exit_on_error(calibration::study(&bar));
         bar.finish_and_clear();
-        let bar = progress_bar(
-            studies::work_precision_settings().len() as u64 + 2,
-            "work-precision runs",
-        );
-        exit_on_error(studies::work_precision(|_| bar.inc(1)));
+        let bar = progress_bar(0, "work-precision runs");
+        exit_on_error(studies::work_precision(&bar));
         bar.finish_and_clear();
         let bar = progress_bar(0, "convergence members");
-        exit_on_error(convergence::convergence_study(|done, total| {
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
-        }));
+        exit_on_error(convergence::convergence_study(&bar));
         bar.finish_and_clear();
     }
     let bar = progress_bar(0, "ensemble members");
-    let (runs, drawn) = exit_on_error(run_figures(EnsembleSettings::default(), |done, total| {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-    }));
+    let (runs, drawn) = exit_on_error(run_figures(EnsembleSettings::default(), &bar));
     bar.finish_and_clear();
-    // every Table 3 case and the standard wear case, under each integration setting
-    let count = studies::Setting::ALL.len() * (CASES.list().len() + 1);
-    let bar = progress_bar(count as u64, "accuracy runs");
-    let accuracy = exit_on_error(studies::accuracy_dependence(|_, _| bar.inc(1)));
+    let bar = progress_bar(0, "accuracy runs");
+    let accuracy = exit_on_error(studies::accuracy_dependence(&bar));
     bar.finish_and_clear();
-    let bar = progress_bar(
-        exit_on_error(studies::stability_cases()).len() as u64,
-        "stability cases",
-    );
-    let stability = exit_on_error(studies::stability(|_| bar.inc(1)));
+    let bar = progress_bar(0, "stability cases");
+    let stability = exit_on_error(studies::stability(&bar));
     bar.finish_and_clear();
     let studies = Studies {
         accuracy: &accuracy,

@@ -1,8 +1,11 @@
 //! The stability study (see `jointwear::paper::studies::stability`): writes `data/stability.csv`.
 use jointwear::error::exit_on_error;
+use jointwear::io::progress::progress_bar;
 
 fn main() {
-    let rows = exit_on_error(jointwear::paper::studies::stability(|c| eprintln!("{c}")));
+    let bar = progress_bar(0, "stability cases");
+    let rows = exit_on_error(jointwear::paper::studies::stability(&bar));
+    bar.finish_and_clear();
     println!("wrote data/stability.csv");
     for r in rows {
         let outcome = r.failure.as_deref().unwrap_or("completed");

@@ -2,11 +2,12 @@
 //! `data/work_precision.csv` and `figures/work_precision.png` and prints the error floor and
 //! the default tolerance.
 use jointwear::error::exit_on_error;
+use jointwear::io::progress::progress_bar;
 
 fn main() {
-    let wp = exit_on_error(jointwear::paper::studies::work_precision(|i| {
-        eprintln!("{} {}", i.method_name(), i.setting())
-    }));
+    let bar = progress_bar(0, "work-precision runs");
+    let wp = exit_on_error(jointwear::paper::studies::work_precision(&bar));
+    bar.finish_and_clear();
     println!("wrote data/work_precision.csv and figures/work_precision.png");
     println!("error floor (reference disagreement): {:?}", wp.floor);
     println!(

@@ -1,5 +1,6 @@
 //! Files a run writes and reads: atomic CSV/PNG/JSON writing, output-folder checks and
-//! manifests, plotting, and clean interruption (SIGINT/SIGTERM remove temporary files).
+//! manifests, plotting, clean interruption (SIGINT/SIGTERM remove temporary files), and the
+//! progress observers of long computations.
 //!
 //! Owns: the byte formats and the file system. Uses: nothing of the crate but
 //! [`crate::Error`]; it knows no physics.
@@ -7,3 +8,4 @@
 pub mod interrupt;
 pub mod output;
 pub mod plot;
+pub mod progress;

@@ -17,7 +17,6 @@ use std::sync::Mutex;
 
 use crate::io::interrupt;
 use crate::{Error, Result};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 fn io_error(path: &Path, source: std::io::Error) -> Error {
     Error::Io {
@@ -393,15 +392,6 @@ pub fn read_csv(path: &Path) -> Result<(Vec<String>, Vec<Vec<f64>>)> {
         }
     }
     Ok((header, columns))
-}
-
-/// A progress bar of `len` `unit`s on stderr (hidden when stderr is not a terminal).
-pub fn progress_bar(len: u64, unit: &str) -> ProgressBar {
-    let style = ProgressStyle::with_template(&format!(
-        "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {unit} (eta {{eta}})"
-    ))
-    .unwrap_or_else(|_| ProgressStyle::default_bar());
-    ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr()).with_style(style)
 }
 
 #[cfg(test)]

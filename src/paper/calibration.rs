@@ -31,6 +31,7 @@ use crate::analysis::PEAK_PROMINENCE;
 use crate::analysis::{peaks, wear_location};
 use crate::io::output::write_rows;
 use crate::io::plot::{render, Axes, Series, Style};
+use crate::io::progress::{Counter, Progress};
 use crate::laws::friction::FrictionModel;
 use crate::laws::wear::PressureModel;
 use crate::paper::cases::{steady_member, steady_run_with, wear_run_with, PerCase, CASES};
@@ -39,7 +40,6 @@ use crate::paper::golden::{angle_distance, Golden};
 use crate::scene::SceneFile;
 use crate::Result;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// One candidate set of the low-confidence parameters (SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -254,17 +254,17 @@ pub fn candidates(base: Params) -> Vec<(String, Params)> {
 
 /// Runs the study on all cores, writes `data/calibration.csv` and `figures/calibration.png`,
 /// and returns every (group, params, metrics) sorted by score.
-pub fn study(progress: impl Fn(usize, usize) + Sync) -> Result<Vec<(String, Params, Metrics)>> {
+pub fn study(progress: &dyn Progress) -> Result<Vec<(String, Params, Metrics)>> {
     let golden = Golden::load()?;
     let base = Params::of_scene(&SceneFile::read(crate::scene::scene_path(
         &golden.standard_wear.scene,
     ))?);
     let sets = candidates(base);
-    let finished = AtomicUsize::new(0);
+    let finished = Counter::new(progress, sets.len());
     let done = (sets.par_iter().enumerate())
         .map(|(i, (group, p))| {
             let m = evaluate(p, &golden)?;
-            progress(finished.fetch_add(1, Ordering::Relaxed) + 1, sets.len());
+            finished.finish_one();
             Ok((i, group.clone(), *p, m))
         })
         .collect::<Result<Vec<_>>>()?;

@@ -15,13 +15,13 @@ use crate::analysis::concordance::{centred_cmf, Concordance};
 use crate::analysis::statistics::{Band, Distribution};
 use crate::analysis::PEAK_PROMINENCE;
 use crate::analysis::{peaks, Motion, Peak};
+use crate::io::progress::{Counter, Progress};
 use crate::scene::{scene_path, SceneFile};
 use crate::simulation::ensemble::{run_member, EnsembleSettings};
 use crate::simulation::Scene;
 use crate::simulation::{simulate, RunOutput, Settling};
 use crate::{Error, Result};
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A case of the paper: its scene and the clearance and crank speed it stands for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -463,12 +463,12 @@ enum MemberResult {
 
 impl Runs {
     /// Runs the ensembles of `needs` (each once) with the case scenes varied by `modify`, all
-    /// members of all of them in one parallel loop; `progress(done, total)` counts members.
+    /// members of all of them in one parallel loop; `progress` counts members.
     pub fn compute(
         needs: &[Need],
         ensemble: EnsembleSettings,
         modify: &(dyn Fn(&mut SceneFile) + Sync),
-        progress: impl Fn(usize, usize) + Sync,
+        progress: &dyn Progress,
     ) -> Result<Runs> {
         ensemble.validate()?;
         let clock = std::time::Instant::now();
@@ -494,7 +494,7 @@ impl Runs {
         let jobs: Vec<(usize, usize)> = (0..needs.len())
             .flat_map(|k| (0..ensemble.members).map(move |m| (k, m)))
             .collect();
-        let done = AtomicUsize::new(0);
+        let done = Counter::new(progress, jobs.len());
         let results = jobs
             .par_iter()
             .map(|&(k, m)| {
@@ -510,7 +510,7 @@ impl Runs {
                     Need::Steady(_) => MemberResult::Steady(steady_member(scene, &out, m == 0)?),
                     _ => MemberResult::Wear(wear_member(out)),
                 };
-                progress(done.fetch_add(1, Ordering::Relaxed) + 1, jobs.len());
+                done.finish_one();
                 Ok(r)
             })
             .collect::<Result<Vec<MemberResult>>>()?;

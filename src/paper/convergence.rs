@@ -14,6 +14,7 @@
 use crate::analysis::statistics::{Band, Distribution};
 use crate::io::output::write_csv;
 use crate::io::plot::{render, Axes, Series, Style};
+use crate::io::progress::Progress;
 use crate::paper::cases::{Runs, CASES};
 use crate::paper::figures::output_path;
 use crate::paper::golden::{measure, Golden, Quantity, SteadyQuantity, GOLDEN_NEEDS};
@@ -65,8 +66,8 @@ fn meets_rule(rows: &[&ConvergenceRow], golden: &Golden) -> bool {
 }
 
 /// Runs the study and writes `data/ensemble_convergence.csv` and
-/// `figures/ensemble_convergence.png`; `progress(done, total)` counts members.
-pub fn convergence_study(progress: impl Fn(usize, usize) + Sync) -> Result<Convergence> {
+/// `figures/ensemble_convergence.png`; `progress` counts members.
+pub fn convergence_study(progress: &dyn Progress) -> Result<Convergence> {
     let golden = Golden::load()?;
     let ensemble = EnsembleSettings {
         members: MAX_MEMBERS,

@@ -29,6 +29,7 @@
 //! rather than taken from a crate because its few lines fix the stream for good: a dependency
 //! update can never move a recorded statistic.
 
+use crate::io::progress::{Counter, Progress, Silent};
 use crate::simulation::Scene;
 use crate::simulation::{RunOutput, RunSettings, Simulation};
 use crate::{Error, Result};
@@ -134,21 +135,22 @@ pub fn run_member(
 ) -> Result<RunOutput> {
     let y0 = member_state(scene, seed, member)?;
     let mut sim = Simulation::new(scene.mechanism.clone(), settings.clone(), &y0)?;
-    sim.run_to_end(|_, _| {})?;
+    sim.run_to_end(&Silent)?;
     Ok(sim.finish())
 }
 
 /// Runs the members of an ensemble of `scene` with the scene's run settings in parallel,
 /// maps each output by `keep(member, output)` (so a large output need not be held), and
-/// returns them in member order. If members fail, one of their errors is returned, naming its
-/// member.
+/// returns them in member order, telling `progress` the members finished. If members fail,
+/// one of their errors is returned, naming its member.
 pub fn run<T: Send>(
     scene: &Scene,
     ensemble: &EnsembleSettings,
     keep: impl Fn(usize, RunOutput) -> T + Sync,
-    done: impl Fn() + Sync,
+    progress: &dyn Progress,
 ) -> Result<Vec<T>> {
     ensemble.validate()?;
+    let done = Counter::new(progress, ensemble.members);
     (0..ensemble.members)
         .into_par_iter()
         .map(|m| {
@@ -159,7 +161,7 @@ pub fn run<T: Send>(
                 },
                 e => e,
             });
-            done();
+            done.finish_one();
             out.map(|o| keep(m, o))
         })
         .collect()

@@ -30,6 +30,7 @@
 //! block jump, which changes the gap discontinuously, restarts the integrator. So the settling
 //! rotations are bit-identical to a plain run of that many rotations.
 
+use crate::io::progress::Progress;
 use crate::simulation::Scene;
 use crate::simulation::{wear_limit, RunSettings, Simulation, MAX_WEAR_RATIO};
 use crate::{Error, Result};
@@ -103,11 +104,11 @@ pub struct LongLife {
 }
 
 /// Predicts the wear after `settings.rotations` rotations by cycle-jump extrapolation (see
-/// the module documentation); `progress(done, total)` is called after each block.
+/// the module documentation); `progress` is told the rotations done after each block.
 pub fn predict(
     scene: &Scene,
     settings: &LongLifeSettings,
-    mut progress: impl FnMut(u64, u64),
+    progress: &dyn Progress,
 ) -> Result<LongLife> {
     let clock = std::time::Instant::now();
     let target = settings.rotations;
@@ -252,7 +253,7 @@ pub fn predict(
             next_snapshot.next();
             snapshots.push(stage(&sim, done));
         }
-        progress(done, target);
+        progress.observe(done, Some(target));
     }
     if snapshots.last().is_none_or(|s| s.rotations != done) {
         snapshots.push(stage(&sim, done));

@@ -28,6 +28,7 @@ mod run;
 pub use checkpoint::Checkpoint;
 pub use run::Simulation;
 
+use crate::io::progress::{Progress, Silent};
 use crate::mechanism::{ClearanceJoint, Mechanism};
 use crate::ode::{Method, Stats, Tolerances};
 use crate::Result;
@@ -225,16 +226,13 @@ pub struct RunOutput {
 
 /// Simulates a scene.
 pub fn simulate(scene: &Scene) -> Result<RunOutput> {
-    simulate_with_progress(scene, |_, _| {})
+    simulate_with_progress(scene, &Silent)
 }
 
-/// Simulates a scene, calling `progress(done, total)` after every driver rotation (`total` is
-/// `None` while the run settles to its steady state). Observing a run never changes it: the
+/// Simulates a scene, telling `progress` the driver rotations done after each (the total is
+/// unknown while the run settles to its steady state). Observing a run never changes it: the
 /// result is bit-identical to [`simulate`]'s.
-pub fn simulate_with_progress(
-    scene: &Scene,
-    progress: impl FnMut(u32, Option<u32>),
-) -> Result<RunOutput> {
+pub fn simulate_with_progress(scene: &Scene, progress: &dyn Progress) -> Result<RunOutput> {
     let mut sim = Simulation::start(scene)?;
     sim.run_to_end(progress)?;
     Ok(sim.finish())

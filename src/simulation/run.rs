@@ -4,6 +4,7 @@
 use super::checkpoint::Checkpoint;
 use super::record::{Sampler, Settler};
 use super::*;
+use crate::io::progress::Progress;
 use crate::mechanism::{Mechanism, RunState, Workspace};
 use crate::ode::{Event, Integrator, OdeSystem};
 use crate::{Error, Result};
@@ -249,11 +250,11 @@ impl Simulation {
         &self.state
     }
 
-    /// Runs the remaining rotations, calling `progress(done, total)` after each.
-    pub fn run_to_end(&mut self, mut progress: impl FnMut(u32, Option<u32>)) -> Result<()> {
+    /// Runs the remaining rotations, telling `progress` the rotations done after each.
+    pub fn run_to_end(&mut self, progress: &dyn Progress) -> Result<()> {
         while !self.is_finished() {
             self.advance_rotation()?;
-            progress(self.rotation, self.end_rotation);
+            progress.observe(self.rotation.into(), self.end_rotation.map(u64::from));
         }
         Ok(())
     }

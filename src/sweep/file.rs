@@ -16,6 +16,7 @@
 //!   refuse a missing, repeated or unfinished shard; `total` is the whole sweep's case count.
 
 use crate::io::output::{parse_rows, write_table, GrowingTable};
+use crate::io::progress::{Counter, Progress};
 use crate::sweep::{case_count, Assignment, Shard, Sweep};
 use crate::{Error, Result};
 use std::collections::HashSet;
@@ -266,11 +267,11 @@ impl<'a> JournaledSweep<'a> {
     }
 
     /// Runs the remaining cases in parallel, appending each row as its case finishes and
-    /// calling `done`, then rewrites the file in case order. Returns the number of rows and
+    /// telling `progress` the cases finished, then rewrites the file in case order. Returns the number of rows and
     /// the cases that failed while running (an error in their last column). A row that
     /// cannot be appended does not stop the sweep: the final rewrite holds it, and the first
     /// such error is returned after it.
-    pub fn run(self, done: impl Fn() + Sync) -> Result<(usize, Vec<usize>)> {
+    pub fn run(self, progress: &dyn Progress) -> Result<(usize, Vec<usize>)> {
         let JournaledSweep {
             sweep,
             id,
@@ -280,12 +281,13 @@ impl<'a> JournaledSweep<'a> {
         } = self;
         let cells = sweep.cells();
         let append_error = Mutex::new(None);
+        let done = Counter::new(progress, sweep.len());
         let results = sweep.run(|r| {
             if let Err(e) = journal.append(&r.record(cells)) {
                 let mut first = append_error.lock().unwrap_or_else(|e| e.into_inner());
                 first.get_or_insert(e);
             }
-            done();
+            done.finish_one();
         });
         let mut rows = kept;
         rows.extend(results.iter().map(|r| r.record(cells)));

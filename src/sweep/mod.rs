@@ -15,6 +15,7 @@ pub mod file;
 use crate::analysis::statistics::{Band, Distribution};
 use crate::analysis::PEAK_PROMINENCE;
 use crate::analysis::{peaks, Motion, Peak};
+use crate::io::progress::Silent;
 use crate::scene::{set_dotted, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
 use crate::simulation::Scene;
@@ -520,7 +521,7 @@ fn run_ensemble(scene: &Scene, settings: &EnsembleSettings) -> Result<(Outcome, 
         scene,
         settings,
         |_, out| (summarize(scene, &out), out.final_wear),
-        || (),
+        &Silent,
     )?;
     let stats = joint_statistics(scene, &members);
     Ok((

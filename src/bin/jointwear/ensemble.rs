@@ -5,8 +5,9 @@
 use crate::failure::{CliResult, Failure};
 use crate::{file_part, load, out_dir};
 use jointwear::analysis::statistics::{Distribution, QUANTILES};
-use jointwear::io::output::{check_output_dir, progress_bar, write_outputs, write_rows};
+use jointwear::io::output::{check_output_dir, write_outputs, write_rows};
 use jointwear::io::plot::{render, Axes, Series, Shade, Style};
+use jointwear::io::progress::progress_bar;
 use jointwear::laws::wear::sector_angles_deg;
 use jointwear::simulation::ensemble::{self, member_offsets, EnsembleSettings};
 use jointwear::simulation::Scene;
@@ -32,7 +33,7 @@ pub fn run_ensemble(
         &scene,
         &settings,
         |_, o| ((summarize(&scene, &o), o.final_wear), o.wall_time),
-        || bar.inc(1),
+        &bar,
     );
     bar.finish_and_clear();
     let (members, walls): (Vec<Member>, Vec<f64>) = members.map_err(bad)?.into_iter().unzip();

@@ -3,8 +3,9 @@
 
 use crate::failure::{CliResult, Failure};
 use crate::{file_part, out_dir};
-use jointwear::io::output::{check_output_dir, progress_bar, write_csv, write_outputs};
+use jointwear::io::output::{check_output_dir, write_csv, write_outputs};
 use jointwear::io::plot::{render, Axes, Series, Style};
+use jointwear::io::progress::progress_bar;
 use jointwear::laws::wear::sector_angles_deg;
 use jointwear::scene::SceneFile;
 use jointwear::simulation::longlife::{predict, LongLife, LongLifeSettings};
@@ -50,7 +51,7 @@ pub fn longlife(
         ..LongLifeSettings::default()
     };
     let bar = progress_bar(target, "rotations");
-    let result = predict(&scene, &settings, |done, _| bar.set_position(done));
+    let result = predict(&scene, &settings, &bar);
     bar.finish_and_clear();
     let life = result.map_err(bad)?;
     let title = format!("jointwear longlife {}", path.display());

@@ -4,8 +4,9 @@
 use crate::failure::{CliResult, Failure};
 use crate::{file_part, load, out_dir};
 use jointwear::io::interrupt;
-use jointwear::io::output::{check_output_dir, progress_bar, write_csv, write_outputs};
+use jointwear::io::output::{check_output_dir, write_csv, write_outputs};
 use jointwear::io::plot::{render, Axes, Series, Style};
+use jointwear::io::progress::{progress_bar, Progress};
 use jointwear::laws::wear::sector_angles_deg;
 use jointwear::scene::SceneFile;
 use jointwear::simulation::checkpoint::{read_checkpoint, write_checkpoint, CHECKPOINT_FILE};
@@ -65,8 +66,8 @@ pub fn run(
             let done = sim.rotations_done();
             // While a run settles its length is unknown: the bar then counts settling rotations.
             let total = sim.total_rotations();
-            bar.set_length(total.unwrap_or(done + scene.run.rotations) as u64);
-            bar.set_position(done as u64);
+            let total = total.unwrap_or(done + scene.run.rotations);
+            bar.observe(done.into(), Some(total.into()));
             if checkpoint_every.is_some_and(|k| done % k == 0) {
                 write_checkpoint(&saved, &fingerprint, sim.checkpoint())?;
             }

@@ -5,7 +5,8 @@
 use crate::failure::{CliResult, Failure};
 use crate::out_dir;
 use jointwear::io::interrupt;
-use jointwear::io::output::{check_output_file, progress_bar};
+use jointwear::io::output::check_output_file;
+use jointwear::io::progress::progress_bar;
 use jointwear::simulation::ensemble::EnsembleSettings;
 use jointwear::sweep::file::{merge, JournaledSweep};
 use jointwear::sweep::{Assignment, Shard, Sweep};
@@ -84,7 +85,7 @@ pub fn sweep(
         rayon::current_num_threads()
     );
     let bar = progress_bar((id.cases - journaled.finished()) as u64, "cases");
-    let result = journaled.run(|| bar.inc(1));
+    let result = journaled.run(&bar);
     bar.finish_and_clear();
     let (rows, failed) = result.map_err(bad)?;
     println!("wrote {} ({rows} cases)", out.display());

@@ -280,16 +280,8 @@ pub fn figure_main(name: &str) {
         return;
     };
     let ensemble = EnsembleSettings::default();
-    let bar = crate::io::output::progress_bar(0, "ensemble members");
-    let runs = exit_on_error(Runs::compute(
-        figure.needs,
-        ensemble,
-        &|_| {},
-        |done, total| {
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
-        },
-    ));
+    let bar = crate::io::progress::progress_bar(0, "ensemble members");
+    let runs = exit_on_error(Runs::compute(figure.needs, ensemble, &|_| {}, &bar));
     bar.finish_and_clear();
     let lines = exit_on_error((figure.draw)(&runs));
     let png = if figure.png {

@@ -25,6 +25,7 @@ pub use claims::claims;
 pub use verdict::{Claim, Verdict, MEMBER_MAJORITY};
 
 use crate::io::output::write_atomic;
+use crate::io::progress::Progress;
 use crate::paper::cases::Runs;
 use crate::paper::figures::{all_needs, Figure, FIGURES};
 use crate::paper::golden::Golden;
@@ -49,11 +50,8 @@ pub struct DrawnFigure {
 pub type Drawn = Vec<DrawnFigure>;
 
 /// Computes every ensemble the figures and claims need, and draws every figure and Table 3;
-/// `progress(done, total)` counts ensemble members.
-pub fn run_figures(
-    ensemble: EnsembleSettings,
-    progress: impl Fn(usize, usize) + Sync,
-) -> Result<(Runs, Drawn)> {
+/// `progress` counts ensemble members.
+pub fn run_figures(ensemble: EnsembleSettings, progress: &dyn Progress) -> Result<(Runs, Drawn)> {
     let runs = Runs::compute(&all_needs(), ensemble, &|_| {}, progress)?;
     let mut drawn = Vec::new();
     for figure in &FIGURES {

@@ -16,6 +16,7 @@ use super::integration::Integration;
 use crate::analysis::concordance::Concordance;
 use crate::analysis::{peaks, Motion, PEAK_PROMINENCE};
 use crate::io::output::write_rows;
+use crate::io::progress::Progress;
 use crate::ode::Method;
 use crate::paper::cases::{wear_run_with, Case, CASES};
 use crate::paper::figures::output_path;
@@ -346,19 +347,26 @@ fn wear_case(setting: Setting) -> AccuracyRow {
 
 /// The accuracy-dependence study (see the module documentation); `progress` is told each run.
 /// Writes `data/accuracy_dependence.csv`.
-pub fn accuracy_dependence(progress: impl Fn(&str, &str)) -> Result<AccuracyDependence> {
+pub fn accuracy_dependence(progress: &dyn Progress) -> Result<AccuracyDependence> {
     let golden = Golden::load()?;
+    let total = Some((Setting::ALL.len() * (CASES.list().len() + 1)) as u64);
     let mut rows = Vec::new();
+    let mut run = |subject: &str, setting: Setting, row: &dyn Fn() -> AccuracyRow| {
+        progress.observe(rows.len() as u64, total);
+        progress.stage(&format!("{subject} {}", setting.label()));
+        rows.push(row());
+    };
     for case in CASES.list() {
         for setting in Setting::ALL {
-            progress(case.scene, setting.label());
-            rows.push(windowed_case(*case, setting));
+            run(case.scene, setting, &|| windowed_case(*case, setting));
         }
     }
     for setting in Setting::ALL {
-        progress(Subject::StandardWear.name(), setting.label());
-        rows.push(wear_case(setting));
+        run(Subject::StandardWear.name(), setting, &|| {
+            wear_case(setting)
+        });
     }
+    progress.observe(rows.len() as u64, total);
     let mut findings = Vec::new();
     let tol = golden.concordance_tolerance;
     let holds = |case: Subject, test: &Check| -> [bool; 4] {

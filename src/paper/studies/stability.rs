@@ -9,6 +9,7 @@
 //! rejections and wall time.
 
 use crate::io::output::write_rows;
+use crate::io::progress::Progress;
 use crate::ode::Stats;
 use crate::paper::figures::output_path;
 use crate::scene::{scene_path, SceneFile};
@@ -117,16 +118,20 @@ pub fn stability_case(name: &str, rotations: u32, max_steps: u64) -> Result<Stab
 
 /// The stability study (see the module documentation); `progress` is told each case.
 /// Writes `data/stability.csv`.
-pub fn stability(progress: impl Fn(&str)) -> Result<Vec<StabilityRow>> {
+pub fn stability(progress: &dyn Progress) -> Result<Vec<StabilityRow>> {
+    let cases = stability_cases()?;
+    let total = Some(cases.len() as u64);
     let mut rows = Vec::new();
-    for name in stability_cases()? {
-        progress(&name);
+    for name in cases {
+        progress.observe(rows.len() as u64, total);
+        progress.stage(&name);
         rows.push(stability_case(
             &name,
             STABILITY_ROTATIONS,
             STABILITY_MAX_STEPS,
         )?);
     }
+    progress.observe(rows.len() as u64, total);
     write_rows(
         &output_path("data", "stability.csv"),
         &STABILITY_HEADER,

@@ -38,6 +38,7 @@ use super::integration::Integration;
 use crate::analysis::statistics::{Band, Distribution};
 use crate::io::output::{read_rows, write_rows};
 use crate::io::plot::{render, Axes, Series, Style};
+use crate::io::progress::{Progress, Silent};
 use crate::ode::{Method, Stats};
 use crate::paper::cases::{wear_run_with, Need, Runs, CASES};
 use crate::paper::figures::output_path;
@@ -217,10 +218,20 @@ pub fn work_precision_settings() -> Vec<Integration> {
     s
 }
 
-/// The work-precision study (see the module documentation); `progress` is told each setting.
+/// The work-precision study (see the module documentation); `progress` is told each run and
+/// wear ensemble.
 /// Writes `data/work_precision.csv` and `figures/work_precision.png`.
-pub fn work_precision(progress: impl Fn(&Integration)) -> Result<WorkPrecision> {
-    progress(&REFERENCE);
+pub fn work_precision(progress: &dyn Progress) -> Result<WorkPrecision> {
+    let settings = work_precision_settings();
+    // the reference, every setting and the second reference; the ensembles are added once known
+    let mut total = settings.len() as u64 + 2;
+    let mut done = 0;
+    let mut start = |int: &Integration, total: u64, what: &str| {
+        progress.observe(done, Some(total));
+        progress.stage(&format!("{} {}{what}", int.method_name(), int.setting()));
+        done += 1;
+    };
+    start(&REFERENCE, total, "");
     let reference = measure(&REFERENCE)?;
     let row = |int: Integration, m: &Measured| WorkRow {
         integration: int,
@@ -231,11 +242,8 @@ pub fn work_precision(progress: impl Fn(&Integration)) -> Result<WorkPrecision> 
         failure: None,
     };
     let mut rows = Vec::new();
-    for int in work_precision_settings()
-        .into_iter()
-        .chain([SECOND_REFERENCE])
-    {
-        progress(&int);
+    for int in settings.into_iter().chain([SECOND_REFERENCE]) {
+        start(&int, total, "");
         rows.push(match measure(&int) {
             Ok(m) => row(int, &m),
             Err(e) => WorkRow {
@@ -257,14 +265,17 @@ pub fn work_precision(progress: impl Fn(&Integration)) -> Result<WorkPrecision> 
             time: 0.0,
             cause: "the second reference failed".into(),
         })?;
-    // the reference ensemble draws other offsets, so the two means are independent samples
-    let reference = wear_ensemble(&SECOND_REFERENCE, 2)?;
-    for r in rows.iter_mut().filter(|r| {
+    let with_ensemble = |r: &WorkRow| {
         r.failure.is_none()
             && r.stats.evaluations <= WP_ENSEMBLE_MAX_EVALUATIONS
             && r.integration != REFERENCE
-    }) {
-        progress(&r.integration);
+    };
+    total += 1 + rows.iter().filter(|r| with_ensemble(r)).count() as u64;
+    // the reference ensemble draws other offsets, so the two means are independent samples
+    start(&SECOND_REFERENCE, total, " (reference ensemble)");
+    let reference = wear_ensemble(&SECOND_REFERENCE, 2)?;
+    for r in rows.iter_mut().filter(|r| with_ensemble(r)) {
+        start(&r.integration, total, " (ensemble)");
         let e = wear_ensemble(&r.integration, 1)?;
         r.ensemble = Some(ensemble_error(&e, &reference));
     }
@@ -289,7 +300,7 @@ fn wear_ensemble(int: &Integration, seed: u64) -> Result<Band> {
         seed,
     };
     let needs = [Need::Wear(CASES.standard.scene)];
-    let runs = Runs::compute(&needs, ensemble, &apply, |_, _| {})?;
+    let runs = Runs::compute(&needs, ensemble, &apply, &Silent)?;
     Ok(runs.wear(CASES.standard.scene)?.band())
 }
 
