@@ -117,6 +117,26 @@ pub struct Stats {
     pub evaluations: u64,
     /// Events handled by the driver ([`Integrator::record_event`]).
     pub events: u64,
+    /// The rejected attempts by what preceded them.
+    #[serde(default)]
+    pub rejections: Rejections,
+}
+
+/// Rejected attempts by what preceded them; they sum to [`Stats::rejected`]. Many rejections
+/// right after the controller enlarged the step, few after restarts, is the signature of an
+/// explicit method at its stability limit (a stiff contact), not of events or discontinuities.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Rejections {
+    /// The right-hand side failed, or the trial state or error estimate was not finite.
+    pub failed: u64,
+    /// The first attempt after a start or restart (a contact onset): the guessed step.
+    pub after_restart: u64,
+    /// The first attempt after the controller enlarged the step.
+    pub after_increase: u64,
+    /// An attempt after a rejection within the same step.
+    pub repeated: u64,
+    /// The first attempt at a step no larger than the last accepted one.
+    pub other: u64,
 }
 
 /// The integration method.
@@ -188,6 +208,8 @@ pub struct Integrator {
     k: Vec<Vec<f64>>,
     /// Term `r5` of the dense output; zero for the cubic Hermite methods.
     dense5: Vec<f64>,
+    /// Per-component error estimate of the last attempt (scratch).
+    err: Vec<f64>,
     stats: Stats,
 }
 
@@ -207,22 +229,26 @@ fn combine(out: &mut [f64], y: &[f64], k1: &[f64], k: &[Vec<f64>], row: &[f64], 
     }
 }
 
-/// `Σ_j w_j k_j` of component `i` over the stages k1 (`k1`), k2.. (`k`) and, last, f at the
-/// new point (`k_new`), skipping zero weights.
-fn weighted(w: &[f64], i: usize, k1: &[f64], k: &[Vec<f64>], k_new: &[f64]) -> f64 {
+/// `out_i = Σ_j w_j k_j,i` over the stages k1 (`k1`), k2.. (`k`) and, last, f at the new point
+/// (`k_new`), skipping zero weights, for the first `out.len()` components. Stage by stage, so
+/// that each pass is a contiguous axpy the compiler vectorises; every component still sums its
+/// terms in stage order, so the result is the same bits as a component-by-component sum.
+fn weighted(out: &mut [f64], w: &[f64], k1: &[f64], k: &[Vec<f64>], k_new: &[f64]) {
+    out.fill(0.0);
     let last = w.len() - 1;
-    let mut sum = 0.0;
     for (j, &wj) in w.iter().enumerate() {
-        if wj != 0.0 {
-            let kj = match j {
-                0 => k1[i],
-                j if j == last => k_new[i],
-                j => k[j - 1][i],
-            };
-            sum += wj * kj;
+        if wj == 0.0 {
+            continue;
+        }
+        let kj = match j {
+            0 => k1,
+            j if j == last => k_new,
+            j => &k[j - 1],
+        };
+        for (o, &v) in out.iter_mut().zip(kj) {
+            *o += wj * v;
         }
     }
-    sum
 }
 
 /// Error scale of component i.
@@ -260,6 +286,7 @@ impl Integrator {
             y_stage: vec![0.0; dim],
             k: vec![vec![0.0; dim]; method.tableau().a.len() - 1],
             dense5: vec![0.0; dim],
+            err: vec![0.0; dim],
             stats: Stats::default(),
         }
     }
@@ -394,6 +421,8 @@ impl Integrator {
             return Ok(self.accept(h, last, t_limit));
         }
         let mut rejected = false;
+        // The last accepted step; 0 right after a (re)start.
+        let h_last = self.t - self.t_prev;
         // Why the last attempt was thrown away, for the underflow message.
         let mut blow_up: Option<String> = None;
         let mut failure: Option<Error> = None;
@@ -433,6 +462,14 @@ impl Integrator {
                 },
             };
             self.stats.rejected += 1;
+            let by = &mut self.stats.rejections;
+            *match () {
+                _ if blow_up.is_some() => &mut by.failed,
+                _ if rejected => &mut by.repeated,
+                _ if h_last == 0.0 => &mut by.after_restart,
+                _ if h > h_last => &mut by.after_increase,
+                _ => &mut by.other,
+            } += 1;
             rejected = true;
             if blow_up.is_some() {
                 self.h = h * self.control.fac_min;
@@ -467,8 +504,9 @@ impl Integrator {
         Ok(match tab.estimate {
             Estimate::None => 0.0,
             Estimate::Embedded(e) => {
-                let (k, k1, k_new) = (&self.k, &self.dy, &self.dy_new);
-                self.error_norm(|i| h * weighted(e, i, k1, k, k_new))
+                let n = self.n_controlled;
+                weighted(&mut self.err[..n], e, &self.dy, &self.k, &self.dy_new);
+                self.error_norm(|i| h * self.err[i])
             }
             Estimate::Blended { er, bhh } => self.blended_error(h, tab.b, er, bhh),
         })
@@ -499,9 +537,9 @@ impl Integrator {
     fn finish_step(&mut self, sys: &mut impl OdeSystem, h: f64) -> Result<()> {
         let tab = self.method.tableau();
         if let Dense::Shampine(d) = tab.dense {
-            let (k, k1, k_new) = (&self.k, &self.dy, &self.dy_new);
-            for (i, r) in self.dense5.iter_mut().enumerate() {
-                *r = h * weighted(d, i, k1, k, k_new);
+            weighted(&mut self.dense5, d, &self.dy, &self.k, &self.dy_new);
+            for r in &mut self.dense5 {
+                *r *= h;
             }
         }
         if !tab.fsal {

@@ -547,3 +547,31 @@ fn integrator_locates_the_earliest_event_of_a_step() {
         .earliest_event(&mut g, |i, y| y[0] - levels[i], &mut scratch)
         .is_none());
 }
+
+/// A stiff decay y' = −λ (y − cos t) at a loose tolerance puts Dopri5 on its stability limit:
+/// the rejections are first attempts at ordinary steps (the step accepted after a rejection
+/// is not enlarged, so here they are `other`), a restart with an oversized first step is
+/// counted apart, and the causes sum to the rejections. (Counting every rejection under one
+/// cause, or classifying before the restart check, fails this test.)
+#[test]
+fn rejections_are_counted_by_what_preceded_them() {
+    let lambda = 1e4;
+    let mut sys = Sys(1, move |t: f64, y: &[f64], dy: &mut [f64]| {
+        dy[0] = -lambda * (y[0] - t.cos());
+    });
+    let tol = Tolerances {
+        initial_step: 1.0, // far beyond the stability limit 3.3/λ: the first attempt fails
+        max_step: 1.0,
+        ..tol(1e-3, 1e-6)
+    };
+    let int = run(Method::Dopri5, tol, 1, &mut sys, 0.0, &[1.0], 1.0);
+    let (s, by) = (int.stats(), int.stats().rejections);
+    assert_eq!(
+        by.failed + by.after_restart + by.after_increase + by.repeated + by.other,
+        s.rejected
+    );
+    assert_eq!(by.after_restart, 1);
+    assert!(by.repeated >= 1, "{by:?}");
+    assert!(s.rejected > 50, "{s:?}");
+    assert!(by.other + by.after_increase > s.rejected * 9 / 10, "{s:?}");
+}

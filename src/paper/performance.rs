@@ -12,6 +12,7 @@
 
 use crate::io::output::write_rows;
 use crate::io::plot::{render, Axes, Series, Style};
+use crate::ode::Stats;
 use crate::paper::cases::CASES;
 use crate::paper::figures::output_path;
 use crate::scene::{scene_path, SceneFile};
@@ -21,13 +22,16 @@ use serde::Deserialize;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// Run-time targets of the hot paths: criterion bench and its budget (ns).
+/// Run-time targets of the hot paths: criterion bench and its budget (ns). The 40-rotation
+/// run and its 16-member ensemble have the budgets users asked for (0.1 s for the whole
+/// `jointwear run` process, 1 s for the ensemble on 2 cores); the bench times the run alone,
+/// so a missed bench budget is a missed whole-process target.
 pub const TARGETS: [(&str, f64); 5] = [
     ("contact_force/hybrid", 20.0),
     ("contact_force/lankarani-nikravesh", 20.0),
     ("rhs/standard", 300.0),
-    ("wear_run/standard_40", 0.25e9),
-    ("ensemble/standard_40x16", 2e9),
+    ("wear_run/standard_40", 0.1e9),
+    ("ensemble/standard_40x16", 1e9),
 ];
 /// Budget of the whole default `report` run (s).
 pub const REPORT_BUDGET_S: f64 = 60.0;
@@ -69,12 +73,8 @@ pub struct ScalingPoint {
     pub rotations: u32,
     /// Wall time of the run (s).
     pub wall_time: f64,
-    /// Accepted integrator steps.
-    pub steps: u64,
-    /// Rejected integrator steps.
-    pub rejected: u64,
-    /// Right-hand-side evaluations.
-    pub evaluations: u64,
+    /// The integrator's work: steps, rejections by cause, evaluations.
+    pub stats: Stats,
 }
 
 /// The scaling study's measurements, in sweep order; `Display` prints them as a table.
@@ -94,20 +94,25 @@ impl fmt::Display for Scaling {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
-            "{:>12} {:>7} {:>9} {:>11} {:>8} {:>8} {:>11}",
+            "{:>12} {:>7} {:>9} {:>11} {:>8} {:>8} {:>11}  rejected after increase/repeated/restart/other",
             "kind", "value", "rotations", "wall (s)", "steps", "rejected", "evaluations"
         )?;
         for p in &self.points {
+            let (s, by) = (p.stats, p.stats.rejections);
             writeln!(
                 f,
-                "{:>12} {:>7} {:>9} {:>11.4} {:>8} {:>8} {:>11}",
+                "{:>12} {:>7} {:>9} {:>11.4} {:>8} {:>8} {:>11}  {}/{}/{}/{}",
                 p.kind.name(),
                 p.value,
                 p.rotations,
                 p.wall_time,
-                p.steps,
-                p.rejected,
-                p.evaluations
+                s.steps,
+                s.rejected,
+                s.evaluations,
+                by.after_increase,
+                by.repeated,
+                by.after_restart,
+                by.other
             )?;
         }
         Ok(())
@@ -125,9 +130,7 @@ pub fn scaling_study() -> Result<Scaling> {
             value,
             rotations: file.run.rotations,
             wall_time: out.wall_time,
-            steps: out.stats.steps,
-            rejected: out.stats.rejected,
-            evaluations: out.stats.evaluations,
+            stats: out.stats,
         });
         Ok(())
     };
@@ -167,6 +170,11 @@ fn write_scaling(s: &Scaling) -> Result<()> {
             "steps",
             "rejected",
             "evaluations",
+            "rejected_after_increase",
+            "rejected_repeated",
+            "rejected_after_restart",
+            "rejected_other",
+            "rejected_failed",
         ],
         labelled_rows(
             &labels,
@@ -174,9 +182,14 @@ fn write_scaling(s: &Scaling) -> Result<()> {
                 &column(|p| p.value),
                 &column(|p| p.rotations as f64),
                 &column(|p| p.wall_time),
-                &column(|p| p.steps as f64),
-                &column(|p| p.rejected as f64),
-                &column(|p| p.evaluations as f64),
+                &column(|p| p.stats.steps as f64),
+                &column(|p| p.stats.rejected as f64),
+                &column(|p| p.stats.evaluations as f64),
+                &column(|p| p.stats.rejections.after_increase as f64),
+                &column(|p| p.stats.rejections.repeated as f64),
+                &column(|p| p.stats.rejections.after_restart as f64),
+                &column(|p| p.stats.rejections.other as f64),
+                &column(|p| p.stats.rejections.failed as f64),
             ],
         ),
     )?;
@@ -184,10 +197,10 @@ fn write_scaling(s: &Scaling) -> Result<()> {
         s.sweep(kind).map(|p| (p.value, y(p))).unzip()
     };
     let (rot, rot_time) = xy(Sweep::Rotations, |p| p.wall_time);
-    let (_, rot_evals) = xy(Sweep::Rotations, |p| p.evaluations as f64 * 1e-6);
+    let (_, rot_evals) = xy(Sweep::Rotations, |p| p.stats.evaluations as f64 * 1e-6);
     let (clr, clr_time) = xy(Sweep::Clearance, |p| p.wall_time / p.rotations as f64);
     let (_, clr_evals) = xy(Sweep::Clearance, |p| {
-        p.evaluations as f64 * 1e-3 / p.rotations as f64
+        p.stats.evaluations as f64 * 1e-3 / p.rotations as f64
     });
     render(
         &output_path("figures", "scaling.png"),

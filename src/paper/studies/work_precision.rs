@@ -75,6 +75,15 @@ pub const SECOND_REFERENCE: Integration = Integration {
     atol: 1e-14,
     max_step: WP_MAX_STEP,
 };
+/// An ode45-like Dopri5 as the paper ran it: MATLAB's default tolerances (rtol 1e-3, atol
+/// 1e-6) with the paper's maximum step of 1e-5 s; the baseline the default setting must beat
+/// in evaluations at equal accuracy of the ensemble statistics.
+pub const ODE45_PAPER: Integration = Integration {
+    method: Method::Dopri5,
+    rtol: 1e-3,
+    atol: 1e-6,
+    max_step: 1e-5,
+};
 
 /// What the work-precision study compares between two runs.
 struct Measured {
@@ -215,6 +224,7 @@ pub fn work_precision_settings() -> Vec<Integration> {
         ..Integration::adaptive(Method::Dop853, 1e-7)
     });
     s.extend([1e-5, 5e-6, 2e-6, 1e-6].map(Integration::rk4));
+    s.push(ODE45_PAPER);
     s
 }
 
@@ -329,7 +339,11 @@ pub const FORCE_BOUND: f64 = 1e-4;
 fn pick_default(rows: &[WorkRow]) -> Option<f64> {
     let mut sweep: Vec<&WorkRow> = rows
         .iter()
-        .filter(|r| r.integration.method == Method::Dopri5 && r.integration != SECOND_REFERENCE)
+        .filter(|r| {
+            r.integration.method == Method::Dopri5
+                && r.integration != SECOND_REFERENCE
+                && r.integration != ODE45_PAPER
+        })
         .collect();
     sweep.sort_by(|a, b| a.integration.rtol.total_cmp(&b.integration.rtol));
     // tightest first: walk towards looser while the bound holds
@@ -347,6 +361,8 @@ fn pick_default(rows: &[WorkRow]) -> Option<f64> {
 const METHOD: &str = "method";
 /// Column of `data/work_precision.csv`: the setting.
 const SETTING: &str = "setting";
+/// Column of `data/work_precision.csv`: right-hand-side evaluations.
+const EVALUATIONS: &str = "evaluations";
 /// Column of `data/work_precision.csv`: [`EnsembleWearError::error`].
 const ENSEMBLE_ERROR: &str = "ensemble_wear_err_rel";
 /// Column of `data/work_precision.csv`: [`EnsembleWearError::sampling`].
@@ -359,7 +375,7 @@ pub const WORK_PRECISION_HEADER: [&str; 12] = [
     "wall_time_s",
     "steps",
     "rejected",
-    "evaluations",
+    EVALUATIONS,
     "orbit_err_um",
     "force_err_rel",
     "wear_err_rel",
@@ -368,22 +384,39 @@ pub const WORK_PRECISION_HEADER: [&str; 12] = [
     "failure",
 ];
 
-/// The ensemble wear errors an earlier run of the study wrote to `data/work_precision.csv`:
-/// `(method, setting, error)` of every setting that has one, in file order; `None` when the
-/// file or one of those columns is missing.
-pub fn read_ensemble_wear_errors() -> Option<Vec<(String, String, EnsembleWearError)>> {
+/// A setting's cost and ensemble wear error as an earlier run of the study wrote them.
+pub struct EnsembleCost {
+    /// Method name (`dopri5`, `dop853`, `rk4`).
+    pub method: String,
+    /// Setting as in the CSV (`rtol=1e-7 max_step=1e-3`, with its role if any).
+    pub setting: String,
+    /// Right-hand-side evaluations of one 40-rotation run.
+    pub evaluations: u64,
+    /// Its ensemble wear error.
+    pub error: EnsembleWearError,
+}
+
+/// The ensemble wear errors an earlier run of the study wrote to `data/work_precision.csv`,
+/// of every setting that has one, in file order; `None` when the file or one of those columns
+/// is missing.
+pub fn read_ensemble_wear_errors() -> Option<Vec<EnsembleCost>> {
     let (header, rows) = read_rows(&output_path("data", "work_precision.csv")).ok()?;
     let col = |name: &str| header.iter().position(|h| h == name);
     let (method, setting) = (col(METHOD)?, col(SETTING)?);
     let (error, sampling) = (col(ENSEMBLE_ERROR)?, col(ENSEMBLE_SAMPLING)?);
+    let evaluations = col(EVALUATIONS)?;
     let parsed = rows
         .iter()
         .filter_map(|r| {
-            let e = EnsembleWearError {
-                error: r[error].parse().ok()?,
-                sampling: r[sampling].parse().ok()?,
-            };
-            Some((r[method].clone(), r[setting].clone(), e))
+            Some(EnsembleCost {
+                method: r[method].clone(),
+                setting: r[setting].clone(),
+                evaluations: r[evaluations].parse().ok()?,
+                error: EnsembleWearError {
+                    error: r[error].parse().ok()?,
+                    sampling: r[sampling].parse().ok()?,
+                },
+            })
         })
         .collect();
     Some(parsed)
@@ -398,6 +431,7 @@ fn write_work_precision(rows: &[WorkRow]) -> Result<()> {
             let role = match r.integration {
                 i if i == REFERENCE => " (reference)",
                 i if i == SECOND_REFERENCE => " (second reference)",
+                i if i == ODE45_PAPER => " (ode45-like at the paper's max step)",
                 _ => "",
             };
             vec![
@@ -443,7 +477,8 @@ fn plot_work_precision(rows: &[WorkRow], floor: &Errors) -> Result<()> {
         ),
     ];
     let methods = ["dopri5", "dop853", "rk4"];
-    let measured = |r: &&WorkRow| r.integration != REFERENCE && r.integration != SECOND_REFERENCE;
+    let measured =
+        |r: &&WorkRow| ![REFERENCE, SECOND_REFERENCE, ODE45_PAPER].contains(&r.integration);
     // [measure][method] = (log10 wall time, log10 error) of the completed sweep runs
     let series: Vec<Vec<(Vec<f64>, Vec<f64>)>> = measures
         .iter()
