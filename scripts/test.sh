@@ -26,7 +26,8 @@ if [ ! -x "$venv/bin/python" ]; then
 fi
 start=$(date +%s)
 # Rebuilds the extension from the working tree (release profile, feature `python`) and
-# installs it with numpy, pandas and pytest (the extra `test`).
-"$venv/bin/python" -m pip install --quiet --disable-pip-version-check ".[test]"
+# installs it with numpy, pytest and pandas (extra `test`) and the examples' matplotlib and
+# scipy (extra `examples`), which python/tests/test_examples.py runs.
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check ".[test,examples]"
 echo "python package built and installed in $(( $(date +%s) - start )) s"
 JOINTWEAR_CLI="$target/release/jointwear" "$venv/bin/python" -m pytest python/tests -q

@@ -79,7 +79,12 @@ def main() -> None:
             refined = refine(scene, clearances, speeds, peak_um, best_c, best_s, members,
                              RectBivariateSpline, minimize)
 
-    fig, ax = plt.subplots(figsize=(7, 5), dpi=120)
+    if refined is not None and refined[2] < best[PEAK] * 1e6:
+        print(f"answer: clearance {refined[0]:.4f} mm at {refined[1]:.0f} r/min (scipy)")
+    else:
+        print(f"answer: clearance {best_c} mm at {best_s:.0f} r/min (grid)")
+
+    fig, ax = plt.subplots(figsize=(7, 5.4), dpi=120)
     mesh = ax.pcolormesh(speeds, clearances, peak_um, shading="nearest", cmap="viridis")
     fig.colorbar(mesh, ax=ax, label=f"mean wear peak after {rotations} rotations (µm)")
     for i, c in enumerate(clearances):
@@ -94,7 +99,10 @@ def main() -> None:
         ylabel="radial clearance (mm)",
         title=f"Standard slider-crank: wear peak, mean of {members} members",
     )
-    ax.legend(loc="upper left", fontsize=8)
+    ax.set_yticks(clearances, [f"{c:g}" for c in clearances])
+    ax.minorticks_off()
+    ax.set_xticks(speeds)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, fontsize=8, frameon=False)
     fig.tight_layout()
     args.out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(args.out)

@@ -251,7 +251,8 @@ class SweepResult:
             for k in c:
                 if k not in ("case", "error") and k not in names:
                     names.append(k)
-        names.sort(key=lambda k: (k == "wall_time_s", k == "members"))
+        # the program's column order: members (ensembles), the joints' columns, wall time
+        names.sort(key=lambda k: 0 if k == "members" else 2 if k == "wall_time_s" else 1)
         columns: Dict[str, Any] = {"case": np.array([c["case"] for c in cases], dtype=np.int64)}
         for i, key in enumerate(self.keys):
             columns[key] = _column([combos[c["case"]][i] for c in cases])
