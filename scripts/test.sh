@@ -14,6 +14,7 @@ cargo test --release
 # the program the Python tests compare with (already built by the integration tests)
 cargo build --release --bin jointwear
 
+python_start=$(date +%s)
 venv="$target/python-venv"
 if [ ! -x "$venv/bin/python" ]; then
     echo "creating $venv"
@@ -24,10 +25,11 @@ if [ ! -x "$venv/bin/python" ]; then
         PYTHONPATH="$target/python-tools" "$python" -m virtualenv --quiet "$venv"
     fi
 fi
-start=$(date +%s)
+install_start=$(date +%s)
 # Rebuilds the extension from the working tree (release profile, feature `python`) and
 # installs it with numpy, pytest and pandas (extra `test`) and the examples' matplotlib and
 # scipy (extra `examples`), which python/tests/test_examples.py runs.
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check ".[test,examples]"
-echo "python package built and installed in $(( $(date +%s) - start )) s"
+echo "python package built and installed in $(( $(date +%s) - install_start )) s"
 JOINTWEAR_CLI="$target/release/jointwear" "$venv/bin/python" -m pytest python/tests -q
+echo "python part (environment, build, tests): $(( $(date +%s) - python_start )) s"

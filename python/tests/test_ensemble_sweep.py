@@ -109,6 +109,23 @@ def test_a_bad_case_stops_the_sweep_before_it_runs_with_the_programs_message(tmp
     assert program.stderr == f"error: {e.value}\n"
 
 
+def test_a_case_that_fails_while_running_has_the_programs_error_and_the_others_go_on(
+    tmp_path, cli
+):
+    path = short_file(tmp_path)
+    key = "clearance.0.wear.k_over_h_per_pa"
+    out = tmp_path / "s.csv"
+    program = cli("sweep", path, "--set", f"{key}=1e-12,1e-6", "--out", out)
+    assert program.returncode == 1, program.stderr
+    with open(out, newline="") as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    sweep = jointwear.Scene.load(path).sweep({key: [1e-12, 1e-6]})
+    assert sweep.errors[0] is None and rows[0]["error"] == ""
+    assert sweep.errors[1] == rows[1]["error"] and "wear" in sweep.errors[1]
+    depth = sweep["rod-slider.peak_wear_depth_m"]
+    assert depth[0] == float(rows[0]["rod-slider.peak_wear_depth_m"]) and np.isnan(depth[1])
+
+
 def test_sweep_to_pandas():
     pd = pytest.importorskip("pandas")
     sweep = short(jointwear.Scene.load(STANDARD)).sweep({"driver.speed_rpm": [-600, -2000]})

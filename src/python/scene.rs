@@ -166,7 +166,8 @@ impl Document {
     /// Runs the cartesian product of `values[i]` at `keys[i]` (the last key varying fastest,
     /// as `jointwear sweep`), each case once or as an ensemble of `members`, in parallel with
     /// the GIL released; every case is validated before any runs. Returns one dict per case:
-    /// `case`, `error` (None, or the message of a case that failed while running),
+    /// `case`, `error` (None, or the message of a case that failed while running, as in the
+    /// program's sweep file),
     /// `wall_time_s` and the columns of the program's sweep file.
     #[pyo3(signature = (keys, values, members=None, seed=1))]
     fn sweep<'py>(
@@ -215,9 +216,7 @@ impl Document {
             let d = PyDict::new(py);
             d.set_item("case", r.case)?;
             match &r.outcome {
-                Err(message) => {
-                    d.set_item("error", format!("{}: {message}", self.path.display()))?;
-                }
+                Err(message) => d.set_item("error", message)?,
                 Ok((outcome, wall)) => {
                     d.set_item("error", py.None())?;
                     d.set_item("wall_time_s", wall)?;
