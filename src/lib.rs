@@ -8,7 +8,9 @@
 //!
 //! Layers, from the bottom (each uses only those above it in this list; ARCHITECTURE.md):
 //! [`error`], [`io`], [`laws`], [`ode`], [`mechanism`], [`simulation`], [`scene`],
-//! [`analysis`], [`sweep`], and the paper's reproduction [`paper`].
+//! [`analysis`], [`sweep`], and the top layers: the paper's reproduction [`paper`] (feature
+//! `paper`, on by default) and the Python bindings `python` (feature `python`, built by maturin
+//! from `pyproject.toml`).
 //!
 //! All quantities inside the library are SI (m, kg, s, N, Pa, rad). Engineering units of
 //! the scene files (mm, r/min, GPa, deg) are converted once, in [`scene`].
@@ -21,6 +23,8 @@ pub mod mechanism;
 pub mod ode;
 #[cfg(feature = "paper")]
 pub mod paper;
+#[cfg(feature = "python")]
+pub mod python;
 pub mod scene;
 pub mod simulation;
 pub mod sweep;

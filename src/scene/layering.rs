@@ -22,7 +22,17 @@ pub(super) fn parse_table(text: &str, path: &Path, depth: usize) -> Result<toml:
         path: path.to_path_buf(),
         message,
     };
-    let mut table: toml::Table = toml::from_str(text).map_err(|e| parse_error(e.to_string()))?;
+    let table: toml::Table = toml::from_str(text).map_err(|e| parse_error(e.to_string()))?;
+    resolve_table(table, path, depth)
+}
+
+/// Resolves the `extends` and `[overrides]` of a parsed scene document (`path`: its file, for
+/// messages and to find the base).
+fn resolve_table(mut table: toml::Table, path: &Path, depth: usize) -> Result<toml::Table> {
+    let parse_error = |message: String| Error::Parse {
+        path: path.to_path_buf(),
+        message,
+    };
     let Some(base) = table.remove("extends") else {
         if table.contains_key("overrides") {
             return Err(parse_error(
@@ -133,6 +143,19 @@ impl SceneFile {
     /// [`set_dotted`].
     pub fn read_document(path: impl AsRef<Path>) -> Result<toml::Value> {
         read_table(path.as_ref(), 0).map(toml::Value::Table)
+    }
+
+    /// Resolves the `extends` and `[overrides]` of a scene document built in memory (the
+    /// Python bindings' scenes from a dict), as [`SceneFile::read_document`] does for a file:
+    /// `path` names the document in messages, and a relative `extends` is found beside it.
+    pub fn resolve_document(doc: toml::Value, path: &Path) -> Result<toml::Value> {
+        match doc {
+            toml::Value::Table(t) => resolve_table(t, path, 0).map(toml::Value::Table),
+            other => Err(Error::Parse {
+                path: path.to_path_buf(),
+                message: format!("a scene is a table of keys, not a {}", other.type_str()),
+            }),
+        }
     }
 
     /// Converts a (varied) scene document; `path` is only used in error messages.

@@ -398,12 +398,22 @@ impl Sweep {
     /// Builds the cases of `shard`. Every case records at least its last rotation, which the
     /// motion columns need.
     pub fn new(path: &Path, sets: Vec<Assignment>, shard: Shard) -> Result<Sweep> {
-        let doc = SceneFile::read_document(path)?;
+        Sweep::from_document(&SceneFile::read_document(path)?, path, sets, shard)
+    }
+
+    /// Builds the cases of `shard` of a scene document (with `extends` resolved) instead of
+    /// a file, as [`Sweep::new`] does; `path` names it in messages.
+    pub fn from_document(
+        doc: &toml::Value,
+        path: &Path,
+        sets: Vec<Assignment>,
+        shard: Shard,
+    ) -> Result<Sweep> {
         let mut cases = Vec::new();
         let mut joints = None;
         for case in (0..case_count(&sets)).filter(|&k| shard.contains(k)) {
             let values = case_values(&sets, case);
-            let mut scene = vary(&doc, path, &sets, &values)?;
+            let mut scene = vary(doc, path, &sets, &values)?;
             scene.run.record_rotations = scene.run.record_rotations.max(1);
             scene.check_record_budget()?;
             // A case whose loop cannot close is bad input: found before any case runs.
@@ -429,7 +439,7 @@ impl Sweep {
         // A shard without cases still writes the joint columns, which merging needs.
         let joints = match joints {
             Some(j) => j,
-            None => vary(&doc, path, &sets, &case_values(&sets, 0))?
+            None => vary(doc, path, &sets, &case_values(&sets, 0))?
                 .mechanism
                 .clearance_joints
                 .iter()
@@ -437,7 +447,7 @@ impl Sweep {
                 .collect(),
         };
         Ok(Sweep {
-            fingerprint: fingerprint(&doc, &sets),
+            fingerprint: fingerprint(doc, &sets),
             sets,
             joints,
             shard,

@@ -1,0 +1,302 @@
+"""Results as numpy arrays: one run, an ensemble, a sweep; ``to_pandas()`` where pandas is
+installed."""
+
+from __future__ import annotations
+
+from typing import Any, Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+
+def _array(data: bytes) -> np.ndarray:
+    """A writable float64 array of the native-endian bytes the extension hands over."""
+    return np.frombuffer(data, dtype=np.float64).copy()
+
+
+def _pandas(what: str):
+    """pandas, or an ImportError that says what needs it."""
+    try:
+        import pandas
+    except ImportError as e:  # pragma: no cover - depends on the environment
+        raise ImportError(
+            f"{what} needs pandas, which is not installed: pip install pandas "
+            "(the numpy arrays need nothing more)"
+        ) from e
+    return pandas
+
+
+class Run:
+    """The results of one run, in SI units.
+
+    Attributes:
+        title: the scene's title.
+        rotations: driver rotations simulated.
+        period_s: driver period (s).
+        wall_time_s: wall-clock time of the run (s).
+        timeseries: column name -> array over the recorded rotations: the columns of
+            ``jointwear run``'s ``timeseries.csv`` (``time_s``, ``driver_angle_rad``, per
+            clearance joint ``<joint>.ex_m`` ... ``.wear_rate_m_s``, per body
+            ``<body>.ax_m_s2`` ...), then ``<joint>.contact_angle_rad`` and every body's
+            ``<body>.x_m``, ``.y_m``, ``.angle_rad``.
+        joints: names of the clearance joints.
+        angles_deg: joint -> sector centres of its wear profile (deg), for joints with wear.
+        wear: joint -> final wear depth per sector (m), as ``wear_<joint>.csv``.
+        snapshot_rotations: rotation counts of ``run.wear_snapshots``.
+        snapshots: joint -> array (snapshot, sector) of wear depths (m).
+        summary: joint -> dict: ``max_normal_force_n`` (recorded rotations),
+            ``max_penetration_m``, ``peak_wear_angle_deg``, ``peak_wear_depth_m`` (the deepest
+            wear peak), ``contact_fraction``, ``impacts_per_rotation``, ``continuous_contact``
+            (1 or 0), ``motion_mode``, ``impacts`` (contact onsets of the run) and ``peaks``
+            (every wear peak, deepest first).
+        stats: integrator counters (``steps``, ``rejected``, ``evaluations``,
+            ``contact_onsets``).
+        energy: the energy account with ``run.energy_accounting``, else None.
+        settling: the settling phase of a scene with ``run.settle``, else None.
+    """
+
+    def __init__(self, raw: Dict[str, Any]) -> None:
+        self.title: str = raw["title"]
+        self.rotations: int = raw["rotations"]
+        self.period_s: float = raw["period_s"]
+        self.wall_time_s: float = raw["wall_time_s"]
+        self.timeseries: Dict[str, np.ndarray] = {n: _array(b) for n, b in raw["columns"]}
+        self.joints: List[str] = [j["name"] for j in raw["joints"]]
+        self.snapshot_rotations = np.asarray(raw["snapshot_rotations"], dtype=np.int64)
+        self.angles_deg: Dict[str, np.ndarray] = {}
+        self.wear: Dict[str, np.ndarray] = {}
+        self.snapshots: Dict[str, np.ndarray] = {}
+        self.summary: Dict[str, Dict[str, Any]] = {}
+        for j in raw["joints"]:
+            name = j["name"]
+            if "final_wear_m" in j:
+                self.angles_deg[name] = _array(j["angle_deg"])
+                self.wear[name] = _array(j["final_wear_m"])
+                sectors = len(self.wear[name])
+                self.snapshots[name] = _array(j["snapshots_m"]).reshape(-1, sectors)
+            self.summary[name] = {
+                k: v
+                for k, v in j.items()
+                if k not in ("name", "angle_deg", "final_wear_m", "snapshots_m")
+            }
+        self.stats: Dict[str, int] = raw["stats"]
+        self.energy: Optional[Dict[str, float]] = raw["energy"]
+        self.settling: Optional[Dict[str, Any]] = raw["settling"]
+
+    def to_pandas(self, table: str = "timeseries"):
+        """A pandas DataFrame of ``table``: ``"timeseries"`` (one column per series),
+        ``"wear"`` (index ``angle_deg``, one column per joint of its final depth; joints with
+        the same sector count), ``"snapshots"`` (long format: joint, rotation, angle_deg,
+        depth_m) or ``"summary"`` (one row per joint, its scalar results). Raises ImportError
+        if pandas is not installed."""
+        pd = _pandas("Run.to_pandas()")
+        if table == "timeseries":
+            return pd.DataFrame(self.timeseries)
+        if table == "wear":
+            if not self.wear:
+                return pd.DataFrame()
+            first = next(iter(self.angles_deg.values()))
+            frame = pd.DataFrame(self.wear, index=pd.Index(first, name="angle_deg"))
+            return frame
+        if table == "snapshots":
+            rows = []
+            for name, snaps in self.snapshots.items():
+                for rotation, depths in zip(self.snapshot_rotations, snaps):
+                    for angle, depth in zip(self.angles_deg[name], depths):
+                        rows.append((name, int(rotation), angle, depth))
+            return pd.DataFrame(rows, columns=["joint", "rotation", "angle_deg", "depth_m"])
+        if table == "summary":
+            rows = {
+                name: {k: v for k, v in s.items() if k != "peaks"}
+                for name, s in self.summary.items()
+            }
+            return pd.DataFrame.from_dict(rows, orient="index").rename_axis("joint")
+        raise ValueError(
+            f"unknown table {table!r}: one of 'timeseries', 'wear', 'snapshots', 'summary'"
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"Run({self.title!r}, rotations={self.rotations}, joints={self.joints}, "
+            f"samples={len(self.timeseries.get('time_s', ()))})"
+        )
+
+
+class Ensemble:
+    """The members of an ensemble and their statistics.
+
+    Attributes:
+        title, rotations, wall_time_s: as for :class:`Run`.
+        members: the member count; seed: the seed of their initial offsets.
+        joints: names of the clearance joints.
+        scalar_names: the names of the per-member scalar results (as in :attr:`Run.summary`).
+        scalars: joint -> name -> array (member,) of that result.
+        motion_modes: joint -> list of each member's motion mode (None without a recording).
+        statistics: joint -> name -> dict of ``n`` (finite values), ``mean``, ``sd``, ``min``,
+            ``q05``, ``q25``, ``q50``, ``q75``, ``q95``, ``max`` (peak angles unwrapped around
+            their circular mean), as ``ensemble_summary.csv``.
+        angles_deg: joint -> sector centres (deg), for joints with wear.
+        wear: joint -> array (member, sector) of final wear depths (m).
+        snapshot_rotations: rotation counts of the wear snapshots.
+        snapshots: joint -> array (member, snapshot, sector) of wear depths (m).
+        band: joint -> statistic name -> array (sector,): the per-sector statistics of the final
+            profiles, as ``ensemble_wear_<joint>.csv``.
+    """
+
+    def __init__(self, raw: Dict[str, Any]) -> None:
+        self.title: str = raw["title"]
+        self.members: int = raw["members"]
+        self.seed: int = raw["seed"]
+        self.rotations: int = raw["rotations"]
+        self.wall_time_s: float = raw["wall_time_s"]
+        self.scalar_names: List[str] = list(raw["scalar_names"])
+        self.snapshot_rotations = np.asarray(raw["snapshot_rotations"], dtype=np.int64)
+        self.joints: List[str] = [j["name"] for j in raw["joints"]]
+        self.scalars: Dict[str, Dict[str, np.ndarray]] = {}
+        self.statistics: Dict[str, Dict[str, Dict[str, float]]] = {}
+        self.motion_modes: Dict[str, List[Optional[str]]] = {}
+        self.angles_deg: Dict[str, np.ndarray] = {}
+        self.wear: Dict[str, np.ndarray] = {}
+        self.snapshots: Dict[str, np.ndarray] = {}
+        self.band: Dict[str, Dict[str, np.ndarray]] = {}
+        n = self.members
+        for j in raw["joints"]:
+            name = j["name"]
+            self.scalars[name] = {k: _array(b) for k, b in j["scalars"].items()}
+            self.statistics[name] = j["statistics"]
+            self.motion_modes[name] = list(j["motion_mode"])
+            if "band" in j:
+                angles = _array(j["angle_deg"])
+                sectors = len(angles)
+                self.angles_deg[name] = angles
+                self.wear[name] = _array(j["final_wear_m"]).reshape(n, sectors)
+                self.snapshots[name] = _array(j["snapshots_m"]).reshape(
+                    n, len(self.snapshot_rotations), sectors
+                )
+                self.band[name] = {k: _array(b) for k, b in j["band"].items()}
+
+    def mean_snapshot(self, joint: str, rotation: int) -> np.ndarray:
+        """The mean over the members of the wear profile (m) of ``joint`` after ``rotation``
+        rotations (one of :attr:`snapshot_rotations`)."""
+        hits = np.flatnonzero(self.snapshot_rotations == rotation)
+        if len(hits) == 0:
+            raise KeyError(
+                f"no wear snapshot after {rotation} rotations: the scene's run.wear_snapshots "
+                f"are {self.snapshot_rotations.tolist()}"
+            )
+        return self.snapshots[joint][:, hits[0], :].mean(axis=0)
+
+    def to_pandas(self, table: str = "summary"):
+        """A pandas DataFrame of ``table``: ``"summary"`` (one row per joint and quantity: n,
+        mean, sd, min, quantiles, max), ``"members"`` (one row per member, columns
+        ``<joint>.<quantity>``) or ``"band"`` (one row per joint and sector: angle_deg and the
+        per-sector statistics of the final wear). Raises ImportError if pandas is not
+        installed."""
+        pd = _pandas("Ensemble.to_pandas()")
+        if table == "summary":
+            rows = [
+                {"joint": j, "quantity": q, **stats}
+                for j, per in self.statistics.items()
+                for q, stats in per.items()
+            ]
+            return pd.DataFrame(rows)
+        if table == "members":
+            columns: Dict[str, Any] = {}
+            for j, per in self.scalars.items():
+                for q, values in per.items():
+                    columns[f"{j}.{q}"] = values
+                columns[f"{j}.motion_mode"] = self.motion_modes[j]
+            return pd.DataFrame(columns).rename_axis("member")
+        if table == "band":
+            frames = []
+            for j, band in self.band.items():
+                frame = pd.DataFrame({"angle_deg": self.angles_deg[j], **band})
+                frame.insert(0, "joint", j)
+                frames.append(frame)
+            return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+        raise ValueError(f"unknown table {table!r}: one of 'summary', 'members', 'band'")
+
+    def __repr__(self) -> str:
+        return (
+            f"Ensemble({self.title!r}, members={self.members}, seed={self.seed}, "
+            f"rotations={self.rotations}, joints={self.joints})"
+        )
+
+
+class SweepResult:
+    """The cases of a sweep, one row each, in case order (the last key varying fastest).
+
+    Attributes:
+        keys: the swept dotted keys.
+        members: the ensemble size of every case, or None for single runs.
+        columns: column name -> array over the cases: ``case``, each swept key (its values as
+            given), then the columns of ``jointwear sweep``'s file: per joint
+            ``<joint>.<quantity>`` for single runs (and ``<joint>.motion_mode``), or
+            ``<joint>.<quantity>.mean`` / ``.sd`` for ensembles; ``wall_time_s``; NaN in the
+            cases that failed.
+        errors: the message of each case that failed while running, else None.
+    """
+
+    def __init__(
+        self,
+        keys: Sequence[str],
+        combos: Sequence[Tuple[Any, ...]],
+        cases: Sequence[Dict[str, Any]],
+        members: Optional[int],
+    ) -> None:
+        self.keys: List[str] = list(keys)
+        self.members = members
+        self.errors: List[Optional[str]] = [c["error"] for c in cases]
+        names: List[str] = []
+        for c in cases:
+            for k in c:
+                if k not in ("case", "error") and k not in names:
+                    names.append(k)
+        # the program's column order: members (ensembles), the joints' columns, wall time
+        names.sort(key=lambda k: 0 if k == "members" else 2 if k == "wall_time_s" else 1)
+        columns: Dict[str, Any] = {"case": np.array([c["case"] for c in cases], dtype=np.int64)}
+        for i, key in enumerate(self.keys):
+            columns[key] = _column([combos[c["case"]][i] for c in cases])
+        for name in names:
+            columns[name] = _column([c.get(name, float("nan")) for c in cases])
+        self.columns: Dict[str, Any] = columns
+
+    def __len__(self) -> int:
+        return len(self.errors)
+
+    def __getitem__(self, column: str):
+        return self.columns[column]
+
+    def best(self, column: str) -> Dict[str, Any]:
+        """The case (a dict of its swept values and ``column``) where ``column`` is least,
+        ignoring failed cases and NaN."""
+        values = np.asarray(self.columns[column], dtype=float)
+        if np.all(np.isnan(values)):
+            raise ValueError(f"no case has a value of {column!r}")
+        i = int(np.nanargmin(values))
+        out = {k: _scalar(self.columns[k][i]) for k in self.keys}
+        out[column] = float(values[i])
+        return out
+
+    def to_pandas(self):
+        """The sweep as a pandas DataFrame (one row per case, with an ``error`` column).
+        Raises ImportError if pandas is not installed."""
+        pd = _pandas("SweepResult.to_pandas()")
+        frame = pd.DataFrame(self.columns)
+        frame["error"] = self.errors
+        return frame
+
+    def __repr__(self) -> str:
+        failed = sum(e is not None for e in self.errors)
+        return f"SweepResult(keys={self.keys}, cases={len(self)}, failed={failed})"
+
+
+def _column(values: List[Any]):
+    """A numeric column as a float64 array, anything else as a list."""
+    if all(isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) for v in values):
+        return np.asarray(values, dtype=np.float64)
+    return list(values)
+
+
+def _scalar(v: Any) -> Any:
+    """A numpy scalar as the Python number it holds."""
+    return v.item() if isinstance(v, np.generic) else v

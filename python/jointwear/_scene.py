@@ -1,0 +1,109 @@
+"""Scenes: loaded from a file or a dict, varied by dotted keys, run, run as an ensemble or swept."""
+
+from __future__ import annotations
+
+import itertools
+import os
+from typing import Any, Mapping, Optional, Sequence, Union
+
+from ._native import Document
+from ._results import Ensemble, Run, SweepResult
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+class Scene:
+    """A scene: a mechanism with clearance joints and its run settings.
+
+    Create one with :meth:`Scene.load` or :meth:`Scene.from_dict`; both validate it at once and
+    raise :class:`jointwear.SceneError` with the ``jointwear`` program's message if it is bad.
+    """
+
+    __slots__ = ("_doc",)
+
+    def __init__(self, document: Document) -> None:
+        self._doc = document
+
+    @classmethod
+    def load(cls, path: PathLike) -> "Scene":
+        """Reads and validates the scene file at ``path`` (``extends`` and ``[overrides]``
+        resolved), as ``jointwear run`` does."""
+        return cls(Document.load(os.fspath(path)))
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], base_dir: Optional[PathLike] = None) -> "Scene":
+        """A scene from a dict with the keys of a scene file (the same names and units, e.g.
+        ``{"title": ..., "run": {"rotations": 2, ...}, ...}``), validated at once.
+
+        Messages name it ``<dict>``; ``base_dir`` is where a relative ``extends`` is found
+        (default: the working directory), so ``{"extends": "standard.toml", "overrides":
+        {...}}`` works as in a file.
+        """
+        path = os.path.join(os.fspath(base_dir) if base_dir is not None else "", "<dict>")
+        return cls(Document.from_dict(dict(data), path))
+
+    def set(self, key: str, value: Any) -> "Scene":
+        """Sets the value at a dotted ``key`` (``"clearance.0.clearance_mm"``,
+        ``"driver.speed_rpm"``, ``"run.wear_snapshots"``) as the program's ``--set`` does, with
+        Python values (bool, int, float, str, list, dict, numpy scalars). Returns the scene, so
+        calls chain. A key that does not exist raises :class:`jointwear.SceneError` now; a bad
+        value when the scene is next checked or run."""
+        self._doc.set(key, value)
+        return self
+
+    def copy(self) -> "Scene":
+        """An independent copy (``set`` on it leaves this scene unchanged)."""
+        return Scene(self._doc.copy())
+
+    def to_dict(self) -> dict:
+        """The scene as a dict of the keys of a scene file (``extends`` resolved)."""
+        return self._doc.to_dict()
+
+    @property
+    def path(self) -> str:
+        """The file the scene came from (``<dict>`` for a dict), as messages name it."""
+        return os.fspath(self._doc.path)
+
+    @property
+    def title(self) -> str:
+        """The scene's title."""
+        return self.to_dict()["title"]
+
+    def check(self) -> dict:
+        """Validates and assembles the scene as ``jointwear check`` does. Returns its
+        ``title``, ``bodies``, clearance ``joints`` (``name``, ``clearance_m``,
+        ``bearing_radius_m``, ``sectors`` or None without wear), ``dof``, ``period_s`` (of the
+        driver) and ``rotations``."""
+        return self._doc.check()
+
+    def run(self) -> Run:
+        """Simulates the scene (the GIL is released meanwhile) and returns the :class:`Run`:
+        the same numbers, bit for bit, as ``jointwear run``."""
+        return Run(self._doc.run())
+
+    def ensemble(self, members: int = 32, seed: int = 1) -> Ensemble:
+        """Runs ``members`` copies of the scene in parallel, each with every journal displaced
+        by at most 10 nm in a seeded direction (``jointwear run --ensemble N --seed S``), and
+        returns the :class:`Ensemble`: every member's results and their statistics. Single
+        runs are chaotic; statistics over an ensemble are the project's results."""
+        return Ensemble(self._doc.ensemble(int(members), int(seed)))
+
+    def sweep(
+        self,
+        grid: Mapping[str, Sequence[Any]],
+        members: Optional[int] = None,
+        seed: int = 1,
+    ) -> SweepResult:
+        """Runs the cartesian product of the values of ``grid`` (dotted key -> values; the last
+        key varies fastest, as in ``jointwear sweep``) in parallel, each case once or as an
+        ensemble of ``members``. Every case is validated before any runs (a bad value raises
+        :class:`jointwear.SceneError`); a case that fails while running has its message in the
+        ``error`` column and the others go on."""
+        keys = list(grid)
+        values = [list(grid[k]) for k in keys]
+        cases = self._doc.sweep(keys, values, members, int(seed))
+        combos = list(itertools.product(*values))
+        return SweepResult(keys, combos, cases, members)
+
+    def __repr__(self) -> str:
+        return f"Scene({self.title!r}, path={self.path!r})"

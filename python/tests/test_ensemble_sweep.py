@@ -1,0 +1,135 @@
+"""Ensembles and sweeps: shapes, seeds, the program's statistics, cases in product order."""
+
+import csv
+
+import numpy as np
+import pytest
+
+import jointwear
+from conftest import STANDARD, short, short_file
+
+
+def test_ensemble_shapes_and_statistics():
+    ens = short(jointwear.Scene.load(STANDARD)).ensemble(members=3, seed=7)
+    assert (ens.members, ens.seed, ens.joints) == (3, 7, ["rod-slider"])
+    wear = ens.wear["rod-slider"]
+    assert wear.shape == (3, 360)
+    assert ens.snapshots["rod-slider"].shape == (3, 2, 360)
+    assert np.array_equal(ens.snapshots["rod-slider"][:, 1, :], wear)
+    assert (wear >= 0).all()
+    # members start from different nanometre offsets: their chaotic wear differs
+    assert not np.array_equal(wear[0], wear[1])
+    for name in ens.scalar_names:
+        assert ens.scalars["rod-slider"][name].shape == (3,)
+    stats = ens.statistics["rod-slider"]["peak_wear_depth_m"]
+    depths = ens.scalars["rod-slider"]["peak_wear_depth_m"]
+    assert stats["n"] == 3
+    assert stats["mean"] == pytest.approx(depths.mean(), rel=1e-12)
+    assert stats["sd"] == pytest.approx(depths.std(ddof=1), rel=1e-9)
+    assert stats["min"] == depths.min() and stats["max"] == depths.max()
+    assert np.array_equal(depths, wear.max(axis=1))
+    band = ens.band["rod-slider"]
+    assert np.allclose(band["mean"], wear.mean(axis=0), rtol=1e-12, atol=0)
+    assert np.array_equal(band["max"], wear.max(axis=0))
+    assert np.allclose(ens.mean_snapshot("rod-slider", 2), wear.mean(axis=0), rtol=1e-12, atol=0)
+    with pytest.raises(KeyError):
+        ens.mean_snapshot("rod-slider", 3)
+
+
+def test_an_ensemble_is_seeded():
+    scene = short(jointwear.Scene.load(STANDARD))
+    a, b = scene.ensemble(2, seed=1), scene.ensemble(2, seed=1)
+    c = scene.ensemble(2, seed=2)
+    assert np.array_equal(a.wear["rod-slider"], b.wear["rod-slider"])
+    assert not np.array_equal(a.wear["rod-slider"], c.wear["rod-slider"])
+
+
+def test_an_ensemble_has_the_programs_statistics(tmp_path, cli):
+    path = short_file(tmp_path)
+    out = tmp_path / "out"
+    program = cli("run", path, "--ensemble", 3, "--seed", 5, "--out", out)
+    assert program.returncode == 0, program.stderr
+    ens = jointwear.Scene.load(path).ensemble(3, seed=5)
+    with open(out / "ensemble_wear_rod-slider.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    for key in ("mean", "sd", "q50", "max"):
+        column = np.array([float(r[f"{key}_m"]) for r in rows])
+        assert np.array_equal(ens.band["rod-slider"][key], column), key
+    with open(out / "ensemble_summary.csv", newline="") as f:
+        summary = {r["quantity"]: r for r in csv.DictReader(f)}
+    for q, stats in ens.statistics["rod-slider"].items():
+        for key in ("mean", "sd", "q05", "q95"):
+            expected = float(summary[q][key])
+            assert stats[key] == expected or (np.isnan(stats[key]) and np.isnan(expected)), (q, key)
+
+
+def test_a_bad_member_count_is_a_scene_error():
+    with pytest.raises(jointwear.SceneError, match="expected a member count in"):
+        jointwear.Scene.load(STANDARD).ensemble(0)
+
+
+def test_a_sweep_runs_the_product_in_case_order():
+    scene = short(jointwear.Scene.load(STANDARD))
+    grid = {"clearance.0.clearance_mm": [0.02, 0.1], "driver.speed_rpm": [-600, -2000.0]}
+    sweep = scene.sweep(grid)
+    assert len(sweep) == 4 and sweep.errors == [None] * 4
+    assert sweep["case"].tolist() == [0, 1, 2, 3]
+    assert sweep["clearance.0.clearance_mm"].tolist() == [0.02, 0.02, 0.1, 0.1]
+    assert sweep["driver.speed_rpm"].tolist() == [-600, -2000, -600, -2000]
+    # case 2 is the run of the scene with its values, bit for bit
+    one = scene.copy().set("clearance.0.clearance_mm", 0.1).set("driver.speed_rpm", -600).run()
+    assert sweep["rod-slider.peak_wear_depth_m"][2] == one.wear["rod-slider"].max()
+    assert sweep["rod-slider.motion_mode"][2] == one.summary["rod-slider"]["motion_mode"]
+    best = sweep.best("rod-slider.peak_wear_depth_m")
+    depths = sweep["rod-slider.peak_wear_depth_m"]
+    assert best["rod-slider.peak_wear_depth_m"] == depths.min()
+    k = int(np.argmin(depths))
+    assert best["driver.speed_rpm"] == sweep["driver.speed_rpm"][k]
+
+
+def test_an_ensemble_sweep_has_mean_and_sd_columns():
+    scene = short(jointwear.Scene.load(STANDARD))
+    sweep = scene.sweep({"driver.speed_rpm": [-2000]}, members=2, seed=3)
+    ens = scene.ensemble(2, seed=3)
+    assert sweep["members"].tolist() == [2]
+    stats = ens.statistics["rod-slider"]["peak_wear_depth_m"]
+    assert sweep["rod-slider.peak_wear_depth_m.mean"][0] == stats["mean"]
+    assert sweep["rod-slider.peak_wear_depth_m.sd"][0] == stats["sd"]
+
+
+def test_a_bad_case_stops_the_sweep_before_it_runs_with_the_programs_message(tmp_path, cli):
+    path = short_file(tmp_path)
+    program = cli(
+        "sweep", path, "--set", "clearance.0.clearance_mm=0.1,-1.0", "--out", tmp_path / "s.csv"
+    )
+    assert program.returncode == 2, program.stderr
+    assert not (tmp_path / "s.csv").exists()
+    with pytest.raises(jointwear.SceneError) as e:
+        jointwear.Scene.load(path).sweep({"clearance.0.clearance_mm": [0.1, -1.0]})
+    assert program.stderr == f"error: {e.value}\n"
+
+
+def test_a_case_that_fails_while_running_has_the_programs_error_and_the_others_go_on(
+    tmp_path, cli
+):
+    path = short_file(tmp_path)
+    key = "clearance.0.wear.k_over_h_per_pa"
+    out = tmp_path / "s.csv"
+    program = cli("sweep", path, "--set", f"{key}=1e-12,1e-6", "--out", out)
+    assert program.returncode == 1, program.stderr
+    with open(out, newline="") as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    sweep = jointwear.Scene.load(path).sweep({key: [1e-12, 1e-6]})
+    assert sweep.errors[0] is None and rows[0]["error"] == ""
+    assert sweep.errors[1] == rows[1]["error"] and "wear" in sweep.errors[1]
+    depth = sweep["rod-slider.peak_wear_depth_m"]
+    assert depth[0] == float(rows[0]["rod-slider.peak_wear_depth_m"]) and np.isnan(depth[1])
+
+
+def test_sweep_to_pandas():
+    pd = pytest.importorskip("pandas")
+    sweep = short(jointwear.Scene.load(STANDARD)).sweep({"driver.speed_rpm": [-600, -2000]})
+    frame = sweep.to_pandas()
+    assert isinstance(frame, pd.DataFrame) and len(frame) == 2
+    assert frame["error"].isna().all()
+    assert frame["driver.speed_rpm"].tolist() == [-600, -2000]

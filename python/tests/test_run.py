@@ -1,0 +1,127 @@
+"""Runs: against the `jointwear` program bit for bit, physical sanity, determinism, the GIL,
+pandas."""
+
+import csv
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import jointwear
+from conftest import STANDARD, short, short_file
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], np.array([[float(x) for x in r] for r in rows[1:]])
+
+
+def test_a_run_is_the_programs_run_bit_for_bit(tmp_path, cli):
+    path = short_file(tmp_path)
+    out = tmp_path / "out"
+    program = cli("run", path, "--out", out)
+    assert program.returncode == 0, program.stderr
+    run = jointwear.Scene.load(path).run()
+    # The program writes every number with Rust's `{:e}`, the shortest text that reads back
+    # to the same f64: equality here is equality of the bits.
+    header, table = read_csv(out / "timeseries.csv")
+    assert list(run.timeseries)[: len(header)] == header
+    for i, name in enumerate(header):
+        assert np.array_equal(run.timeseries[name], table[:, i]), name
+    header, table = read_csv(out / "wear_rod-slider.csv")
+    assert header == ["angle_deg", "depth_m"]
+    assert np.array_equal(run.angles_deg["rod-slider"], table[:, 0])
+    assert np.array_equal(run.wear["rod-slider"], table[:, 1])
+    # and the summary the program prints
+    depth_um = run.summary["rod-slider"]["peak_wear_depth_m"] * 1e6
+    assert f"depth {depth_um:.4f} µm" in program.stdout
+
+
+def test_a_run_is_physically_sane(short_run):
+    run = short_run
+    info = jointwear.Scene.load(STANDARD).check()["joints"][0]
+    wear = run.wear["rod-slider"]
+    angles = run.angles_deg["rod-slider"]
+    assert wear.shape == angles.shape == (360,)
+    assert np.allclose(angles, np.arange(360) + 0.5, rtol=0, atol=1e-12)
+    assert (wear >= 0).all() and wear.max() > 0
+    # snapshots after 1 and 2 rotations; wear only grows, and the last is the final profile
+    assert run.snapshot_rotations.tolist() == [1, 2]
+    snaps = run.snapshots["rod-slider"]
+    assert snaps.shape == (2, 360)
+    assert (snaps[1] >= snaps[0]).all() and snaps[1].sum() > snaps[0].sum()
+    assert np.array_equal(snaps[1], wear)
+    s = run.summary["rod-slider"]
+    assert s["peak_wear_depth_m"] == wear.max()
+    assert s["peaks"][0]["depth_m"] == wear.max()
+    assert s["impacts"] >= 1 and s["max_normal_force_n"] > 0
+    # one recorded rotation of 0.03 s every 1e-5 s
+    t = run.timeseries["time_s"]
+    assert len(t) == 3001 and np.allclose(np.diff(t), 1e-5, rtol=1e-6)
+    assert t[0] == pytest.approx(0.03, rel=1e-9) and t[-1] == pytest.approx(0.06, rel=1e-9)
+    for name, column in run.timeseries.items():
+        assert column.shape == t.shape and np.isfinite(column).all(), name
+    # the journal stays inside the clearance circle up to the penetration
+    e = np.hypot(run.timeseries["rod-slider.ex_m"], run.timeseries["rod-slider.ey_m"])
+    assert e.max() <= info["clearance_m"] + s["max_penetration_m"] + 1e-12
+    assert (run.timeseries["rod-slider.normal_force_n"] >= 0).all()
+    # penetration is e - c less the wear depth at the contact angle: wear only opens the gap,
+    # by at most the deepest wear
+    opened = e - info["clearance_m"] - run.timeseries["rod-slider.penetration_m"]
+    assert opened.min() >= -1e-15 and opened.max() <= wear.max() * (1 + 1e-9)
+    assert opened.max() > 0.5 * snaps[0].max()
+    assert run.stats["steps"] > 0 and run.stats["contact_onsets"] >= s["impacts"]
+
+
+def test_the_same_scene_runs_to_the_same_bits_twice(short_run):
+    again = short(jointwear.Scene.load(STANDARD)).run()
+    assert list(again.timeseries) == list(short_run.timeseries)
+    for name, column in short_run.timeseries.items():
+        assert np.array_equal(column.view(np.uint64), again.timeseries[name].view(np.uint64))
+    assert np.array_equal(short_run.wear["rod-slider"], again.wear["rod-slider"])
+    assert short_run.stats == again.stats
+
+
+def test_runs_release_the_gil():
+    scene = jointwear.Scene.load(STANDARD).set("run.rotations", 40).set("run.record_rotations", 0)
+    result = {}
+    worker = threading.Thread(target=lambda: result.update(run=scene.run()))
+    ticks = 0
+    start = time.perf_counter()
+    worker.start()
+    while worker.is_alive():
+        ticks += 1
+        time.sleep(0.002)
+    worker.join()
+    elapsed = time.perf_counter() - start
+    # A run that held the GIL would block this loop for its whole length (one or two ticks);
+    # released, the loop ticks every few milliseconds while the run goes on. Checked by
+    # injection: without `py.detach` in Document::run this loop ticked once in a 0.9 s run.
+    assert result["run"].wall_time_s > 0.05
+    assert ticks >= 0.25 * elapsed / 0.002, (ticks, elapsed)
+
+
+def test_to_pandas_frames(short_run):
+    pd = pytest.importorskip("pandas")
+    frame = short_run.to_pandas()
+    assert isinstance(frame, pd.DataFrame)
+    assert list(frame.columns) == list(short_run.timeseries)
+    assert len(frame) == 3001
+    wear = short_run.to_pandas("wear")
+    assert wear.index.name == "angle_deg" and list(wear.columns) == ["rod-slider"]
+    assert np.array_equal(wear["rod-slider"].to_numpy(), short_run.wear["rod-slider"])
+    snaps = short_run.to_pandas("snapshots")
+    assert len(snaps) == 2 * 360
+    summary = short_run.to_pandas("summary")
+    assert summary.loc["rod-slider", "peak_wear_depth_m"] == short_run.wear["rod-slider"].max()
+    with pytest.raises(ValueError, match="unknown table"):
+        short_run.to_pandas("nope")
+
+
+def test_to_pandas_without_pandas_says_what_to_install(short_run, monkeypatch):
+    monkeypatch.setitem(sys.modules, "pandas", None)  # import pandas now fails
+    with pytest.raises(ImportError, match="Run.to_pandas\\(\\) needs pandas.*pip install pandas"):
+        short_run.to_pandas()

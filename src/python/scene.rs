@@ -1,0 +1,460 @@
+//! The scene document Python holds ([`Document`]): loaded from a file or built from a dict,
+//! varied by dotted keys, and validated, run, run as an ensemble or swept; each result handed
+//! back as plain Python objects that the package `jointwear` wraps as numpy arrays.
+
+use super::convert::{f64_bytes, from_toml, to_toml};
+use super::to_py_err;
+use crate::analysis::statistics::{Distribution, QUANTILES};
+use crate::analysis::Motion;
+use crate::io::progress::Silent;
+use crate::laws::wear::sector_angles_deg;
+use crate::scene::{set_dotted, SceneFile};
+use crate::simulation::ensemble::{self, EnsembleSettings};
+use crate::simulation::{simulate, RunOutput, Scene};
+use crate::sweep::{
+    joint_statistics, summarize, Assignment, JointSummary, Outcome, Shard, Sweep, SCALARS,
+};
+use crate::Error;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use std::path::PathBuf;
+
+/// A scene document (TOML values, `extends` resolved) and the path that names it in messages.
+#[pyclass(module = "jointwear._native")]
+pub struct Document {
+    doc: toml::Value,
+    path: PathBuf,
+}
+
+/// One ensemble member as kept: joint summaries, final wear and the snapshots' profiles.
+type Member = (Vec<JointSummary>, Vec<Vec<f64>>, Vec<Vec<Vec<f64>>>);
+
+impl Document {
+    /// The validated scene in SI units; errors as the program reports a scene's.
+    fn scene(&self) -> PyResult<Scene> {
+        SceneFile::from_document(self.doc.clone(), &self.path)
+            .and_then(|f| f.build())
+            .map_err(|e| self.error(e))
+    }
+
+    /// The Python exception of an error about this scene.
+    fn error(&self, e: Error) -> PyErr {
+        to_py_err(&self.path, e, true)
+    }
+
+    /// A document read as given, checked by building it (as the program does on loading).
+    fn checked(doc: toml::Value, path: PathBuf) -> PyResult<Document> {
+        let d = Document { doc, path };
+        d.scene()?;
+        Ok(d)
+    }
+}
+
+#[pymethods]
+impl Document {
+    /// Reads the scene file at `path` (resolving `extends` and `[overrides]`) and validates it.
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<Document> {
+        let doc = SceneFile::read_document(&path).map_err(|e| to_py_err(&path, e, true))?;
+        Document::checked(doc, path)
+    }
+
+    /// A scene from a dict of the keys of a scene file; `path` names it in messages and a
+    /// relative `extends` is found beside it.
+    #[staticmethod]
+    fn from_dict(table: &Bound<'_, PyDict>, path: PathBuf) -> PyResult<Document> {
+        let doc = to_toml(table.as_any(), "")?;
+        let doc = SceneFile::resolve_document(doc, &path).map_err(|e| to_py_err(&path, e, true))?;
+        Document::checked(doc, path)
+    }
+
+    /// Sets the value at a dotted key, as the program's `--set` (`clearance.0.clearance_mm`);
+    /// the scene is validated when it is next checked or run.
+    fn set(&mut self, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        let value = to_toml(value, key)?;
+        set_dotted(&mut self.doc, key, value).map_err(|e| self.error(e))
+    }
+
+    /// The document as nested dicts and lists.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        from_toml(py, &self.doc)
+    }
+
+    /// The path that names the scene in messages.
+    #[getter]
+    fn path(&self) -> PathBuf {
+        self.path.clone()
+    }
+
+    /// An independent copy.
+    fn copy(&self) -> Document {
+        Document {
+            doc: self.doc.clone(),
+            path: self.path.clone(),
+        }
+    }
+
+    /// Validates and assembles the scene as `jointwear check` does; returns its title, bodies,
+    /// clearance joints (name, radial clearance in m, sectors or None without wear), degrees of
+    /// freedom and driver period (s).
+    fn check<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let scene = self.scene()?;
+        let m = &scene.mechanism;
+        m.assemble(&scene.guess).map_err(|e| self.error(e))?;
+        let d = PyDict::new(py);
+        d.set_item("title", &scene.title)?;
+        let bodies: Vec<&str> = m.bodies().iter().map(|b| b.name.as_str()).collect();
+        d.set_item("bodies", bodies)?;
+        let joints = PyList::empty(py);
+        for cj in &m.clearance_joints {
+            let j = PyDict::new(py);
+            j.set_item("name", &cj.name)?;
+            j.set_item("clearance_m", cj.clearance())?;
+            j.set_item("bearing_radius_m", cj.r_bearing)?;
+            let sectors = cj.wear.is_some().then(|| cj.initial_profile.depths().len());
+            j.set_item("sectors", sectors)?;
+            joints.append(j)?;
+        }
+        d.set_item("joints", joints)?;
+        let dof = m.coordinates() as i64 - m.constraint_count() as i64;
+        d.set_item("dof", dof)?;
+        d.set_item("period_s", scene.period())?;
+        d.set_item("rotations", scene.run.rotations)?;
+        Ok(d)
+    }
+
+    /// Simulates the scene with the GIL released; returns the time series (the columns of
+    /// `jointwear run`'s `timeseries.csv`, then every body's position), the final wear profile
+    /// and summary of every clearance joint, the wear snapshots and the run's counters.
+    fn run<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let scene = self.scene()?;
+        let out = py.detach(|| simulate(&scene)).map_err(|e| self.error(e))?;
+        run_dict(py, &scene, &out)
+    }
+
+    /// Runs `members` members of the scene (seeded initial offsets of at most 10 nm) in
+    /// parallel with the GIL released; returns, per clearance joint, every member's scalar
+    /// results, final profile and snapshots, and their statistics.
+    fn ensemble<'py>(
+        &self,
+        py: Python<'py>,
+        members: usize,
+        seed: u64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let settings = EnsembleSettings { members, seed };
+        settings.validate().map_err(|e| self.error(e))?;
+        let scene = self.scene()?;
+        let clock = std::time::Instant::now();
+        let kept: Vec<Member> = py
+            .detach(|| {
+                ensemble::run(
+                    &scene,
+                    &settings,
+                    |_, o| {
+                        let summary = summarize(&scene, &o);
+                        let snaps = o.wear_snapshots.into_iter().map(|s| s.depths).collect();
+                        (summary, o.final_wear, snaps)
+                    },
+                    &Silent,
+                )
+            })
+            .map_err(|e| self.error(e))?;
+        let wall = clock.elapsed().as_secs_f64();
+        ensemble_dict(py, &scene, &settings, &kept, wall)
+    }
+
+    /// Runs the cartesian product of `values[i]` at `keys[i]` (the last key varying fastest,
+    /// as `jointwear sweep`), each case once or as an ensemble of `members`, in parallel with
+    /// the GIL released; every case is validated before any runs. Returns one dict per case:
+    /// `case`, `error` (None, or the message of a case that failed while running, as in the
+    /// program's sweep file),
+    /// `wall_time_s` and the columns of the program's sweep file.
+    #[pyo3(signature = (keys, values, members=None, seed=1))]
+    fn sweep<'py>(
+        &self,
+        py: Python<'py>,
+        keys: Vec<String>,
+        values: Vec<Vec<Bound<'py, PyAny>>>,
+        members: Option<usize>,
+        seed: u64,
+    ) -> PyResult<Bound<'py, PyList>> {
+        if keys.len() != values.len() {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "{} keys but {} lists of values",
+                keys.len(),
+                values.len()
+            )));
+        }
+        let mut sets = Vec::new();
+        for (key, vs) in keys.iter().zip(&values) {
+            if vs.is_empty() {
+                return Err(self.error(Error::invalid(
+                    key.as_str(),
+                    "[]",
+                    "at least one value to sweep",
+                )));
+            }
+            let texts = vs
+                .iter()
+                .map(|v| to_toml(v, key).map(|t| t.to_string()))
+                .collect::<PyResult<Vec<_>>>()?;
+            sets.push(Assignment {
+                key: key.clone(),
+                values: texts,
+            });
+        }
+        let mut sweep = Sweep::from_document(&self.doc, &self.path, sets, Shard::ALL)
+            .map_err(|e| self.error(e))?;
+        if let Some(members) = members {
+            sweep = sweep
+                .with_ensemble(EnsembleSettings { members, seed })
+                .map_err(|e| self.error(e))?;
+        }
+        let results = py.detach(|| sweep.run(|_| {}));
+        let cases = PyList::empty(py);
+        for r in &results {
+            let d = PyDict::new(py);
+            d.set_item("case", r.case)?;
+            match &r.outcome {
+                Err(message) => d.set_item("error", message)?,
+                Ok((outcome, wall)) => {
+                    d.set_item("error", py.None())?;
+                    d.set_item("wall_time_s", wall)?;
+                    sweep_columns(&d, outcome)?;
+                }
+            }
+            cases.append(d)?;
+        }
+        Ok(cases)
+    }
+}
+
+/// The scalar columns of one sweep case, named as in the program's sweep file.
+fn sweep_columns(d: &Bound<'_, PyDict>, outcome: &Outcome) -> PyResult<()> {
+    match outcome {
+        Outcome::Run(summaries) => {
+            for s in summaries {
+                for (name, x) in s.scalars() {
+                    d.set_item(format!("{}.{name}", s.name), x)?;
+                }
+                let mode = s.motion.as_ref().map(Motion::mode);
+                d.set_item(format!("{}.motion_mode", s.name), mode)?;
+            }
+        }
+        Outcome::Ensemble(members, stats) => {
+            d.set_item("members", members)?;
+            for j in stats {
+                for (name, dist) in &j.scalars {
+                    d.set_item(format!("{}.{name}.mean", j.name), dist.mean)?;
+                    d.set_item(format!("{}.{name}.sd", j.name), dist.sd)?;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The names of a distribution's numbers: n, mean, sd, min, the quantiles (`q05` …), max.
+fn distribution_keys() -> Vec<String> {
+    let mut keys: Vec<String> = ["mean", "sd", "min"].map(String::from).into();
+    keys.extend(QUANTILES.map(|p| format!("q{:02.0}", 100.0 * p)));
+    keys.push("max".into());
+    keys
+}
+
+/// A distribution's numbers, in the order of [`distribution_keys`].
+fn distribution_values(d: &Distribution) -> Vec<f64> {
+    let mut v = vec![d.mean, d.sd, d.min];
+    v.extend(d.quantiles);
+    v.push(d.max);
+    v
+}
+
+/// A run's output as a dict (see [`Document::run`]).
+fn run_dict<'py>(py: Python<'py>, scene: &Scene, out: &RunOutput) -> PyResult<Bound<'py, PyDict>> {
+    let m = &scene.mechanism;
+    let rec = &out.recording;
+    let d = PyDict::new(py);
+    d.set_item("title", &scene.title)?;
+    d.set_item("rotations", scene.run.rotations)?;
+    d.set_item("period_s", out.period)?;
+    d.set_item("wall_time_s", out.wall_time)?;
+    // The columns of `jointwear run`'s timeseries.csv, in its order, then the positions.
+    let columns = PyList::empty(py);
+    let push = |name: String, data: &[f64]| -> PyResult<()> {
+        columns.append((name, f64_bytes(py, data)))
+    };
+    push("time_s".into(), &rec.time)?;
+    push("driver_angle_rad".into(), &rec.driver_angle)?;
+    for (cj, tr) in m.clearance_joints.iter().zip(&rec.joints) {
+        let series: [(&str, &[f64]); 8] = [
+            ("ex_m", &tr.ex),
+            ("ey_m", &tr.ey),
+            ("penetration_m", &tr.delta),
+            ("normal_force_n", &tr.normal_force),
+            ("friction_force_n", &tr.friction_force),
+            ("sliding_velocity_m_s", &tr.sliding_velocity),
+            ("pressure_pa", &tr.pressure),
+            ("wear_rate_m_s", &tr.wear_rate),
+        ];
+        for (name, data) in series {
+            push(format!("{}.{name}", cj.name), data)?;
+        }
+    }
+    for (body, acc) in m.bodies().iter().zip(&rec.accelerations) {
+        for (name, data) in ["ax_m_s2", "ay_m_s2", "alpha_rad_s2"].iter().zip(acc) {
+            push(format!("{}.{name}", body.name), data)?;
+        }
+    }
+    for (cj, tr) in m.clearance_joints.iter().zip(&rec.joints) {
+        push(format!("{}.contact_angle_rad", cj.name), &tr.theta)?;
+    }
+    for (body, pos) in m.bodies().iter().zip(&rec.positions) {
+        for (name, data) in ["x_m", "y_m", "angle_rad"].iter().zip(pos) {
+            push(format!("{}.{name}", body.name), data)?;
+        }
+    }
+    d.set_item("columns", columns)?;
+
+    let summaries = summarize(scene, out);
+    let joints = PyList::empty(py);
+    for (k, (cj, s)) in m.clearance_joints.iter().zip(&summaries).enumerate() {
+        let j = PyDict::new(py);
+        j.set_item("name", &cj.name)?;
+        j.set_item("impacts", out.impacts[k])?;
+        j.set_item("motion_mode", s.motion.as_ref().map(Motion::mode))?;
+        for (name, x) in s.scalars() {
+            j.set_item(name, x)?;
+        }
+        let peaks = PyList::empty(py);
+        for p in &s.peaks {
+            let pd = PyDict::new(py);
+            pd.set_item("angle_deg", p.angle_deg)?;
+            pd.set_item("depth_m", p.depth)?;
+            pd.set_item("prominence_m", p.prominence)?;
+            pd.set_item("width_deg", p.width_deg)?;
+            peaks.append(pd)?;
+        }
+        j.set_item("peaks", peaks)?;
+        if cj.wear.is_some() {
+            let depth = &out.final_wear[k];
+            j.set_item("angle_deg", f64_bytes(py, &sector_angles_deg(depth.len())))?;
+            j.set_item("final_wear_m", f64_bytes(py, depth))?;
+            let snaps: Vec<f64> = (out.wear_snapshots.iter())
+                .flat_map(|s| s.depths[k].iter().copied())
+                .collect();
+            j.set_item("snapshots_m", f64_bytes(py, &snaps))?;
+        }
+        joints.append(j)?;
+    }
+    d.set_item("joints", joints)?;
+    let rotations: Vec<u32> = out.wear_snapshots.iter().map(|s| s.rotation).collect();
+    d.set_item("snapshot_rotations", rotations)?;
+
+    let s = &out.stats;
+    let stats = PyDict::new(py);
+    stats.set_item("steps", s.steps)?;
+    stats.set_item("rejected", s.rejected)?;
+    stats.set_item("evaluations", s.evaluations)?;
+    stats.set_item("contact_onsets", s.events)?;
+    d.set_item("stats", stats)?;
+    match out.energy {
+        Some(e) => {
+            let ed = PyDict::new(py);
+            ed.set_item("driver_work_j", e.driver_work)?;
+            ed.set_item("normal_work_j", e.normal_work)?;
+            ed.set_item("friction_work_j", e.friction_work)?;
+            ed.set_item("mechanical_change_j", e.mechanical_change)?;
+            ed.set_item("damping_loss_j", e.damping_loss())?;
+            ed.set_item("residual", e.residual())?;
+            d.set_item("energy", ed)?;
+        }
+        None => d.set_item("energy", py.None())?,
+    }
+    match out.settling {
+        Some(s) => {
+            let sd = PyDict::new(py);
+            sd.set_item("rotations", s.rotations)?;
+            sd.set_item("orbit_change", s.orbit_change)?;
+            sd.set_item("steady", s.steady)?;
+            d.set_item("settling", sd)?;
+        }
+        None => d.set_item("settling", py.None())?,
+    }
+    Ok(d)
+}
+
+/// An ensemble's members and statistics as a dict (see [`Document::ensemble`]).
+fn ensemble_dict<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    settings: &EnsembleSettings,
+    kept: &[Member],
+    wall: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let members: Vec<(Vec<JointSummary>, Vec<Vec<f64>>)> = kept
+        .iter()
+        .map(|(s, w, _)| (s.clone(), w.clone()))
+        .collect();
+    let stats = joint_statistics(scene, &members);
+    let d = PyDict::new(py);
+    d.set_item("title", &scene.title)?;
+    d.set_item("members", settings.members)?;
+    d.set_item("seed", settings.seed)?;
+    d.set_item("rotations", scene.run.rotations)?;
+    d.set_item("wall_time_s", wall)?;
+    d.set_item("snapshot_rotations", scene.run.wear_snapshots.clone())?;
+    let keys = distribution_keys();
+    let joints = PyList::empty(py);
+    for (k, (cj, st)) in scene
+        .mechanism
+        .clearance_joints
+        .iter()
+        .zip(&stats)
+        .enumerate()
+    {
+        let j = PyDict::new(py);
+        j.set_item("name", &cj.name)?;
+        let scalars = PyDict::new(py);
+        let statistics = PyDict::new(py);
+        for (i, (name, dist)) in st.scalars.iter().enumerate() {
+            let values: Vec<f64> = kept.iter().map(|(s, _, _)| s[k].scalars()[i].1).collect();
+            scalars.set_item(*name, f64_bytes(py, &values))?;
+            let sd = PyDict::new(py);
+            sd.set_item("n", dist.n)?;
+            for (key, x) in keys.iter().zip(distribution_values(dist)) {
+                sd.set_item(key, x)?;
+            }
+            statistics.set_item(*name, sd)?;
+        }
+        j.set_item("scalars", scalars)?;
+        j.set_item("statistics", statistics)?;
+        let modes: Vec<Option<&str>> = kept
+            .iter()
+            .map(|(s, _, _)| s[k].motion.as_ref().map(Motion::mode))
+            .collect();
+        j.set_item("motion_mode", modes)?;
+        if let Some(band) = &st.wear {
+            let sectors = band.sectors.len();
+            j.set_item("angle_deg", f64_bytes(py, &sector_angles_deg(sectors)))?;
+            let finals: Vec<f64> = kept.iter().flat_map(|(_, w, _)| w[k].clone()).collect();
+            j.set_item("final_wear_m", f64_bytes(py, &finals))?;
+            let snaps: Vec<f64> = kept
+                .iter()
+                .flat_map(|(_, _, s)| s.iter().flat_map(|depths| depths[k].clone()))
+                .collect();
+            j.set_item("snapshots_m", f64_bytes(py, &snaps))?;
+            let bd = PyDict::new(py);
+            let per_sector: Vec<Vec<f64>> = band.sectors.iter().map(distribution_values).collect();
+            for (i, key) in keys.iter().enumerate() {
+                let column: Vec<f64> = per_sector.iter().map(|v| v[i]).collect();
+                bd.set_item(key, f64_bytes(py, &column))?;
+            }
+            j.set_item("band", bd)?;
+        }
+        joints.append(j)?;
+    }
+    d.set_item("joints", joints)?;
+    d.set_item("scalar_names", SCALARS.to_vec())?;
+    Ok(d)
+}
