@@ -307,7 +307,7 @@ fn run_outputs_are_documented_and_numbers_round_trip() {
     for column in &header {
         // `J.ex_m` is explained as `J.ex_m`, a body's `B.ax_m_s2` as `B.ax_m_s2`.
         let generic = match column.split_once('.') {
-            Some((owner, name)) if owner == "rod-slider" => format!("J.{name}"),
+            Some(("rod-slider", name)) => format!("J.{name}"),
             Some((_, name)) => format!("B.{name}"),
             None => column.to_string(),
         };
@@ -409,10 +409,8 @@ fn run_set_rotations_and_wear_snapshots() {
         columns[3], last[1],
         "the snapshot after 4 of 4 rotations is the final wear"
     );
-    for sector in 0..columns[0].len() {
-        assert!(
-            columns[1][sector] <= columns[2][sector] && columns[2][sector] <= columns[3][sector]
-        );
+    for ((a, b), c) in columns[1].iter().zip(&columns[2]).zip(&columns[3]) {
+        assert!(a <= b && b <= c, "wear never shrinks");
     }
     assert!(columns[1].iter().any(|&d| d > 0.0));
     let png = fs::read(out.join("wear_evolution.png")).unwrap();
@@ -535,7 +533,12 @@ fn ensemble_outputs_are_documented() {
     assert_eq!(quantities[0][0], "max_normal_force_n");
     assert_eq!(quantities[0][1]["n"], 2);
     let readme = fs::read_to_string(out.join("README.txt")).unwrap();
-    for needle in ["ensemble_members.csv", "offset_body_x_m", "q95", "Bearing frame"] {
+    for needle in [
+        "ensemble_members.csv",
+        "offset_body_x_m",
+        "q95",
+        "Bearing frame",
+    ] {
         assert!(readme.contains(needle), "README.txt lacks {needle}");
     }
     let (header, rows) =

@@ -247,7 +247,7 @@ fn csv_error(path: &Path, err: csv::Error) -> Error {
 }
 
 /// `x` as the shortest decimal text that parses back to the identical `f64`: plain (`0.72`,
-/// `1500`, `-0.003`) or in e-notation (`1.25e-9`, `2e5`), whichever has fewer characters,
+/// `1500`, `-0.25`) or in e-notation (`1.25e-9`, `2e5`, `-3e-3`), whichever has fewer characters,
 /// plain on a tie. Both of Rust's float formats print the fewest significant digits that
 /// round-trip; plain alone would spell `1e-300` with 300 zeros, e-notation alone a time of
 /// 0.72 s as `7.2e-1`. NaN and infinities are written `NaN`, `inf` and `-inf`. Every number
@@ -474,7 +474,9 @@ mod tests {
             (1500.0, "1500"),
             (2e5, "2e5"),
             (1.25e-9, "1.25e-9"),
-            (-0.003, "-0.003"),
+            (-0.003, "-3e-3"),
+            (0.01, "0.01"),
+            (-0.25, "-0.25"),
             (0.0, "0"),
             (-0.0, "-0"),
             (1e-300, "1e-300"),

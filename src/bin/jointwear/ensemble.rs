@@ -291,7 +291,7 @@ fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
         .filter(|j| j.wear.is_some())
         .map(|j| format!("ensemble_wear_{}.csv", file_part(&j.name)))
         .collect();
-    text.push_str(&format!(
+    text.push_str(
         "\nFILES\n\
          Every member is the scene run from the journal of each clearance joint displaced by at \
          most 10 nm in a seeded random direction; statistics are over the members. Quantiles \
@@ -314,8 +314,8 @@ fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
          \x20 wall_time_s, error                   the member's wall time (s); empty error\n\
          ensemble_summary.csv: per joint and quantity (the numeric columns above, and \
          continuous_contact, 1 or 0 per member, whose mean is the share in continuous \
-         contact): n (finite values), mean, sd, min, q05, q25, q50, q75, q95, max.\n"
-    ));
+         contact): n (finite values), mean, sd, min, q05, q25, q50, q75, q95, max.\n",
+    );
     if !worn.is_empty() {
         text.push_str(&format!(
             "{}: per sector of the final wear profiles: angle_deg (sector centre, bearing \
