@@ -205,9 +205,9 @@ pub fn write_text(path: &Path, text: &str) -> Result<()> {
     })
 }
 
-/// Writes `value` to `path` as pretty-printed JSON, atomically. Floats are written in the
-/// shortest form that parses back to the identical `f64`; NaN and infinities, which JSON
-/// cannot hold, become `null`.
+/// Writes `value` to `path` as pretty-printed JSON, atomically. Floats are written with the
+/// fewest significant digits that parse back to the identical `f64` (serde_json's format);
+/// NaN and infinities, which JSON cannot hold, become `null`.
 pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
     let mut text = serde_json::to_string_pretty(value).map_err(|e| Error::Parse {
         path: path.to_path_buf(),
