@@ -146,9 +146,18 @@ fn write_run(scene: &Scene, out: &RunOutput, dir: &Path) -> jointwear::Result<()
     let traces: Vec<&JointTrace> = (0..m.clearance_joints.len())
         .map(|k| rec.joints.get(k).unwrap_or(&empty))
         .collect();
+    // θ in [0, 2π) as degrees in [0, 360): a θ just below 2π may round up to 360.
+    let degrees = |t: &f64| {
+        let d = t.to_degrees();
+        if d >= 360.0 {
+            d - 360.0
+        } else {
+            d
+        }
+    };
     let contact_angles: Vec<Vec<f64>> = traces
         .iter()
-        .map(|tr| tr.theta.iter().map(|t| t.to_degrees()).collect())
+        .map(|tr| tr.theta.iter().map(degrees).collect())
         .collect();
     for ((cj, tr), angle) in m.clearance_joints.iter().zip(&traces).zip(&contact_angles) {
         let series: [(&str, &[f64]); 9] = [
