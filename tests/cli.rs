@@ -1,6 +1,6 @@
 //! The `jointwear` program end to end: outputs, exit codes, error messages, sweeps and shards.
 
-use jointwear::io::output::read_csv;
+use jointwear::io::output::{number, read_csv};
 use jointwear::scene::scene_path;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -281,6 +281,272 @@ fn longlife_writes_profiles_and_growth() {
     );
     for png in ["longlife_growth.png", "longlife_profiles.png"] {
         assert!(out.join(png).exists(), "{png}");
+    }
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The JSON file at `path`.
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// Every column of `timeseries.csv` is there (the contact angle too), explained in README.txt,
+/// and every number is the shortest text that reads back to the same double. Would fail on a
+/// dropped column, an undocumented one, or numbers in `{:e}` (`3.3e-1` for a time).
+#[test]
+fn run_outputs_are_documented_and_numbers_round_trip() {
+    let dir = temp_dir("conventions");
+    let scene = short_standard(&dir, 2);
+    let out = dir.join("out");
+    let o = jointwear(&["run", s(&scene), "--out", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = fs::read_to_string(out.join("timeseries.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let readme = fs::read_to_string(out.join("README.txt")).unwrap();
+    for column in &header {
+        // `J.ex_m` is explained as `J.ex_m`, a body's `B.ax_m_s2` as `B.ax_m_s2`.
+        let generic = match column.split_once('.') {
+            Some(("rod-slider", name)) => format!("J.{name}"),
+            Some((_, name)) => format!("B.{name}"),
+            None => column.to_string(),
+        };
+        assert!(readme.contains(&generic), "README.txt lacks {generic}");
+    }
+    for needle in [
+        "UNWRAPPED",
+        "GLOBAL frame",
+        "BEARING frame",
+        "POSITIVE in contact",
+    ] {
+        assert!(readme.contains(needle), "README.txt lacks {needle}");
+    }
+    let angle = header
+        .iter()
+        .position(|h| *h == "rod-slider.contact_angle_deg")
+        .expect("contact angle column");
+    let (ex, ey) = (angle - 2, angle - 1);
+    assert_eq!(header[ex], "rod-slider.ex_m");
+    let mut rows = 0;
+    for line in lines {
+        let fields: Vec<&str> = line.split(',').collect();
+        assert_eq!(fields.len(), header.len());
+        for f in &fields {
+            let x: f64 = f.parse().unwrap();
+            assert_eq!(number(x), *f, "not the shortest round-trip text");
+        }
+        // The standard scene's bearing (the slider) does not turn: the contact angle is the
+        // direction of (ex, ey) in the global frame.
+        let v = |i: usize| fields[i].parse::<f64>().unwrap();
+        let global = v(ey).atan2(v(ex)).to_degrees().rem_euclid(360.0);
+        assert!((0.0..360.0).contains(&v(angle)));
+        let diff = (global - v(angle) + 180.0).rem_euclid(360.0) - 180.0;
+        assert!(diff.abs() < 1e-9, "{global} vs {}", v(angle));
+        rows += 1;
+    }
+    assert!(rows > 1000);
+    // A time of the recording grid is written plainly, not as e-notation.
+    assert!(!text
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .contains('e'));
+    let summary = json(&out.join("summary.json"));
+    assert_eq!(summary["counts"]["recorded_samples"], rows);
+    assert_eq!(summary["settings"]["rotations"], 2);
+    let joint = &summary["joints"][0];
+    assert_eq!(joint["name"], "rod-slider");
+    assert!(joint["max_normal_force_n"].as_f64().unwrap() > 0.0);
+    assert!(joint["max_penetration_m"].as_f64().unwrap() > 0.0);
+    assert!(joint["wear_peaks"][0]["depth_m"].as_f64().unwrap() > 0.0);
+    assert!(joint["motion"]["mode"].is_string());
+    let manifest = fs::read_to_string(out.join("jointwear-manifest.txt")).unwrap();
+    assert!(manifest.contains("summary.json") && manifest.contains("README.txt"));
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--set` and `--rotations` change the scene that runs (summary.json says so), snapshots come
+/// out at the requested rotations, and the last snapshot is the final profile. Would fail if
+/// `--set` were ignored, or on a snapshot column of another rotation.
+#[test]
+fn run_set_rotations_and_wear_snapshots() {
+    let dir = temp_dir("set");
+    let scene = short_standard(&dir, 2);
+    let out = dir.join("out");
+    let o = jointwear(&[
+        "run",
+        s(&scene),
+        "--set",
+        "clearance.0.clearance_mm=0.1",
+        "--rotations",
+        "4",
+        "--set",
+        "run.wear_snapshots=[1, 3, 4]",
+        "--out",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).starts_with("Standard"), "{}", stdout(&o));
+    let summary = json(&out.join("summary.json"));
+    assert_eq!(summary["settings"]["rotations"], 4);
+    assert_eq!(summary["counts"]["rotations_simulated"], 4);
+    assert_eq!(
+        summary["settings"]["wear_snapshots"],
+        serde_json::json!([1, 3, 4])
+    );
+    let c = summary["joints"][0]["radial_clearance_m"].as_f64().unwrap();
+    assert!((c - 1e-4).abs() < 1e-12, "clearance {c}");
+    let changes = summary["scene"]["changes"].to_string();
+    assert!(changes.contains("clearance.0.clearance_mm") && changes.contains("0.1"));
+    let (header, columns) = read_csv(&out.join("wear_snapshots_rod-slider.csv")).unwrap();
+    assert_eq!(header, ["angle_deg", "rot1_m", "rot3_m", "rot4_m"]);
+    let (_, last) = read_csv(&out.join("wear_rod-slider.csv")).unwrap();
+    assert_eq!(columns[0], last[0]);
+    assert_eq!(
+        columns[3], last[1],
+        "the snapshot after 4 of 4 rotations is the final wear"
+    );
+    for ((a, b), c) in columns[1].iter().zip(&columns[2]).zip(&columns[3]) {
+        assert!(a <= b && b <= c, "wear never shrinks");
+    }
+    assert!(columns[1].iter().any(|&d| d > 0.0));
+    let png = fs::read(out.join("wear_evolution.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    // The scene's own value without --set: the clearance of the file.
+    let plain = dir.join("plain");
+    let o = jointwear(&["run", s(&scene), "--rotations", "1", "--out", s(&plain)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary = json(&plain.join("summary.json"));
+    let c = summary["joints"][0]["radial_clearance_m"].as_f64().unwrap();
+    assert!((c - 2e-5).abs() < 1e-12, "clearance {c}");
+    assert_eq!(summary["counts"]["rotations_simulated"], 1);
+    // --rotations shorter than the scene's snapshots drops those past it, and says so.
+    let std = dir.join("std");
+    let o = jointwear(&[
+        "run",
+        s(&scene_path("standard")),
+        "--rotations",
+        "3",
+        "--set",
+        "run.record_rotations=1",
+        "--out",
+        s(&std),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("run.wear_snapshots = []"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!std.join("wear_snapshots_rod-slider.csv").exists());
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A bad `--set` is bad input: exit code 2, the key, the value and the range named, nothing
+/// written. Would fail if the value were applied without validation.
+#[test]
+fn run_bad_set_exits_2_naming_the_field() {
+    let dir = temp_dir("badset");
+    let scene = short_standard(&dir, 1);
+    let out = dir.join("out");
+    for (set, needles) in [
+        (
+            "clearance.0.contact.restitution=1.5",
+            &["clearance[0].contact.restitution", "1.5", "(0e0, 1e0]"][..],
+        ),
+        ("clearance.0.clearance_mm=-1", &["clearance_mm", "-1"][..]),
+        ("clearance.0.nope=1", &["nope", "clearance.0.nope=1"][..]),
+        ("driver.nope.x=1", &["driver.nope.x", "speed_rpm"][..]),
+        ("clearance.0.clearance_mm=abc", &["abc", "clearance_mm"][..]),
+        ("clearance.0.clearance_mm=0.1,0.2", &["one value"][..]),
+        ("run.rotations", &["KEY=VALUE"][..]),
+    ] {
+        let o = jointwear(&["run", s(&scene), "--set", set, "--out", s(&out)]);
+        assert_eq!(o.status.code(), Some(2), "{set}: {}", stderr(&o));
+        let err = stderr(&o);
+        for n in needles {
+            assert!(err.contains(n), "{set}: lacks {n}: {err}");
+        }
+        assert!(!out.exists(), "{set}: bad input wrote outputs");
+    }
+    let o = jointwear(&["run", s(&scene), "--rotations", "0", "--out", s(&out)]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("run.rotations") && stderr(&o).contains("--rotations 0"));
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Nothing recorded (`record_rotations = 0`): the summary says so instead of printing NaN,
+/// summary.json has null, and timeseries.csv has its whole header over no rows. Failed before
+/// the fix ("max normal force NaN N").
+#[test]
+fn run_without_recording_prints_no_nan() {
+    let dir = temp_dir("norecord");
+    let scene = short_standard(&dir, 1);
+    let out = dir.join("out");
+    let o = jointwear(&[
+        "run",
+        s(&scene),
+        "--set",
+        "run.record_rotations=0",
+        "--out",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(!text.to_lowercase().contains("nan"), "{text}");
+    assert!(text.contains("max normal force not recorded"), "{text}");
+    let summary = json(&out.join("summary.json"));
+    assert!(summary["joints"][0]["max_normal_force_n"].is_null());
+    assert!(summary["joints"][0]["motion"].is_null());
+    assert!(summary["joints"][0]["max_penetration_m"].as_f64().unwrap() > 0.0);
+    let (header, columns) = read_csv(&out.join("timeseries.csv")).unwrap();
+    assert!(header.iter().any(|h| h == "rod-slider.contact_angle_deg"));
+    assert!(header.iter().any(|h| h == "slider.alpha_rad_s2"));
+    assert!(columns.iter().all(Vec::is_empty));
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `run --ensemble` writes README.txt and summary.json too, with `--set` applied.
+#[test]
+fn ensemble_outputs_are_documented() {
+    let dir = temp_dir("ensemble-docs");
+    let scene = short_standard(&dir, 1);
+    let out = dir.join("out");
+    let o = jointwear(&[
+        "run",
+        s(&scene),
+        "--ensemble",
+        "2",
+        "--set",
+        "driver.speed_rpm=1000",
+        "--out",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary = json(&out.join("summary.json"));
+    assert_eq!(summary["members"], 2);
+    assert!(summary["changes"].to_string().contains("driver.speed_rpm"));
+    let quantities = &summary["joints"][0]["quantities"];
+    assert_eq!(quantities[0][0], "max_normal_force_n");
+    assert_eq!(quantities[0][1]["n"], 2);
+    let readme = fs::read_to_string(out.join("README.txt")).unwrap();
+    for needle in [
+        "ensemble_members.csv",
+        "offset_body_x_m",
+        "q95",
+        "Bearing frame",
+    ] {
+        assert!(readme.contains(needle), "README.txt lacks {needle}");
+    }
+    let (header, rows) =
+        jointwear::io::output::read_rows(&out.join("ensemble_summary.csv")).unwrap();
+    let mean = header.iter().position(|h| h == "mean").unwrap();
+    for r in &rows {
+        let x: f64 = r[mean].parse().unwrap();
+        assert_eq!(number(x), r[mean]);
     }
     fs::remove_dir_all(&dir).unwrap();
 }

@@ -238,6 +238,8 @@ fn a_rerun_replaces_the_previous_run_and_leaves_other_files_alone() {
         "wear.png",
         "trajectory.png",
         "normal_force.png",
+        "summary.json",
+        "README.txt",
     ];
     let mut sorted = listed.clone();
     sorted.sort();

@@ -316,7 +316,7 @@ fn write_study(done: &[(usize, String, Params, Metrics)]) -> Result<()> {
                 p.v_s.to_string(),
                 format!("{:?}", p.pressure),
                 p.grazing.to_string(),
-                format!("{:e}", p.k_over_h),
+                crate::io::output::number(p.k_over_h),
                 p.length_mm.to_string(),
                 p.sectors.to_string(),
                 p.admissible().to_string(),

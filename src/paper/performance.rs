@@ -243,7 +243,7 @@ fn labelled_rows<'a>(
 ) -> impl Iterator<Item = Vec<String>> + 'a {
     labels.iter().enumerate().map(move |(i, label)| {
         std::iter::once(label.to_string())
-            .chain(columns.iter().map(|c| format!("{:e}", c[i])))
+            .chain(columns.iter().map(|c| crate::io::output::number(c[i])))
             .collect()
     })
 }

@@ -340,7 +340,7 @@ impl CaseResult {
             if x.is_nan() {
                 String::new()
             } else {
-                format!("{x:e}")
+                crate::io::output::number(x)
             }
         };
         match &self.outcome {

@@ -3,9 +3,13 @@
 //! it prints.
 
 use crate::failure::{CliResult, Failure};
-use crate::{file_part, load, out_dir};
+use crate::outputs::conventions;
+use crate::run::{print_changes, README_FILE, SUMMARY_FILE};
+use crate::{file_part, load_variant, out_dir, Variant};
 use jointwear::analysis::statistics::{Distribution, QUANTILES};
-use jointwear::io::output::{check_output_dir, write_outputs, write_rows};
+use jointwear::io::output::{
+    check_output_dir, number, write_json, write_outputs, write_rows, write_text,
+};
 use jointwear::io::plot::{render, Axes, Series, Shade, Style};
 use jointwear::io::progress::progress_bar;
 use jointwear::laws::wear::sector_angles_deg;
@@ -14,17 +18,27 @@ use jointwear::simulation::Scene;
 use jointwear::sweep::{
     header, joint_statistics, summarize, CaseResult, JointStatistics, JointSummary, Outcome,
 };
+use serde::Serialize;
 use std::path::{Path, PathBuf};
 
-/// `run --ensemble`: members in parallel, their statistics as CSVs, a band plot and a summary.
+/// `run --ensemble`: members of the scene at `path` (with `sets` and `rotations` applied,
+/// [`load_variant`]) in parallel, their statistics as CSVs, a band plot, `summary.json`,
+/// `README.txt` and a printed summary.
 pub fn run_ensemble(
     path: &Path,
+    sets: &[String],
+    rotations: Option<u32>,
     out: Option<PathBuf>,
     settings: EnsembleSettings,
 ) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
     settings.validate().map_err(|e| Failure::input(path, e))?;
-    let scene = load(path)?;
+    let Variant {
+        scene,
+        changes,
+        fingerprint,
+    } = load_variant(path, sets, rotations)?;
+    print_changes(&changes, rotations);
     let dir = out_dir(path, out);
     check_output_dir("--out", &dir).map_err(bad)?;
     let clock = std::time::Instant::now();
@@ -38,13 +52,46 @@ pub fn run_ensemble(
     bar.finish_and_clear();
     let (members, walls): (Vec<Member>, Vec<f64>) = members.map_err(bad)?.into_iter().unzip();
     let wall = clock.elapsed().as_secs_f64();
-    let title = format!(
-        "jointwear run {} --ensemble {}",
+    let mut title = format!(
+        "jointwear run {} --ensemble {} --seed {}",
         path.display(),
-        settings.members
+        settings.members,
+        settings.seed
     );
+    for s in sets {
+        title.push_str(&format!(" --set {s}"));
+    }
+    if let Some(n) = rotations {
+        title.push_str(&format!(" --rotations {n}"));
+    }
     let stats = write_outputs(&dir, &title, || {
-        write_ensemble(&scene, &settings, &members, &walls, &dir)
+        let stats = write_ensemble(&scene, &settings, &members, &walls, &dir)?;
+        let summary = EnsembleSummary {
+            program: format!("jointwear {}", env!("CARGO_PKG_VERSION")),
+            scene: path.display().to_string(),
+            title: scene.title.clone(),
+            fingerprint: fingerprint.clone(),
+            changes: changes.clone(),
+            members: settings.members,
+            seed: settings.seed,
+            rotations: scene.run.rotations,
+            record_rotations: scene.run.record_rotations,
+            wall_time_s: wall,
+            joints: stats
+                .iter()
+                .map(|j| JointDistributions {
+                    name: j.name.clone(),
+                    quantities: j
+                        .scalars
+                        .iter()
+                        .map(|(name, d)| (name.to_string(), DistributionSummary::of(d)))
+                        .collect(),
+                })
+                .collect(),
+        };
+        write_json(&dir.join(SUMMARY_FILE), &summary)?;
+        write_text(&dir.join(README_FILE), &readme(&title, &scene, &stats))?;
+        Ok(stats)
     })
     .map_err(bad)?;
     println!("{}", scene.title);
@@ -99,7 +146,7 @@ fn write_ensemble(
         .map(|(i, ((summary, _), secs))| {
             let mut row = vec![i.to_string()];
             for d in member_offsets(settings.seed, i, joints.len()) {
-                row.extend([format!("{:e}", d.x), format!("{:e}", d.y)]);
+                row.extend([number(d.x), number(d.y)]);
             }
             let record = CaseResult {
                 case: i,
@@ -121,7 +168,7 @@ fn write_ensemble(
             .iter()
             .chain(&d.quantiles)
             .chain([&d.max])
-            .map(|x| format!("{x:e}"))
+            .map(|&x| number(x))
             .collect()
     };
     let mut rows = Vec::new();
@@ -142,7 +189,7 @@ fn write_ensemble(
         head.extend(q.iter().map(|q| format!("{q}_m")));
         head.push("max_m".into());
         let rows = band.sectors.iter().zip(&angles).map(|(d, a)| {
-            let mut row = vec![format!("{a:e}")];
+            let mut row = vec![number(*a)];
             row.extend(numbers(d));
             row
         });
@@ -176,4 +223,113 @@ fn write_ensemble(
         render(&dir.join("wear.png"), &[axes])?;
     }
     Ok(stats)
+}
+
+/// `summary.json` of `run --ensemble`: the ensemble and the distribution of every quantity.
+#[derive(Serialize)]
+struct EnsembleSummary {
+    program: String,
+    scene: String,
+    title: String,
+    fingerprint: String,
+    /// `[key, value]` of `--set` and `--rotations`, in the order applied.
+    changes: Vec<(String, String)>,
+    members: usize,
+    seed: u64,
+    rotations: u32,
+    record_rotations: u32,
+    /// Wall-clock time of all members, in parallel (s).
+    wall_time_s: f64,
+    joints: Vec<JointDistributions>,
+}
+
+#[derive(Serialize)]
+struct JointDistributions {
+    name: String,
+    /// By quantity name (the `quantity` column of `ensemble_summary.csv`).
+    quantities: Vec<(String, DistributionSummary)>,
+}
+
+#[derive(Serialize)]
+struct DistributionSummary {
+    n: usize,
+    mean: f64,
+    sd: f64,
+    min: f64,
+    q05: f64,
+    q25: f64,
+    q50: f64,
+    q75: f64,
+    q95: f64,
+    max: f64,
+}
+
+impl DistributionSummary {
+    fn of(d: &Distribution) -> DistributionSummary {
+        let [q05, q25, q50, q75, q95] = d.quantiles;
+        DistributionSummary {
+            n: d.n,
+            mean: d.mean,
+            sd: d.sd,
+            min: d.min,
+            q05,
+            q25,
+            q50,
+            q75,
+            q95,
+            max: d.max,
+        }
+    }
+}
+
+/// `README.txt` of an ensemble's folder: the conventions, then every file it wrote.
+fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
+    let m = &scene.mechanism;
+    let mut text = conventions(title, m, &scene.title);
+    let worn: Vec<String> = stats
+        .iter()
+        .filter(|j| j.wear.is_some())
+        .map(|j| format!("ensemble_wear_{}.csv", file_part(&j.name)))
+        .collect();
+    text.push_str(
+        "\nFILES\n\
+         Every member is the scene run from the journal of each clearance joint displaced by at \
+         most 10 nm in a seeded random direction; statistics are over the members. Quantiles \
+         qNN are type-7 sample quantiles; sd is the sample standard deviation. Angles \
+         (_deg) are unwrapped around their circular mean before the statistics.\n\
+         ensemble_members.csv: one row per member.\n\
+         \x20 member                               0-based member number\n\
+         \x20 J.offset_body_x_m, J.offset_body_y_m  initial journal offset, in the frame of the \
+         journal's body (m)\n\
+         \x20 J.max_normal_force_n                 largest normal force of the recorded \
+         rotations (N)\n\
+         \x20 J.max_penetration_m                  largest penetration of the whole run (m), \
+         positive = overlap\n\
+         \x20 J.peak_wear_angle_deg                deepest wear peak, bearing frame (deg)\n\
+         \x20 J.peak_wear_depth_m                  its depth (m)\n\
+         \x20 J.motion_mode                        `continuous contact` or `free flight and \
+         impact` (recorded rotations)\n\
+         \x20 J.contact_fraction                   share of recorded samples in contact\n\
+         \x20 J.impacts_per_rotation               contact onsets per rotation (recorded)\n\
+         \x20 wall_time_s, error                   the member's wall time (s); empty error\n\
+         ensemble_summary.csv: per joint and quantity (the numeric columns above, and \
+         continuous_contact, 1 or 0 per member, whose mean is the share in continuous \
+         contact): n (finite values), mean, sd, min, q05, q25, q50, q75, q95, max.\n",
+    );
+    if !worn.is_empty() {
+        text.push_str(&format!(
+            "{}: per sector of the final wear profiles: angle_deg (sector centre, bearing \
+             frame), then mean_m, sd_m, min_m, q05_m ... q95_m, max_m of the depth worn into \
+             the bearing (m).\n\
+             wear.png: the mean profile (µm), 5-95 % band shaded.\n",
+            worn.join(", ")
+        ));
+    }
+    text.push_str(&format!(
+        "{SUMMARY_FILE}: the ensemble as JSON: program, scene, title, fingerprint, changes \
+         (--set and --rotations as [key, value]), members, seed, rotations, record_rotations, \
+         wall_time_s, and per joint every quantity's n, mean, sd, min, q05 ... q95, max \
+         (null where no value exists).\n"
+    ));
+    text
 }

@@ -2,11 +2,11 @@
 //! rotation count or a wear limit; its growth and profile CSVs, figures and summary.
 
 use crate::failure::{CliResult, Failure};
-use crate::{file_part, out_dir};
+use crate::out_dir;
+use crate::outputs::write_profiles;
 use jointwear::io::output::{check_output_dir, write_csv, write_outputs};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::progress_bar;
-use jointwear::laws::wear::sector_angles_deg;
 use jointwear::scene::SceneFile;
 use jointwear::simulation::longlife::{predict, LongLife, LongLifeSettings};
 use jointwear::simulation::Scene;
@@ -135,55 +135,17 @@ fn write_longlife(scene: &Scene, life: &LongLife, dir: &Path) -> jointwear::Resu
             series,
         )],
     )?;
-    let mut panels = Vec::new();
-    let profiles: Vec<(Vec<f64>, Vec<Vec<f64>>)> = worn
+    let snapshots: Vec<(u64, &[Vec<f64>])> = life
+        .snapshots
         .iter()
-        .map(|&k| {
-            let n = life.snapshots.first().map_or(0, |s| s.depths[k].len());
-            let um = life
-                .snapshots
-                .iter()
-                .map(|s| s.depths[k].iter().map(|d| d * 1e6).collect())
-                .collect();
-            (sector_angles_deg(n), um)
-        })
+        .map(|s| (s.rotations, s.depths.as_slice()))
         .collect();
-    for (&k, (angles, um)) in worn.iter().zip(&profiles) {
-        let name = &m.clearance_joints[k].name;
-        let mut header = vec!["angle_deg".to_string()];
-        header.extend(
-            life.snapshots
-                .iter()
-                .map(|s| format!("rot{}_m", s.rotations)),
-        );
-        let metres: Vec<&[f64]> = life
-            .snapshots
-            .iter()
-            .map(|s| s.depths[k].as_slice())
-            .collect();
-        let mut columns: Vec<&[f64]> = vec![angles];
-        columns.extend(metres);
-        let header_ref: Vec<&str> = header.iter().map(String::as_str).collect();
-        let path = dir.join(format!("longlife_profiles_{}.csv", file_part(name)));
-        write_csv(&path, &header_ref, &columns)?;
-        let series = life
-            .snapshots
-            .iter()
-            .zip(um)
-            .map(|(s, d)| Series::new(format!("{} rotations", s.rotations), angles, d, Style::Line))
-            .collect();
-        panels.push(Axes {
-            x_range: Some((0.0, 360.0)),
-            ..Axes::new(
-                format!("{name}: bearing wear profile"),
-                "bearing angle (deg)",
-                "wear depth (µm)",
-                series,
-            )
-        });
-    }
-    if !panels.is_empty() {
-        render(&dir.join("longlife_profiles.png"), &panels)?;
-    }
+    write_profiles(
+        dir,
+        "longlife_profiles",
+        "longlife_profiles.png",
+        m,
+        &snapshots,
+    )?;
     Ok(())
 }

@@ -6,27 +6,53 @@
 //! This file owns the command line (arguments, help, dispatch) and the output naming shared by
 //! the subcommands; each subcommand lives in its own module: [`run`] (one run), [`ensemble`]
 //! (`run --ensemble`), [`check`], [`sweep`] (`sweep` and `sweep-merge`) and [`longlife`];
-//! [`failure`] turns errors into messages and exit codes.
+//! [`outputs`] holds the output pieces they share; [`failure`] turns errors into messages and
+//! exit codes.
 
 mod check;
 mod ensemble;
 mod failure;
 mod longlife;
+mod outputs;
 mod run;
 mod sweep;
 
 use clap::{Parser, Subcommand};
 use failure::{CliResult, Failure};
 use jointwear::io::interrupt;
+use jointwear::scene::{set_dotted, SceneFile};
 use jointwear::simulation::ensemble::{EnsembleSettings, DEFAULT_SEED};
 use jointwear::simulation::Scene;
+use jointwear::sweep::file::fingerprint;
+use jointwear::sweep::{parse_value, Assignment};
+use jointwear::Error;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+const RUN_HELP: &str = "\
+KEY is a dotted path into the scene file, array elements by 0-based number \
+(clearance.0.clearance_mm, run.method); VALUE is TOML (0.02, [0.0, -9.81], \"rk4\" or rk4). \
+A bad key or value exits with code 2 naming the key, the value and the valid range.
+
+Writes into the output folder: timeseries.csv (the recorded rotations: time, unwrapped \
+driver angle and, per clearance joint, journal eccentricity, contact angle, penetration, \
+forces, sliding velocity, pressure and wear rate; per body the accelerations), \
+wear_<joint>.csv (final profile), wear_snapshots_<joint>.csv (the profile at each of \
+run.wear_snapshots) and wear_evolution.png, trajectory.png, normal_force.png, wear.png, \
+summary.json (settings, counters, wall time and per-joint results, machine-readable) and \
+README.txt (every column's unit, frame and sign convention). Numbers are written in the \
+shortest decimal form that reads back to the identical double.
+
+With --ensemble N: ensemble_members.csv (one row per member), ensemble_summary.csv (mean, \
+sd, min, quantiles and max of every scalar result), ensemble_wear_<joint>.csv (the \
+per-sector band of the final wear profiles), wear.png (mean profile, 5-95 % band shaded), \
+summary.json and README.txt.";
 
 const EXAMPLES: &str = "\
 Examples:
   jointwear check data/scenes/fourbar.toml
   jointwear run data/scenes/standard.toml --out out/standard
+  jointwear run data/scenes/standard.toml --rotations 10 --set clearance.0.clearance_mm=0.2
   jointwear run data/scenes/standard.toml --ensemble 16 --seed 1
   jointwear sweep data/scenes/standard.toml \\
       --set clearance.0.clearance_mm=0.02,0.1,0.5 --set driver.speed_rpm=600,2000 --out sweep.csv
@@ -46,18 +72,20 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Simulate a scene: time series and wear CSVs, plots and a summary.
-    #[command(
-        after_help = "Writes timeseries.csv (recorded rotations), wear_<joint>.csv (final \
-        profile), trajectory.png, normal_force.png and wear.png. With --ensemble N: \
-        ensemble_members.csv (one row per member), ensemble_summary.csv (mean, sd, min, \
-        quantiles and max of every scalar result), ensemble_wear_<joint>.csv (the per-sector \
-        band of the final wear profiles) and wear.png (mean profile, 5-95 % band shaded)."
-    )]
+    #[command(after_help = RUN_HELP)]
     Run {
         scene: PathBuf,
         /// Output directory [default: out/<scene stem>]
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Change one value of the scene: KEY is a dotted path into the scene file (as for
+        /// `sweep`), VALUE one TOML value (repeatable)
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+        /// Simulate N rotations instead of the scene's run.rotations (wear snapshots past N
+        /// are dropped and run.record_rotations is cut to N, unless set with --set)
+        #[arg(long, value_name = "N")]
+        rotations: Option<u32>,
         /// Run N members, each from an initial journal offset of at most 10 nm in a seeded
         /// random direction, and report statistics over them instead of one trajectory
         #[arg(long, value_name = "N")]
@@ -152,18 +180,28 @@ fn main() -> ExitCode {
         Command::Run {
             scene,
             out,
+            sets,
+            rotations,
             ensemble: None,
             checkpoint_every,
             resume,
             ..
-        } => run::run(&scene, out, checkpoint_every, resume),
+        } => run::run(&scene, &sets, rotations, out, checkpoint_every, resume),
         Command::Run {
             scene,
             out,
+            sets,
+            rotations,
             ensemble: Some(members),
             seed,
             ..
-        } => ensemble::run_ensemble(&scene, out, EnsembleSettings { members, seed }),
+        } => ensemble::run_ensemble(
+            &scene,
+            &sets,
+            rotations,
+            out,
+            EnsembleSettings { members, seed },
+        ),
         Command::Check { scene } => check::check(&scene),
         Command::Sweep {
             scene,
@@ -216,7 +254,97 @@ fn file_part(name: &str) -> String {
         .collect()
 }
 
-/// The scene file at `path`, built; its errors are errors of the input ([`Failure::input`]).
-fn load(path: &Path) -> CliResult<Scene> {
-    Scene::load(path).map_err(|e| Failure::input(path, e))
+/// A scene as `run` simulates it: the file with its `--set` values and `--rotations`.
+pub struct Variant {
+    /// The built scene.
+    pub scene: Scene,
+    /// The changes to the file, in the order applied: the `--set` values, then `--rotations`
+    /// as `run.rotations` (and the snapshots and recorded rotations it cut).
+    pub changes: Vec<(String, String)>,
+    /// The fingerprint of the scene file and its `--set`/`--rotations` changes: a checkpoint
+    /// belongs to this variant only.
+    pub fingerprint: String,
+}
+
+/// The scene file at `path` with `sets` (`KEY=VALUE`, one value each) assigned through the
+/// dotted-key setter of `sweep` ([`set_dotted`]), then `rotations` as `run.rotations`; it
+/// then cuts the wear snapshots past it and the recorded rotations to it, unless they were
+/// set. Validated as a scene file is, and every error is bad input (exit code 2): a bad key or
+/// value names the key, the value, the valid range and the `--set` it came from.
+fn load_variant(path: &Path, sets: &[String], rotations: Option<u32>) -> CliResult<Variant> {
+    let input = |e| Failure::input(path, e);
+    let mut assignments = Vec::new();
+    for arg in sets {
+        let a = Assignment::parse(arg).map_err(input)?;
+        if a.values.len() != 1 {
+            return Err(input(Error::invalid(
+                "--set",
+                arg,
+                "KEY=VALUE with one value (`sweep` takes a list)",
+            )));
+        }
+        assignments.push(a);
+    }
+    if let Some(n) = rotations {
+        assignments.push(Assignment {
+            key: "run.rotations".into(),
+            values: vec![n.to_string()],
+        });
+    }
+    let doc = SceneFile::read_document(path).map_err(input)?;
+    let fingerprint = fingerprint(&doc, &assignments);
+    let from_set = |e| {
+        let sets: Vec<String> = sets.iter().map(|s| format!("--set {s}")).collect();
+        let mut from: Vec<String> = sets;
+        if let Some(n) = rotations {
+            from.push(format!("--rotations {n}"));
+        }
+        match e {
+            Error::Invalid {
+                field,
+                value,
+                expected,
+            } if !from.is_empty() => Error::Invalid {
+                field: format!("{field} (with {})", from.join(", ")),
+                value,
+                expected,
+            },
+            Error::Parse { path, message } if !from.is_empty() => Error::Parse {
+                path,
+                message: format!("{} (with {})", message.trim_end(), from.join(", ")),
+            },
+            e => e,
+        }
+    };
+    let mut varied = doc;
+    for a in &assignments {
+        set_dotted(&mut varied, &a.key, parse_value(&a.values[0]))
+            .map_err(|e| input(from_set(e)))?;
+    }
+    let mut file = SceneFile::from_document(varied, path).map_err(|e| input(from_set(e)))?;
+    let mut changes: Vec<(String, String)> = assignments
+        .iter()
+        .map(|a| (a.key.clone(), a.values[0].clone()))
+        .collect();
+    let set = |key: &str| assignments.iter().any(|a| a.key == key);
+    if let Some(n) = rotations {
+        let run = &mut file.run;
+        if !set("run.wear_snapshots") && run.wear_snapshots.iter().any(|&s| s > n) {
+            run.wear_snapshots.retain(|&s| s <= n);
+            changes.push((
+                "run.wear_snapshots".into(),
+                format!("{:?}", run.wear_snapshots),
+            ));
+        }
+        if !set("run.record_rotations") && run.record_rotations > n {
+            run.record_rotations = n;
+            changes.push(("run.record_rotations".into(), n.to_string()));
+        }
+    }
+    let scene = file.build().map_err(|e| input(from_set(e)))?;
+    Ok(Variant {
+        scene,
+        changes,
+        fingerprint,
+    })
 }

@@ -1,32 +1,42 @@
-//! `jointwear run SCENE`: one run of a scene, with checkpoints and resumption, its time series,
-//! wear profiles and default plots, and the summary it prints.
+//! `jointwear run SCENE`: one run of a scene (with its `--set` values and `--rotations`), with
+//! checkpoints and resumption; its time series, wear profiles and snapshots, default plots,
+//! `summary.json` and `README.txt`, and the summary it prints.
 
 use crate::failure::{CliResult, Failure};
-use crate::{file_part, load, out_dir};
+use crate::outputs::{body_name, conventions, timeseries_columns, write_profiles};
+use crate::{file_part, load_variant, out_dir, Variant};
 use jointwear::io::interrupt;
-use jointwear::io::output::{check_output_dir, write_csv, write_outputs};
+use jointwear::io::output::{check_output_dir, write_csv, write_json, write_outputs, write_text};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::{progress_bar, Progress};
 use jointwear::laws::wear::sector_angles_deg;
-use jointwear::scene::SceneFile;
+use jointwear::ode::Method;
 use jointwear::simulation::checkpoint::{read_checkpoint, write_checkpoint, CHECKPOINT_FILE};
 use jointwear::simulation::Scene;
-use jointwear::simulation::{RunOutput, Simulation};
-use jointwear::sweep::file::fingerprint;
-use jointwear::sweep::summarize;
+use jointwear::simulation::{JointTrace, RunOutput, Settling, Simulation};
+use jointwear::sweep::{summarize, JointSummary};
 use jointwear::Error;
+use serde::Serialize;
 use std::path::{Path, PathBuf};
 
-/// `run` without `--ensemble`: simulates the scene at `path` (or resumes its checkpoint),
-/// writes its outputs into `out` and prints a summary.
+/// `run` without `--ensemble`: simulates the scene at `path` with `sets` and `rotations`
+/// applied ([`load_variant`]), or resumes its checkpoint, writes its outputs into `out` and
+/// prints a summary.
 pub fn run(
     path: &Path,
+    sets: &[String],
+    rotations: Option<u32>,
     out: Option<PathBuf>,
     checkpoint_every: Option<u32>,
     resume: bool,
 ) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
-    let scene = load(path)?;
+    let Variant {
+        scene,
+        changes,
+        fingerprint,
+    } = load_variant(path, sets, rotations)?;
+    print_changes(&changes, rotations);
     let dir = out_dir(path, out);
     check_output_dir("--out", &dir).map_err(bad)?;
     if checkpoint_every == Some(0) {
@@ -36,7 +46,6 @@ pub fn run(
         ));
     }
     let saved = dir.join(CHECKPOINT_FILE);
-    let fingerprint = scene_fingerprint(path)?;
     let mut sim = if resume {
         let checkpoint = read_checkpoint(&saved, &fingerprint).map_err(|e| match e {
             Error::Io { .. } => Failure::input(
@@ -77,9 +86,21 @@ pub fn run(
     bar.finish_and_clear();
     result.map_err(bad)?;
     let out = sim.finish();
-    let title = format!("jointwear run {}", path.display());
-    write_outputs(&dir, &title, || write_run(&scene, &out, &dir))
-        .map_err(|e| Failure::from(path, e))?;
+    let mut title = format!("jointwear run {}", path.display());
+    for s in sets {
+        title.push_str(&format!(" --set {s}"));
+    }
+    if let Some(n) = rotations {
+        title.push_str(&format!(" --rotations {n}"));
+    }
+    let joints = summarize(&scene, &out);
+    let summary = RunSummary::new(path, &scene, &changes, &fingerprint, &out, &joints);
+    write_outputs(&dir, &title, || {
+        write_run(&scene, &out, &dir)?;
+        write_json(&dir.join(SUMMARY_FILE), &summary)?;
+        write_text(&dir.join(README_FILE), &readme(&title, &scene, &out))
+    })
+    .map_err(|e| Failure::from(path, e))?;
     // A completed run needs no checkpoint; a failed one keeps its last.
     if saved.exists() {
         std::fs::remove_file(&saved).map_err(|source| {
@@ -89,15 +110,28 @@ pub fn run(
             })
         })?;
     }
-    print_summary(&scene, &out);
+    print_summary(&scene, &out, &joints);
     println!("outputs in {}", dir.display());
     Ok(())
 }
 
-/// The fingerprint of a scene file as it is now (its resolved document).
-fn scene_fingerprint(path: &Path) -> CliResult<String> {
-    let doc = SceneFile::read_document(path).map_err(|e| Failure::input(path, e))?;
-    Ok(fingerprint(&doc, &[]))
+/// The machine-readable summary every `run` writes beside its outputs.
+pub const SUMMARY_FILE: &str = "summary.json";
+
+/// The description of an output folder's files: units, frames and sign conventions.
+pub const README_FILE: &str = "README.txt";
+
+/// Says on stderr which values `--set` and `--rotations` changed beyond those they name.
+pub fn print_changes(changes: &[(String, String)], rotations: Option<u32>) {
+    if let Some(n) = rotations {
+        for (key, value) in changes
+            .iter()
+            .skip_while(|(k, _)| k != "run.rotations")
+            .skip(1)
+        {
+            eprintln!("note: --rotations {n} sets {key} = {value}");
+        }
+    }
 }
 
 /// Time series, final wear profiles and the default plots of a run.
@@ -106,10 +140,30 @@ fn write_run(scene: &Scene, out: &RunOutput, dir: &Path) -> jointwear::Result<()
     let rec = &out.recording;
     let mut header = vec!["time_s".to_string(), "driver_angle_rad".to_string()];
     let mut columns: Vec<&[f64]> = vec![&rec.time, &rec.driver_angle];
-    for (cj, tr) in m.clearance_joints.iter().zip(&rec.joints) {
-        let series: [(&str, &[f64]); 8] = [
+    // Nothing recorded (run.record_rotations = 0) leaves the recording's vectors empty: the
+    // header is then complete over no rows.
+    let empty = JointTrace::default();
+    let traces: Vec<&JointTrace> = (0..m.clearance_joints.len())
+        .map(|k| rec.joints.get(k).unwrap_or(&empty))
+        .collect();
+    // θ in [0, 2π) as degrees in [0, 360): a θ just below 2π may round up to 360.
+    let degrees = |t: &f64| {
+        let d = t.to_degrees();
+        if d >= 360.0 {
+            d - 360.0
+        } else {
+            d
+        }
+    };
+    let contact_angles: Vec<Vec<f64>> = traces
+        .iter()
+        .map(|tr| tr.theta.iter().map(degrees).collect())
+        .collect();
+    for ((cj, tr), angle) in m.clearance_joints.iter().zip(&traces).zip(&contact_angles) {
+        let series: [(&str, &[f64]); 9] = [
             ("ex_m", &tr.ex),
             ("ey_m", &tr.ey),
+            ("contact_angle_deg", angle),
             ("penetration_m", &tr.delta),
             ("normal_force_n", &tr.normal_force),
             ("friction_force_n", &tr.friction_force),
@@ -122,10 +176,10 @@ fn write_run(scene: &Scene, out: &RunOutput, dir: &Path) -> jointwear::Result<()
             columns.push(data);
         }
     }
-    for (body, acc) in m.bodies().iter().zip(&rec.accelerations) {
-        for (name, data) in ["ax_m_s2", "ay_m_s2", "alpha_rad_s2"].iter().zip(acc) {
+    for (b, body) in m.bodies().iter().enumerate() {
+        for (c, name) in ["ax_m_s2", "ay_m_s2", "alpha_rad_s2"].iter().enumerate() {
             header.push(format!("{}.{name}", body.name));
-            columns.push(data);
+            columns.push(rec.accelerations.get(b).map_or(&[], |acc| &acc[c]));
         }
     }
     let header: Vec<&str> = header.iter().map(String::as_str).collect();
@@ -154,6 +208,12 @@ fn write_run(scene: &Scene, out: &RunOutput, dir: &Path) -> jointwear::Result<()
             &[angles, &out.final_wear[*k]],
         )?;
     }
+    let snapshots: Vec<(u64, &[Vec<f64>])> = out
+        .wear_snapshots
+        .iter()
+        .map(|s| (u64::from(s.rotation), s.depths.as_slice()))
+        .collect();
+    write_profiles(dir, "wear_snapshots", "wear_evolution.png", m, &snapshots)?;
     if !worn.is_empty() {
         let series = worn
             .iter()
@@ -213,8 +273,9 @@ fn write_run(scene: &Scene, out: &RunOutput, dir: &Path) -> jointwear::Result<()
     Ok(())
 }
 
-/// The run's summary on stdout: counters, and per joint forces, motion and wear peaks.
-fn print_summary(scene: &Scene, out: &RunOutput) {
+/// The run's summary on stdout: counters, and per joint (`joints`, [`summarize`]) forces,
+/// motion and wear peaks. What was not recorded is said to be, never printed as NaN.
+fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
     let s = &out.stats;
     println!("{}", scene.title);
     println!(
@@ -224,11 +285,15 @@ fn print_summary(scene: &Scene, out: &RunOutput) {
     if let Some(e) = out.energy {
         println!("  energy balance residual {:.2e}", e.residual());
     }
-    for j in summarize(scene, out) {
+    for j in joints {
         println!("  joint {}:", j.name);
+        let force = if j.max_normal_force.is_finite() {
+            format!("{:.2} N (recorded rotations)", j.max_normal_force)
+        } else {
+            "not recorded (run.record_rotations = 0)".to_string()
+        };
         println!(
-            "    max normal force {:.2} N (recorded rotations), max penetration {:.3} µm",
-            j.max_normal_force,
+            "    max normal force {force}, max penetration {:.3} µm",
             j.max_penetration * 1e6
         );
         if let Some(m) = j.motion {
@@ -238,6 +303,8 @@ fn print_summary(scene: &Scene, out: &RunOutput) {
                 100.0 * m.contact_fraction,
                 m.impacts_per_rotation
             );
+        } else {
+            println!("    motion: not classified (run.record_rotations = 0)");
         }
         for p in j.peaks.iter().take(3) {
             println!(
@@ -248,4 +315,268 @@ fn print_summary(scene: &Scene, out: &RunOutput) {
             );
         }
     }
+}
+
+/// `summary.json` of a run: what was run and what it measured, for programs to read.
+#[derive(Serialize)]
+struct RunSummary {
+    /// `jointwear <version>`.
+    program: String,
+    /// The scene file and what `--set`/`--rotations` changed in it.
+    scene: SceneSummary,
+    /// The run settings as simulated.
+    settings: SettingsSummary,
+    /// Integrator and recording counters.
+    counts: Counts,
+    /// Wall-clock time of the simulation (s), writing excluded.
+    wall_time_s: f64,
+    /// Relative energy balance residual, with `run.energy_accounting`.
+    energy_balance_residual: Option<f64>,
+    /// How the run settled, for `run.settle`.
+    settling: Option<Settling>,
+    /// Per clearance joint.
+    joints: Vec<JointResult>,
+}
+
+#[derive(Serialize)]
+struct SceneSummary {
+    path: String,
+    title: String,
+    /// Fingerprint of the resolved scene document and its changes (checkpoints carry it).
+    fingerprint: String,
+    /// `[key, value]` in the order applied: the `--set` values, `--rotations` as
+    /// `run.rotations`, and what it cut.
+    changes: Vec<(String, String)>,
+}
+
+#[derive(Serialize)]
+struct SettingsSummary {
+    rotations: u32,
+    record_rotations: u32,
+    record_interval_s: f64,
+    wear_snapshots: Vec<u32>,
+    method: Method,
+    rtol: f64,
+    atol: f64,
+    /// `null`: no bound.
+    max_step_s: f64,
+    baumgarte_per_s: f64,
+    max_steps: u64,
+    driver_body: String,
+    /// Signed: positive counter-clockwise.
+    driver_speed_rpm: f64,
+    driver_period_s: f64,
+}
+
+#[derive(Serialize)]
+struct Counts {
+    /// Driver rotations integrated: settling rotations, then `settings.rotations`.
+    rotations_simulated: u32,
+    settling_rotations: u32,
+    /// Rows of `timeseries.csv`.
+    recorded_samples: usize,
+    steps: u64,
+    rejected_steps: u64,
+    rhs_evaluations: u64,
+    /// Contact onsets located (all joints).
+    contact_onsets: u64,
+}
+
+#[derive(Serialize)]
+struct JointResult {
+    name: String,
+    journal_body: String,
+    bearing_body: String,
+    radial_clearance_m: f64,
+    /// Largest normal force of the recorded rotations (N); `null` when none were recorded.
+    max_normal_force_n: Option<f64>,
+    /// Largest penetration at the accepted steps of the whole run (m).
+    max_penetration_m: f64,
+    /// Contact onsets of this joint over the whole run.
+    contact_onsets: u64,
+    /// Motion of the recorded rotations; `null` when none were recorded.
+    motion: Option<MotionResult>,
+    /// Deepest wear of the final profile (m); `null` without a wear model.
+    max_wear_depth_m: Option<f64>,
+    /// Wear regions of the final profile, deepest first.
+    wear_peaks: Vec<PeakResult>,
+}
+
+#[derive(Serialize)]
+struct MotionResult {
+    /// `continuous contact` or `free flight and impact`.
+    mode: String,
+    contact_fraction: f64,
+    impacts_per_rotation: f64,
+    mean_flight_time_s: f64,
+}
+
+#[derive(Serialize)]
+struct PeakResult {
+    /// Bearing frame, counter-clockwise from its +x axis.
+    angle_deg: f64,
+    depth_m: f64,
+    prominence_m: f64,
+    width_deg: f64,
+}
+
+impl RunSummary {
+    fn new(
+        path: &Path,
+        scene: &Scene,
+        changes: &[(String, String)],
+        fingerprint: &str,
+        out: &RunOutput,
+        joints: &[JointSummary],
+    ) -> RunSummary {
+        let m = &scene.mechanism;
+        let run = &scene.run;
+        let settling = out.settling.map_or(0, |s| s.rotations);
+        RunSummary {
+            program: format!("jointwear {}", env!("CARGO_PKG_VERSION")),
+            scene: SceneSummary {
+                path: path.display().to_string(),
+                title: scene.title.clone(),
+                fingerprint: fingerprint.to_string(),
+                changes: changes.to_vec(),
+            },
+            settings: SettingsSummary {
+                rotations: run.rotations,
+                record_rotations: run.record_rotations,
+                record_interval_s: run.record_interval,
+                wear_snapshots: run.wear_snapshots.clone(),
+                method: run.method,
+                rtol: run.tolerances.rtol,
+                atol: run.tolerances.atol,
+                max_step_s: run.tolerances.max_step,
+                baumgarte_per_s: run.baumgarte,
+                max_steps: run.max_steps,
+                driver_body: body_name(m, Some(m.driver.body)).to_string(),
+                driver_speed_rpm: m.driver.omega * 60.0 / std::f64::consts::TAU,
+                driver_period_s: out.period,
+            },
+            counts: Counts {
+                rotations_simulated: settling + run.rotations,
+                settling_rotations: settling,
+                recorded_samples: out.recording.time.len(),
+                steps: out.stats.steps,
+                rejected_steps: out.stats.rejected,
+                rhs_evaluations: out.stats.evaluations,
+                contact_onsets: out.stats.events,
+            },
+            wall_time_s: out.wall_time,
+            energy_balance_residual: out.energy.map(|e| e.residual()),
+            settling: out.settling,
+            joints: m
+                .clearance_joints
+                .iter()
+                .zip(joints)
+                .enumerate()
+                .map(|(k, (cj, j))| JointResult {
+                    name: j.name.clone(),
+                    journal_body: body_name(m, cj.journal.body).to_string(),
+                    bearing_body: body_name(m, cj.bearing.body).to_string(),
+                    radial_clearance_m: cj.clearance(),
+                    max_normal_force_n: Some(j.max_normal_force).filter(|f| f.is_finite()),
+                    max_penetration_m: j.max_penetration,
+                    contact_onsets: out.impacts[k],
+                    motion: j.motion.map(|m| MotionResult {
+                        mode: m.mode().to_string(),
+                        contact_fraction: m.contact_fraction,
+                        impacts_per_rotation: m.impacts_per_rotation,
+                        mean_flight_time_s: m.mean_flight_time,
+                    }),
+                    max_wear_depth_m: cj
+                        .wear
+                        .map(|_| out.final_wear[k].iter().cloned().fold(0.0, f64::max)),
+                    wear_peaks: j
+                        .peaks
+                        .iter()
+                        .map(|p| PeakResult {
+                            angle_deg: p.angle_deg,
+                            depth_m: p.depth,
+                            prominence_m: p.prominence,
+                            width_deg: p.width_deg,
+                        })
+                        .collect(),
+                })
+                .collect(),
+        }
+    }
+}
+
+/// `README.txt` of a run's folder: the conventions, then every file and column it wrote.
+fn readme(title: &str, scene: &Scene, out: &RunOutput) -> String {
+    let m = &scene.mechanism;
+    let run = &scene.run;
+    let mut text = conventions(title, m, &scene.title);
+    text.push_str("\nFILES\n");
+    let rows = out.recording.time.len();
+    text.push_str(&format!(
+        "timeseries.csv: the last {} rotation(s) of the run (run.record_rotations), sampled \
+         every {} s: {rows} rows.\n",
+        run.record_rotations,
+        jointwear::io::output::number(run.record_interval),
+    ));
+    text.push_str(&timeseries_columns(m));
+    let worn: Vec<&str> = m
+        .clearance_joints
+        .iter()
+        .filter(|cj| cj.wear.is_some())
+        .map(|cj| cj.name.as_str())
+        .collect();
+    if !worn.is_empty() {
+        let files: Vec<String> = worn
+            .iter()
+            .map(|n| format!("wear_{}.csv", file_part(n)))
+            .collect();
+        text.push_str(&format!(
+            "{}: the wear profile of the bearing at the end of the run.\n\
+             \x20 angle_deg    sector centre in the bearing frame (deg)\n\
+             \x20 depth_m      depth worn into the bearing (m)\n\
+             wear.png: those profiles (µm).\n\n",
+            files.join(", ")
+        ));
+        if !out.wear_snapshots.is_empty() {
+            let files: Vec<String> = worn
+                .iter()
+                .map(|n| format!("wear_snapshots_{}.csv", file_part(n)))
+                .collect();
+            let counts: Vec<String> = out
+                .wear_snapshots
+                .iter()
+                .map(|s| s.rotation.to_string())
+                .collect();
+            text.push_str(&format!(
+                "{}: the wear profile after each of the rotation counts of run.wear_snapshots \
+                 ({}; counted from the start, settling rotations included).\n\
+                 \x20 angle_deg    sector centre in the bearing frame (deg)\n\
+                 \x20 rot<N>_m     depth worn into the bearing after N rotations (m)\n\
+                 wear_evolution.png: those profiles (µm), one panel per joint.\n\n",
+                files.join(", "),
+                counts.join(", ")
+            ));
+        }
+    }
+    if rows > 0 && !m.clearance_joints.is_empty() {
+        text.push_str(
+            "trajectory.png: journal centre relative to the bearing centre (ex, ey, global \
+             frame, µm) inside the clearance circle, recorded rotations.\n\
+             normal_force.png: contact normal force against time, recorded rotations.\n\n",
+        );
+    }
+    text.push_str(&format!(
+        "{SUMMARY_FILE}: the run as JSON: program; scene (path, title, fingerprint, changes: \
+         the [key, value] pairs of --set and --rotations); settings (as simulated, SI units in \
+         the key names; method and tolerances; driver_speed_rpm signed, positive \
+         counter-clockwise); counts (rotations simulated, settling rotations, recorded samples, \
+         steps, rejected steps, right-hand-side evaluations, contact onsets); wall_time_s; \
+         energy_balance_residual; settling; joints (per clearance joint: bodies, radial \
+         clearance, max_normal_force_n over the recorded rotations or null if none were \
+         recorded, max_penetration_m over the whole run, contact onsets, motion (mode: \
+         `continuous contact` or `free flight and impact`, contact fraction, impacts per \
+         rotation, mean flight time) or null, max_wear_depth_m, wear_peaks: angle_deg in the \
+         bearing frame, depth_m, prominence_m, width_deg, deepest first).\n"
+    ));
+    text
 }

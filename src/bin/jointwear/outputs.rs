@@ -1,0 +1,207 @@
+//! Output pieces shared by the subcommands: wear profiles at several rotation counts (CSV and
+//! figure, for `run`'s snapshots and `longlife`), and the conventions every output folder's
+//! `README.txt` states (units, frames, signs, number format).
+
+use crate::file_part;
+use jointwear::io::output::write_csv;
+use jointwear::io::plot::{render, Axes, Series, Style};
+use jointwear::laws::wear::sector_angles_deg;
+use jointwear::mechanism::{BodyIndex, Mechanism};
+use std::path::Path;
+
+/// At most this many profiles are drawn in one panel of a profile figure (the palette has
+/// nine colours); the CSV holds them all.
+const MAX_DRAWN_PROFILES: usize = 8;
+
+/// Wear profiles of the worn clearance joints of `m` after several rotation counts:
+/// `snapshots` holds `(rotations, depth per joint per sector in m)`, in increasing rotations.
+/// Writes per worn joint `<stem>_<joint>.csv` (`angle_deg`, then `rot<N>_m` per count, depth
+/// in m) and `png`, one panel per joint (depth in µm; at most [`MAX_DRAWN_PROFILES`] evenly
+/// spread profiles, the last always among them). Writes nothing without snapshots or wear.
+pub fn write_profiles(
+    dir: &Path,
+    stem: &str,
+    png: &str,
+    m: &Mechanism,
+    snapshots: &[(u64, &[Vec<f64>])],
+) -> jointwear::Result<()> {
+    let Some((_, first)) = snapshots.first() else {
+        return Ok(());
+    };
+    let worn: Vec<usize> = (0..m.clearance_joints.len())
+        .filter(|&k| m.clearance_joints[k].wear.is_some())
+        .collect();
+    let drawn = drawn_profiles(snapshots.len());
+    let mut profiles = Vec::new();
+    for &k in &worn {
+        let angles = sector_angles_deg(first[k].len());
+        let mut header = vec!["angle_deg".to_string()];
+        header.extend(snapshots.iter().map(|(n, _)| format!("rot{n}_m")));
+        let mut columns: Vec<&[f64]> = vec![&angles];
+        columns.extend(snapshots.iter().map(|(_, d)| d[k].as_slice()));
+        let header_ref: Vec<&str> = header.iter().map(String::as_str).collect();
+        let name = &m.clearance_joints[k].name;
+        let path = dir.join(format!("{stem}_{}.csv", file_part(name)));
+        write_csv(&path, &header_ref, &columns)?;
+        let um: Vec<(u64, Vec<f64>)> = drawn
+            .iter()
+            .map(|&i| {
+                let (n, d) = &snapshots[i];
+                (*n, d[k].iter().map(|x| x * 1e6).collect())
+            })
+            .collect();
+        profiles.push((name, angles, um));
+    }
+    let shown = if drawn.len() < snapshots.len() {
+        format!(" ({} of {} snapshots)", drawn.len(), snapshots.len())
+    } else {
+        String::new()
+    };
+    let panels: Vec<Axes> = profiles
+        .iter()
+        .map(|(name, angles, um)| Axes {
+            x_range: Some((0.0, 360.0)),
+            ..Axes::new(
+                format!("{name}: bearing wear profile{shown}"),
+                "bearing angle (deg, counter-clockwise from the bearing's +x)",
+                "wear depth (µm)",
+                um.iter()
+                    .map(|(n, d)| Series::new(format!("{n} rotations"), angles, d, Style::Line))
+                    .collect(),
+            )
+        })
+        .collect();
+    if !panels.is_empty() {
+        render(&dir.join(png), &panels)?;
+    }
+    Ok(())
+}
+
+/// Indices of the profiles drawn out of `count`: all of them up to [`MAX_DRAWN_PROFILES`],
+/// otherwise that many evenly spread, the last included.
+fn drawn_profiles(count: usize) -> Vec<usize> {
+    if count <= MAX_DRAWN_PROFILES {
+        return (0..count).collect();
+    }
+    let last = count - 1;
+    let mut picked: Vec<usize> = (1..=MAX_DRAWN_PROFILES)
+        .map(|i| (i * count).div_ceil(MAX_DRAWN_PROFILES) - 1)
+        .collect();
+    picked.dedup();
+    debug_assert_eq!(picked.last(), Some(&last));
+    picked
+}
+
+/// The name of body `b` of `m` (`ground` for the ground).
+pub fn body_name(m: &Mechanism, b: BodyIndex) -> &str {
+    b.map_or("ground", |i| m.bodies()[i].name.as_str())
+}
+
+/// The opening of every `README.txt`: what wrote the folder, then the conventions shared by
+/// all its files (units, number format, frames, angles, time).
+pub fn conventions(command: &str, m: &Mechanism, title: &str) -> String {
+    let driver = body_name(m, Some(m.driver.body));
+    let mut text = format!(
+        "Outputs of `{command}` (jointwear {}): {title}\n\
+         jointwear-manifest.txt lists the files of this run; other files in this folder are \
+         not from it.\n\
+         \n\
+         CONVENTIONS\n\
+         * Units: SI (m, s, N, Pa, kg), angles in rad, except where a name ends in _deg \
+         (degrees). Every column name ends in its unit (_m, _s, _n, _pa, _m_s, _m_s2, _rad, \
+         _rad_s2, _deg).\n\
+         * Numbers: the shortest decimal text that parses back to the identical IEEE-754 \
+         double (0.72, 1500, 1.25e-9); NaN where a value does not exist; `null` in JSON.\n\
+         * Global frame: the scene's ground frame (x, y as in the scene file, which gives \
+         them in mm; written here in m). Angles are counter-clockwise positive.\n\
+         * Bearing frame of a clearance joint: the frame of the body that holds the bearing, \
+         turning with it; bearing angles are measured counter-clockwise from its +x axis, in \
+         [0, 360) deg. Wear profiles, wear peaks and the contact angle all use it.\n\
+         * Time: from the start of the run (t = 0 at the assembled initial pose), settling \
+         rotations included. The driven body is `{driver}`.\n\
+         * Wear depth: radial depth worn into the bearing (m), >= 0; sector i of N is \
+         centred at (i + 0.5) * 360 / N deg.\n\
+         \n\
+         CLEARANCE JOINTS (journal in bearing)\n",
+        env!("CARGO_PKG_VERSION"),
+    );
+    for cj in &m.clearance_joints {
+        text.push_str(&format!(
+            "* {}: journal on `{}`, bearing on `{}` (bearing frame: `{}`), radial clearance \
+             {} m{}\n",
+            cj.name,
+            body_name(m, cj.journal.body),
+            body_name(m, cj.bearing.body),
+            body_name(m, cj.bearing.body),
+            jointwear::io::output::number(cj.clearance()),
+            if cj.wear.is_some() {
+                ""
+            } else {
+                " (no wear model: no wear files)"
+            }
+        ));
+    }
+    text
+}
+
+/// The columns of `timeseries.csv`, described for `README.txt`.
+pub fn timeseries_columns(m: &Mechanism) -> String {
+    let driver = body_name(m, Some(m.driver.body));
+    let mut text = format!(
+        "  time_s                    time since the start of the run (s)\n\
+         \x20 driver_angle_rad          angle of the driven body `{driver}` in the global frame \
+         (rad), UNWRAPPED: continuous, it changes by 2*pi per rotation and is not reduced to \
+         [0, 2*pi)\n\
+         \x20 per clearance joint J:\n\
+         \x20 J.ex_m, J.ey_m            eccentricity e = journal centre - bearing centre, \
+         components in the GLOBAL frame (m)\n\
+         \x20 J.contact_angle_deg       direction of e in the BEARING frame, [0, 360) deg: \
+         where the journal is closest to (or presses on) the bearing wall; the angle of the \
+         wear profiles (0 when e = 0)\n\
+         \x20 J.penetration_m           delta = |e| - c - h(contact angle) (m): POSITIVE in \
+         contact (overlap), NEGATIVE in free flight (minus the gap)\n\
+         \x20 J.normal_force_n          contact normal force magnitude (N), >= 0, zero in free \
+         flight; it pushes the journal along -e/|e|\n\
+         \x20 J.friction_force_n        friction force on the journal along the tangent \
+         t = (-n_y, n_x), n = e/|e| (t is n turned 90 deg counter-clockwise) (N); its sign \
+         is opposite to the sliding velocity's\n\
+         \x20 J.sliding_velocity_m_s    v_t = de/dt . t + w_journal R_journal - w_bearing \
+         R_bearing (m/s): velocity of the journal surface relative to the bearing surface at \
+         the contact point, along t\n\
+         \x20 J.pressure_pa             peak contact pressure (Pa) of the joint's pressure \
+         model; 0 out of contact or without a wear model\n\
+         \x20 J.wear_rate_m_s           Archard wear rate dh/dt at the contact centre, \
+         k/H * pressure * |v_t| (m/s); 0 without a wear model\n\
+         \x20 per body B (moving bodies: {}):\n\
+         \x20 B.ax_m_s2, B.ay_m_s2      acceleration of the centre of mass, GLOBAL frame (m/s2)\n\
+         \x20 B.alpha_rad_s2            angular acceleration, counter-clockwise positive \
+         (rad/s2)\n",
+        m.bodies()
+            .iter()
+            .map(|b| b.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    text.push('\n');
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Would fail on an off-by-one pick (the last profile left out) or on more profiles than
+    /// the palette has colours.
+    #[test]
+    fn drawn_profiles_are_spread_and_keep_the_last() {
+        assert_eq!(drawn_profiles(3), [0, 1, 2]);
+        assert_eq!(drawn_profiles(8), (0..8).collect::<Vec<_>>());
+        for count in 9..200 {
+            let d = drawn_profiles(count);
+            assert_eq!(d.len(), MAX_DRAWN_PROFILES, "{count}");
+            assert_eq!(*d.last().unwrap(), count - 1);
+            assert!(d.windows(2).all(|w| w[0] < w[1]));
+        }
+        assert_eq!(drawn_profiles(40), [4, 9, 14, 19, 24, 29, 34, 39]);
+    }
+}
