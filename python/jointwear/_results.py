@@ -35,9 +35,10 @@ class Run:
         wall_time_s: wall-clock time of the run (s).
         timeseries: column name -> array over the recorded rotations: the columns of
             ``jointwear run``'s ``timeseries.csv`` (``time_s``, ``driver_angle_rad``, per
-            clearance joint ``<joint>.ex_m`` ... ``.wear_rate_m_s``, per body
-            ``<body>.ax_m_s2`` ...), then ``<joint>.contact_angle_rad`` and every body's
-            ``<body>.x_m``, ``.y_m``, ``.angle_rad``.
+            clearance joint ``<joint>.ex_m`` ... ``.wear_rate_m_s`` with the contact angle
+            ``<joint>.contact_angle_deg`` in the bearing frame, per body ``<body>.ax_m_s2``
+            ...; units, frames and signs in the ``README.txt`` that ``jointwear run`` writes),
+            then every body's ``<body>.x_m``, ``.y_m``, ``.angle_rad``.
         joints: names of the clearance joints.
         angles_deg: joint -> sector centres of its wear profile (deg), for joints with wear.
         wear: joint -> final wear depth per sector (m), as ``wear_<joint>.csv``.

@@ -284,30 +284,8 @@ fn run_dict<'py>(py: Python<'py>, scene: &Scene, out: &RunOutput) -> PyResult<Bo
     let push = |name: String, data: &[f64]| -> PyResult<()> {
         columns.append((name, f64_bytes(py, data)))
     };
-    push("time_s".into(), &rec.time)?;
-    push("driver_angle_rad".into(), &rec.driver_angle)?;
-    for (cj, tr) in m.clearance_joints.iter().zip(&rec.joints) {
-        let series: [(&str, &[f64]); 8] = [
-            ("ex_m", &tr.ex),
-            ("ey_m", &tr.ey),
-            ("penetration_m", &tr.delta),
-            ("normal_force_n", &tr.normal_force),
-            ("friction_force_n", &tr.friction_force),
-            ("sliding_velocity_m_s", &tr.sliding_velocity),
-            ("pressure_pa", &tr.pressure),
-            ("wear_rate_m_s", &tr.wear_rate),
-        ];
-        for (name, data) in series {
-            push(format!("{}.{name}", cj.name), data)?;
-        }
-    }
-    for (body, acc) in m.bodies().iter().zip(&rec.accelerations) {
-        for (name, data) in ["ax_m_s2", "ay_m_s2", "alpha_rad_s2"].iter().zip(acc) {
-            push(format!("{}.{name}", body.name), data)?;
-        }
-    }
-    for (cj, tr) in m.clearance_joints.iter().zip(&rec.joints) {
-        push(format!("{}.contact_angle_rad", cj.name), &tr.theta)?;
+    for (name, data) in rec.columns(m) {
+        push(name, &data)?;
     }
     for (body, pos) in m.bodies().iter().zip(&rec.positions) {
         for (name, data) in ["x_m", "y_m", "angle_rad"].iter().zip(pos) {

@@ -33,6 +33,7 @@ use crate::mechanism::{ClearanceJoint, Mechanism};
 use crate::ode::{Method, Stats, Tolerances};
 use crate::Result;
 use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
 
 /// A validated scene in SI units, ready to simulate: what a run is made of. Scene files
 /// are read, checked and converted to it by [`crate::scene`].
@@ -149,6 +150,57 @@ pub struct Recording {
     pub accelerations: Vec<[Vec<f64>; 3]>,
     /// Per clearance joint.
     pub joints: Vec<JointTrace>,
+}
+
+impl Recording {
+    /// The time series as named columns, in the order of `jointwear run`'s `timeseries.csv`
+    /// (documented in the `README.txt` it writes beside it): time, driver angle, per clearance
+    /// joint `J.ex_m` … `J.wear_rate_m_s` (the contact angle in degrees in [0, 360), the
+    /// bearing frame of the wear profile), per body `B.ax_m_s2`, `B.ay_m_s2`,
+    /// `B.alpha_rad_s2`. With nothing recorded every column is empty, the names complete.
+    pub fn columns(&self, mechanism: &Mechanism) -> Vec<(String, Cow<'_, [f64]>)> {
+        let mut columns: Vec<(String, Cow<[f64]>)> = vec![
+            ("time_s".into(), Cow::from(&self.time[..])),
+            ("driver_angle_rad".into(), Cow::from(&self.driver_angle[..])),
+        ];
+        for (k, cj) in mechanism.clearance_joints.iter().enumerate() {
+            let trace = self.joints.get(k);
+            let of = |f: fn(&JointTrace) -> &Vec<f64>| -> Cow<'_, [f64]> {
+                trace.map_or(Cow::Borrowed(&[]), |t| Cow::Borrowed(&f(t)[..]))
+            };
+            // θ in [0, 2π) as degrees in [0, 360): a θ just below 2π may round up to 360.
+            let theta = of(|t| &t.theta);
+            let degrees = theta.iter().map(|t| {
+                let d = t.to_degrees();
+                if d >= 360.0 {
+                    d - 360.0
+                } else {
+                    d
+                }
+            });
+            let series: [(&str, Cow<[f64]>); 9] = [
+                ("ex_m", of(|t| &t.ex)),
+                ("ey_m", of(|t| &t.ey)),
+                ("contact_angle_deg", Cow::Owned(degrees.collect())),
+                ("penetration_m", of(|t| &t.delta)),
+                ("normal_force_n", of(|t| &t.normal_force)),
+                ("friction_force_n", of(|t| &t.friction_force)),
+                ("sliding_velocity_m_s", of(|t| &t.sliding_velocity)),
+                ("pressure_pa", of(|t| &t.pressure)),
+                ("wear_rate_m_s", of(|t| &t.wear_rate)),
+            ];
+            for (name, data) in series {
+                columns.push((format!("{}.{name}", cj.name), data));
+            }
+        }
+        for (b, body) in mechanism.bodies().iter().enumerate() {
+            for (c, name) in ["ax_m_s2", "ay_m_s2", "alpha_rad_s2"].iter().enumerate() {
+                let data = self.accelerations.get(b).map_or(&[][..], |acc| &acc[c][..]);
+                columns.push((format!("{}.{name}", body.name), Cow::from(data)));
+            }
+        }
+        columns
+    }
 }
 
 /// Wear depth of every sector of every joint after a number of rotations (m).

@@ -13,7 +13,7 @@ use jointwear::laws::wear::sector_angles_deg;
 use jointwear::ode::Method;
 use jointwear::simulation::checkpoint::{read_checkpoint, write_checkpoint, CHECKPOINT_FILE};
 use jointwear::simulation::Scene;
-use jointwear::simulation::{JointTrace, RunOutput, Settling, Simulation};
+use jointwear::simulation::{RunOutput, Settling, Simulation};
 use jointwear::sweep::{summarize, JointSummary};
 use jointwear::Error;
 use serde::Serialize;
@@ -136,53 +136,10 @@ pub fn print_changes(changes: &[(String, String)], rotations: Option<u32>) {
 
 /// Time series, final wear profiles and the default plots of a run.
 fn write_run(scene: &Scene, out: &RunOutput, dir: &Path) -> jointwear::Result<()> {
-    let m = &scene.mechanism;
-    let rec = &out.recording;
-    let mut header = vec!["time_s".to_string(), "driver_angle_rad".to_string()];
-    let mut columns: Vec<&[f64]> = vec![&rec.time, &rec.driver_angle];
-    // Nothing recorded (run.record_rotations = 0) leaves the recording's vectors empty: the
-    // header is then complete over no rows.
-    let empty = JointTrace::default();
-    let traces: Vec<&JointTrace> = (0..m.clearance_joints.len())
-        .map(|k| rec.joints.get(k).unwrap_or(&empty))
-        .collect();
-    // θ in [0, 2π) as degrees in [0, 360): a θ just below 2π may round up to 360.
-    let degrees = |t: &f64| {
-        let d = t.to_degrees();
-        if d >= 360.0 {
-            d - 360.0
-        } else {
-            d
-        }
-    };
-    let contact_angles: Vec<Vec<f64>> = traces
-        .iter()
-        .map(|tr| tr.theta.iter().map(degrees).collect())
-        .collect();
-    for ((cj, tr), angle) in m.clearance_joints.iter().zip(&traces).zip(&contact_angles) {
-        let series: [(&str, &[f64]); 9] = [
-            ("ex_m", &tr.ex),
-            ("ey_m", &tr.ey),
-            ("contact_angle_deg", angle),
-            ("penetration_m", &tr.delta),
-            ("normal_force_n", &tr.normal_force),
-            ("friction_force_n", &tr.friction_force),
-            ("sliding_velocity_m_s", &tr.sliding_velocity),
-            ("pressure_pa", &tr.pressure),
-            ("wear_rate_m_s", &tr.wear_rate),
-        ];
-        for (name, data) in series {
-            header.push(format!("{}.{name}", cj.name));
-            columns.push(data);
-        }
-    }
-    for (b, body) in m.bodies().iter().enumerate() {
-        for (c, name) in ["ax_m_s2", "ay_m_s2", "alpha_rad_s2"].iter().enumerate() {
-            header.push(format!("{}.{name}", body.name));
-            columns.push(rec.accelerations.get(b).map_or(&[], |acc| &acc[c]));
-        }
-    }
-    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    let (m, rec) = (&scene.mechanism, &out.recording);
+    let table = rec.columns(m);
+    let header: Vec<&str> = table.iter().map(|(name, _)| name.as_str()).collect();
+    let columns: Vec<&[f64]> = table.iter().map(|(_, data)| &data[..]).collect();
     write_csv(&dir.join("timeseries.csv"), &header, &columns)?;
 
     let worn: Vec<(usize, Vec<f64>, Vec<f64>)> = m
