@@ -144,9 +144,9 @@ fn draw_panel<'b>(
     if let Some(s) = &p.note {
         for (k, line) in s.lines().enumerate() {
             if polar {
-                // no axes: the note sits in the lower left corner of the picture
+                // no axes: the note sits in the lower right corner of the picture
                 let y = ys.end - 10 - (s.lines().count() - 1 - k) as i32 * NOTE_LINE_PX as i32;
-                note(line, (xs.start + 10, y), HPos::Left, VPos::Bottom)?;
+                note(line, (xs.end - 10, y), HPos::Right, VPos::Bottom)?;
             } else {
                 // between the tick labels and the axis description (at the area's bottom)
                 let y = ys.end + NOTE_TOP_PX as i32 + k as i32 * NOTE_LINE_PX as i32;

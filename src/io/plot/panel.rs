@@ -55,7 +55,7 @@ pub(super) struct Panel {
     pub(super) point_labels: Vec<(f64, f64, String)>,
     /// A polar picture: no axes, spokes instead.
     pub(super) polar: bool,
-    /// The note: under the x axis, or in the lower left corner of a polar picture (its
+    /// The note: under the x axis, or in the lower right corner of a polar picture (its
     /// magnification).
     pub(super) note: Option<String>,
     /// The magnified view, at drawing coordinates.
@@ -300,7 +300,7 @@ impl Panel {
                 }
             }
         }
-        let x = axis(x_range, X_TICKS, axes.x_log);
+        let mut x = axis(x_range, X_TICKS, axes.x_log);
         let size = plot_size(left_area(&y), right_area, polar);
         let labelled = curves.iter().filter(|c| !c.label.is_empty()).count()
             + usize::from(!axes.circle_label.is_empty() && !circles.is_empty());
@@ -328,11 +328,24 @@ impl Panel {
             // Every corner holds data and the ranges are free: grow them at the top so that
             // the legend's height stays clear of the data (with a small gap).
             let grow = covered > 0 && fixed_y.is_none() && !axes.equal_aspect && !axes.y_log;
+            // A polar picture (its profiles run through every corner) grows to the right
+            // instead, keeping its aspect, so that the legend stands beside the data.
+            let beside = covered > 0 && polar;
             legend = Some(if grow {
                 let top = |a: &Axis| (a.lo, a.hi + a.span() * (h + 0.03) / (1.0 - h - 0.03));
                 y = Axis::new(top(&y), Y_TICKS);
                 y2 = y2.map(|a| Axis::new(top(&a), Y_TICKS));
                 least_crowded_corner(&uv(&y, y2.as_ref()), w, h).0
+            } else if beside {
+                // the data at the left, the legend's width (and a gap) free on the right
+                let (d0, d1) = data_x;
+                let lo = d0 - 0.12 * (d1 - d0);
+                let wider = (lo, lo + x.span().max((d1 - lo) / (1.0 - w - 0.03)));
+                let (xr, yr) = equalize(wider, (y.lo, y.hi), size);
+                let shift = wider.0 - xr.0;
+                x = Axis::new((xr.0 + shift, xr.1 + shift), X_TICKS);
+                y = Axis::new(yr, Y_TICKS);
+                SeriesLabelPosition::UpperRight
             } else {
                 corner
             });

@@ -116,7 +116,8 @@ fn steady_lines(name: &str, e: &SteadyEnsemble) -> String {
         e.stat(|m| m.concordance.pressure_wear).mean_sd(1.0, 4),
         e.stat(|m| m.concordance.sliding_wear).mean_sd(1.0, 4),
         if unsteady > 0 {
-            format!("; the orbit of {unsteady} members never repeated (chaotic; recorded anyway)")
+            let members = if unsteady == 1 { "member" } else { "members" };
+            format!("; the orbit of {unsteady} {members} never repeated (chaotic; recorded anyway)")
         } else {
             String::new()
         }
@@ -165,7 +166,7 @@ fn steady_figure(
     let mut drawn = Vec::new();
     for CasePanel { case, key, title } in cases {
         let e = runs.steady(case.scene)?;
-        lines.push(steady_lines(case.scene, e));
+        lines.push(steady_lines(&case.label(), e));
         let title = format!("{title} ({})", first_of(e.members.len()));
         drawn.push((*key, title, first_traces(e)?, clearance(&e.scene)));
     }

@@ -78,6 +78,9 @@ impl Point {
     }
 }
 
+/// The drawn settings of one series in one panel: wall times, errors and point labels.
+type Drawn = (Vec<f64>, Vec<f64>, Vec<String>);
+
 /// Redraws `figures/work_precision.png` from `data/work_precision.csv` (the study's last
 /// results), so the figure follows changes of its drawing without the study's two minutes.
 pub fn redraw_work_precision() -> Result<()> {
@@ -163,7 +166,7 @@ pub(super) fn plot_work_precision(points: &[Point], floor: &Errors) -> Result<()
     }
     // [measure][group] = (wall times, errors, labels) of the drawn settings, in the study's
     // order (loosest tolerance first)
-    let data: Vec<Vec<(Vec<f64>, Vec<f64>, Vec<String>)>> = measures
+    let data: Vec<Vec<Drawn>> = measures
         .iter()
         .map(|(_, _, pick)| {
             groups
