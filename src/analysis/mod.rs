@@ -9,7 +9,9 @@
 //! * **Motion mode** (Table 3's "free flight and impact" or "continuous contact"): the
 //!   fraction of recorded time in contact, contact onsets per rotation, and the mean
 //!   free-flight time. Rule: continuous contact when the journal is in contact at least
-//!   [`CONTINUOUS_CONTACT_FRACTION`] of the time, otherwise free flight and impact.
+//!   [`CONTINUOUS_CONTACT_FRACTION`] of the time, otherwise free flight and impact. This is the
+//!   one classification of a run's motion: every table, figure line and claim of the report
+//!   uses [`Motion::continuous`] / [`Motion::mode`], never a threshold of its own.
 
 pub mod concordance;
 pub mod statistics;
@@ -121,9 +123,15 @@ impl Motion {
         }
     }
 
-    /// "continuous contact" or "free flight and impact".
+    /// Whether the motion is continuous contact: in contact at least
+    /// [`CONTINUOUS_CONTACT_FRACTION`] of the time (brief separations, contact onsets, allowed).
+    pub fn continuous(&self) -> bool {
+        self.contact_fraction >= CONTINUOUS_CONTACT_FRACTION
+    }
+
+    /// "continuous contact" or "free flight and impact" ([`Motion::continuous`]).
     pub fn mode(&self) -> &'static str {
-        if self.contact_fraction >= CONTINUOUS_CONTACT_FRACTION {
+        if self.continuous() {
             "continuous contact"
         } else {
             "free flight and impact"

@@ -3,7 +3,8 @@
 //! `report` computes the ensembles of every case once, draws every figure and Table 3 from
 //! them, reruns the accuracy-dependence study and the stability suite; `report --all` also
 //! reruns the slow studies (calibration, work-precision and the ensemble-size study, a few
-//! minutes) instead of reading their last results from `data/`.
+//! minutes) instead of reading their last results from `data/` (the work-precision figure is
+//! then redrawn from `data/work_precision.csv`).
 use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
 use jointwear::paper::golden::Golden;
@@ -24,6 +25,9 @@ fn main() {
         let bar = progress_bar(0, "convergence members");
         exit_on_error(convergence::convergence_study(&bar));
         bar.finish_and_clear();
+    } else {
+        // the study's last results stay; its figure follows changes of the drawing
+        exit_on_error(studies::redraw_work_precision());
     }
     let bar = progress_bar(0, "ensemble members");
     let (runs, drawn) = exit_on_error(run_figures(EnsembleSettings::default(), &bar));

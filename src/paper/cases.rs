@@ -34,6 +34,13 @@ pub struct Case {
     pub speed_rpm: f64,
 }
 
+impl Case {
+    /// The case as a person names it: `0.2 mm, 2000 r/min`.
+    pub fn label(&self) -> String {
+        format!("{} mm, {} r/min", self.clearance_mm, self.speed_rpm)
+    }
+}
+
 /// One value per case of the paper, as named fields: a case the code reads that does not
 /// exist is a compile error, not a lookup that fails (or gives NaN) at run time.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -270,7 +277,7 @@ impl SteadyEnsemble {
 
     /// Members in continuous contact.
     pub fn continuous(&self) -> usize {
-        let mode = |m: &&SteadyMember| m.motion.mode() == "continuous contact";
+        let mode = |m: &&SteadyMember| m.motion.continuous();
         self.members.iter().filter(mode).count()
     }
 

@@ -10,6 +10,7 @@ pub mod calibration;
 pub mod cases;
 pub mod convergence;
 pub mod figures;
+pub mod format;
 pub mod golden;
 pub mod performance;
 pub mod report;

@@ -1,5 +1,8 @@
 //! Axes of a panel: the range, the tick labels (with a common "×10ⁿ" factor for very small or
-//! large values) and the room the labels need.
+//! large values, or decades "10ⁿ" on a logarithmic axis) and the room the labels need.
+//!
+//! A logarithmic axis holds log10 of the data: its range runs over whole decades and its tick
+//! labels are the decades.
 
 use plotters::coord::ranged1d::Ranged;
 use plotters::coord::types::RangedCoordf64;
@@ -15,6 +18,17 @@ pub(super) struct Axis {
     exp: i32,
     decimals: usize,
     ticks: usize,
+    /// Whether the axis holds log10 of the data (ticks at whole decades).
+    pub(super) log: bool,
+}
+
+/// `n` in superscript digits, with a true minus sign.
+fn superscript(n: i32) -> String {
+    const SUP: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+    n.to_string()
+        .chars()
+        .map(|c| c.to_digit(10).map_or('⁻', |d| SUP[d as usize]))
+        .collect()
 }
 
 impl Axis {
@@ -39,11 +53,53 @@ impl Axis {
             exp,
             decimals,
             ticks,
+            log: false,
         }
+    }
+
+    /// A logarithmic axis over log10 values `(lo, hi)`, widened to whole decades (at least one).
+    pub(super) fn log((lo, hi): (f64, f64)) -> Self {
+        let lo = (lo + 1e-9).floor();
+        let hi = (hi - 1e-9).ceil().max(lo + 1.0);
+        let decades = (hi - lo) as usize;
+        Axis {
+            lo,
+            hi,
+            exp: 0,
+            decimals: 0,
+            // one label per decade, or per second, third... decade on a long axis
+            ticks: decades.div_ceil(decades.div_ceil(10)) + 1,
+            log: true,
+        }
+    }
+
+    /// How many tick labels to ask plotters for.
+    pub(super) fn ticks(&self) -> usize {
+        self.ticks
+    }
+
+    /// Positions of the minor grid lines of a logarithmic axis (log10 of 2..9 × 10ⁿ), when its
+    /// decades are labelled one by one; empty for a linear axis.
+    pub(super) fn minor(&self) -> Vec<f64> {
+        if !self.log || self.hi - self.lo > 10.0 {
+            return Vec::new();
+        }
+        let (first, last) = (self.lo as i32, self.hi as i32);
+        (first..last)
+            .flat_map(|n| (2..10).map(move |k| f64::from(n) + f64::from(k).log10()))
+            .collect()
     }
 
     /// The tick label of `v` (divided by the common factor; a true minus sign).
     pub(super) fn label(&self, v: f64) -> String {
+        if self.log {
+            let n = v.round();
+            return if (v - n).abs() < 1e-6 {
+                format!("10{}", superscript(n as i32))
+            } else {
+                String::new()
+            };
+        }
         let s = format!("{:.*}", self.decimals, v / 10f64.powi(self.exp));
         match s.strip_prefix('-') {
             Some(rest) if rest.bytes().all(|b| b == b'0' || b == b'.') => rest.to_owned(),
@@ -54,14 +110,7 @@ impl Axis {
 
     /// Common factor shown at the end of the axis, e.g. "×10⁻⁹".
     pub(super) fn factor(&self) -> Option<String> {
-        const SUP: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
-        (self.exp != 0).then(|| {
-            let digits = self.exp.to_string();
-            let sup = digits
-                .chars()
-                .map(|c| c.to_digit(10).map_or('⁻', |d| SUP[d as usize]));
-            "×10".chars().chain(sup).collect()
-        })
+        (self.exp != 0).then(|| format!("×10{}", superscript(self.exp)))
     }
 
     /// Width of the label area needed by the tick labels plus the rotated axis description.

@@ -1,5 +1,6 @@
 //! Drawing laid-out panels into a PNG: the figure's grid of panels, Cartesian axes with the
-//! grid, tick labels and "×10ⁿ" factors, bands, circles, series and legend. The file is written
+//! grid, tick labels and "×10ⁿ" factors (decades on logarithmic axes), bands, circles, series,
+//! point labels, legend, note and inset. The file is written
 //! through [`crate::io::output::write_atomic`].
 
 use std::path::Path;
@@ -10,12 +11,15 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::TRANSPARENT;
 
 use super::axis::Axis;
-use super::panel::{left_label_area, Panel};
+use super::clip::{clip_polygon, clip_polyline, inside, Rect};
+use super::panel::{left_label_area, InsetView, Panel};
 use super::plot_error;
-use super::polar::draw_polar_grid;
+use super::polar::{draw_polar_grid, Chart};
+use super::text::GlyphBackend;
 use super::theme::{
-    ensure_font, text, DESC_PX, GREY, LEGEND_PX, LINE_WIDTH, MARGIN, PANEL_SIZE, TICK_PX,
-    TITLE_BAND, TITLE_PX, X_LABEL_AREA, X_TICKS, Y_TICKS,
+    ensure_font, text, DESC_PX, GREY, INSET_TICK_PX, LEGEND_PX, LINE_WIDTH, MARGIN, MARKER_PX,
+    NOTE_LINE_PX, NOTE_TOP_PX, PANEL_SIZE, POINT_LABEL_PX, TICK_PX, TITLE_BAND, TITLE_PX,
+    X_LABEL_AREA,
 };
 use super::Style;
 use crate::io::output::write_atomic;
@@ -29,16 +33,24 @@ pub(super) type DrawResult<'b> = std::result::Result<(), Box<dyn std::error::Err
 pub(super) fn draw_figure(path: &Path, panels: &[Panel]) -> Result<()> {
     ensure_font().map_err(|m| plot_error(path, m))?;
     let n = panels.len() as u32;
+    // Notes of Cartesian panels go under the x axis; every panel keeps the same plot height.
+    let note_lines = panels
+        .iter()
+        .filter(|p| !p.polar)
+        .filter_map(|p| p.note.as_ref())
+        .map(|s| s.lines().count() as u32)
+        .max()
+        .unwrap_or(0);
     let cols = if n == 4 { 2 } else { n.min(3) };
     let rows = n.div_ceil(cols);
     write_atomic(path, |tmp| {
         let size = (cols * PANEL_SIZE.0, rows * PANEL_SIZE.1);
-        let root = BitMapBackend::new(tmp, size).into_drawing_area();
+        let root = GlyphBackend::new(BitMapBackend::new(tmp, size)).into_drawing_area();
         let drawn: DrawResult = (|| {
             root.fill(&WHITE)?;
             let areas = root.split_evenly((rows as usize, cols as usize));
             for (area, panel) in areas.iter().zip(panels) {
-                draw_panel(area, panel)?;
+                draw_panel(area, panel, note_lines)?;
             }
             root.present()?;
             Ok(())
@@ -47,8 +59,13 @@ pub(super) fn draw_figure(path: &Path, panels: &[Panel]) -> Result<()> {
     })
 }
 
-fn draw_panel<'b>(area: &DrawingArea<BitMapBackend<'b>, Shift>, p: &Panel) -> DrawResult<'b> {
-    let polar = p.polar_note.is_some();
+/// Draws one panel; Cartesian panels leave `note_lines` lines under the x axis for notes.
+fn draw_panel<'b>(
+    area: &DrawingArea<GlyphBackend<'b>, Shift>,
+    p: &Panel,
+    note_lines: u32,
+) -> DrawResult<'b> {
+    let polar = p.polar;
     let (title_area, body) = area.split_vertically(TITLE_BAND);
     let centre = Pos::new(HPos::Center, VPos::Center);
     title_area.draw_text(
@@ -64,89 +81,32 @@ fn draw_panel<'b>(area: &DrawingArea<BitMapBackend<'b>, Shift>, p: &Panel) -> Dr
         .margin_bottom(bottom)
         .margin_left(left)
         .margin_right(right)
-        .x_label_area_size(if polar { 0 } else { X_LABEL_AREA })
+        .x_label_area_size(if polar {
+            0
+        } else {
+            X_LABEL_AREA + note_lines * NOTE_LINE_PX
+        })
         .y_label_area_size(left_label_area(&p.y, polar))
         .right_y_label_area_size(p.y2.as_ref().map_or(0, Axis::label_area))
         .build_cartesian_2d(p.x.lo..p.x.hi, p.y.lo..p.y.hi)?
         .set_secondary_coord(p.x.lo..p.x.hi, y2.lo..y2.hi);
 
-    let x_fmt = |v: &f64| p.x.label(*v);
-    let y_fmt = |v: &f64| p.y.label(*v);
-    let y2_fmt = |v: &f64| y2.label(*v);
     if polar {
         draw_polar_grid(&mut chart, p)?;
     } else {
-        chart
-            .configure_mesh()
-            .x_desc(p.x_label.as_str())
-            .y_desc(p.y_label.as_str())
-            .x_labels(X_TICKS)
-            .y_labels(Y_TICKS)
-            .x_label_formatter(&x_fmt)
-            .y_label_formatter(&y_fmt)
-            .label_style(text(TICK_PX))
-            .axis_desc_style(text(DESC_PX))
-            .bold_line_style(BLACK.mix(0.1))
-            .light_line_style(TRANSPARENT)
-            .draw()?;
-        if let Some(label) = &p.y2_label {
-            chart
-                .configure_secondary_axes()
-                .y_desc(label.as_str())
-                .y_labels(Y_TICKS)
-                .y_label_formatter(&y2_fmt)
-                .label_style(text(TICK_PX))
-                .axis_desc_style(text(DESC_PX))
-                .draw()?;
-        }
+        draw_axes(&mut chart, p, (&p.x, &p.y), (TICK_PX, DESC_PX), true)?;
     }
-
-    for circle in &p.circles {
-        chart.draw_series(LineSeries::new(
-            circle.iter().copied(),
-            GREY.stroke_width(2),
-        ))?;
-    }
-    for (color, outline) in &p.shades {
-        chart.draw_series(std::iter::once(Polygon::new(
-            outline.clone(),
-            color.mix(0.22).filled(),
+    let view = (p.x.lo, p.x.hi, p.y.lo, p.y.hi);
+    let view2 = (p.x.lo, p.x.hi, y2.lo, y2.hi);
+    draw_data(&mut chart, p, p.legend.is_some(), view, Some(view2))?;
+    for (x, y, label) in p.point_labels.iter().filter(|l| inside((l.0, l.1), view)) {
+        // an en space keeps the text clear of the marker it names
+        chart.draw_series(std::iter::once(Text::new(
+            format!("\u{2002}{label}"),
+            (*x, *y),
+            text(POINT_LABEL_PX).pos(Pos::new(HPos::Left, VPos::Center)),
         )))?;
     }
-    let dual = p.y2.is_some();
-    for c in &p.curves {
-        let line = c.color.stroke_width(LINE_WIDTH);
-        for (k, run) in c.segments.iter().enumerate() {
-            let points = run.iter().copied();
-            let anno = match c.style {
-                Style::Line => chart.draw_series(LineSeries::new(points, line))?,
-                Style::Dashed | Style::Reference => {
-                    chart.draw_series(DashedLineSeries::new(points, 14, 8, line))?
-                }
-                Style::Points => {
-                    chart.draw_series(points.map(|q| Circle::new(q, 4, c.color.filled())))?
-                }
-                Style::LineOnSecondaryAxis => {
-                    chart.draw_secondary_series(LineSeries::new(points, line))?
-                }
-            };
-            if k == 0 && p.legend.is_some() && !c.label.is_empty() {
-                let (line, marker, gap) = legend_parts(c.style, c.color);
-                let side = match (dual, c.style) {
-                    (false, _) => "",
-                    (true, Style::LineOnSecondaryAxis) => " (right axis)",
-                    (true, _) => " (left axis)",
-                };
-                anno.label(format!("{}{side}", c.label)).legend(move |at| {
-                    EmptyElement::at(at)
-                        + PathElement::new([(0, 0), (15 - gap, 0)], line)
-                        + PathElement::new([(15 + gap, 0), (30, 0)], line)
-                        + Circle::new((15, 0), 5, marker)
-                });
-            }
-        }
-    }
-
     if !polar {
         // Closed frame around the plotting area.
         chart.draw_series(std::iter::once(Rectangle::new(
@@ -166,7 +126,7 @@ fn draw_panel<'b>(area: &DrawingArea<BitMapBackend<'b>, Shift>, p: &Panel) -> Dr
             .draw()?;
     }
 
-    // Common "×10ⁿ" factors at the ends of the axes, and the polar note, in pixel coordinates.
+    // Common "×10ⁿ" factors at the ends of the axes, and the note, in pixel coordinates.
     let (xs, ys) = chart.plotting_area().get_pixel_range();
     let (bx, by) = area.get_base_pixel();
     let note = |s: &str, (x, y): (i32, i32), h: HPos, v: VPos| {
@@ -181,9 +141,196 @@ fn draw_panel<'b>(area: &DrawingArea<BitMapBackend<'b>, Shift>, p: &Panel) -> Dr
     if let Some(f) = p.x.factor().filter(|_| !polar) {
         note(&f, (xs.end, ys.end + 40), HPos::Right, VPos::Top)?;
     }
-    if let Some(s) = &p.polar_note {
-        note(s, (xs.start + 10, ys.end - 10), HPos::Left, VPos::Bottom)?;
+    if let Some(s) = &p.note {
+        for (k, line) in s.lines().enumerate() {
+            if polar {
+                // no axes: the note sits in the lower right corner of the picture
+                let y = ys.end - 10 - (s.lines().count() - 1 - k) as i32 * NOTE_LINE_PX as i32;
+                note(line, (xs.end - 10, y), HPos::Right, VPos::Bottom)?;
+            } else {
+                // between the tick labels and the axis description (at the area's bottom)
+                let y = ys.end + NOTE_TOP_PX as i32 + k as i32 * NOTE_LINE_PX as i32;
+                note(line, (xs.start, y), HPos::Left, VPos::Top)?;
+            }
+        }
     }
+    if let Some(inset) = &p.inset {
+        draw_inset(area, &mut chart, p, inset)?;
+    }
+    Ok(())
+}
+
+/// The grid and tick labels of Cartesian axes `(x, y)` with tick labels and descriptions of
+/// the given sizes (px); minor grid lines at 2..9 × 10ⁿ on logarithmic axes. The `main` axes of
+/// a panel also get the axis descriptions and the right axis, if any (an inset gets neither).
+fn draw_axes<'b>(
+    chart: &mut Chart<'_, 'b>,
+    p: &Panel,
+    (x, y): (&Axis, &Axis),
+    (tick_px, desc_px): (u32, u32),
+    main: bool,
+) -> DrawResult<'b> {
+    let x_fmt = |v: &f64| x.label(*v);
+    let y_fmt = |v: &f64| y.label(*v);
+    let y2 = p.y2.as_ref().unwrap_or(&p.y);
+    let y2_fmt = |v: &f64| y2.label(*v);
+    let minor = BLACK.mix(0.05);
+    for v in x.minor() {
+        chart.draw_series(LineSeries::new([(v, y.lo), (v, y.hi)], minor))?;
+    }
+    for v in y.minor() {
+        chart.draw_series(LineSeries::new([(x.lo, v), (x.hi, v)], minor))?;
+    }
+    chart
+        .configure_mesh()
+        .x_desc(if main { p.x_label.as_str() } else { "" })
+        .y_desc(if main { p.y_label.as_str() } else { "" })
+        .x_labels(x.ticks())
+        .y_labels(y.ticks())
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
+        .label_style(text(tick_px))
+        .axis_desc_style(text(desc_px))
+        .bold_line_style(BLACK.mix(0.1))
+        .light_line_style(TRANSPARENT)
+        .draw()?;
+    if let (Some(label), true) = (&p.y2_label, main) {
+        chart
+            .configure_secondary_axes()
+            .y_desc(label.as_str())
+            .y_labels(y2.ticks())
+            .y_label_formatter(&y2_fmt)
+            .label_style(text(tick_px))
+            .axis_desc_style(text(desc_px))
+            .draw()?;
+    }
+    Ok(())
+}
+
+/// The circles, bands and series of a panel cut to `view` (and right-axis series to `view2`;
+/// without it they are left out, as in an inset), with their legend entries when `legend`.
+fn draw_data<'a, 'b: 'a>(
+    chart: &mut Chart<'a, 'b>,
+    p: &Panel,
+    legend: bool,
+    view: Rect,
+    view2: Option<Rect>,
+) -> DrawResult<'b> {
+    let mut circle_labelled = !legend || p.circle_label.is_empty();
+    for circle in &p.circles {
+        for run in clip_polyline(circle, view) {
+            let anno = chart.draw_series(LineSeries::new(run, GREY.stroke_width(2)))?;
+            if !circle_labelled {
+                circle_labelled = true;
+                let line = GREY.stroke_width(LINE_WIDTH);
+                anno.label(p.circle_label.as_str())
+                    .legend(move |at| PathElement::new([(at.0, at.1), (at.0 + 30, at.1)], line));
+            }
+        }
+    }
+    for (color, outline) in &p.shades {
+        let cut = clip_polygon(outline, view);
+        if cut.len() > 2 {
+            chart.draw_series(std::iter::once(Polygon::new(cut, color.mix(0.22).filled())))?;
+        }
+    }
+    let dual = p.y2.is_some();
+    for c in &p.curves {
+        let secondary = c.style == Style::LineOnSecondaryAxis;
+        let Some(clip) = (if secondary { view2 } else { Some(view) }) else {
+            continue;
+        };
+        let line = c.color.stroke_width(LINE_WIDTH);
+        let marker = |q| Circle::new(q, MARKER_PX, c.color.filled());
+        let mut labelled = !legend || c.label.is_empty();
+        let runs: Vec<Vec<(f64, f64)>> = c
+            .segments
+            .iter()
+            .flat_map(|run| clip_polyline(run, clip))
+            .chain(std::iter::once(Vec::new())) // an empty run carries the legend entry
+            .collect();
+        for run in runs {
+            if run.is_empty() && labelled {
+                continue;
+            }
+            let points = run.iter().copied();
+            let anno = match c.style {
+                Style::Line => chart.draw_series(LineSeries::new(points, line))?,
+                Style::Dashed | Style::Reference => {
+                    chart.draw_series(DashedLineSeries::new(points, 14, 8, line))?
+                }
+                Style::Points => {
+                    chart.draw_series(points.filter(|&q| inside(q, clip)).map(marker))?
+                }
+                Style::LinePoints => {
+                    chart.draw_series(LineSeries::new(points.clone(), line))?;
+                    chart.draw_series(points.filter(|&q| inside(q, clip)).map(marker))?
+                }
+                Style::LineOnSecondaryAxis => {
+                    chart.draw_secondary_series(LineSeries::new(points, line))?
+                }
+            };
+            if !labelled {
+                labelled = true;
+                let (line, marker, gap) = legend_parts(c.style, c.color);
+                let side = match (dual, secondary) {
+                    (false, _) => "",
+                    (true, true) => " (right axis)",
+                    (true, false) => " (left axis)",
+                };
+                anno.label(format!("{}{side}", c.label)).legend(move |at| {
+                    EmptyElement::at(at)
+                        + PathElement::new([(0, 0), (15 - gap, 0)], line)
+                        + PathElement::new([(15 + gap, 0), (30, 0)], line)
+                        + Circle::new((15, 0), MARKER_PX + 1, marker)
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The magnified view of a panel: a white box in the plotting area with its own axes, the
+/// panel's left-axis data over the view's ranges, and the zoomed region outlined on the panel.
+fn draw_inset<'b>(
+    area: &DrawingArea<GlyphBackend<'b>, Shift>,
+    chart: &mut Chart<'_, 'b>,
+    p: &Panel,
+    inset: &InsetView,
+) -> DrawResult<'b> {
+    let (x, y) = (&inset.x, &inset.y);
+    chart.draw_series(std::iter::once(Rectangle::new(
+        [(x.lo, y.lo), (x.hi, y.hi)],
+        BLACK.stroke_width(1),
+    )))?;
+    let (xs, ys) = chart.plotting_area().get_pixel_range();
+    let (bx, by) = area.get_base_pixel();
+    let (w, h) = (f64::from(xs.end - xs.start), f64::from(ys.end - ys.start));
+    let (l, b, r, t) = inset.at;
+    let left = xs.start - bx + (l * w) as i32;
+    let top = ys.start - by + ((1.0 - t) * h) as i32;
+    let size = (((r - l) * w) as u32, ((t - b) * h) as u32);
+    let view = area.clone().shrink((left, top), size);
+    view.fill(&WHITE)?;
+    let (title_area, body) = view.split_vertically(INSET_TICK_PX + 12);
+    title_area.draw_text(
+        &inset.title,
+        &text(INSET_TICK_PX).pos(Pos::new(HPos::Center, VPos::Center)),
+        ((size.0 / 2) as i32, ((INSET_TICK_PX + 12) / 2) as i32),
+    )?;
+    let y_area = y.label_area() * INSET_TICK_PX / TICK_PX;
+    let mut zoom = ChartBuilder::on(&body)
+        .margin(6)
+        .x_label_area_size(INSET_TICK_PX + 14)
+        .y_label_area_size(y_area)
+        .build_cartesian_2d(x.lo..x.hi, y.lo..y.hi)?
+        .set_secondary_coord(x.lo..x.hi, y.lo..y.hi);
+    draw_axes(&mut zoom, p, (x, y), (INSET_TICK_PX, INSET_TICK_PX), false)?;
+    draw_data(&mut zoom, p, false, (x.lo, x.hi, y.lo, y.hi), None)?;
+    view.draw(&Rectangle::new(
+        [(0, 0), (size.0 as i32 - 1, size.1 as i32 - 1)],
+        BLACK.stroke_width(1),
+    ))?;
     Ok(())
 }
 
@@ -193,6 +340,7 @@ fn legend_parts(style: Style, color: RGBColor) -> (ShapeStyle, ShapeStyle, i32) 
     let (line, hidden) = (color.stroke_width(LINE_WIDTH), TRANSPARENT.into());
     match style {
         Style::Points => (hidden, color.filled(), 0),
+        Style::LinePoints => (line, color.filled(), 0),
         Style::Dashed | Style::Reference => (line, hidden, 3),
         Style::Line | Style::LineOnSecondaryAxis => (line, hidden, 0),
     }

@@ -23,12 +23,17 @@
 //! - `panel`: a panel checked and laid out (ranges, equal aspect, legend corner) before any file
 //!   is created;
 //! - `draw`: drawing laid-out panels on Cartesian axes into the PNG;
-//! - `polar`: closed profiles as polar pictures ([`render_polar`]).
+//! - `clip`: lines and bands cut to the visible ranges (plotters draws outside them);
+//! - `polar`: closed profiles as polar pictures ([`render_polar`]);
+//! - `text`: the drawing backend that places glyphs correctly (plotters 0.3.7 drops each
+//!   glyph's left side bearing; see its module documentation).
 
 mod axis;
+mod clip;
 mod draw;
 mod panel;
 mod polar;
+mod text;
 mod theme;
 
 pub use polar::render_polar;
@@ -50,6 +55,8 @@ pub enum Style {
     Dashed,
     /// Markers only, left axis.
     Points,
+    /// Solid line through markers, left axis (a sweep of settings: each marker one setting).
+    LinePoints,
     /// Solid line on the right axis (requires [`Axes::y2_label`]).
     LineOnSecondaryAxis,
     /// Grey dashed line for reference curves (ideal joint, nominal profile), left axis.
@@ -102,6 +109,20 @@ pub struct Axes<'a> {
     pub equal_aspect: bool,
     /// Circle outlines `(cx, cy, r)` in data units, e.g. the clearance circle.
     pub circles: Vec<(f64, f64, f64)>,
+    /// Legend entry of the circles (e.g. `"clearance circle"`); empty: none.
+    pub circle_label: String,
+    /// Logarithmic x axis: log10 of x is drawn, ticks at decades labelled 10ⁿ; values ≤ 0 are
+    /// not drawn (they break their line).
+    pub x_log: bool,
+    /// Logarithmic y axis (as [`Axes::x_log`]); not with a right axis.
+    pub y_log: bool,
+    /// Text beside single data points, e.g. the setting of a run: `(x, y, text)`.
+    pub point_labels: Vec<(f64, f64, String)>,
+    /// A note under the x axis, e.g. what is not drawn and why (lines split at
+    /// `\n`).
+    pub note: Option<String>,
+    /// A magnified view of part of the panel, drawn inside it.
+    pub inset: Option<Inset>,
     /// Filled bands around series (e.g. the 5-95 % range of an ensemble).
     pub shades: Vec<Shade<'a>>,
 }
@@ -115,6 +136,22 @@ pub struct Shade<'a> {
     pub lo: &'a [f64],
     /// Upper edge, one value per x.
     pub hi: &'a [f64],
+}
+
+/// A magnified view drawn inside a panel: the panel's left-axis curves, bands and circles over
+/// `x_range` × `y_range` (data units), in the box `at` = `(left, bottom, right, top)` of the
+/// panel's plotting area in fractions of its width and height (0 = left/bottom, 1 =
+/// right/top). The zoomed region is outlined on the panel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Inset {
+    /// The x range shown (data units).
+    pub x_range: (f64, f64),
+    /// The y range shown (data units).
+    pub y_range: (f64, f64),
+    /// Where the inset sits in the plotting area (fractions, see the type's documentation).
+    pub at: (f64, f64, f64, f64),
+    /// A short title above the inset, e.g. `"magnified"`.
+    pub title: String,
 }
 
 impl<'a> Axes<'a> {

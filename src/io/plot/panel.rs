@@ -1,7 +1,8 @@
 //! A panel prepared for drawing: everything that can fail on bad input (lengths, ranges, a
 //! band naming no series) is checked here, before a file is created; then the curves are cut at
-//! non-finite samples, the ranges chosen (padded, fixed or of equal aspect) and the legend put
-//! in the corner with the least data.
+//! non-finite samples (on a logarithmic axis, values ≤ 0 too), the ranges chosen (padded, fixed
+//! or of equal aspect) and the legend put in the corner with the least data; when every corner
+//! holds data, the y range grows at the top so that the legend covers none.
 
 use plotters::prelude::*;
 
@@ -48,8 +49,38 @@ pub(super) struct Panel {
     pub(super) y2: Option<Axis>,
     /// Corner of the legend, when there is one.
     pub(super) legend: Option<SeriesLabelPosition>,
-    /// Polar pictures have no axes, only this note.
-    pub(super) polar_note: Option<String>,
+    /// Legend entry of the circles (empty: none).
+    pub(super) circle_label: String,
+    /// Text beside data points, at drawing coordinates (log10 on a logarithmic axis).
+    pub(super) point_labels: Vec<(f64, f64, String)>,
+    /// A polar picture: no axes, spokes instead.
+    pub(super) polar: bool,
+    /// The note: under the x axis, or in the lower right corner of a polar picture (its
+    /// magnification).
+    pub(super) note: Option<String>,
+    /// The magnified view, at drawing coordinates.
+    pub(super) inset: Option<InsetView>,
+}
+
+/// A magnified view laid out: its axes and its box in the plotting area (fractions).
+pub(super) struct InsetView {
+    /// The x axis of the view.
+    pub(super) x: Axis,
+    /// The y axis of the view.
+    pub(super) y: Axis,
+    /// `(left, bottom, right, top)` in fractions of the plotting area.
+    pub(super) at: (f64, f64, f64, f64),
+    /// Title above the view.
+    pub(super) title: String,
+}
+
+/// log10 of `v` on a logarithmic axis (NaN, so not drawn, for v ≤ 0), `v` itself otherwise.
+fn scaled(log: bool) -> impl Fn(f64) -> f64 {
+    move |v| match (log, v > 0.0) {
+        (false, _) => v,
+        (true, true) => v.log10(),
+        (true, false) => f64::NAN,
+    }
 }
 
 fn finite_runs(x: &[f64], y: &[f64]) -> Vec<Vec<(f64, f64)>> {
@@ -119,6 +150,11 @@ impl Panel {
     ) -> std::result::Result<Self, String> {
         let polar = polar_note.is_some();
         let name = &axes.title;
+        let (fx, fy) = (scaled(axes.x_log), scaled(axes.y_log));
+        let map_range =
+            |r: Option<(f64, f64)>, f: &dyn Fn(f64) -> f64| r.map(|(a, b)| (f(a), f(b)));
+        let fixed_x = map_range(axes.x_range, &fx);
+        let fixed_y = map_range(axes.y_range, &fy);
         if axes.series.is_empty() {
             return Err(format!("panel `{name}` has no series"));
         }
@@ -130,8 +166,8 @@ impl Panel {
                 s.y.len()
             ));
         }
-        check_range("x range", axes.x_range)?;
-        check_range("y range", axes.y_range)?;
+        check_range("x range", fixed_x)?;
+        check_range("y range", fixed_y)?;
         let has_y2 = axes
             .series
             .iter()
@@ -140,6 +176,23 @@ impl Panel {
             return Err(format!(
                 "panel `{name}` has a right-axis series but no y2_label"
             ));
+        }
+        if has_y2 && axes.y_log {
+            return Err(format!(
+                "panel `{name}` has a logarithmic y axis and a right axis"
+            ));
+        }
+        if let Some(inset) = &axes.inset {
+            let (l, b, r, t) = inset.at;
+            let inside = (0.0..=1.0).contains(&l) && (0.0..=1.0).contains(&t);
+            if !(inside && l < r && r <= 1.0 && 0.0 <= b && b < t) {
+                return Err(format!(
+                    "the inset of panel `{name}` must lie in the plotting area, (left, bottom, right, top) increasing in [0, 1], not {:?}",
+                    inset.at
+                ));
+            }
+            check_range("inset x range", map_range(Some(inset.x_range), &fx))?;
+            check_range("inset y range", map_range(Some(inset.y_range), &fy))?;
         }
 
         let mut palette = PALETTE.iter().cycle();
@@ -154,7 +207,10 @@ impl Panel {
                 } else {
                     *palette.next().expect("cycle")
                 },
-                segments: finite_runs(s.x, s.y),
+                segments: finite_runs(
+                    &s.x.iter().map(|&v| fx(v)).collect::<Vec<_>>(),
+                    &s.y.iter().map(|&v| fy(v)).collect::<Vec<_>>(),
+                ),
             })
             .collect();
         let circles: Vec<Vec<(f64, f64)>> = axes
@@ -184,7 +240,7 @@ impl Panel {
             let upper = s.x.iter().zip(sh.hi).rev();
             let outline: Vec<(f64, f64)> = lower
                 .chain(upper)
-                .map(|(x, y)| (*x, *y))
+                .map(|(x, y)| (fx(*x), fy(*y)))
                 .filter(|(x, y)| x.is_finite() && y.is_finite())
                 .collect();
             shades.push((c.color, outline));
@@ -209,22 +265,27 @@ impl Panel {
         } else {
             pad(data_x, 0.0)
         };
-        let mut x_range = axes.x_range.unwrap_or(x_auto);
-        let mut y_range = match axes.y_range {
+        let mut x_range = fixed_x.unwrap_or(x_auto);
+        let mut y_range = match fixed_y {
             Some(r) => r,
             None => pad(
                 extent(points(false).map(|p| p.1)).unwrap_or((0.0, 1.0)),
                 0.05,
             ),
         };
-        let y2 = has_y2.then(|| {
-            let r = extent(points(true).map(|p| p.1)).unwrap_or((0.0, 1.0));
-            Axis::new(pad(r, 0.05), Y_TICKS)
-        });
+        let axis = |r: (f64, f64), ticks: usize, log: bool| {
+            if log {
+                Axis::log(r)
+            } else {
+                Axis::new(r, ticks)
+            }
+        };
+        let y2_data = extent(points(true).map(|p| p.1)).map(|r| pad(r, 0.05));
+        let mut y2 = has_y2.then(|| Axis::new(y2_data.unwrap_or((0.0, 1.0)), Y_TICKS));
         let right_area = y2.as_ref().map_or(0, Axis::label_area);
         let left_area = |y: &Axis| left_label_area(y, polar);
 
-        let mut y = Axis::new(y_range, Y_TICKS);
+        let mut y = axis(y_range, Y_TICKS, axes.y_log);
         if axes.equal_aspect {
             // The label area depends on the tick labels, which depend on the range: iterate.
             let requested = (x_range, y_range);
@@ -239,28 +300,68 @@ impl Panel {
                 }
             }
         }
-        let x = Axis::new(x_range, X_TICKS);
+        let mut x = axis(x_range, X_TICKS, axes.x_log);
         let size = plot_size(left_area(&y), right_area, polar);
-        let labelled: Vec<&Curve> = curves.iter().filter(|c| !c.label.is_empty()).collect();
-        let legend = (labelled.len() > 1).then(|| {
-            let widest = labelled
+        let labelled = curves.iter().filter(|c| !c.label.is_empty()).count()
+            + usize::from(!axes.circle_label.is_empty() && !circles.is_empty());
+        let mut legend = None;
+        if labelled > 1 {
+            let widest = curves
                 .iter()
                 .map(|c| c.label.chars().count())
+                .chain([axes.circle_label.chars().count()])
                 .max()
                 .unwrap_or(0) as u32
                 + if has_y2 { 13 } else { 0 }; // " (right axis)"
             let w = f64::from(widest * LEGEND_CHAR_PX + 90) / size.0;
-            let h = f64::from(labelled.len() as u32 * (LEGEND_PX + 12) + 40) / size.1;
-            let normalized = |(px, py): (f64, f64), on_y2: bool| {
-                let ya = if on_y2 { y2.as_ref().unwrap_or(&y) } else { &y };
-                ((px - x.lo) / x.span(), (py - ya.lo) / ya.span())
+            let h = f64::from(labelled as u32 * (LEGEND_PX + 12) + 40) / size.1;
+            let uv = |y: &Axis, y2: Option<&Axis>| -> Vec<(f64, f64)> {
+                let normalized = |(px, py): (f64, f64), ya: &Axis| {
+                    ((px - x.lo) / x.span(), (py - ya.lo) / ya.span())
+                };
+                points(false)
+                    .map(|p| normalized(p, y))
+                    .chain(points(true).map(|p| normalized(p, y2.unwrap_or(y))))
+                    .collect()
             };
-            let uv: Vec<(f64, f64)> = points(false)
-                .map(|p| normalized(p, false))
-                .chain(points(true).map(|p| normalized(p, true)))
-                .collect();
-            least_crowded_corner(&uv, w, h)
+            let (corner, covered) = least_crowded_corner(&uv(&y, y2.as_ref()), w, h);
+            // Every corner holds data and the ranges are free: grow them at the top so that
+            // the legend's height stays clear of the data (with a small gap).
+            let grow = covered > 0 && fixed_y.is_none() && !axes.equal_aspect && !axes.y_log;
+            // A polar picture (its profiles run through every corner) grows to the right
+            // instead, keeping its aspect, so that the legend stands beside the data.
+            let beside = covered > 0 && polar;
+            legend = Some(if grow {
+                let top = |a: &Axis| (a.lo, a.hi + a.span() * (h + 0.03) / (1.0 - h - 0.03));
+                y = Axis::new(top(&y), Y_TICKS);
+                y2 = y2.map(|a| Axis::new(top(&a), Y_TICKS));
+                least_crowded_corner(&uv(&y, y2.as_ref()), w, h).0
+            } else if beside {
+                // the data at the left, the legend's width (and a gap) free on the right
+                let (d0, d1) = data_x;
+                let lo = d0 - 0.12 * (d1 - d0);
+                let wider = (lo, lo + x.span().max((d1 - lo) / (1.0 - w - 0.03)));
+                let (xr, yr) = equalize(wider, (y.lo, y.hi), size);
+                let shift = wider.0 - xr.0;
+                x = Axis::new((xr.0 + shift, xr.1 + shift), X_TICKS);
+                y = Axis::new(yr, Y_TICKS);
+                SeriesLabelPosition::UpperRight
+            } else {
+                corner
+            });
+        }
+        let inset = axes.inset.as_ref().map(|i| InsetView {
+            x: Axis::new((fx(i.x_range.0), fx(i.x_range.1)), 4),
+            y: Axis::new((fy(i.y_range.0), fy(i.y_range.1)), 4),
+            at: i.at,
+            title: i.title.clone(),
         });
+        let point_labels = axes
+            .point_labels
+            .iter()
+            .map(|(px, py, t)| (fx(*px), fy(*py), t.clone()))
+            .filter(|(px, py, _)| px.is_finite() && py.is_finite())
+            .collect();
 
         Ok(Panel {
             title,
@@ -274,7 +375,11 @@ impl Panel {
             y,
             y2,
             legend,
-            polar_note,
+            circle_label: axes.circle_label.clone(),
+            point_labels,
+            polar,
+            note: polar_note.or_else(|| axes.note.clone()),
+            inset,
         })
     }
 }
@@ -288,8 +393,9 @@ pub(super) fn left_label_area(y: &Axis, polar: bool) -> u32 {
     }
 }
 
-/// The corner whose `w` x `h` box (in plot-normalised units) covers the fewest points.
-fn least_crowded_corner(uv: &[(f64, f64)], w: f64, h: f64) -> SeriesLabelPosition {
+/// The corner whose `w` x `h` box (in plot-normalised units) covers the fewest points, and how
+/// many it covers.
+fn least_crowded_corner(uv: &[(f64, f64)], w: f64, h: f64) -> (SeriesLabelPosition, usize) {
     use SeriesLabelPosition::*;
     let corners = [
         (UpperRight, true, true),
@@ -307,7 +413,7 @@ fn least_crowded_corner(uv: &[(f64, f64)], w: f64, h: f64) -> SeriesLabelPositio
     };
     corners
         .into_iter()
-        .min_by_key(|&(_, right, upper)| count(right, upper))
-        .map(|(pos, _, _)| pos)
-        .unwrap_or(UpperRight)
+        .map(|(pos, right, upper)| (pos, count(right, upper)))
+        .min_by_key(|&(_, n)| n)
+        .unwrap_or((UpperRight, 0))
 }

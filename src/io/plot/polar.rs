@@ -10,6 +10,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::draw::{draw_figure, DrawResult};
 use super::panel::Panel;
+use super::text::GlyphBackend;
 use super::theme::{text, TICK_PX};
 use super::{plot_error, Axes, Series, Style};
 use crate::Result;
@@ -92,7 +93,7 @@ pub fn render_polar(
 /// The chart a panel is drawn on (left and right y axes).
 pub(super) type Chart<'a, 'b> = DualCoordChartContext<
     'a,
-    BitMapBackend<'b>,
+    GlyphBackend<'b>,
     Cartesian2d<RangedCoordf64, RangedCoordf64>,
     Cartesian2d<RangedCoordf64, RangedCoordf64>,
 >;

@@ -15,6 +15,16 @@ pub(super) const TITLE_PX: u32 = 32;
 pub(super) const DESC_PX: u32 = 26;
 pub(super) const TICK_PX: u32 = 22;
 pub(super) const LEGEND_PX: u32 = 22;
+/// Text beside single data points.
+pub(super) const POINT_LABEL_PX: u32 = 18;
+/// Tick labels and title of an inset.
+pub(super) const INSET_TICK_PX: u32 = 18;
+/// Distance of the first line of a note from the x axis (under its tick labels).
+pub(super) const NOTE_TOP_PX: u32 = 38;
+/// Height of a line of a note under the x axis.
+pub(super) const NOTE_LINE_PX: u32 = 30;
+/// Radius of a marker.
+pub(super) const MARKER_PX: u32 = 5;
 /// Approximate advance of a tick-label character (DejaVu Sans digits are 0.636 em wide).
 pub(super) const TICK_CHAR_PX: u32 = 14;
 pub(super) const LEGEND_CHAR_PX: u32 = 13;
@@ -22,6 +32,8 @@ pub(super) const X_TICKS: usize = 10;
 pub(super) const Y_TICKS: usize = 8;
 pub(super) const LINE_WIDTH: u32 = 3;
 pub(super) const FONT: &str = "sans-serif";
+/// DejaVu Sans (`assets/fonts/`), embedded in the binary.
+pub(super) const FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
 
 /// matplotlib's "tab10" without its grey, which is kept for reference curves and circles.
 pub(super) const PALETTE: [RGBColor; 9] = [
@@ -41,8 +53,7 @@ pub(super) const GREY: RGBColor = RGBColor(100, 100, 100);
 pub(super) fn ensure_font() -> std::result::Result<(), String> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED.get_or_init(|| {
-        let bytes = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
-        plotters::style::register_font(FONT, FontStyle::Normal, bytes).is_ok()
+        plotters::style::register_font(FONT, FontStyle::Normal, FONT_BYTES).is_ok()
     });
     ok.then_some(())
         .ok_or_else(|| "embedded DejaVu Sans could not be loaded".to_owned())

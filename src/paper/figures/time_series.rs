@@ -10,8 +10,9 @@
 use super::{first_of, output_path, standard_panel, CasePanel, Varied};
 use crate::analysis::statistics::fractions;
 use crate::io::output::write_csv;
-use crate::io::plot::{render, Axes, Series, Style};
+use crate::io::plot::{render, Axes, Inset, Series, Style};
 use crate::paper::cases::{clearance, Runs, SteadyEnsemble, Traces};
+use crate::paper::format::sig;
 use crate::{Error, Result};
 
 /// A panel of slider acceleration with the wear rate on a second axis (figures 3, 9, 13).
@@ -41,11 +42,15 @@ fn acceleration_panel(title: String, t: &Traces) -> Axes<'_> {
 }
 
 /// A panel of the journal centre's path inside the clearance circle of radius `c` (m)
-/// (figures 4, 8, 12).
+/// (figures 4, 8, 12). An orbit that spans less than a tenth of the circle's diameter (the
+/// journal resting on the bearing at 30 r/min) gets a magnified inset inside the circle.
 fn trajectory_panel(title: String, t: &Traces, c: f64) -> Axes<'_> {
+    let c_um = c * 1e6;
     Axes {
         equal_aspect: true,
-        circles: vec![(0.0, 0.0, c * 1e6)],
+        circles: vec![(0.0, 0.0, c_um)],
+        circle_label: format!("clearance circle (c = {} µm)", sig(c_um)),
+        inset: orbit_inset(&t.ex_um, &t.ey_um, c_um),
         ..Axes::new(
             title,
             "journal centre x relative to bearing (µm)",
@@ -58,6 +63,37 @@ fn trajectory_panel(title: String, t: &Traces, c: f64) -> Axes<'_> {
             )],
         )
     }
+}
+
+/// The inset of a trajectory whose orbit is small against the clearance circle of radius
+/// `c_um`: the orbit's bounding box padded by a quarter of its size on each side, drawn in the
+/// middle of the circle (the box `at` lies inside the circle of an equal-aspect panel).
+fn orbit_inset(x: &[f64], y: &[f64], c_um: f64) -> Option<Inset> {
+    let range = |v: &[f64]| {
+        v.iter()
+            .filter(|v| v.is_finite())
+            .fold(None, |r: Option<(f64, f64)>, &v| {
+                Some(r.map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))))
+            })
+    };
+    let ((x0, x1), (y0, y1)) = (range(x)?, range(y)?);
+    let span = (x1 - x0).max(y1 - y0);
+    if span >= 0.2 * c_um {
+        return None;
+    }
+    // at least 1 % of the clearance, so that a resting journal still shows its neighbourhood
+    let pad = |(lo, hi): (f64, f64)| {
+        let half = 0.5 * (hi - lo).max(0.01 * c_um) * 1.5;
+        (0.5 * (lo + hi) - half, 0.5 * (lo + hi) + half)
+    };
+    let (xr, yr) = (pad((x0, x1)), pad((y0, y1)));
+    let magnified = (2.0 * c_um / (yr.1 - yr.0)).round();
+    Some(Inset {
+        x_range: xr,
+        y_range: yr,
+        at: (0.31, 0.3, 0.69, 0.8),
+        title: format!("outlined region, y magnified ×{magnified}"),
+    })
 }
 
 /// The lines a steady ensemble's figure prints: mean ± sd over the members.
@@ -80,7 +116,8 @@ fn steady_lines(name: &str, e: &SteadyEnsemble) -> String {
         e.stat(|m| m.concordance.pressure_wear).mean_sd(1.0, 4),
         e.stat(|m| m.concordance.sliding_wear).mean_sd(1.0, 4),
         if unsteady > 0 {
-            format!("; the orbit of {unsteady} members never repeated (chaotic; recorded anyway)")
+            let members = if unsteady == 1 { "member" } else { "members" };
+            format!("; the orbit of {unsteady} {members} never repeated (chaotic; recorded anyway)")
         } else {
             String::new()
         }
@@ -129,7 +166,7 @@ fn steady_figure(
     let mut drawn = Vec::new();
     for CasePanel { case, key, title } in cases {
         let e = runs.steady(case.scene)?;
-        lines.push(steady_lines(case.scene, e));
+        lines.push(steady_lines(&case.label(), e));
         let title = format!("{title} ({})", first_of(e.members.len()));
         drawn.push((*key, title, first_traces(e)?, clearance(&e.scene)));
     }

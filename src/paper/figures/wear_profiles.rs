@@ -15,6 +15,7 @@ use crate::io::output::write_csv;
 use crate::io::plot::{render, render_polar, Axes, Series, Shade, Style};
 use crate::laws::wear::sector_angles_deg;
 use crate::paper::cases::{Runs, WearEnsemble, CASES};
+use crate::paper::format::sci;
 use crate::{Error, Result};
 
 /// The line a wear ensemble's figure prints.
@@ -141,7 +142,7 @@ fn profile_figure(runs: &Runs, name: &str, cases: &[CasePanel]) -> Result<Vec<St
     let mut panels = Vec::new();
     for CasePanel { case, key, title } in cases {
         let e = runs.wear(case.scene)?;
-        lines.push(wear_line(case.scene, e));
+        lines.push(wear_line(&case.label(), e));
         let curves: Vec<BandCurve> = (0..e.members[0].snapshots.len())
             .map(|i| {
                 let (rot, band) = e.snapshot_band(i);
@@ -205,11 +206,11 @@ fn comparison_figure(runs: &Runs, name: &str, title: &str, varied: Varied) -> Re
     let mut curves = Vec::new();
     for case in varied.cases() {
         let e = runs.wear(case.scene)?;
-        lines.push(wear_line(case.scene, e));
+        lines.push(wear_line(&case.label(), e));
         let spread = e.stat(|m| m.region_spread().unwrap_or(f64::NAN));
         lines.push(format!(
-            "{}: (deepest - third region) / deepest {}",
-            case.scene,
+            "{}: (deepest − third region) / deepest {}",
+            case.label(),
             spread.mean_sd(1.0, 2)
         ));
         let (label, tag) = (varied.label(&case), varied.tag(&case));
@@ -218,12 +219,28 @@ fn comparison_figure(runs: &Runs, name: &str, title: &str, varied: Varied) -> Re
     let angles = sector_angles_deg(curves[0].mean.len());
     let n = runs.ensemble.members;
     let axis = "accumulated wear depth after 40 rotations (µm)";
-    let panel = band_panel(
+    let mut panel = band_panel(
         format!("{title}, mean of {n}, 5-95 % shaded"),
         &angles,
         &curves,
         axis,
     );
+    // A case whose deepest wear is below a tenth of the deepest case's would be a flat line
+    // at zero on a linear axis (30 r/min): draw four decades below the deepest wear instead.
+    let peaks: Vec<f64> = curves
+        .iter()
+        .map(|c| c.mean.iter().copied().fold(0.0, f64::max))
+        .collect();
+    let deepest = peaks.iter().copied().fold(0.0, f64::max);
+    if peaks.iter().any(|&p| p < 0.1 * deepest) && deepest > 0.0 {
+        let floor = 10f64.powf(deepest.log10().floor() - 4.0);
+        panel.y_log = true;
+        panel.y_range = Some((floor, deepest));
+        panel.note = Some(format!(
+            "Logarithmic depth axis: a curve is drawn only where its case wears more than {} µm.",
+            sci(floor)
+        ));
+    }
     render(&output_path("figures", &format!("{name}.png")), &[panel])?;
     let columns: Vec<(String, &BandCurve)> = curves.iter().map(|c| (c.tag.clone(), c)).collect();
     write_band_csv(name, "angle_deg", &angles, &columns, 1e-3)?;
@@ -301,7 +318,7 @@ pub fn fig05(runs: &Runs) -> Result<Vec<String>> {
     cols.extend(profiles.iter().map(|(_, r, _)| r.as_slice()));
     write_csv(&output_path("data", "fig05.csv"), &header, &cols)?;
     Ok(vec![
-        wear_line(CASES.standard.scene, e),
+        wear_line(&CASES.standard.label(), e),
         format!("radial deviation magnified x{magnify}"),
     ])
 }

@@ -8,6 +8,7 @@ use crate::io::output::read_rows;
 use crate::paper::cases::{Runs, SteadyMember, CASES};
 use crate::paper::convergence::MAX_MEMBERS;
 use crate::paper::figures::output_path;
+use crate::paper::format::sci;
 use crate::simulation::ensemble::DEFAULT_MEMBERS;
 use crate::Result;
 use std::fmt::Write as _;
@@ -136,7 +137,7 @@ fn convergence_section() -> String {
                     pick.iter()
                         .map(|&i| match r[i].parse::<f64>() {
                             Ok(v) if i == 0 => format!("{v}"),
-                            Ok(v) => format!("{v:.2e}"),
+                            Ok(v) => sci(v),
                             Err(_) => r[i].clone(),
                         })
                         .collect()

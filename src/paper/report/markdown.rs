@@ -3,14 +3,29 @@
 
 use crate::io::output::read_rows;
 use crate::paper::figures::output_path;
+use crate::paper::format;
 use std::fmt::Write as _;
 
-/// A markdown table.
+/// A markdown table, every header and cell as a person reads it ([`format::header`],
+/// [`format::column`]: CSV column names with their units in words, no e-notation counts or
+/// 15-digit times, no Rust names).
 pub(super) fn md_table(out: &mut String, header: &[&str], rows: &[Vec<String>]) {
+    let header: Vec<String> = header.iter().map(|h| format::header(h)).collect();
     let _ = writeln!(out, "| {} |", header.join(" | "));
     let _ = writeln!(out, "|{}", "---|".repeat(header.len()));
-    for row in rows {
-        let _ = writeln!(out, "| {} |", row.join(" | "));
+    let columns: Vec<Vec<String>> = (0..header.len())
+        .map(|j| {
+            let cells: Vec<&str> = rows
+                .iter()
+                .map(|r| r.get(j).map_or("", String::as_str))
+                .collect();
+            format::column(&cells)
+        })
+        .collect();
+    for i in 0..rows.len() {
+        // a `|` inside a cell (|slider acceleration|) would end the cell
+        let cells: Vec<String> = columns.iter().map(|c| c[i].replace('|', "\\|")).collect();
+        let _ = writeln!(out, "| {} |", cells.join(" | "));
     }
     out.push('\n');
 }

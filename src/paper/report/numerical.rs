@@ -8,6 +8,7 @@ use super::markdown::{csv_table, md_table};
 use crate::io::output::read_rows;
 use crate::ode::Method;
 use crate::paper::figures::output_path;
+use crate::paper::format::{number, sci};
 use crate::paper::performance::TARGETS;
 use crate::paper::studies::work_precision::{read_ensemble_wear_errors, EnsembleCost, ODE45_PAPER};
 use crate::paper::studies::Integration;
@@ -221,6 +222,16 @@ fn rejections() -> String {
     )
 }
 
+/// A duration in nanoseconds for the targets table: plain below 10⁵, else scientific, so a
+/// target and its median read alike.
+fn ns(v: f64) -> String {
+    if v >= 1e5 {
+        sci(v)
+    } else {
+        number(v)
+    }
+}
+
 /// The run-time targets against the medians of `data/benchmarks.csv`.
 fn targets() -> String {
     let Ok((_, rows)) = read_rows(&output_path("data", "benchmarks.csv")) else {
@@ -235,15 +246,12 @@ fn targets() -> String {
         .iter()
         .map(|&(name, budget)| {
             let (measured, verdict) = match median(name) {
-                Some(m) => (
-                    format!("{m:.4e}"),
-                    if m < budget { "met" } else { "**missed**" },
-                ),
+                Some(m) => (number(m), if m < budget { "met" } else { "**missed**" }),
                 None => ("not measured".into(), "**missed**"),
             };
             vec![
                 format!("`{name}`"),
-                format!("< {budget:e}"),
+                format!("< {}", ns(budget)),
                 measured,
                 verdict.into(),
             ]

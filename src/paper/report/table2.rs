@@ -8,7 +8,17 @@ use crate::io::output::read_rows;
 use crate::paper::calibration::{FACTORIAL_GROUP, GROUP_COLUMN, SCORE_COLUMN};
 use crate::paper::cases::CASES;
 use crate::paper::figures::output_path;
-use crate::scene::{scene_path, SceneFile};
+use crate::paper::format::{friction_name, pressure_name, sci};
+use crate::scene::{scene_path, MethodSpec, SceneFile};
+
+/// An integration method in words.
+fn method_name(m: MethodSpec) -> &'static str {
+    match m {
+        MethodSpec::Dopri5 => "Dormand-Prince 5(4), adaptive",
+        MethodSpec::Dop853 => "DOP853, adaptive",
+        MethodSpec::Rk4 => "classical Runge-Kutta, fixed step",
+    }
+}
 
 /// The reconstruction of Table 2: every value, its source, and how much results move with it.
 pub(super) fn table2_section() -> String {
@@ -23,7 +33,7 @@ pub(super) fn table2_section() -> String {
             let c = &s.clearance[0];
             let m = s.materials.get(&c.bearing_material);
             let w = c.wear.as_ref();
-            let friction = format!("{:?}", c.friction);
+            let friction = friction_name(&c.friction);
             vec![
                 vec![
                     "bearing radius R_i".into(),
@@ -61,8 +71,11 @@ pub(super) fn table2_section() -> String {
                     "wear k/H, pressure model, length L, sectors".into(),
                     w.map_or("none".into(), |w| {
                         format!(
-                            "{:e} 1/Pa, {:?}, {} mm, {}",
-                            w.k_over_h_per_pa, w.pressure, w.length_mm, w.sectors
+                            "{} 1/Pa, {}, {} mm, {} sectors",
+                            sci(w.k_over_h_per_pa),
+                            pressure_name(w.pressure),
+                            w.length_mm,
+                            w.sectors
                         )
                     }),
                     "calibration study (low confidence; k accelerated as the paper says)".into(),
@@ -80,8 +93,11 @@ pub(super) fn table2_section() -> String {
                 vec![
                     "integrator".into(),
                     format!(
-                        "{:?}, rtol {:e}, atol {:e}, max step {:e} s",
-                        s.run.method, s.run.rtol, s.run.atol, s.run.max_step_s
+                        "{}, rtol {}, atol {}, max step {} s",
+                        method_name(s.run.method),
+                        sci(s.run.rtol),
+                        sci(s.run.atol),
+                        sci(s.run.max_step_s)
                     ),
                     "work-precision study (section 5)".into(),
                 ],

@@ -402,7 +402,15 @@ pub fn accuracy_dependence(progress: &dyn Progress) -> Result<AccuracyDependence
     let near = |a: f64, b: f64| angle_distance(a, b) <= claim.angle_tolerance_deg;
     findings.push(Finding {
         result: "standard wear regions".into(),
-        paper: format!("{:?} deg", claim.peak_angles_deg),
+        paper: format!(
+            "{} deg",
+            claim
+                .peak_angles_deg
+                .iter()
+                .map(|a| a.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
         holds: holds(Subject::StandardWear, &|r| {
             claim
                 .peak_angles_deg

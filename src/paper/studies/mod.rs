@@ -11,6 +11,7 @@ pub mod accuracy;
 pub mod integration;
 pub mod stability;
 pub mod work_precision;
+pub mod work_precision_figure;
 
 pub use accuracy::{
     accuracy_dependence, accuracy_settings, AccuracyDependence, AccuracyRow, Finding, Setting,
@@ -26,3 +27,4 @@ pub use work_precision::{
     WorkRow, FORCE_BOUND, ORBIT_BOUND_UM, REFERENCE, SECOND_REFERENCE, WP_ENSEMBLE_MAX_EVALUATIONS,
     WP_MAX_STEP, WP_MEMBERS,
 };
+pub use work_precision_figure::redraw_work_precision;

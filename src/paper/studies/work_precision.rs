@@ -35,9 +35,9 @@
 //! impact sequence (about 1 % RMS, without a trend in the tolerance).
 
 use super::integration::Integration;
-use crate::analysis::statistics::{Band, Distribution};
+use super::work_precision_figure::{plot_work_precision, Point};
+use crate::analysis::statistics::Band;
 use crate::io::output::{read_rows, write_rows};
-use crate::io::plot::{render, Axes, Series, Style};
 use crate::io::progress::{Progress, Silent};
 use crate::ode::{Method, Stats};
 use crate::paper::cases::{wear_run_with, Need, Runs, CASES};
@@ -291,7 +291,8 @@ pub fn work_precision(progress: &dyn Progress) -> Result<WorkPrecision> {
     }
     let default_rtol = pick_default(&rows);
     write_work_precision(&rows)?;
-    plot_work_precision(&rows, &floor)?;
+    let points: Vec<Point> = rows.iter().map(Point::of).collect();
+    plot_work_precision(&points, &floor)?;
     Ok(WorkPrecision {
         rows,
         floor,
@@ -450,84 +451,4 @@ fn write_work_precision(rows: &[WorkRow]) -> Result<()> {
             ]
         }),
     )
-}
-
-/// log10 of an error, clamped so an exact zero (the reference itself) stays on the plot.
-fn log_err(e: f64) -> f64 {
-    e.max(1e-16).log10()
-}
-
-fn plot_work_precision(rows: &[WorkRow], floor: &Errors) -> Result<()> {
-    type Pick = fn(&WorkRow) -> Option<f64>;
-    let measures: [(&str, &str, Pick); 3] = [
-        (
-            "Journal orbit, first rotation",
-            "log10 max orbit error (µm)",
-            |r| r.errors.map(|e| e.orbit_um),
-        ),
-        (
-            "Peak contact force, first rotation",
-            "log10 relative peak-force error",
-            |r| r.errors.map(|e| e.force_rel),
-        ),
-        (
-            "Wear after 40 rotations, ensemble mean of 16",
-            "log10 RMS error of the mean profile / max depth",
-            |r| r.ensemble.map(|e| e.error),
-        ),
-    ];
-    let methods = ["dopri5", "dop853", "rk4"];
-    let measured =
-        |r: &&WorkRow| ![REFERENCE, SECOND_REFERENCE, ODE45_PAPER].contains(&r.integration);
-    // [measure][method] = (log10 wall time, log10 error) of the completed sweep runs
-    let series: Vec<Vec<(Vec<f64>, Vec<f64>)>> = measures
-        .iter()
-        .map(|(_, _, pick)| {
-            methods
-                .iter()
-                .map(|m| {
-                    rows.iter()
-                        .filter(measured)
-                        .filter(|r| r.integration.method_name() == *m)
-                        .filter_map(|r| pick(r).map(|e| (r.wall_time.log10(), log_err(e))))
-                        .unzip()
-                })
-                .collect()
-        })
-        .collect();
-    let times: Vec<f64> = rows
-        .iter()
-        .filter(|r| r.errors.is_some())
-        .map(|r| r.wall_time.log10())
-        .collect();
-    let span = [
-        times.iter().cloned().fold(f64::INFINITY, f64::min),
-        times.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
-    ];
-    // the floors: the second reference's error for one run, the sampling error for ensembles
-    let sampling = Distribution::of(rows.iter().filter_map(|r| r.ensemble.map(|e| e.sampling)));
-    let floors = [
-        ("floor (reference disagreement)", log_err(floor.orbit_um)),
-        ("floor (reference disagreement)", log_err(floor.force_rel)),
-        (
-            "sampling error of the difference (median)",
-            log_err(sampling.median()),
-        ),
-    ]
-    .map(|(l, y)| (l, [y; 2]));
-    let panels: Vec<Axes> = measures
-        .iter()
-        .zip(&series)
-        .zip(&floors)
-        .map(|(((title, y, _), per_method), (label, fl))| {
-            let mut s: Vec<Series> = methods
-                .iter()
-                .zip(per_method)
-                .map(|(m, (x, y))| Series::new(*m, x, y, Style::Points))
-                .collect();
-            s.push(Series::new(*label, &span, fl, Style::Reference));
-            Axes::new(*title, "log10 wall time of one 40-rotation run (s)", *y, s)
-        })
-        .collect();
-    render(&output_path("figures", "work_precision.png"), &panels)
 }

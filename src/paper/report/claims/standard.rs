@@ -40,20 +40,18 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
     c.claim(
         "Fig. 4",
         "continuous contact, no free flight or impact; the whole bearing surface sees contact",
-        "contact ≥ 90% of the time; no contact onsets; ≥ 90% of the circumference touched",
+        "motion mode continuous contact (the motion rule of Table 3); ≥ 90% of the circumference touched",
         format!(
-            "in contact {} % of the time, {} contact onsets per rotation, {} % of the circumference touched",
+            "continuous contact in {} of {}; in contact {} % of the time, {} contact onsets per rotation, {} % of the circumference touched",
+            std_st.continuous(),
+            std_st.members.len(),
             std_st.stat(|m| m.motion.contact_fraction).mean_sd(100.0, 1),
             std_st.stat(|m| m.motion.impacts_per_rotation).mean_sd(1.0, 1),
             std_st.stat(|m| m.contact_coverage).mean_sd(100.0, 0)
         ),
         &|m| {
             let s = m.steady.standard;
-            vec![
-                s.motion.contact_fraction >= 0.9,
-                s.motion.impacts_per_rotation == 0.0,
-                s.contact_coverage >= 0.9,
-            ]
+            vec![s.motion.continuous(), s.contact_coverage >= 0.9]
         },
     );
     let std_we = e.wear.standard;

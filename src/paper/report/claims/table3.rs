@@ -10,7 +10,7 @@ use crate::paper::golden::{Golden, Table3Golden};
 /// Whether a member's case follows conclusion 3: P-w dominates exactly when it is not in
 /// continuous contact.
 fn follows_conclusion(s: &SteadyMember) -> bool {
-    (s.concordance.dominant() == "P-w") == (s.motion.mode() != "continuous contact")
+    (s.concordance.dominant() == "P-w") != s.motion.continuous()
 }
 
 /// A member's steady run of each case beside the paper's Table 3 row, in Table 3's order.
@@ -99,7 +99,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
             let cases = m.steady.list();
             let impact = cases
                 .iter()
-                .filter(|s| s.motion.mode() != "continuous contact")
+                .filter(|s| !s.motion.continuous())
                 .count();
             vec![all_follow(m), impact > 0 && impact < cases.len()]
         },
