@@ -8,7 +8,7 @@ use super::markdown::{csv_table, md_table};
 use crate::io::output::read_rows;
 use crate::ode::Method;
 use crate::paper::figures::output_path;
-use crate::paper::format::{number, sci};
+use crate::paper::format::{count, number, sci};
 use crate::paper::performance::TARGETS;
 use crate::paper::studies::work_precision::{read_ensemble_wear_errors, EnsembleCost, ODE45_PAPER};
 use crate::paper::studies::Integration;
@@ -53,7 +53,7 @@ fn against_ode45() -> Option<String> {
     let describe = |c: &EnsembleCost| {
         format!(
             "{} evaluations per 40-rotation run, ensemble wear error {:.2}% ({:.1}× sampling)",
-            c.evaluations,
+            count(c.evaluations),
             100.0 * c.error.error,
             c.error.error / c.error.sampling
         )
@@ -212,11 +212,12 @@ fn rejections() -> String {
         })
         .collect();
     format!(
-        "**Why steps are rejected** (the `rejected_*` columns, `ode::Rejections`): of the {rejected:.0} rejected \
+        "**Why steps are rejected** (the `rejected_*` columns, `ode::Rejections`): of the {} rejected \
          attempts of the 40-rotation run ({:.0} % of attempts), {}. Rejections that follow step increases and \
          repeat, with none at contact onsets, are the signature of an explicit method at the stability limit of \
          the stiff contact. Neither carrying the step size across onsets (there is almost nothing to carry) nor the \
          wear profile (C¹-interpolated, so sector edges are no discontinuity) can remove them.\n\n",
+        count(rejected as u64),
         100.0 * rejected / (rejected + steps),
         parts.join(", ")
     )
