@@ -153,7 +153,7 @@ fn write_convergence(c: &Convergence) -> Result<()> {
     let refs: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
     write_csv(&output_path("data", "ensemble_convergence.csv"), &h, &refs)?;
 
-    let x: Vec<f64> = SIZES.iter().map(|&n| (n as f64).log10()).collect();
+    let x: Vec<f64> = SIZES.iter().map(|&n| n as f64).collect();
     let shown = [
         (CASES.standard, SteadyQuantity::Pw),
         (CASES.standard, SteadyQuantity::Sw),
@@ -171,16 +171,16 @@ fn write_convergence(c: &Convergence) -> Result<()> {
                     c.rows
                         .iter()
                         .find(|r| r.members == n && r.quantity == *q)
-                        .map_or(f64::NAN, |r| r.standard_error.max(1e-12).log10())
+                        .map_or(f64::NAN, |r| r.standard_error.max(1e-12))
                 })
                 .collect();
             (format!("{} (concordance)", q.name()), v)
         })
         .collect();
-    let tolerance = vec![(0.03f64 / 5.0).log10(); SIZES.len()];
+    let tolerance = vec![0.03 / 5.0; SIZES.len()];
     let mut series: Vec<Series> = se
         .iter()
-        .map(|(l, v)| Series::new(l.clone(), &x, v, Style::Line))
+        .map(|(l, v)| Series::new(l.clone(), &x, v, Style::LinePoints))
         .collect();
     series.push(Series::new(
         "rule: a fifth of the 0.03 tolerance",
@@ -190,32 +190,41 @@ fn write_convergence(c: &Convergence) -> Result<()> {
     ));
     // the full ensemble is the reference of the distance: it is left out of that curve
     let partial = &x[..x.len() - 1];
-    let rms: Vec<f64> = c.profile[..partial.len()]
-        .iter()
-        .map(|p| p.1.log10())
-        .collect();
-    let width: Vec<f64> = c.profile.iter().map(|p| p.2.log10()).collect();
+    let rms: Vec<f64> = c.profile[..partial.len()].iter().map(|p| p.1).collect();
+    let width: Vec<f64> = c.profile.iter().map(|p| p.2).collect();
+    fn log_log(a: Axes) -> Axes {
+        Axes {
+            x_log: true,
+            y_log: true,
+            ..a
+        }
+    }
     let panels = [
-        Axes::new(
+        log_log(Axes::new(
             "Standard error of the ensemble mean",
-            "log10 members",
-            "log10 standard error",
+            "members",
+            "standard error",
             series,
-        ),
-        Axes::new(
+        )),
+        log_log(Axes::new(
             "Standard wear profile (0.02 mm, 2000 r/min)",
-            "log10 members",
-            "log10 (value / deepest mean wear)",
+            "members",
+            "value / deepest mean wear",
             vec![
                 Series::new(
                     format!("RMS distance of the mean profile from the {MAX_MEMBERS}-member one"),
                     partial,
                     &rms,
-                    Style::Line,
+                    Style::LinePoints,
                 ),
-                Series::new("mean width of the 5-95 % band", &x, &width, Style::Line),
+                Series::new(
+                    "mean width of the 5-95 % band",
+                    &x,
+                    &width,
+                    Style::LinePoints,
+                ),
             ],
-        ),
+        )),
     ];
     render(&output_path("figures", "ensemble_convergence.png"), &panels)
 }
