@@ -3,8 +3,8 @@
 The SciPy side integrates the scene's slider-crank in minimal coordinates with the explicit
 Runge-Kutta pairs of `scipy.integrate.solve_ivp` (RK45 = Dormand-Prince 5(4), DOP853 =
 Hairer's 8(5,3)), at the paper's largest step of 1e-5 s and at the scene's. It implements
-the same model as jointwear (src/contact.rs, src/friction.rs, src/wear.rs,
-src/simulation.rs), read from the same scene TOML:
+the same model as jointwear (src/laws/contact.rs, src/laws/friction.rs, src/laws/wear.rs,
+src/simulation/run.rs), read from the same scene TOML:
 
 Kinematics (minimal coordinates). The crank angle is prescribed, θ(t) = θ0 + ω t. The state
 is y = (φ, s, φ̇, ṡ): φ the rod's body angle, s the slider's position along its guide (unit
@@ -127,7 +127,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 def read_scene(path):
     """The scene document of `path` with `extends` and `[overrides]` resolved as jointwear
-    does (src/scene.rs): the base's tables, then this file's top-level keys, then each
+    does (src/scene/layering.rs): the base's tables, then this file's top-level keys, then each
     dotted override path, which must exist in the base."""
     path = Path(path)
     doc = tomllib.loads(path.read_text())

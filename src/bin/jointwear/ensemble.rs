@@ -4,12 +4,10 @@
 
 use crate::failure::{CliResult, Failure};
 use crate::outputs::conventions;
-use crate::run::{print_changes, README_FILE, SUMMARY_FILE};
-use crate::{file_part, load_variant, out_dir, Variant};
+use crate::run::{README_FILE, SUMMARY_FILE};
+use crate::{checked_out_dir, file_part, load_variant, Variant};
 use jointwear::analysis::statistics::{Distribution, QUANTILES};
-use jointwear::io::output::{
-    check_output_dir, number, write_json, write_outputs, write_rows, write_text,
-};
+use jointwear::io::output::{number, write_json, write_outputs, write_rows, write_text};
 use jointwear::io::plot::{render, Axes, Series, Shade, Style};
 use jointwear::io::progress::progress_bar;
 use jointwear::laws::wear::sector_angles_deg;
@@ -38,9 +36,7 @@ pub fn run_ensemble(
         changes,
         fingerprint,
     } = load_variant(path, sets, rotations)?;
-    print_changes(&changes, rotations);
-    let dir = out_dir(path, out);
-    check_output_dir("--out", &dir).map_err(bad)?;
+    let dir = checked_out_dir(path, out)?;
     let clock = std::time::Instant::now();
     let bar = progress_bar(settings.members as u64, "members");
     let members = ensemble::run(

@@ -1,10 +1,10 @@
 //! `jointwear longlife SCENE`: wear after many rotations by cycle-jump extrapolation, to a
 //! rotation count or a wear limit; its growth and profile CSVs, figures and summary.
 
+use crate::checked_out_dir;
 use crate::failure::{CliResult, Failure};
-use crate::out_dir;
 use crate::outputs::write_profiles;
-use jointwear::io::output::{check_output_dir, write_csv, write_outputs};
+use jointwear::io::output::{write_csv, write_outputs};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::progress_bar;
 use jointwear::scene::SceneFile;
@@ -39,8 +39,7 @@ pub fn longlife(
         }
     }
     let scene = file.build().map_err(bad)?;
-    let dir = out_dir(path, out);
-    check_output_dir("--out", &dir).map_err(bad)?;
+    let dir = checked_out_dir(path, out)?;
     let target = rotations as u64;
     let settings = LongLifeSettings {
         rotations: target,

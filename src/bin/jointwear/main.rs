@@ -241,6 +241,13 @@ fn out_dir(scene: &Path, out: Option<PathBuf>) -> PathBuf {
     out.unwrap_or_else(|| Path::new("out").join(scene.file_stem().unwrap_or(scene.as_os_str())))
 }
 
+/// [`out_dir`], refused (exit 2, as `--out`) if it cannot hold a run's outputs.
+fn checked_out_dir(scene: &Path, out: Option<PathBuf>) -> CliResult<PathBuf> {
+    let dir = out_dir(scene, out);
+    jointwear::io::output::check_output_dir("--out", &dir).map_err(|e| Failure::from(scene, e))?;
+    Ok(dir)
+}
+
 /// A joint name usable in a file name.
 fn file_part(name: &str) -> String {
     name.chars()
@@ -270,7 +277,8 @@ pub struct Variant {
 /// dotted-key setter of `sweep` ([`set_dotted`]), then `rotations` as `run.rotations`; it
 /// then cuts the wear snapshots past it and the recorded rotations to it, unless they were
 /// set. Validated as a scene file is, and every error is bad input (exit code 2): a bad key or
-/// value names the key, the value, the valid range and the `--set` it came from.
+/// value names the key, the value, the valid range and the `--set` it came from. The changes
+/// made on the user's behalf are printed ([`run::print_changes`]).
 fn load_variant(path: &Path, sets: &[String], rotations: Option<u32>) -> CliResult<Variant> {
     let input = |e| Failure::input(path, e);
     let mut assignments = Vec::new();
@@ -342,6 +350,7 @@ fn load_variant(path: &Path, sets: &[String], rotations: Option<u32>) -> CliResu
         }
     }
     let scene = file.build().map_err(|e| input(from_set(e)))?;
+    run::print_changes(&changes, rotations);
     Ok(Variant {
         scene,
         changes,

@@ -4,9 +4,9 @@
 
 use crate::failure::{CliResult, Failure};
 use crate::outputs::{body_name, conventions, timeseries_columns, write_profiles};
-use crate::{file_part, load_variant, out_dir, Variant};
+use crate::{checked_out_dir, file_part, load_variant, Variant};
 use jointwear::io::interrupt;
-use jointwear::io::output::{check_output_dir, write_csv, write_json, write_outputs, write_text};
+use jointwear::io::output::{write_csv, write_json, write_outputs, write_text};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::{progress_bar, Progress};
 use jointwear::laws::wear::sector_angles_deg;
@@ -36,9 +36,7 @@ pub fn run(
         changes,
         fingerprint,
     } = load_variant(path, sets, rotations)?;
-    print_changes(&changes, rotations);
-    let dir = out_dir(path, out);
-    check_output_dir("--out", &dir).map_err(bad)?;
+    let dir = checked_out_dir(path, out)?;
     if checkpoint_every == Some(0) {
         return Err(Failure::input(
             path,

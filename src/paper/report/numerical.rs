@@ -177,6 +177,20 @@ pub(super) fn performance_section(md: &mut String) {
     csv_table(md, "scaling.csv", "cargo run --release --bin scaling");
     md.push_str("![scaling](figures/scaling.png)\n\n");
     md.push_str(&rejections());
+    md.push_str(
+        "**Against SciPy, side by side.** The same scene and model (minimal coordinates, the same contact, \
+         friction and wear laws; `data/scipy_model_check.csv` checks that both give the same orbit) integrated \
+         by SciPy's `solve_ivp` as a researcher would write it, 4 rotations with wear, timed on the same machine \
+         in one run (`python3 benches/scipy_compare.py compare`, needs numpy and scipy; CI does not run it). \
+         `error_vs_reference` is the first-rotation journal orbit against jointwear's tightest run; a SciPy row's \
+         `speed_ratio_wall` (`_cpu`) is its wall (CPU) time over that of the fastest jointwear setting at least \
+         as accurate:\n\n",
+    );
+    csv_table(
+        md,
+        "scipy_comparison.csv",
+        "python3 benches/scipy_compare.py compare",
+    );
 }
 
 /// Why steps are rejected: the causes of the 40-rotation run of `data/scaling.csv`.
