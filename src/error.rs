@@ -44,6 +44,8 @@ pub enum Error {
         /// The renderer's message.
         message: String,
     },
+    /// The caller asked the computation to stop ([`crate::io::progress::Progress::cancelled`]).
+    Cancelled,
 }
 
 /// Library-wide result type.
@@ -65,10 +67,11 @@ impl Error {
 }
 
 /// Exit code of a program that stops on `error`: 2 for bad input (a scene value, a file
-/// that cannot be parsed), 1 for a failure while running. The one map every program uses.
+/// that cannot be parsed), 1 for a failure while running, 130 when cancelled. The one map every program uses.
 pub fn exit_code(error: &Error) -> u8 {
     match error {
         Error::Invalid { .. } | Error::Parse { .. } => 2,
+        Error::Cancelled => crate::io::interrupt::INTERRUPTED_EXIT_CODE as u8,
         _ => 1,
     }
 }
@@ -96,6 +99,8 @@ impl fmt::Display for Error {
                 )
             }
             Error::Parse { path, message } => {
+                // toml's messages end with a line break: the message is one of several lines.
+                let message = message.trim_end();
                 write!(f, "cannot parse {}: {message}", path.display())
             }
             Error::Io { path, source } => write!(f, "{}: {source}", path.display()),
@@ -105,6 +110,7 @@ impl fmt::Display for Error {
             Error::Plot { path, message } => {
                 write!(f, "cannot render {}: {message}", path.display())
             }
+            Error::Cancelled => write!(f, "cancelled before it finished"),
         }
     }
 }

@@ -117,6 +117,16 @@ fn command_line_resumes_and_refuses_what_it_cannot() {
     let r = jointwear(&["run", p, "--out", o, "--resume"]);
     assert_eq!(r.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&r.stderr).contains("edited since"));
+    // so is one of the scene as it is, resumed with a --set it was not started with
+    write_checkpoint(&saved, &fingerprint(&doc, &[]), sim.checkpoint()).unwrap();
+    let set = ["--set", "driver.speed_rpm=1000"];
+    let r = jointwear(&[&["run", p, "--out", o, "--resume"][..], &set].concat());
+    assert_eq!(r.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("started with other --set/--rotations values"),
+        "{err}"
+    );
     // --checkpoint-every writes checkpoints and removes the last one when the run completes
     let r = jointwear(&["run", p, "--out", o, "--checkpoint-every", "2"]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));

@@ -282,6 +282,24 @@ fn longlife_writes_profiles_and_growth() {
     for png in ["longlife_growth.png", "longlife_profiles.png"] {
         assert!(out.join(png).exists(), "{png}");
     }
+    // The folder explains itself: every file in README.txt, the numbers in summary.json.
+    let readme = fs::read_to_string(out.join("README.txt")).unwrap();
+    for file in [
+        "longlife_growth.csv",
+        "longlife_profiles_rod-slider.csv",
+        "summary.json",
+    ] {
+        assert!(readme.contains(file), "README.txt lacks {file}");
+    }
+    let summary = json(&out.join("summary.json"));
+    assert_eq!(summary["rotations_predicted"], 200000);
+    let joint = &summary["joints"][0];
+    let depth = joint["max_wear_depth_m"].as_f64().unwrap();
+    assert_eq!(depth, *columns[1].last().unwrap());
+    assert_eq!(
+        joint["effective_clearance_m"].as_f64().unwrap(),
+        *columns[2].last().unwrap()
+    );
     fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -82,7 +82,7 @@ fn offsets_keep_every_ideal_joint_closed_and_move_the_journal_by_nanometres() {
         let phi = m.constraint_vector(&mut ws, 0.0, &y[..n]);
         assert!(phi.iter().all(|p| p.abs() < 1e-12), "{phi:?}");
         // the member's run starts from that state
-        let out = run_member(&scene, &scene.run, 1, member).unwrap();
+        let out = run_member(&scene, &scene.run, 1, member, &Silent).unwrap();
         assert!(out.final_wear[0].iter().all(|x| x.is_finite()));
     }
 }

@@ -121,7 +121,8 @@ fn a_recording_beyond_the_memory_budget_fails_at_validation() {
         "--out",
         s(&dir.join("sweep.csv")),
     ]);
-    assert_fails(&o, 2, &needles);
+    let in_case = "`run.record_interval_s (in case 1: run.record_interval_s=1e-12)`: 1e-12 s";
+    assert_fails(&o, 2, &[&[in_case], &needles[1..]].concat());
     assert!(!dir.join("out").exists() && !dir.join("sweep.csv").exists());
     fs::remove_dir_all(&dir).unwrap();
 }
@@ -201,7 +202,34 @@ fn a_loop_that_cannot_close_is_bad_input_naming_its_joints_in_check_run_and_swee
     assert_fails(
         &o,
         2,
-        &["`joints (assembly) (case 1: [100.0, 0.0])`", needles[1]],
+        &[
+            "`joints (assembly) (in case 1: bodies.1.points_mm.B=[100.0, 0.0])`",
+            needles[1],
+        ],
+    );
+    assert!(!csv.exists());
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_bad_value_of_a_sweep_names_its_case_and_assignments() {
+    let dir = temp_dir("guards", "sweep_case");
+    let scene = short_standard(&dir, "one.toml", 1, &[]);
+    let csv = dir.join("sweep.csv");
+    let o = jointwear(&[
+        "sweep",
+        s(&scene),
+        "--set",
+        "driver.speed_rpm=600,2000",
+        "--set",
+        "clearance.0.clearance_mm=0.1,-1",
+        "--out",
+        s(&csv),
+    ]);
+    assert_fails(
+        &o,
+        2,
+        &["(in case 1: driver.speed_rpm=600, clearance.0.clearance_mm=-1)`: -1"],
     );
     assert!(!csv.exists());
     fs::remove_dir_all(&dir).unwrap();

@@ -64,7 +64,8 @@ def test_an_ensemble_has_the_programs_statistics(tmp_path, cli):
 
 
 def test_a_bad_member_count_is_a_scene_error():
-    with pytest.raises(jointwear.SceneError, match="expected a member count in"):
+    # The argument's name, not the program's flag.
+    with pytest.raises(jointwear.SceneError, match=r"`members`: 0 \(expected a member count in"):
         jointwear.Scene.load(STANDARD).ensemble(0)
 
 

@@ -1,6 +1,7 @@
 """Runs: against the `jointwear` program bit for bit, physical sanity, determinism, the GIL,
 pandas."""
 
+import _thread
 import csv
 import sys
 import threading
@@ -102,6 +103,28 @@ def test_runs_release_the_gil():
     # injection: without `py.detach` in Document::run this loop ticked once in a 0.9 s run.
     assert result["run"].wall_time_s > 0.05
     assert ticks >= 0.25 * elapsed / 0.002, (ticks, elapsed)
+
+
+@pytest.mark.parametrize("call", ["run", "ensemble", "sweep"])
+def test_ctrl_c_stops_a_call_within_a_rotation_and_the_scene_stays_usable(call):
+    # 1000 rotations take over 5 s uninterrupted (an ensemble or a sweep: more).
+    scene = jointwear.Scene.load(STANDARD).set("run.rotations", 1000).set("run.record_rotations", 0)
+    calls = {
+        "run": lambda: scene.run(),
+        "ensemble": lambda: scene.ensemble(4),
+        "sweep": lambda: scene.sweep({"driver.speed_rpm": [1500, 2000]}),
+    }
+    # As Ctrl-C does: the signal arrives while the call waits, outside Python code.
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    start = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        calls[call]()
+    timer.join()
+    # Checked by injection: without the signal polling of `interruptible` the call ran to
+    # its end (no KeyboardInterrupt until it returned, after seconds).
+    assert time.perf_counter() - start < 1.5
+    assert short(scene).run().wall_time_s > 0
 
 
 def test_to_pandas_frames(short_run):

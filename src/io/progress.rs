@@ -15,6 +15,25 @@ pub trait Progress: Sync {
 
     /// The unit of work now starting, named for people (a study's case and setting).
     fn stage(&self, _name: &str) {}
+
+    /// Whether the caller wants the computation to stop. Runs ask between rotations and
+    /// stop with [`crate::Error::Cancelled`] (the Python bindings on Ctrl-C); observers that
+    /// only watch never cancel.
+    fn cancelled(&self) -> bool {
+        false
+    }
+}
+
+/// Passes on only the cancellation of the observer it wraps: for the inner runs of a parallel
+/// loop, whose own rotation counts would garble the loop's count.
+pub struct Cancellation<'a>(pub &'a dyn Progress);
+
+impl Progress for Cancellation<'_> {
+    fn observe(&self, _: u64, _: Option<u64>) {}
+
+    fn cancelled(&self) -> bool {
+        self.0.cancelled()
+    }
 }
 
 /// Observes nothing.
@@ -59,6 +78,11 @@ impl<'a> Counter<'a> {
             done: AtomicU64::new(0),
             total: total as u64,
         }
+    }
+
+    /// Whether the observer wants the loop to stop ([`Progress::cancelled`]).
+    pub fn cancelled(&self) -> bool {
+        self.progress.cancelled()
     }
 
     /// One more unit finished.

@@ -6,11 +6,11 @@ use super::convert::{f64_bytes, from_toml, to_toml};
 use super::to_py_err;
 use crate::analysis::statistics::{Distribution, QUANTILES};
 use crate::analysis::Motion;
-use crate::io::progress::Silent;
+use crate::io::progress::Progress;
 use crate::laws::wear::sector_angles_deg;
 use crate::scene::{set_dotted, SceneFile};
 use crate::simulation::ensemble::{self, EnsembleSettings};
-use crate::simulation::{simulate, RunOutput, Scene};
+use crate::simulation::{simulate_with_progress, RunOutput, Scene};
 use crate::sweep::{
     joint_statistics, summarize, Assignment, JointSummary, Outcome, Shard, Sweep, SCALARS,
 };
@@ -18,6 +18,8 @@ use crate::Error;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
 
 /// A scene document (TOML values, `extends` resolved) and the path that names it in messages.
 #[pyclass(module = "jointwear._native")]
@@ -128,7 +130,8 @@ impl Document {
     /// and summary of every clearance joint, the wear snapshots and the run's counters.
     fn run<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let scene = self.scene()?;
-        let out = py.detach(|| simulate(&scene)).map_err(|e| self.error(e))?;
+        let out = interruptible(py, |cancel| simulate_with_progress(&scene, cancel))?;
+        let out = out.map_err(|e| self.error(e))?;
         run_dict(py, &scene, &out)
     }
 
@@ -145,20 +148,13 @@ impl Document {
         settings.validate().map_err(|e| self.error(e))?;
         let scene = self.scene()?;
         let clock = std::time::Instant::now();
-        let kept: Vec<Member> = py
-            .detach(|| {
-                ensemble::run(
-                    &scene,
-                    &settings,
-                    |_, o| {
-                        let summary = summarize(&scene, &o);
-                        let snaps = o.wear_snapshots.into_iter().map(|s| s.depths).collect();
-                        (summary, o.final_wear, snaps)
-                    },
-                    &Silent,
-                )
-            })
-            .map_err(|e| self.error(e))?;
+        let keep = |_, o: RunOutput| {
+            let summary = summarize(&scene, &o);
+            let snaps = o.wear_snapshots.into_iter().map(|s| s.depths).collect();
+            (summary, o.final_wear, snaps)
+        };
+        let kept = interruptible(py, |cancel| ensemble::run(&scene, &settings, keep, cancel))?;
+        let kept: Vec<Member> = kept.map_err(|e| self.error(e))?;
         let wall = clock.elapsed().as_secs_f64();
         ensemble_dict(py, &scene, &settings, &kept, wall)
     }
@@ -210,7 +206,7 @@ impl Document {
                 .with_ensemble(EnsembleSettings { members, seed })
                 .map_err(|e| self.error(e))?;
         }
-        let results = py.detach(|| sweep.run(|_| {}));
+        let results = interruptible(py, |cancel| sweep.run(|_| {}, cancel))?;
         let cases = PyList::empty(py);
         for r in &results {
             let d = PyDict::new(py);
@@ -435,4 +431,58 @@ fn ensemble_dict<'py>(
     d.set_item("joints", joints)?;
     d.set_item("scalar_names", SCALARS.to_vec())?;
     Ok(d)
+}
+
+/// Asks a computation to stop once Python has a pending signal.
+struct Flag<'a>(&'a AtomicBool);
+
+impl Progress for Flag<'_> {
+    fn observe(&self, _: u64, _: Option<u64>) {}
+
+    fn cancelled(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+/// How often a waiting call looks for Ctrl-C: well under a person's patience, and a wake-up
+/// that costs nothing next to a rotation.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// Runs `work` on a thread of its own with the GIL released, while this (the calling) thread
+/// runs Python's signal handlers every [`SIGNAL_POLL`]: only the main thread can, and the
+/// computation holds neither it nor the GIL. A handler's exception (KeyboardInterrupt on
+/// Ctrl-C) asks `work` to stop between rotations and is raised once it has.
+fn interruptible<T: Send>(
+    py: Python<'_>,
+    work: impl FnOnce(&dyn Progress) -> T + Send,
+) -> PyResult<T> {
+    let stop = AtomicBool::new(false);
+    let (result, raised) = py.detach(|| {
+        std::thread::scope(|s| {
+            let (caller, stop) = (std::thread::current(), &stop);
+            let worker = s.spawn(move || {
+                let result = work(&Flag(stop));
+                caller.unpark();
+                result
+            });
+            let mut raised = None;
+            while !worker.is_finished() {
+                std::thread::park_timeout(SIGNAL_POLL);
+                if raised.is_none() {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        raised = Some(e);
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                }
+            }
+            let result = worker
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            (result, raised)
+        })
+    });
+    match raised {
+        Some(e) => Err(e),
+        None => Ok(result),
+    }
 }

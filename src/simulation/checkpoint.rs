@@ -84,8 +84,10 @@ pub fn read_checkpoint(path: &Path, fingerprint: &str) -> Result<Checkpoint> {
                 file.scene_fingerprint
             ),
             format!(
-                "a checkpoint of this scene as it is now (fingerprint {fingerprint}): the scene \
-                 was edited since, or the checkpoint is another scene's"
+                "a checkpoint of this scene as it is now, with the same --set and --rotations \
+                 values (fingerprint {fingerprint}): the scene was edited since, the run was \
+                 started with other --set/--rotations values, or the checkpoint is another \
+                 scene's"
             ),
         ));
     }

@@ -29,7 +29,7 @@
 //! rather than taken from a crate because its few lines fix the stream for good: a dependency
 //! update can never move a recorded statistic.
 
-use crate::io::progress::{Counter, Progress, Silent};
+use crate::io::progress::{Cancellation, Counter, Progress};
 use crate::simulation::Scene;
 use crate::simulation::{RunOutput, RunSettings, Simulation};
 use crate::{Error, Result};
@@ -70,13 +70,13 @@ impl Default for EnsembleSettings {
 pub const MAX_MEMBERS: usize = 10_000;
 
 impl EnsembleSettings {
-    /// Checks the member count.
+    /// Checks the member count (the field `members`; the program names its flag instead).
     pub fn validate(&self) -> Result<()> {
         if (1..=MAX_MEMBERS).contains(&self.members) {
             Ok(())
         } else {
             Err(Error::invalid(
-                "--ensemble",
+                "members",
                 self.members,
                 format!("a member count in [1, {MAX_MEMBERS}]"),
             ))
@@ -126,16 +126,18 @@ pub fn member_state(scene: &Scene, seed: u64, member: usize) -> Result<Vec<f64>>
     shifted.assemble(&scene.guess)
 }
 
-/// Runs member `member` of `scene` with `settings` from [`member_state`].
+/// Runs member `member` of `scene` with `settings` from [`member_state`], unless `cancel`
+/// asks it to stop ([`Progress::cancelled`]; its counts are not told).
 pub fn run_member(
     scene: &Scene,
     settings: &RunSettings,
     seed: u64,
     member: usize,
+    cancel: &dyn Progress,
 ) -> Result<RunOutput> {
     let y0 = member_state(scene, seed, member)?;
     let mut sim = Simulation::new(scene.mechanism.clone(), settings.clone(), &y0)?;
-    sim.run_to_end(&Silent)?;
+    sim.run_to_end(&Cancellation(cancel))?;
     Ok(sim.finish())
 }
 
@@ -154,7 +156,8 @@ pub fn run<T: Send>(
     (0..ensemble.members)
         .into_par_iter()
         .map(|m| {
-            let out = run_member(scene, &scene.run, ensemble.seed, m).map_err(|e| match e {
+            let out = run_member(scene, &scene.run, ensemble.seed, m, progress);
+            let out = out.map_err(|e| match e {
                 Error::Integration { time, cause } => Error::Integration {
                     time,
                     cause: format!("ensemble member {m} (seed {}): {cause}", ensemble.seed),

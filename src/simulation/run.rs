@@ -250,9 +250,13 @@ impl Simulation {
         &self.state
     }
 
-    /// Runs the remaining rotations, telling `progress` the rotations done after each.
+    /// Runs the remaining rotations, telling `progress` the rotations done after each, or
+    /// stops with [`Error::Cancelled`] before a rotation when `progress` asks to.
     pub fn run_to_end(&mut self, progress: &dyn Progress) -> Result<()> {
         while !self.is_finished() {
+            if progress.cancelled() {
+                return Err(Error::Cancelled);
+            }
             self.advance_rotation()?;
             progress.observe(self.rotation.into(), self.end_rotation.map(u64::from));
         }

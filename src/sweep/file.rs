@@ -282,13 +282,16 @@ impl<'a> JournaledSweep<'a> {
         let cells = sweep.cells();
         let append_error = Mutex::new(None);
         let done = Counter::new(progress, sweep.len());
-        let results = sweep.run(|r| {
-            if let Err(e) = journal.append(&r.record(cells)) {
-                let mut first = append_error.lock().unwrap_or_else(|e| e.into_inner());
-                first.get_or_insert(e);
-            }
-            done.finish_one();
-        });
+        let results = sweep.run(
+            |r| {
+                if let Err(e) = journal.append(&r.record(cells)) {
+                    let mut first = append_error.lock().unwrap_or_else(|e| e.into_inner());
+                    first.get_or_insert(e);
+                }
+                done.finish_one();
+            },
+            progress,
+        );
         let mut rows = kept;
         rows.extend(results.iter().map(|r| r.record(cells)));
         let mut failed: Vec<usize> = (rows.iter())

@@ -15,11 +15,11 @@ pub mod file;
 use crate::analysis::statistics::{Band, Distribution};
 use crate::analysis::PEAK_PROMINENCE;
 use crate::analysis::{peaks, Motion, Peak};
-use crate::io::progress::Silent;
+use crate::io::progress::{Cancellation, Progress};
 use crate::scene::{set_dotted, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
 use crate::simulation::Scene;
-use crate::simulation::{simulate, RunOutput};
+use crate::simulation::{simulate_with_progress, RunOutput};
 use crate::sweep::file::{fingerprint, salted, write_sweep_file};
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -128,17 +128,26 @@ pub fn case_values(sets: &[Assignment], case: usize) -> Vec<&str> {
     values
 }
 
-/// `e` of case `case` (with `values`): a bad value names the case in its field.
-fn in_case(e: Error, case: usize, values: &[&str]) -> Error {
+/// `e` of case `case` (with `values` for the keys of `sets`): a bad value or scene names the
+/// case and its assignments, as the `--set` lists spell them.
+fn in_case(e: Error, case: usize, sets: &[Assignment], values: &[&str]) -> Error {
+    let assigned: Vec<String> = (sets.iter().zip(values))
+        .map(|(a, v)| format!("{}={v}", a.key))
+        .collect();
+    let label = format!("case {case}: {}", assigned.join(", "));
     match e {
         Error::Invalid {
             field,
             value,
             expected,
         } => Error::Invalid {
-            field: format!("{field} (case {case}: {})", values.join(", ")),
+            field: format!("{field} (in {label})"),
             value,
             expected,
+        },
+        Error::Parse { path, message } => Error::Parse {
+            path,
+            message: format!("{} (in {label})", message.trim_end()),
         },
         e => e,
     }
@@ -413,14 +422,12 @@ impl Sweep {
         let mut joints = None;
         for case in (0..case_count(&sets)).filter(|&k| shard.contains(k)) {
             let values = case_values(&sets, case);
-            let mut scene = vary(doc, path, &sets, &values)?;
+            let in_this = |e| in_case(e, case, &sets, &values);
+            let mut scene = vary(doc, path, &sets, &values).map_err(in_this)?;
             scene.run.record_rotations = scene.run.record_rotations.max(1);
-            scene.check_record_budget()?;
+            scene.check_record_budget().map_err(in_this)?;
             // A case whose loop cannot close is bad input: found before any case runs.
-            scene
-                .mechanism
-                .assemble(&scene.guess)
-                .map_err(|e| in_case(e, case, &values))?;
+            scene.mechanism.assemble(&scene.guess).map_err(in_this)?;
             let names: Vec<String> = scene
                 .mechanism
                 .clearance_joints
@@ -494,15 +501,17 @@ impl Sweep {
     }
 
     /// Runs the cases in parallel, calling `done` with each result as it finishes; results in
-    /// case order.
-    pub fn run(&self, done: impl Fn(&CaseResult) + Sync) -> Vec<CaseResult> {
+    /// case order. Cases stop with [`Error::Cancelled`] when `cancel` asks them to (its counts
+    /// are not told).
+    pub fn run(&self, done: impl Fn(&CaseResult) + Sync, cancel: &dyn Progress) -> Vec<CaseResult> {
+        let cancel = Cancellation(cancel);
         self.cases
             .par_iter()
             .map(|(case, values, scene)| {
                 let outcome = match &self.ensemble {
-                    None => simulate(scene)
+                    None => simulate_with_progress(scene, &cancel)
                         .map(|out| (Outcome::Run(summarize(scene, &out)), out.wall_time)),
-                    Some(e) => run_ensemble(scene, e),
+                    Some(e) => run_ensemble(scene, e, &cancel),
                 }
                 .map_err(|e| e.to_string());
                 let result = CaseResult {
@@ -525,13 +534,17 @@ impl Sweep {
 }
 
 /// An ensemble of one case: its joint statistics and wall time.
-fn run_ensemble(scene: &Scene, settings: &EnsembleSettings) -> Result<(Outcome, f64)> {
+fn run_ensemble(
+    scene: &Scene,
+    settings: &EnsembleSettings,
+    cancel: &dyn Progress,
+) -> Result<(Outcome, f64)> {
     let clock = std::time::Instant::now();
     let members = crate::simulation::ensemble::run(
         scene,
         settings,
         |_, out| (summarize(scene, &out), out.final_wear),
-        &Silent,
+        cancel,
     )?;
     let stats = joint_statistics(scene, &members);
     Ok((

@@ -16,8 +16,23 @@ use jointwear::simulation::Scene;
 use jointwear::sweep::{
     header, joint_statistics, summarize, CaseResult, JointStatistics, JointSummary, Outcome,
 };
+use jointwear::Error;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
+
+/// `settings` of `--ensemble N --seed S` checked; a bad member count is bad input naming
+/// `--ensemble` (the library names the field `members`).
+pub fn checked(path: &Path, settings: &EnsembleSettings) -> CliResult<()> {
+    settings.validate().map_err(|e| {
+        let e = match e {
+            Error::Invalid {
+                value, expected, ..
+            } => Error::invalid("--ensemble", value, expected),
+            e => e,
+        };
+        Failure::input(path, e)
+    })
+}
 
 /// `run --ensemble`: members of the scene at `path` (with `sets` and `rotations` applied,
 /// [`load_variant`]) in parallel, their statistics as CSVs, a band plot, `summary.json`,
@@ -30,7 +45,7 @@ pub fn run_ensemble(
     settings: EnsembleSettings,
 ) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
-    settings.validate().map_err(|e| Failure::input(path, e))?;
+    checked(path, &settings)?;
     let Variant {
         scene,
         changes,

@@ -3,14 +3,17 @@
 
 use crate::checked_out_dir;
 use crate::failure::{CliResult, Failure};
-use crate::outputs::write_profiles;
-use jointwear::io::output::{write_csv, write_outputs};
+use crate::file_part;
+use crate::outputs::{body_name, conventions, write_profiles};
+use crate::run::{README_FILE, SUMMARY_FILE};
+use jointwear::io::output::{write_csv, write_json, write_outputs, write_text};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::progress_bar;
 use jointwear::scene::SceneFile;
 use jointwear::simulation::longlife::{predict, LongLife, LongLifeSettings};
 use jointwear::simulation::Scene;
 use jointwear::Error;
+use serde::Serialize;
 use std::path::{Path, PathBuf};
 
 /// `longlife`: predicts the wear of the scene at `path` (k/H overridden if given) after
@@ -53,8 +56,17 @@ pub fn longlife(
     let result = predict(&scene, &settings, &bar);
     bar.finish_and_clear();
     let life = result.map_err(bad)?;
-    let title = format!("jointwear longlife {}", path.display());
-    write_outputs(&dir, &title, || write_longlife(&scene, &life, &dir)).map_err(bad)?;
+    let mut title = format!("jointwear longlife {} --rotations {target}", path.display());
+    if let Some(k) = k_over_h {
+        title.push_str(&format!(" --k-over-h {k:e}"));
+    }
+    write_outputs(&dir, &title, || {
+        write_longlife(&scene, &life, &dir)?;
+        let summary = LongLifeSummary::new(path, &scene, &settings, &life);
+        write_json(&dir.join(SUMMARY_FILE), &summary)?;
+        write_text(&dir.join(README_FILE), &readme(&title, &scene))
+    })
+    .map_err(bad)?;
     let last = life.history.last().map_or(0, |s| s.rotations);
     println!(
         "{}: {last} rotations predicted from {} simulated in {:.1} s ({} blocks)",
@@ -147,4 +159,108 @@ fn write_longlife(scene: &Scene, life: &LongLife, dir: &Path) -> jointwear::Resu
         &snapshots,
     )?;
     Ok(())
+}
+
+/// `summary.json` of `longlife`: the settings and, per clearance joint, where its wear got.
+#[derive(Serialize)]
+struct LongLifeSummary {
+    /// `jointwear <version>`.
+    program: String,
+    scene: String,
+    title: String,
+    rotations_asked: u64,
+    settle_rotations: u32,
+    max_change: f64,
+    /// Rotations predicted: the target, or where a joint reached its limit.
+    rotations_predicted: u64,
+    rotations_simulated: u64,
+    /// Extrapolated blocks.
+    blocks: usize,
+    wall_time_s: f64,
+    /// `[rotations, joint name]` at which a joint reached its wear limit, if any did.
+    limit_reached: Option<(u64, String)>,
+    joints: Vec<LongLifeJoint>,
+}
+
+#[derive(Serialize)]
+struct LongLifeJoint {
+    name: String,
+    journal_body: String,
+    bearing_body: String,
+    clearance_m: f64,
+    /// The depth at which the prediction stops (m).
+    wear_limit_m: f64,
+    max_wear_depth_m: f64,
+    /// `clearance_m + max_wear_depth_m`.
+    effective_clearance_m: f64,
+}
+
+impl LongLifeSummary {
+    fn new(path: &Path, scene: &Scene, settings: &LongLifeSettings, life: &LongLife) -> Self {
+        let m = &scene.mechanism;
+        let last = life.history.last();
+        let joints = (m.clearance_joints.iter().enumerate())
+            .map(|(k, cj)| {
+                let depth = last.map_or(0.0, |s| s.max_depth(k));
+                LongLifeJoint {
+                    name: cj.name.clone(),
+                    journal_body: body_name(m, cj.journal.body).into(),
+                    bearing_body: body_name(m, cj.bearing.body).into(),
+                    clearance_m: life.clearances[k],
+                    wear_limit_m: life.limits[k],
+                    max_wear_depth_m: depth,
+                    effective_clearance_m: life.clearances[k] + depth,
+                }
+            })
+            .collect();
+        LongLifeSummary {
+            program: format!("jointwear {}", env!("CARGO_PKG_VERSION")),
+            scene: path.display().to_string(),
+            title: scene.title.clone(),
+            rotations_asked: settings.rotations,
+            settle_rotations: settings.settle_rotations,
+            max_change: settings.max_change,
+            rotations_predicted: last.map_or(0, |s| s.rotations),
+            rotations_simulated: life.simulated,
+            blocks: life.history.len().saturating_sub(1),
+            wall_time_s: life.wall_time,
+            limit_reached: (life.reached).map(|(at, k)| (at, m.clearance_joints[k].name.clone())),
+            joints,
+        }
+    }
+}
+
+/// `README.txt` of a `longlife` folder: the conventions, then every file it wrote.
+fn readme(title: &str, scene: &Scene) -> String {
+    let mut text = conventions(title, &scene.mechanism, &scene.title);
+    let worn: Vec<String> = (scene.mechanism.clearance_joints.iter())
+        .filter(|cj| cj.wear.is_some())
+        .map(|cj| file_part(&cj.name))
+        .collect();
+    let files = |stem: &str| {
+        let names: Vec<String> = worn.iter().map(|n| format!("{stem}_{n}.csv")).collect();
+        names.join(", ")
+    };
+    text.push_str(&format!(
+        "\nFILES\n\
+         Rotations are extrapolated, not simulated, between sampled blocks (cycle jump: the \
+         wear of a simulated block, scaled to a block length that changes no depth by more \
+         than --max-change of the effective clearance).\n\
+         longlife_growth.csv: after every block.\n\
+         \x20 rotations              rotations counted from the start\n\
+         \x20 <joint>.max_depth_m    deepest wear of the joint's bearing (m)\n\
+         \x20 <joint>.clearance_m    radial clearance + that depth (m)\n\
+         longlife_growth.png: the effective clearance against rotations (µm).\n\
+         {}: the wear profile at 1/5, 2/5, 3/5 and 4/5 of the rotations asked for and at the \
+         last count predicted.\n\
+         \x20 angle_deg    sector centre in the bearing frame (deg)\n\
+         \x20 rot<N>_m     depth worn into the bearing after N rotations (m)\n\
+         longlife_profiles.png: those profiles (µm), one panel per joint.\n\n\
+         {SUMMARY_FILE}: the prediction as JSON: program; scene; the settings; rotations \
+         predicted and simulated, blocks, wall_time_s; limit_reached ([rotations, joint] or \
+         null); joints (bodies, clearance_m, wear_limit_m, max_wear_depth_m, \
+         effective_clearance_m).\n",
+        files("longlife_profiles")
+    ));
+    text
 }

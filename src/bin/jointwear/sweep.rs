@@ -59,6 +59,7 @@ pub fn sweep(
     });
     let mut sweep = Sweep::new(path, sets, shard).map_err(|e| Failure::input(path, e))?;
     if let Some(e) = ensemble {
+        crate::ensemble::checked(path, &e)?;
         sweep = sweep
             .with_ensemble(e)
             .map_err(|e| Failure::input(path, e))?;
