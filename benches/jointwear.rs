@@ -1,6 +1,7 @@
 //! Criterion benches of the hot paths, all on the shipped standard scene:
 //! contact force per normal-force model, friction per law, one right-hand side, one crank
-//! rotation and the 40-rotation coupled wear run of figure 6.
+//! rotation, the 40-rotation coupled wear run of figure 6, its 16-member ensemble, and the
+//! whole `jointwear run` process of that run (start-up, outputs and PNGs included).
 //!
 //! `cargo bench`, then `cargo run --release --bin bench_summary` writes `data/benchmarks.csv`.
 
@@ -160,9 +161,37 @@ fn quick() -> Criterion {
         .sample_size(30)
 }
 
+/// The whole program as a user starts it: `jointwear run` of the standard scene without a
+/// time series (the wear CSVs, README.txt, summary.json and two PNGs are written), the
+/// process started and waited for in every iteration. Cargo builds the program for benches.
+fn process(c: &mut Criterion) {
+    let out = std::env::temp_dir().join(format!("jointwear-bench-{}", std::process::id()));
+    let scene = scene_path("standard");
+    let mut group = c.benchmark_group("process");
+    group
+        .sampling_mode(SamplingMode::Flat)
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(10));
+    group.bench_function("run_standard_40", |b| {
+        b.iter(|| {
+            let status = std::process::Command::new(env!("CARGO_BIN_EXE_jointwear"))
+                .arg("run")
+                .arg(&scene)
+                .args(["--set", "run.record_rotations=0", "--out"])
+                .arg(&out)
+                .stdout(std::process::Stdio::null())
+                .status()
+                .expect("jointwear starts");
+            assert!(status.success(), "jointwear run failed: {status}");
+        })
+    });
+    group.finish();
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 criterion_group! {
     name = benches;
     config = quick();
-    targets = contact_force, friction, rhs, runs
+    targets = contact_force, friction, rhs, runs, process
 }
 criterion_main!(benches);

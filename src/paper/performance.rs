@@ -23,15 +23,16 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 /// Run-time targets of the hot paths: criterion bench and its budget (ns). The 40-rotation
-/// run and its 16-member ensemble have the budgets users asked for (0.1 s for the whole
-/// `jointwear run` process, 1 s for the ensemble on 2 cores); the bench times the run alone,
-/// so a missed bench budget is a missed whole-process target.
-pub const TARGETS: [(&str, f64); 5] = [
+/// run and its 16-member ensemble have the budgets users asked for: 0.1 s for the whole
+/// `jointwear run` process (`process/run_standard_40` times it as a user starts it; the
+/// run alone, `wear_run/standard_40`, has the same budget) and 1 s for the ensemble on 2 cores.
+pub const TARGETS: [(&str, f64); 6] = [
     ("contact_force/hybrid", 20.0),
     ("contact_force/lankarani-nikravesh", 20.0),
     ("rhs/standard", 300.0),
     ("wear_run/standard_40", 0.1e9),
     ("ensemble/standard_40x16", 1e9),
+    ("process/run_standard_40", 0.1e9),
 ];
 /// Budget of the whole default `report` run (s).
 pub const REPORT_BUDGET_S: f64 = 60.0;
