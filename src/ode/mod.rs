@@ -168,12 +168,15 @@ pub enum Stop {
 pub struct IntegratorState {
     t: f64,
     t_prev: f64,
+    /// Proposed size of the next step.
     h: f64,
+    /// Error norm of the last accepted step (memory of the PI controller).
     err_prev: f64,
     y: Vec<f64>,
     y_prev: Vec<f64>,
     dy: Vec<f64>,
     dy_prev: Vec<f64>,
+    /// Term `r5` of the dense output; zero for the cubic Hermite methods.
     dense5: Vec<f64>,
     stats: Stats,
 }
@@ -191,26 +194,15 @@ pub struct Integrator {
     tol: Tolerances,
     control: StepControl,
     n_controlled: usize,
-    t: f64,
-    t_prev: f64,
-    /// Proposed size of the next step.
-    h: f64,
-    /// Error norm of the last accepted step (memory of the PI controller).
-    err_prev: f64,
-    y: Vec<f64>,
-    y_prev: Vec<f64>,
-    dy: Vec<f64>,
-    dy_prev: Vec<f64>,
+    /// What the next steps depend on, as a checkpoint saves it.
+    s: IntegratorState,
     y_new: Vec<f64>,
     dy_new: Vec<f64>,
     y_stage: Vec<f64>,
     /// Stage derivatives k2, k3, ... (k1 is `dy`, first-same-as-last).
     k: Vec<Vec<f64>>,
-    /// Term `r5` of the dense output; zero for the cubic Hermite methods.
-    dense5: Vec<f64>,
     /// Per-component error estimate of the last attempt (scratch).
     err: Vec<f64>,
-    stats: Stats,
 }
 
 /// `out = y + h (row[0] k1 + Σ_{j≥1} row[j] k[j-1])`, skipping the many zero coefficients.
@@ -273,44 +265,35 @@ impl Integrator {
             tol,
             control: StepControl::default(),
             n_controlled,
-            t: 0.0,
-            t_prev: 0.0,
-            h: 0.0,
-            err_prev: 1e-4,
-            y: vec![0.0; dim],
-            y_prev: vec![0.0; dim],
-            dy: vec![0.0; dim],
-            dy_prev: vec![0.0; dim],
+            s: IntegratorState {
+                t: 0.0,
+                t_prev: 0.0,
+                h: 0.0,
+                err_prev: 1e-4,
+                y: vec![0.0; dim],
+                y_prev: vec![0.0; dim],
+                dy: vec![0.0; dim],
+                dy_prev: vec![0.0; dim],
+                dense5: vec![0.0; dim],
+                stats: Stats::default(),
+            },
             y_new: vec![0.0; dim],
             dy_new: vec![0.0; dim],
             y_stage: vec![0.0; dim],
             k: vec![vec![0.0; dim]; method.tableau().a.len() - 1],
-            dense5: vec![0.0; dim],
             err: vec![0.0; dim],
-            stats: Stats::default(),
         }
     }
 
     /// What the next steps depend on (the stage buffers are scratch).
     pub fn state(&self) -> IntegratorState {
-        IntegratorState {
-            t: self.t,
-            t_prev: self.t_prev,
-            h: self.h,
-            err_prev: self.err_prev,
-            y: self.y.clone(),
-            y_prev: self.y_prev.clone(),
-            dy: self.dy.clone(),
-            dy_prev: self.dy_prev.clone(),
-            dense5: self.dense5.clone(),
-            stats: self.stats,
-        }
+        self.s.clone()
     }
 
     /// Continues from a saved state; fails (changing nothing) if its vectors do not have this
     /// integrator's length.
     pub fn restore(&mut self, s: IntegratorState) -> Result<()> {
-        let n = self.y.len();
+        let n = self.s.y.len();
         if [&s.y, &s.y_prev, &s.dy, &s.dy_prev, &s.dense5]
             .iter()
             .any(|v| v.len() != n)
@@ -320,10 +303,7 @@ impl Integrator {
                 "saved state of another length".into(),
             ));
         }
-        (self.t, self.t_prev, self.h, self.err_prev) = (s.t, s.t_prev, s.h, s.err_prev);
-        (self.y, self.y_prev, self.dy, self.dy_prev) = (s.y, s.y_prev, s.dy, s.dy_prev);
-        self.dense5 = s.dense5;
-        self.stats = s.stats;
+        self.s = s;
         Ok(())
     }
 
@@ -338,19 +318,19 @@ impl Integrator {
     pub fn reset(&mut self, sys: &mut impl OdeSystem, t: f64, y: &[f64]) -> Result<()> {
         assert_eq!(
             sys.dim(),
-            self.y.len(),
+            self.s.y.len(),
             "system dimension differs from the integrator's"
         );
-        self.t = t;
-        self.t_prev = t;
-        self.y.copy_from_slice(y);
-        self.y_prev.copy_from_slice(y);
-        self.stats.evaluations += 1;
-        sys.rhs(t, &self.y, &mut self.dy)?;
-        self.dy_prev.copy_from_slice(&self.dy);
-        self.dense5.fill(0.0);
-        self.err_prev = 1e-4;
-        self.h = match self.method {
+        self.s.t = t;
+        self.s.t_prev = t;
+        self.s.y.copy_from_slice(y);
+        self.s.y_prev.copy_from_slice(y);
+        self.s.stats.evaluations += 1;
+        sys.rhs(t, &self.s.y, &mut self.s.dy)?;
+        self.s.dy_prev.copy_from_slice(&self.s.dy);
+        self.s.dense5.fill(0.0);
+        self.s.err_prev = 1e-4;
+        self.s.h = match self.method {
             Method::Rk4 { step } => step,
             _ if self.tol.initial_step > 0.0 => self.tol.initial_step.min(self.tol.max_step),
             m => self.initial_step(sys, m.tableau().order)?,
@@ -363,9 +343,9 @@ impl Integrator {
         let n = self.n_controlled.max(1) as f64;
         let (mut d0, mut d1) = (0.0, 0.0);
         for i in 0..self.n_controlled {
-            let sc = scale(&self.tol, self.y[i], self.y[i]);
-            d0 += (self.y[i] / sc).powi(2);
-            d1 += (self.dy[i] / sc).powi(2);
+            let sc = scale(&self.tol, self.s.y[i], self.s.y[i]);
+            d0 += (self.s.y[i] / sc).powi(2);
+            d1 += (self.s.dy[i] / sc).powi(2);
         }
         let (d0, d1) = ((d0 / n).sqrt(), (d1 / n).sqrt());
         let h0 = if d0 < 1e-5 || d1 < 1e-5 {
@@ -374,13 +354,13 @@ impl Integrator {
             0.01 * d0 / d1
         }
         .min(self.tol.max_step);
-        combine(&mut self.y_stage, &self.y, &self.dy, &[], &[1.0], h0);
-        self.stats.evaluations += 1;
-        sys.rhs(self.t + h0, &self.y_stage, &mut self.dy_new)?;
+        combine(&mut self.y_stage, &self.s.y, &self.s.dy, &[], &[1.0], h0);
+        self.s.stats.evaluations += 1;
+        sys.rhs(self.s.t + h0, &self.y_stage, &mut self.dy_new)?;
         let mut d2 = 0.0;
         for i in 0..self.n_controlled {
-            let sc = scale(&self.tol, self.y[i], self.y[i]);
-            d2 += ((self.dy_new[i] - self.dy[i]) / sc).powi(2);
+            let sc = scale(&self.tol, self.s.y[i], self.s.y[i]);
+            d2 += ((self.dy_new[i] - self.s.dy[i]) / sc).powi(2);
         }
         let d2 = (d2 / n).sqrt() / h0;
         let dmax = d1.max(d2);
@@ -399,9 +379,9 @@ impl Integrator {
     /// as the first failed right-hand side of the step if there was one), a failed
     /// right-hand side or non-finite values with a fixed step.
     pub fn step(&mut self, sys: &mut impl OdeSystem, t_limit: f64) -> Result<Stop> {
-        if t_limit <= self.t || t_limit.is_nan() {
+        if t_limit <= self.s.t || t_limit.is_nan() {
             return Err(integration_error(
-                self.t,
+                self.s.t,
                 format!("step limit {t_limit:e} is not ahead of t"),
             ));
         }
@@ -409,12 +389,12 @@ impl Integrator {
         if let Method::Rk4 { step } = self.method {
             if step.is_nan() || step <= 0.0 {
                 return Err(integration_error(
-                    self.t,
+                    self.s.t,
                     format!("Rk4 step {step:e} is not positive"),
                 ));
             }
-            let last = self.t + step * (1.0 + 1e-9) >= t_limit;
-            let h = if last { t_limit - self.t } else { step };
+            let last = self.s.t + step * (1.0 + 1e-9) >= t_limit;
+            let h = if last { t_limit - self.s.t } else { step };
             self.attempt(sys, h)?;
             self.check_finite()?;
             self.finish_step(sys, h)?;
@@ -422,23 +402,23 @@ impl Integrator {
         }
         let mut rejected = false;
         // The last accepted step; 0 right after a (re)start.
-        let h_last = self.t - self.t_prev;
+        let h_last = self.s.t - self.s.t_prev;
         // Why the last attempt was thrown away, for the underflow message.
         let mut blow_up: Option<String> = None;
         let mut failure: Option<Error> = None;
         loop {
-            if self.h <= 1e-14 * self.t.abs() || self.h < f64::MIN_POSITIVE {
+            if self.s.h <= 1e-14 * self.s.t.abs() || self.s.h < f64::MIN_POSITIVE {
                 if let Some(e) = failure {
                     return Err(e);
                 }
                 let why = blow_up.map_or(String::new(), |b| format!(" after {b}"));
                 return Err(integration_error(
-                    self.t,
-                    format!("step size underflow (h = {:e}){why}", self.h),
+                    self.s.t,
+                    format!("step size underflow (h = {:e}){why}", self.s.h),
                 ));
             }
-            let last = self.t + 1.01 * self.h >= t_limit;
-            let h = if last { t_limit - self.t } else { self.h };
+            let last = self.s.t + 1.01 * self.s.h >= t_limit;
+            let h = if last { t_limit - self.s.t } else { self.s.h };
             // A trial whose right-hand side fails, that overflows (a step far too large for
             // stiff contact) or gives a NaN estimate is rejected and retried smaller.
             blow_up = match self.attempt(sys, h) {
@@ -456,13 +436,13 @@ impl Integrator {
                     }
                     None => {
                         let c = self.control;
-                        self.h = h * (c.safety * err.powf(-1.0 / tableau.order)).max(c.fac_min);
+                        self.s.h = h * (c.safety * err.powf(-1.0 / tableau.order)).max(c.fac_min);
                         None
                     }
                 },
             };
-            self.stats.rejected += 1;
-            let by = &mut self.stats.rejections;
+            self.s.stats.rejected += 1;
+            let by = &mut self.s.stats.rejections;
             *match () {
                 _ if blow_up.is_some() => &mut by.failed,
                 _ if rejected => &mut by.repeated,
@@ -472,7 +452,7 @@ impl Integrator {
             } += 1;
             rejected = true;
             if blow_up.is_some() {
-                self.h = h * self.control.fac_min;
+                self.s.h = h * self.control.fac_min;
             }
         }
     }
@@ -482,9 +462,10 @@ impl Integrator {
         let c = self.control;
         let order = self.method.tableau().order;
         let fac_max = if after_rejection { 1.0 } else { c.fac_max };
-        let fac = c.safety * err.powf(-(1.0 / order - 0.75 * c.beta)) * self.err_prev.powf(c.beta);
-        self.err_prev = err.max(1e-4);
-        self.h = (h * fac.clamp(c.fac_min, fac_max)).min(self.tol.max_step);
+        let fac =
+            c.safety * err.powf(-(1.0 / order - 0.75 * c.beta)) * self.s.err_prev.powf(c.beta);
+        self.s.err_prev = err.max(1e-4);
+        self.s.h = (h * fac.clamp(c.fac_min, fac_max)).min(self.tol.max_step);
     }
 
     /// One attempt of size `h`: fills `y_new` (and `dy_new` for first-same-as-last methods)
@@ -492,20 +473,27 @@ impl Integrator {
     fn attempt(&mut self, sys: &mut impl OdeSystem, h: f64) -> Result<f64> {
         let tab = self.method.tableau();
         for s in 1..tab.a.len() {
-            combine(&mut self.y_stage, &self.y, &self.dy, &self.k, tab.a[s], h);
-            self.stats.evaluations += 1;
-            sys.rhs(self.t + tab.c[s] * h, &self.y_stage, &mut self.k[s - 1])?;
+            combine(
+                &mut self.y_stage,
+                &self.s.y,
+                &self.s.dy,
+                &self.k,
+                tab.a[s],
+                h,
+            );
+            self.s.stats.evaluations += 1;
+            sys.rhs(self.s.t + tab.c[s] * h, &self.y_stage, &mut self.k[s - 1])?;
         }
-        combine(&mut self.y_new, &self.y, &self.dy, &self.k, tab.b, h);
+        combine(&mut self.y_new, &self.s.y, &self.s.dy, &self.k, tab.b, h);
         if tab.fsal {
-            self.stats.evaluations += 1;
-            sys.rhs(self.t + h, &self.y_new, &mut self.dy_new)?;
+            self.s.stats.evaluations += 1;
+            sys.rhs(self.s.t + h, &self.y_new, &mut self.dy_new)?;
         }
         Ok(match tab.estimate {
             Estimate::None => 0.0,
             Estimate::Embedded(e) => {
                 let n = self.n_controlled;
-                weighted(&mut self.err[..n], e, &self.dy, &self.k, &self.dy_new);
+                weighted(&mut self.err[..n], e, &self.s.dy, &self.k, &self.dy_new);
                 self.error_norm(|i| h * self.err[i])
             }
             Estimate::Blended { er, bhh } => self.blended_error(h, tab.b, er, bhh),
@@ -516,14 +504,20 @@ impl Integrator {
     fn blended_error(&self, h: f64, b: &[f64], er: &[f64], bhh: [f64; 3]) -> f64 {
         let (mut err5, mut err3) = (0.0, 0.0);
         for i in 0..self.n_controlled {
-            let stage = |j: usize| if j == 0 { self.dy[i] } else { self.k[j - 1][i] };
+            let stage = |j: usize| {
+                if j == 0 {
+                    self.s.dy[i]
+                } else {
+                    self.k[j - 1][i]
+                }
+            };
             let (mut e5, mut bi) = (0.0, 0.0);
             for j in 0..b.len() {
                 e5 += er[j] * stage(j);
                 bi += b[j] * stage(j);
             }
             let e3 = bi - bhh[0] * stage(0) - bhh[1] * stage(8) - bhh[2] * stage(11);
-            let sc = scale(&self.tol, self.y[i], self.y_new[i]);
+            let sc = scale(&self.tol, self.s.y[i], self.y_new[i]);
             err5 += (e5 / sc).powi(2);
             err3 += (e3 / sc).powi(2);
         }
@@ -537,14 +531,14 @@ impl Integrator {
     fn finish_step(&mut self, sys: &mut impl OdeSystem, h: f64) -> Result<()> {
         let tab = self.method.tableau();
         if let Dense::Shampine(d) = tab.dense {
-            weighted(&mut self.dense5, d, &self.dy, &self.k, &self.dy_new);
-            for r in &mut self.dense5 {
+            weighted(&mut self.s.dense5, d, &self.s.dy, &self.k, &self.dy_new);
+            for r in &mut self.s.dense5 {
                 *r *= h;
             }
         }
         if !tab.fsal {
-            self.stats.evaluations += 1;
-            sys.rhs(self.t + h, &self.y_new, &mut self.dy_new)?;
+            self.s.stats.evaluations += 1;
+            sys.rhs(self.s.t + h, &self.y_new, &mut self.dy_new)?;
         }
         Ok(())
     }
@@ -558,7 +552,7 @@ impl Integrator {
         match self.non_finite_component() {
             None => Ok(()),
             Some(i) => Err(integration_error(
-                self.t,
+                self.s.t,
                 format!("non-finite state component {i}"),
             )),
         }
@@ -567,15 +561,15 @@ impl Integrator {
     /// Makes `y_new`, `dy_new` the current point of a step of size `h`, landing exactly on
     /// `t_limit` if it is the `last`.
     fn accept(&mut self, h: f64, last: bool, t_limit: f64) -> Stop {
-        let t_new = if last { t_limit } else { self.t + h };
-        debug_assert!((t_new - self.t - h).abs() <= 1e-12 * t_new.abs().max(h));
-        std::mem::swap(&mut self.y_prev, &mut self.y);
-        std::mem::swap(&mut self.y, &mut self.y_new);
-        std::mem::swap(&mut self.dy_prev, &mut self.dy);
-        std::mem::swap(&mut self.dy, &mut self.dy_new);
-        self.t_prev = self.t;
-        self.t = t_new;
-        self.stats.steps += 1;
+        let t_new = if last { t_limit } else { self.s.t + h };
+        debug_assert!((t_new - self.s.t - h).abs() <= 1e-12 * t_new.abs().max(h));
+        std::mem::swap(&mut self.s.y_prev, &mut self.s.y);
+        std::mem::swap(&mut self.s.y, &mut self.y_new);
+        std::mem::swap(&mut self.s.dy_prev, &mut self.s.dy);
+        std::mem::swap(&mut self.s.dy, &mut self.dy_new);
+        self.s.t_prev = self.s.t;
+        self.s.t = t_new;
+        self.s.stats.steps += 1;
         if last {
             Stop::Limit
         } else {
@@ -587,66 +581,66 @@ impl Integrator {
     fn error_norm(&self, e_i: impl Fn(usize) -> f64) -> f64 {
         let mut sum = 0.0;
         for i in 0..self.n_controlled {
-            sum += (e_i(i) / scale(&self.tol, self.y[i], self.y_new[i])).powi(2);
+            sum += (e_i(i) / scale(&self.tol, self.s.y[i], self.y_new[i])).powi(2);
         }
         (sum / self.n_controlled.max(1) as f64).sqrt()
     }
 
     /// End of the last accepted step.
     pub fn t(&self) -> f64 {
-        self.t
+        self.s.t
     }
 
     /// Start of the last accepted step.
     pub fn t_prev(&self) -> f64 {
-        self.t_prev
+        self.s.t_prev
     }
 
     /// State at [`t`](Self::t).
     pub fn y(&self) -> &[f64] {
-        &self.y
+        &self.s.y
     }
 
     /// State at [`t_prev`](Self::t_prev).
     pub fn y_prev(&self) -> &[f64] {
-        &self.y_prev
+        &self.s.y_prev
     }
 
     /// f(t, y) at [`t`](Self::t).
     pub fn dy(&self) -> &[f64] {
-        &self.dy
+        &self.s.dy
     }
 
     /// Dense output inside the last accepted step [t_prev, t]: writes y(t_eval) into `out`.
     /// Exact at both ends.
     pub fn dense(&self, t_eval: f64, out: &mut [f64]) {
-        if t_eval == self.t {
-            out.copy_from_slice(&self.y);
+        if t_eval == self.s.t {
+            out.copy_from_slice(&self.s.y);
             return;
         }
-        let h = self.t - self.t_prev;
-        let th = (t_eval - self.t_prev) / h;
+        let h = self.s.t - self.s.t_prev;
+        let th = (t_eval - self.s.t_prev) / h;
         let th1 = 1.0 - th;
         for (i, o) in out.iter_mut().enumerate() {
-            let d = self.y[i] - self.y_prev[i];
-            let b = h * self.dy_prev[i] - d;
-            let c = d - h * self.dy[i] - b;
-            *o = self.y_prev[i] + th * (d + th1 * (b + th * (c + th1 * self.dense5[i])));
+            let d = self.s.y[i] - self.s.y_prev[i];
+            let b = h * self.s.dy_prev[i] - d;
+            let c = d - h * self.s.dy[i] - b;
+            *o = self.s.y_prev[i] + th * (d + th1 * (b + th * (c + th1 * self.s.dense5[i])));
         }
     }
 
     /// Work counters.
     pub fn stats(&self) -> Stats {
-        self.stats
+        self.s.stats
     }
 
     /// Counts an event handled by the driver, so that [`stats`](Self::stats) tells the whole story.
     pub fn record_event(&mut self) {
-        self.stats.events += 1;
+        self.s.stats.events += 1;
     }
 
     /// Currently proposed size of the next step.
     pub fn step_size(&self) -> f64 {
-        self.h
+        self.s.h
     }
 }
