@@ -5,7 +5,7 @@
 use crate::failure::{CliResult, Failure};
 use crate::outputs::conventions;
 use crate::run::{README_FILE, SUMMARY_FILE};
-use crate::{checked_out_dir, file_part, load_variant, Variant};
+use crate::{file_part, load_variant};
 use jointwear::analysis::statistics::{Distribution, QUANTILES};
 use jointwear::io::output::{number, write_json, write_outputs, write_rows, write_text};
 use jointwear::io::plot::{render, Axes, Series, Shade, Style};
@@ -46,43 +46,31 @@ pub fn run_ensemble(
 ) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
     checked(path, &settings)?;
-    let Variant {
-        scene,
-        changes,
-        fingerprint,
-    } = load_variant(path, sets, rotations)?;
-    let dir = checked_out_dir(path, out)?;
+    let variant = load_variant(path, sets, rotations, out)?;
+    let (scene, dir) = (&variant.scene, &variant.dir);
     let clock = std::time::Instant::now();
     let bar = progress_bar(settings.members as u64, "members");
     let members = ensemble::run(
-        &scene,
+        scene,
         &settings,
-        |_, o| ((summarize(&scene, &o), o.final_wear), o.wall_time),
+        |_, o| ((summarize(scene, &o), o.final_wear), o.wall_time),
         &bar,
     );
     bar.finish_and_clear();
     let (members, walls): (Vec<Member>, Vec<f64>) = members.map_err(bad)?.into_iter().unzip();
     let wall = clock.elapsed().as_secs_f64();
-    let mut title = format!(
-        "jointwear run {} --ensemble {} --seed {}",
-        path.display(),
-        settings.members,
-        settings.seed
+    let title = format!(
+        "{} --ensemble {} --seed {}",
+        variant.command, settings.members, settings.seed
     );
-    for s in sets {
-        title.push_str(&format!(" --set {s}"));
-    }
-    if let Some(n) = rotations {
-        title.push_str(&format!(" --rotations {n}"));
-    }
-    let stats = write_outputs(&dir, &title, || {
-        let stats = write_ensemble(&scene, &settings, &members, &walls, &dir)?;
+    let stats = write_outputs(dir, &title, || {
+        let stats = write_ensemble(scene, &settings, &members, &walls, dir)?;
         let summary = EnsembleSummary {
             program: format!("jointwear {}", env!("CARGO_PKG_VERSION")),
             scene: path.display().to_string(),
             title: scene.title.clone(),
-            fingerprint: fingerprint.clone(),
-            changes: changes.clone(),
+            fingerprint: variant.fingerprint.clone(),
+            changes: variant.changes.clone(),
             members: settings.members,
             seed: settings.seed,
             rotations: scene.run.rotations,
@@ -101,7 +89,7 @@ pub fn run_ensemble(
                 .collect(),
         };
         write_json(&dir.join(SUMMARY_FILE), &summary)?;
-        write_text(&dir.join(README_FILE), &readme(&title, &scene, &stats))?;
+        write_text(&dir.join(README_FILE), &readme(&title, scene, &stats))?;
         Ok(stats)
     })
     .map_err(bad)?;

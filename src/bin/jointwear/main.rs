@@ -271,6 +271,10 @@ pub struct Variant {
     /// The fingerprint of the scene file and its `--set`/`--rotations` changes: a checkpoint
     /// belongs to this variant only.
     pub fingerprint: String,
+    /// The output folder, checked ([`checked_out_dir`]).
+    pub dir: PathBuf,
+    /// `jointwear run SCENE` with its `--set` and `--rotations` arguments, for the outputs.
+    pub command: String,
 }
 
 /// The scene file at `path` with `sets` (`KEY=VALUE`, one value each) assigned through the
@@ -278,8 +282,14 @@ pub struct Variant {
 /// then cuts the wear snapshots past it and the recorded rotations to it, unless they were
 /// set. Validated as a scene file is, and every error is bad input (exit code 2): a bad key or
 /// value names the key, the value, the valid range and the `--set` it came from. The changes
-/// made on the user's behalf are printed ([`run::print_changes`]).
-fn load_variant(path: &Path, sets: &[String], rotations: Option<u32>) -> CliResult<Variant> {
+/// made on the user's behalf are printed ([`run::print_changes`]). `out` is checked as the
+/// output folder.
+fn load_variant(
+    path: &Path,
+    sets: &[String],
+    rotations: Option<u32>,
+    out: Option<PathBuf>,
+) -> CliResult<Variant> {
     let input = |e| Failure::input(path, e);
     let mut assignments = Vec::new();
     for arg in sets {
@@ -351,9 +361,18 @@ fn load_variant(path: &Path, sets: &[String], rotations: Option<u32>) -> CliResu
     }
     let scene = file.build().map_err(|e| input(from_set(e)))?;
     run::print_changes(&changes, rotations);
+    let mut command = format!("jointwear run {}", path.display());
+    for s in sets {
+        command.push_str(&format!(" --set {s}"));
+    }
+    if let Some(n) = rotations {
+        command.push_str(&format!(" --rotations {n}"));
+    }
     Ok(Variant {
         scene,
         changes,
         fingerprint,
+        dir: checked_out_dir(path, out)?,
+        command,
     })
 }

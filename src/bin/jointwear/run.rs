@@ -4,7 +4,7 @@
 
 use crate::failure::{CliResult, Failure};
 use crate::outputs::{body_name, conventions, timeseries_columns, write_profiles};
-use crate::{checked_out_dir, file_part, load_variant, Variant};
+use crate::{file_part, load_variant};
 use jointwear::io::interrupt;
 use jointwear::io::output::{write_csv, write_json, write_outputs, write_text};
 use jointwear::io::plot::{render, Axes, Series, Style};
@@ -31,12 +31,8 @@ pub fn run(
     resume: bool,
 ) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
-    let Variant {
-        scene,
-        changes,
-        fingerprint,
-    } = load_variant(path, sets, rotations)?;
-    let dir = checked_out_dir(path, out)?;
+    let variant = load_variant(path, sets, rotations, out)?;
+    let (scene, dir, fingerprint) = (&variant.scene, &variant.dir, &variant.fingerprint);
     if checkpoint_every == Some(0) {
         return Err(Failure::input(
             path,
@@ -45,7 +41,7 @@ pub fn run(
     }
     let saved = dir.join(CHECKPOINT_FILE);
     let mut sim = if resume {
-        let checkpoint = read_checkpoint(&saved, &fingerprint).map_err(|e| match e {
+        let checkpoint = read_checkpoint(&saved, fingerprint).map_err(|e| match e {
             Error::Io { .. } => Failure::input(
                 path,
                 Error::invalid(
@@ -56,9 +52,9 @@ pub fn run(
             ),
             e => Failure::input(path, e),
         })?;
-        Simulation::resume(&scene, checkpoint).map_err(|e| Failure::input(path, e))?
+        Simulation::resume(scene, checkpoint).map_err(|e| Failure::input(path, e))?
     } else {
-        Simulation::start(&scene).map_err(bad)?
+        Simulation::start(scene).map_err(bad)?
     };
     if checkpoint_every.is_some() {
         interrupt::keep(format!(
@@ -76,7 +72,7 @@ pub fn run(
             let total = total.unwrap_or(done + scene.run.rotations);
             bar.observe(done.into(), Some(total.into()));
             if checkpoint_every.is_some_and(|k| done % k == 0) {
-                write_checkpoint(&saved, &fingerprint, sim.checkpoint())?;
+                write_checkpoint(&saved, fingerprint, sim.checkpoint())?;
             }
         }
         Ok(())
@@ -84,19 +80,13 @@ pub fn run(
     bar.finish_and_clear();
     result.map_err(bad)?;
     let out = sim.finish();
-    let mut title = format!("jointwear run {}", path.display());
-    for s in sets {
-        title.push_str(&format!(" --set {s}"));
-    }
-    if let Some(n) = rotations {
-        title.push_str(&format!(" --rotations {n}"));
-    }
-    let joints = summarize(&scene, &out);
-    let summary = RunSummary::new(path, &scene, &changes, &fingerprint, &out, &joints);
-    write_outputs(&dir, &title, || {
-        write_run(&scene, &out, &dir)?;
+    let joints = summarize(scene, &out);
+    let summary = RunSummary::new(path, scene, &variant.changes, fingerprint, &out, &joints);
+    let title = &variant.command;
+    write_outputs(dir, title, || {
+        write_run(scene, &out, dir)?;
         write_json(&dir.join(SUMMARY_FILE), &summary)?;
-        write_text(&dir.join(README_FILE), &readme(&title, &scene, &out))
+        write_text(&dir.join(README_FILE), &readme(title, scene, &out))
     })
     .map_err(|e| Failure::from(path, e))?;
     // A completed run needs no checkpoint; a failed one keeps its last.
@@ -108,7 +98,7 @@ pub fn run(
             })
         })?;
     }
-    print_summary(&scene, &out, &joints);
+    print_summary(scene, &out, &joints);
     println!("outputs in {}", dir.display());
     Ok(())
 }
