@@ -22,6 +22,7 @@
 pub mod checkpoint;
 pub mod ensemble;
 pub mod longlife;
+pub mod picture;
 mod record;
 mod run;
 

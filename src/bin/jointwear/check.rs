@@ -1,16 +1,22 @@
 //! `jointwear check SCENE`: validates a scene, prints what it describes and the pose it
-//! assembles to, noting bodies that may have closed on another branch of their loop.
+//! assembles to, noting bodies that may have closed on another branch of their loop, and
+//! draws that pose (`mechanism_<scene>.png`).
 
 use crate::failure::{CliResult, Failure};
+use crate::{checked_out_dir, scene_stem};
+use jointwear::io::plot::render_mechanism;
 use jointwear::scene::SceneFile;
+use jointwear::simulation::picture::pose_picture;
 use jointwear::simulation::Scene;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// `check`: reads and builds the scene at `path` and prints its bodies, joints, driver, run
-/// settings, degrees of freedom and assembled pose.
-pub fn check(path: &Path) -> CliResult<()> {
+/// `check`: reads and builds the scene at `path`, prints its bodies, joints, driver, run
+/// settings, degrees of freedom and assembled pose, and draws the pose into `out`
+/// ([`checked_out_dir`]).
+pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
     let file = SceneFile::read(path).map_err(|e| Failure::input(path, e))?;
     let scene = file.build().map_err(|e| Failure::from(path, e))?;
+    let dir = checked_out_dir(path, out)?;
     let m = &scene.mechanism;
     println!("{}: {}", path.display(), scene.title);
     println!("bodies:");
@@ -79,7 +85,40 @@ pub fn check(path: &Path) -> CliResult<()> {
         "degrees of freedom: {dof} (2 per clearance joint; {} with the clearance joints ideal)",
         dof - 2 * m.clearance_joints.len() as i64
     );
-    print_assembly(path, &scene)
+    let (q, far) = print_assembly(path, &scene)?;
+    let mut picture = pose_picture(m, &q);
+    picture.title = scene.title.clone();
+    // the branch on a line of its own: a note of several bodies is long
+    picture.note = format!("t = 0, clearance joints centred\n{}", branch_note(&far));
+    let png = dir.join(format!("mechanism_{}.png", scene_stem(path)));
+    render_mechanism(&png, &picture).map_err(|e| Failure::from(path, e))?;
+    println!(
+        "drew {}: {}",
+        png.display(),
+        picture.note.replace('\n', "; ")
+    );
+    Ok(())
+}
+
+/// A body assembled far from its guessed angle: its name and turn from the guess (deg).
+type FarBody = (String, f64);
+
+/// What the picture says of the branch: the bodies assembled far from their guessed angle,
+/// or that there are none.
+fn branch_note(far: &[FarBody]) -> String {
+    let turns: Vec<String> = far
+        .iter()
+        .enumerate()
+        .map(|(k, (name, turn))| {
+            let verb = if k == 0 { " assembled" } else { "" };
+            format!("{name}{verb} {:.0}°", turn.abs())
+        })
+        .collect();
+    match far.len() {
+        0 => "assembled on the guessed branch".into(),
+        1 => format!("{} from its guess: other branch", turns[0]),
+        _ => format!("{} from their guesses: other branch", turns.join(", ")),
+    }
 }
 
 /// Turn (deg) between a body's guessed and assembled angle beyond which `check` says the
@@ -88,11 +127,13 @@ const BRANCH_TURN_DEG: f64 = 30.0;
 
 /// Assembles `scene` at t = 0 as a run does and prints every body's pose, noting bodies
 /// assembled far from their guessed angle (another branch of the loop, e.g. elbow down).
-fn print_assembly(path: &Path, scene: &Scene) -> CliResult<()> {
-    let y = (scene.mechanism.assemble(&scene.guess)).map_err(|e| Failure::from(path, e))?;
+/// Returns the assembled state and those bodies with their turn from the guess (deg).
+fn print_assembly(path: &Path, scene: &Scene) -> CliResult<(Vec<f64>, Vec<FarBody>)> {
+    let q = (scene.mechanism.assemble(&scene.guess)).map_err(|e| Failure::from(path, e))?;
+    let mut far = Vec::new();
     println!("assembled pose at t = 0 (clearance joints centred):");
     for (i, b) in scene.mechanism.bodies().iter().enumerate() {
-        let (x, y, angle) = (y[3 * i], y[3 * i + 1], y[3 * i + 2].to_degrees());
+        let (x, y, angle) = (q[3 * i], q[3 * i + 1], q[3 * i + 2].to_degrees());
         println!(
             "  {:12} x {:10.4} mm, y {:10.4} mm, angle {:9.3} deg",
             b.name,
@@ -106,7 +147,8 @@ fn print_assembly(path: &Path, scene: &Scene) -> CliResult<()> {
                 "    note: {turn:.1} deg from its guessed angle: the loop may have closed on \
                  another branch (elbow up/down) than the guess meant"
             );
+            far.push((b.name.clone(), turn));
         }
     }
-    Ok(())
+    Ok((q, far))
 }

@@ -5,10 +5,11 @@
 //!
 //! This file owns the command line (arguments, help, dispatch) and the output naming shared by
 //! the subcommands; each subcommand lives in its own module: [`run`] (one run), [`ensemble`]
-//! (`run --ensemble`), [`check`], [`sweep`] (`sweep` and `sweep-merge`) and [`longlife`];
+//! (`run --ensemble`), [`check`], [`animate`], [`sweep`] (`sweep` and `sweep-merge`) and [`longlife`];
 //! [`outputs`] holds the output pieces they share; [`failure`] turns errors into messages and
 //! exit codes.
 
+mod animate;
 mod check;
 mod ensemble;
 mod failure;
@@ -51,6 +52,7 @@ summary.json and README.txt.";
 const EXAMPLES: &str = "\
 Examples:
   jointwear check data/scenes/fourbar.toml
+  jointwear animate data/scenes/standard.toml --out /tmp/standard
   jointwear run data/scenes/standard.toml --out out/standard
   jointwear run data/scenes/standard.toml --rotations 10 --set clearance.0.clearance_mm=0.2
   jointwear run data/scenes/standard.toml --ensemble 16 --seed 1
@@ -102,8 +104,31 @@ enum Command {
         #[arg(long, conflicts_with = "ensemble")]
         resume: bool,
     },
-    /// Validate a scene and print what it describes.
-    Check { scene: PathBuf },
+    /// Validate a scene, print what it describes and draw its assembled pose.
+    ///
+    /// The picture is <out>/mechanism_<scene stem>.png; it names the branch the loop closed on.
+    Check {
+        scene: PathBuf,
+        /// Output directory [default: out/<scene stem>]
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Draw rotations from the assembled start as a looping GIF, the journal's orbit magnified.
+    ///
+    /// The GIF is <out>/mechanism_<scene stem>.gif: no settling, no wear snapshots; an inset
+    /// magnifies the first clearance joint's journal centre in its clearance circle.
+    Animate {
+        scene: PathBuf,
+        /// Output directory [default: out/<scene stem>]
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Rotations to simulate and draw
+        #[arg(long, value_name = "N", default_value_t = 1)]
+        rotations: u32,
+        /// Frames of the GIF, evenly spaced over the rotations (20 per second)
+        #[arg(long, value_name = "N", default_value_t = 72)]
+        frames: usize,
+    },
     /// Run the cartesian product of --set values in parallel, one summary CSV row per case.
     #[command(
         after_help = "KEY is a dotted path into the scene file, array elements by 0-based \
@@ -202,7 +227,13 @@ fn main() -> ExitCode {
             out,
             EnsembleSettings { members, seed },
         ),
-        Command::Check { scene } => check::check(&scene),
+        Command::Check { scene, out } => check::check(&scene, out),
+        Command::Animate {
+            scene,
+            out,
+            rotations,
+            frames,
+        } => animate::animate(&scene, out, rotations, frames),
         Command::Sweep {
             scene,
             sets,
@@ -238,7 +269,16 @@ fn main() -> ExitCode {
 
 /// `out/<scene stem>` unless given.
 fn out_dir(scene: &Path, out: Option<PathBuf>) -> PathBuf {
-    out.unwrap_or_else(|| Path::new("out").join(scene.file_stem().unwrap_or(scene.as_os_str())))
+    out.unwrap_or_else(|| Path::new("out").join(scene_stem(scene)))
+}
+
+/// The scene file's name without its extension (`standard` for `data/scenes/standard.toml`).
+fn scene_stem(scene: &Path) -> String {
+    scene
+        .file_stem()
+        .unwrap_or(scene.as_os_str())
+        .to_string_lossy()
+        .into_owned()
 }
 
 /// [`out_dir`], refused (exit 2, as `--out`) if it cannot hold a run's outputs.

@@ -40,7 +40,13 @@ impl Axis {
         } else {
             0
         };
-        let points = RangedCoordf64::from(lo..hi).key_points(ticks);
+        // plotters 0.3.7 finds no key point at all on some narrow ranges far from zero (170 ±
+        // 0.04 for 3 or 4 ticks, an inset of a mechanism picture): ask for more until it does.
+        let key_points = |n: usize| RangedCoordf64::from(lo..hi).key_points(n);
+        let ticks = (ticks..3 * ticks.max(1))
+            .find(|&n| key_points(n).len() >= 2)
+            .unwrap_or(ticks);
+        let points = key_points(ticks);
         let step = points
             .windows(2)
             .map(|w| w[1] - w[0])
@@ -127,5 +133,19 @@ impl Axis {
     /// Length of the range.
     pub(super) fn span(&self) -> f64 {
         self.hi - self.lo
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_narrow_range_far_from_zero_still_gets_ticks() {
+        let axis = Axis::new((169.96, 170.04), 4);
+        let n = RangedCoordf64::from(axis.lo..axis.hi)
+            .key_points(axis.ticks())
+            .len();
+        assert!(n >= 2, "{n} ticks");
     }
 }

@@ -31,32 +31,75 @@ pub(super) type DrawResult<'b> = std::result::Result<(), Box<dyn std::error::Err
 /// Draws `panels` into the PNG at `path` (1-3 side by side, 4 as 2x2, more in rows of 3),
 /// atomically.
 pub(super) fn draw_figure(path: &Path, panels: &[Panel]) -> Result<()> {
+    write_atomic(path, |tmp| {
+        let backend = BitMapBackend::new(tmp, figure_size(panels));
+        draw_frames(path, backend, std::slice::from_ref(&panels))
+    })
+}
+
+/// Draws each element of `frames` (the panels of one frame, laid out as [`draw_figure`]
+/// does) as a frame of the looping GIF at `path`, `delay_ms` apart, atomically. plotters'
+/// GIF backend writes only to a path: it writes the temporary file of
+/// [`write_atomic`], which renames it into place when the last frame is in.
+pub(super) fn draw_animation<P: AsRef<[Panel]>>(
+    path: &Path,
+    frames: &[P],
+    delay_ms: u32,
+) -> Result<()> {
+    let first = frames
+        .first()
+        .ok_or_else(|| plot_error(path, "an animation needs at least one frame"))?;
+    let size = figure_size(first.as_ref());
+    write_atomic(path, |tmp| {
+        let backend = BitMapBackend::gif(tmp, size, delay_ms).map_err(|e| plot_error(path, e))?;
+        draw_frames(path, backend, frames)
+    })
+}
+
+/// The grid of a figure of `n` panels: (columns, rows).
+fn grid(n: u32) -> (u32, u32) {
+    let cols = if n == 4 { 2 } else { n.min(3) };
+    (cols, n.div_ceil(cols))
+}
+
+/// The size (px) of a figure of `panels`.
+fn figure_size(panels: &[Panel]) -> (u32, u32) {
+    let (cols, rows) = grid(panels.len() as u32);
+    (cols * PANEL_SIZE.0, rows * PANEL_SIZE.1)
+}
+
+/// Draws every frame onto `backend`, each presented once (a PNG has one frame, a GIF many).
+/// Notes of Cartesian panels go under the x axis; every panel of every frame keeps the same
+/// plot height, so that frames of an animation line up.
+fn draw_frames<P: AsRef<[Panel]>>(
+    path: &Path,
+    backend: BitMapBackend<'_>,
+    frames: &[P],
+) -> Result<()> {
     ensure_font().map_err(|m| plot_error(path, m))?;
-    let n = panels.len() as u32;
-    // Notes of Cartesian panels go under the x axis; every panel keeps the same plot height.
-    let note_lines = panels
+    let note_lines = frames
         .iter()
+        .flat_map(|f| f.as_ref())
         .filter(|p| !p.polar)
         .filter_map(|p| p.note.as_ref())
         .map(|s| s.lines().count() as u32)
         .max()
         .unwrap_or(0);
-    let cols = if n == 4 { 2 } else { n.min(3) };
-    let rows = n.div_ceil(cols);
-    write_atomic(path, |tmp| {
-        let size = (cols * PANEL_SIZE.0, rows * PANEL_SIZE.1);
-        let root = GlyphBackend::new(BitMapBackend::new(tmp, size)).into_drawing_area();
-        let drawn: DrawResult = (|| {
+    let root = GlyphBackend::new(backend).into_drawing_area();
+    let drawn: DrawResult = (|| {
+        for panels in frames {
+            let panels = panels.as_ref();
+            let (cols, rows) = grid(panels.len() as u32);
             root.fill(&WHITE)?;
             let areas = root.split_evenly((rows as usize, cols as usize));
             for (area, panel) in areas.iter().zip(panels) {
                 draw_panel(area, panel, note_lines)?;
             }
             root.present()?;
-            Ok(())
-        })();
-        drawn.map_err(|e| plot_error(path, e))
-    })
+        }
+        Ok(())
+    })();
+    drawn.map_err(|e| plot_error(path, e))
 }
 
 /// Draws one panel; Cartesian panels leave `note_lines` lines under the x axis for notes.

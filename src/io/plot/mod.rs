@@ -12,7 +12,8 @@
 //! - ensemble bands ([`Shade`]) are filled in a light tint of their series' colour, under the
 //!   lines.
 //!
-//! Files are written through [`crate::io::output::write_atomic`].
+//! Files (PNG, and the GIF of an animation) are written through
+//! [`crate::io::output::write_atomic`].
 //!
 //! The code, by what it does:
 //!
@@ -24,6 +25,8 @@
 //!   is created;
 //! - `draw`: drawing laid-out panels on Cartesian axes into the PNG;
 //! - `clip`: lines and bands cut to the visible ranges (plotters draws outside them);
+//! - `mechanism`: pictures of a mechanism's pose ([`render_mechanism`]) and animated GIFs of
+//!   its motion ([`render_animation`]), with the journal's orbit magnified in an inset;
 //! - `polar`: closed profiles as polar pictures ([`render_polar`]);
 //! - `text`: the drawing backend that places glyphs correctly (plotters 0.3.7 drops each
 //!   glyph's left side bearing; see its module documentation).
@@ -31,11 +34,15 @@
 mod axis;
 mod clip;
 mod draw;
+mod mechanism;
 mod panel;
 mod polar;
 mod text;
 mod theme;
 
+pub use mechanism::{
+    render_animation, render_mechanism, BodyShape, ClearanceShape, Guide, MechanismPicture, Point,
+};
 pub use polar::render_polar;
 
 use std::path::Path;

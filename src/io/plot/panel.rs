@@ -121,7 +121,7 @@ fn check_range(name: &str, r: Option<(f64, f64)>) -> std::result::Result<(), Str
 }
 
 /// Plotting-area size in pixels for given left/right label areas (mirrors `draw::draw_panel`).
-fn plot_size(left: u32, right: u32, polar: bool) -> (f64, f64) {
+pub(super) fn plot_size(left: u32, right: u32, polar: bool) -> (f64, f64) {
     let (top, bottom, l, r) = MARGIN;
     let x_area = if polar { 0 } else { X_LABEL_AREA };
     (
