@@ -131,14 +131,17 @@ fn two_clearance_joints() {
 }
 
 #[test]
-fn pure_coulomb_friction_stalls_into_a_clear_error() {
+fn pure_coulomb_friction_stalls_into_a_clear_error_fast() {
     // The sign switch of pure Coulomb friction at zero sliding velocity makes the adaptive
-    // step collapse (chattering): the step guard turns the crawl into an error.
+    // step collapse (chattering): the crawl guard turns it into an error at its first judged
+    // window (2 × CRAWL_WINDOW steps), long before the step limit.
     let r = stability_case("coulomb_0.5", 1, MAX_STEPS).unwrap();
     let failure = r.failure.expect("pure Coulomb friction does not complete");
-    assert!(
-        failure.starts_with("integration failed at t = ")
-            && failure.ends_with(&format!("step limit of {MAX_STEPS} steps reached")),
-        "{failure}"
-    );
+    for needle in [
+        "integration failed at t = ",
+        "the run crawls",
+        "pure Coulomb friction",
+    ] {
+        assert!(failure.contains(needle), "{needle}: {failure}");
+    }
 }

@@ -101,6 +101,19 @@ pub fn wear_limit(cj: &ClearanceJoint) -> f64 {
     MAX_WEAR_RATIO * cj.r_bearing
 }
 
+/// Accepted steps over which a run must advance at least [`CRAWL_FRACTION`] of a driver
+/// period, checked at every multiple of it.
+pub const CRAWL_WINDOW: u64 = 100_000;
+
+/// Least share of a driver period (or of what the window's steps cover at the largest step, if
+/// less) that [`CRAWL_WINDOW`] accepted steps must advance. A run slower than that crawls: a
+/// force that switches at zero velocity (pure Coulomb friction in sticking contact chatters at
+/// 1e-9 s steps) would take minutes to reach `run.max_steps`. Measured per window: the slowest
+/// completing shipped scene (stick-slip friction, sticking in its first milliseconds) advances
+/// 7.8 % of a period; pure Coulomb friction (`data/scenes/stability/coulomb_0.5.toml`)
+/// 0.045 % in its first judged window, 0.05 % to 1.3 % later.
+pub const CRAWL_FRACTION: f64 = 0.01;
+
 /// Orbit samples per rotation for the steady-state test.
 pub const ORBIT_PHASES: usize = 360;
 

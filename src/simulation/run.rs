@@ -47,6 +47,9 @@ pub struct Simulation {
     history_interval: f64,
     next_history: f64,
     energy_start: Option<(f64, f64)>,
+    /// Time at the last multiple of [`CRAWL_WINDOW`] accepted steps (none yet after a start
+    /// or a resume: the first window is not judged).
+    crawl_mark: Option<f64>,
     /// Penetration of each joint at the end of the last accepted step.
     gaps: Vec<f64>,
     y_event: Vec<f64>,
@@ -114,6 +117,7 @@ impl Simulation {
             history_interval,
             next_history,
             energy_start,
+            crawl_mark: None,
             gaps,
             y_event: vec![0.0; dim],
             y_mid: vec![0.0; dim],
@@ -355,6 +359,41 @@ impl Simulation {
         }
     }
 
+    /// The error of a run that advanced only `advanced` (s) over the [`CRAWL_WINDOW`] steps
+    /// up to `t`.
+    fn crawl_error(&self, t: f64, advanced: f64) -> Error {
+        Error::Integration {
+            time: t,
+            cause: format!(
+                "the run crawls: its last {CRAWL_WINDOW} steps advanced {advanced:.3e} s (mean \
+                 step {:.1e} s), under {} % of a driver period, and would take about {:.0e} \
+                 steps to finish: a force that switches at zero velocity, such as pure Coulomb \
+                 friction in sticking contact (the modified law of eq. 4 regularises it), or a \
+                 contact far stiffer than the integrator can follow",
+                advanced / CRAWL_WINDOW as f64,
+                100.0 * CRAWL_FRACTION,
+                self.remaining_time(t) / advanced * CRAWL_WINDOW as f64
+            ),
+        }
+    }
+
+    /// Least time [`CRAWL_WINDOW`] steps must advance: [`CRAWL_FRACTION`] of a driver period,
+    /// or of what the window's steps can cover at the scene's largest (or fixed) step if that
+    /// is less, so that a scene asking for tiny steps is not taken for a crawling one.
+    fn crawl_threshold(&self) -> f64 {
+        let step = match self.settings.method {
+            Method::Rk4 { step } => step,
+            _ => self.settings.tolerances.max_step,
+        };
+        CRAWL_FRACTION * self.period.min(CRAWL_WINDOW as f64 * step)
+    }
+
+    /// Simulated time left until the run's end (s); settling counts as one more rotation.
+    fn remaining_time(&self, t: f64) -> f64 {
+        let end = self.end_rotation.unwrap_or(self.rotation + 1);
+        (end as f64 * self.period - t).max(0.0)
+    }
+
     /// One accepted step towards `boundary`, cut at the earliest contact onset in it.
     fn accepted_step(&mut self, boundary: f64) -> Result<()> {
         let n = self.mechanism.coordinates();
@@ -365,11 +404,18 @@ impl Simulation {
         };
         self.integrator.step(&mut sys, boundary)?;
         let (ta, tb) = (self.integrator.t_prev(), self.integrator.t());
-        if self.integrator.stats().steps >= self.settings.max_steps {
+        let steps = self.integrator.stats().steps;
+        if steps >= self.settings.max_steps {
             return Err(Error::Integration {
                 time: tb,
                 cause: format!("step limit of {} steps reached", self.settings.max_steps),
             });
+        }
+        if steps.is_multiple_of(CRAWL_WINDOW) {
+            if let Some(mark) = self.crawl_mark.filter(|&m| tb - m < self.crawl_threshold()) {
+                return Err(self.crawl_error(tb, tb - mark));
+            }
+            self.crawl_mark = Some(tb);
         }
         let (mechanism, integrator, y_event) =
             (&self.mechanism, &self.integrator, &mut self.y_event);
@@ -505,4 +551,28 @@ fn add_wear(
         }
     }
     beyond
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{scene_path, SceneFile};
+
+    #[test]
+    fn a_scene_asking_for_tiny_steps_is_not_taken_for_a_crawling_one() {
+        let mut f = SceneFile::read(scene_path("standard")).unwrap();
+        (f.run.rotations, f.run.record_rotations) = (1, 0);
+        f.run.wear_snapshots.clear();
+        let period = 60.0 / 2000.0;
+        for (max_step, threshold) in [
+            // 100 000 steps of at most 1 ms could cover 100 s: 1 % of the period it is.
+            (1e-3, CRAWL_FRACTION * period),
+            // At most 2e-9 s a step, they cover 0.67 % of the period: 1 % of that.
+            (2e-9, CRAWL_FRACTION * CRAWL_WINDOW as f64 * 2e-9),
+        ] {
+            f.run.max_step_s = max_step;
+            let sim = Simulation::start(&f.build().unwrap()).unwrap();
+            approx::assert_relative_eq!(sim.crawl_threshold(), threshold, max_relative = 1e-12);
+        }
+    }
 }
