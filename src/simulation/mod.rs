@@ -106,9 +106,10 @@ pub fn wear_limit(cj: &ClearanceJoint) -> f64 {
 pub const CRAWL_WINDOW: u64 = 100_000;
 
 /// Least share of a driver period (or of what the window's steps cover at the largest step, if
-/// less) that [`CRAWL_WINDOW`] accepted steps must advance. A run slower than that crawls: a
-/// force that switches at zero velocity (pure Coulomb friction in sticking contact chatters at
-/// 1e-9 s steps) would take minutes to reach `run.max_steps`. Measured per window: the slowest
+/// less) that [`CRAWL_WINDOW`] accepted steps must advance. A run slower than that crawls, and
+/// stops when at that pace it would not finish within `run.max_steps`: a force that switches at
+/// zero velocity (pure Coulomb friction in sticking contact chatters at 1e-10 s steps) would
+/// otherwise take minutes to reach the limit. Measured per window: the slowest
 /// completing shipped scene (stick-slip friction, sticking in its first milliseconds) advances
 /// 7.8 % of a period; pure Coulomb friction (`data/scenes/stability/coulomb_0.5.toml`)
 /// 0.045 % in its first judged window, 0.05 % to 1.3 % later.

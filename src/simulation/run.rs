@@ -360,19 +360,20 @@ impl Simulation {
     }
 
     /// The error of a run that advanced only `advanced` (s) over the [`CRAWL_WINDOW`] steps
-    /// up to `t`.
-    fn crawl_error(&self, t: f64, advanced: f64) -> Error {
+    /// up to `t` and at that pace needs `needed` more.
+    fn crawl_error(&self, t: f64, advanced: f64, needed: f64) -> Error {
         Error::Integration {
             time: t,
             cause: format!(
                 "the run crawls: its last {CRAWL_WINDOW} steps advanced {advanced:.3e} s (mean \
-                 step {:.1e} s), under {} % of a driver period, and would take about {:.0e} \
-                 steps to finish: a force that switches at zero velocity, such as pure Coulomb \
-                 friction in sticking contact (the modified law of eq. 4 regularises it), or a \
-                 contact far stiffer than the integrator can follow",
+                 step {:.1e} s), under {} % of a driver period, and at that pace it needs about \
+                 {needed:.0e} more steps, beyond run.max_steps = {}: a force that switches at \
+                 zero velocity, such as pure Coulomb friction in sticking contact (the modified \
+                 law of eq. 4 regularises it), or a contact far stiffer than the integrator can \
+                 follow",
                 advanced / CRAWL_WINDOW as f64,
                 100.0 * CRAWL_FRACTION,
-                self.remaining_time(t) / advanced * CRAWL_WINDOW as f64
+                self.settings.max_steps
             ),
         }
     }
@@ -386,6 +387,15 @@ impl Simulation {
             _ => self.settings.tolerances.max_step,
         };
         CRAWL_FRACTION * self.period.min(CRAWL_WINDOW as f64 * step)
+    }
+
+    /// The steps a run at `t` after `steps` steps still needs, if its last [`CRAWL_WINDOW`]
+    /// steps `advanced` (s) under [`Simulation::crawl_threshold`] and at that pace it would
+    /// not finish within `run.max_steps`; a run that could still finish goes on, however slow.
+    fn crawling(&self, t: f64, advanced: f64, steps: u64) -> Option<f64> {
+        let needed = self.remaining_time(t) / advanced * CRAWL_WINDOW as f64;
+        let allowed = self.settings.max_steps.saturating_sub(steps) as f64;
+        (advanced < self.crawl_threshold() && needed > allowed).then_some(needed)
     }
 
     /// Simulated time left until the run's end (s); settling counts as one more rotation.
@@ -412,8 +422,10 @@ impl Simulation {
             });
         }
         if steps.is_multiple_of(CRAWL_WINDOW) {
-            if let Some(mark) = self.crawl_mark.filter(|&m| tb - m < self.crawl_threshold()) {
-                return Err(self.crawl_error(tb, tb - mark));
+            if let Some(mark) = self.crawl_mark {
+                if let Some(needed) = self.crawling(tb, tb - mark, steps) {
+                    return Err(self.crawl_error(tb, tb - mark, needed));
+                }
             }
             self.crawl_mark = Some(tb);
         }
@@ -574,5 +586,25 @@ mod tests {
             let sim = Simulation::start(&f.build().unwrap()).unwrap();
             approx::assert_relative_eq!(sim.crawl_threshold(), threshold, max_relative = 1e-12);
         }
+    }
+
+    #[test]
+    fn a_crawling_run_stops_only_when_it_cannot_finish_within_its_step_limit() {
+        let mut f = SceneFile::read(scene_path("standard")).unwrap();
+        (f.run.rotations, f.run.record_rotations) = (1, 0);
+        f.run.wear_snapshots.clear();
+        // 100 000 steps that advanced 3e-6 s (0.01 % of the 30 ms period), 0.03 s to go:
+        // about 1e9 more steps.
+        let mut crawl = |max_steps: u64| {
+            f.run.max_steps = max_steps;
+            let sim = Simulation::start(&f.build().unwrap()).unwrap();
+            sim.crawling(0.0, 3e-6, 2 * CRAWL_WINDOW)
+        };
+        approx::assert_relative_eq!(crawl(20_000_000).unwrap(), 1e9, max_relative = 1e-9);
+        assert_eq!(crawl(10_000_000_000), None);
+        // Not crawling: 10 % of a period in a window.
+        f.run.max_steps = 20_000_000;
+        let sim = Simulation::start(&f.build().unwrap()).unwrap();
+        assert_eq!(sim.crawling(0.0, 3e-3, 2 * CRAWL_WINDOW), None);
     }
 }
