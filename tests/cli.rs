@@ -85,8 +85,10 @@ fn run_writes_series_wear_plots_and_summary() {
 
 #[test]
 fn check_describes_the_scene() {
-    let o = jointwear(&["check", s(&scene_path("fourbar"))]);
+    let dir = temp_dir("check");
+    let o = jointwear(&["check", s(&scene_path("fourbar")), "--out", s(&dir)]);
     assert!(o.status.success(), "{}", stderr(&o));
+    fs::remove_dir_all(&dir).unwrap();
     let text = stdout(&o);
     for needle in [
         "coupler-rocker",

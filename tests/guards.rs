@@ -136,7 +136,9 @@ const OPEN_FOURBAR: (&str, &str) = (
 
 #[test]
 fn check_assembles_and_prints_the_pose_of_every_body() {
-    let o = jointwear(&["check", s(&scene_path("fourbar"))]);
+    let dir = temp_dir("guards", "branch");
+    let out = dir.join("out");
+    let o = jointwear(&["check", s(&scene_path("fourbar")), "--out", s(&out)]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
     for line in [
@@ -149,11 +151,10 @@ fn check_assembles_and_prints_the_pose_of_every_body() {
     }
     assert!(!text.contains("note:"), "{text}");
     // A rocker guessed 100 deg off closes the loop elbow down, and check says so.
-    let dir = temp_dir("guards", "branch");
     let scene = dir.join("far.toml");
     let far = ("angle_deg = 100.0", "angle_deg = 200.0");
     fs::write(&scene, scene_with("fourbar", &[far])).unwrap();
-    let text = stdout(&jointwear(&["check", s(&scene)]));
+    let text = stdout(&jointwear(&["check", s(&scene), "--out", s(&out)]));
     for line in [
         "  coupler      x    58.9286 mm, y   -34.4694 mm, angle   -49.995 deg",
         "    note: 60.0 deg from its guessed angle: the loop may have closed on another branch",
