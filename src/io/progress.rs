@@ -80,11 +80,6 @@ impl<'a> Counter<'a> {
         }
     }
 
-    /// Whether the observer wants the loop to stop ([`Progress::cancelled`]).
-    pub fn cancelled(&self) -> bool {
-        self.progress.cancelled()
-    }
-
     /// One more unit finished.
     pub fn finish_one(&self) {
         let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;

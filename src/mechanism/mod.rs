@@ -244,6 +244,12 @@ impl Mechanism {
         2 * self.revolutes.len() + 2 * self.translationals.len() + 1
     }
 
+    /// Degrees of freedom: coordinates minus constraint equations (negative when
+    /// over-constrained; 2 per clearance joint in a driven single loop).
+    pub fn degrees_of_freedom(&self) -> i64 {
+        self.coordinates() as i64 - self.constraint_count() as i64
+    }
+
     /// Length of the ODE state: positions, velocities, and the energy quadratures if on.
     pub fn state_len(&self) -> usize {
         2 * self.coordinates()

@@ -2,6 +2,7 @@
 //! digits without trailing zeros, counts with thousands grouped, durations with a sensible
 //! precision. (Data files keep full precision; these are for text a person reads.)
 
+use crate::io::plot::superscript;
 use crate::laws::friction::FrictionModel;
 use crate::laws::wear::PressureModel;
 
@@ -78,15 +79,6 @@ pub fn sci(v: f64) -> String {
         _ if m == "\u{2212}1.00" => format!("\u{2212}10{}", superscript(exp)),
         _ => format!("{m}×10{}", superscript(exp)),
     }
-}
-
-/// `n` in superscript digits with a true minus sign: `⁻⁴`.
-pub fn superscript(n: i32) -> String {
-    const SUP: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
-    n.to_string()
-        .chars()
-        .map(|c| c.to_digit(10).map_or('⁻', |d| SUP[d as usize]))
-        .collect()
 }
 
 /// A number for people: an integer as a grouped count, a value in [10⁻³, 10⁵) with four

@@ -3,7 +3,7 @@
 //! back as plain Python objects that the package `jointwear` wraps as numpy arrays.
 
 use super::convert::{f64_bytes, from_toml, to_toml};
-use super::to_py_err;
+use super::{to_py_err, SimulationError};
 use crate::analysis::statistics::{Distribution, QUANTILES};
 use crate::analysis::Motion;
 use crate::io::progress::Progress;
@@ -28,8 +28,11 @@ pub struct Document {
     path: PathBuf,
 }
 
-/// One ensemble member as kept: joint summaries, final wear and the snapshots' profiles.
-type Member = (Vec<JointSummary>, Vec<Vec<f64>>, Vec<Vec<Vec<f64>>>);
+/// One ensemble member as the statistics take it: joint summaries and final wear.
+type Member = (Vec<JointSummary>, Vec<Vec<f64>>);
+
+/// The wear profiles of one member's snapshots: per snapshot, per joint, per sector.
+type Snapshots = Vec<Vec<Vec<f64>>>;
 
 impl Document {
     /// The validated scene in SI units; errors as the program reports a scene's.
@@ -118,8 +121,7 @@ impl Document {
             joints.append(j)?;
         }
         d.set_item("joints", joints)?;
-        let dof = m.coordinates() as i64 - m.constraint_count() as i64;
-        d.set_item("dof", dof)?;
+        d.set_item("dof", m.degrees_of_freedom())?;
         d.set_item("period_s", scene.period())?;
         d.set_item("rotations", scene.run.rotations)?;
         Ok(d)
@@ -151,12 +153,13 @@ impl Document {
         let keep = |_, o: RunOutput| {
             let summary = summarize(&scene, &o);
             let snaps = o.wear_snapshots.into_iter().map(|s| s.depths).collect();
-            (summary, o.final_wear, snaps)
+            ((summary, o.final_wear), snaps)
         };
         let kept = interruptible(py, |cancel| ensemble::run(&scene, &settings, keep, cancel))?;
-        let kept: Vec<Member> = kept.map_err(|e| self.error(e))?;
+        let (kept, snaps): (Vec<Member>, Vec<Snapshots>) =
+            kept.map_err(|e| self.error(e))?.into_iter().unzip();
         let wall = clock.elapsed().as_secs_f64();
-        ensemble_dict(py, &scene, &settings, &kept, wall)
+        ensemble_dict(py, &scene, &settings, (&kept, &snaps), wall)
     }
 
     /// Runs the cartesian product of `values[i]` at `keys[i]` (the last key varying fastest,
@@ -346,12 +349,11 @@ fn run_dict<'py>(py: Python<'py>, scene: &Scene, out: &RunOutput) -> PyResult<Bo
         None => d.set_item("energy", py.None())?,
     }
     match out.settling {
+        // The fields as serde names them, like summary.json's.
         Some(s) => {
-            let sd = PyDict::new(py);
-            sd.set_item("rotations", s.rotations)?;
-            sd.set_item("orbit_change", s.orbit_change)?;
-            sd.set_item("steady", s.steady)?;
-            d.set_item("settling", sd)?;
+            let value =
+                toml::Value::try_from(s).map_err(|e| SimulationError::new_err(e.to_string()))?;
+            d.set_item("settling", from_toml(py, &value)?)?
         }
         None => d.set_item("settling", py.None())?,
     }
@@ -363,14 +365,10 @@ fn ensemble_dict<'py>(
     py: Python<'py>,
     scene: &Scene,
     settings: &EnsembleSettings,
-    kept: &[Member],
+    (kept, snapshots): (&[Member], &[Snapshots]),
     wall: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let members: Vec<(Vec<JointSummary>, Vec<Vec<f64>>)> = kept
-        .iter()
-        .map(|(s, w, _)| (s.clone(), w.clone()))
-        .collect();
-    let stats = joint_statistics(scene, &members);
+    let stats = joint_statistics(scene, kept);
     let d = PyDict::new(py);
     d.set_item("title", &scene.title)?;
     d.set_item("members", settings.members)?;
@@ -392,7 +390,7 @@ fn ensemble_dict<'py>(
         let scalars = PyDict::new(py);
         let statistics = PyDict::new(py);
         for (i, (name, dist)) in st.scalars.iter().enumerate() {
-            let values: Vec<f64> = kept.iter().map(|(s, _, _)| s[k].scalars()[i].1).collect();
+            let values: Vec<f64> = kept.iter().map(|(s, _)| s[k].scalars()[i].1).collect();
             scalars.set_item(*name, f64_bytes(py, &values))?;
             let sd = PyDict::new(py);
             sd.set_item("n", dist.n)?;
@@ -405,17 +403,19 @@ fn ensemble_dict<'py>(
         j.set_item("statistics", statistics)?;
         let modes: Vec<Option<&str>> = kept
             .iter()
-            .map(|(s, _, _)| s[k].motion.as_ref().map(Motion::mode))
+            .map(|(s, _)| s[k].motion.as_ref().map(Motion::mode))
             .collect();
         j.set_item("motion_mode", modes)?;
         if let Some(band) = &st.wear {
             let sectors = band.sectors.len();
             j.set_item("angle_deg", f64_bytes(py, &sector_angles_deg(sectors)))?;
-            let finals: Vec<f64> = kept.iter().flat_map(|(_, w, _)| w[k].clone()).collect();
-            j.set_item("final_wear_m", f64_bytes(py, &finals))?;
-            let snaps: Vec<f64> = kept
+            let finals: Vec<f64> = kept
                 .iter()
-                .flat_map(|(_, _, s)| s.iter().flat_map(|depths| depths[k].clone()))
+                .flat_map(|(_, w)| w[k].iter().copied())
+                .collect();
+            j.set_item("final_wear_m", f64_bytes(py, &finals))?;
+            let snaps: Vec<f64> = (snapshots.iter())
+                .flat_map(|s| s.iter().flat_map(|depths| depths[k].iter().copied()))
                 .collect();
             j.set_item("snapshots_m", f64_bytes(py, &snaps))?;
             let bd = PyDict::new(py);

@@ -133,7 +133,7 @@ impl SceneFile {
             (run.baumgarte, run.baumgarte),
             run.energy_accounting,
         )?;
-        let dof = mechanism.coordinates() as i64 - mechanism.constraint_count() as i64;
+        let dof = mechanism.degrees_of_freedom();
         if dof < 0 {
             return Err(Error::invalid(
                 "joints",

@@ -4,7 +4,6 @@
 use super::SceneFile;
 use crate::laws::friction::FrictionModel;
 use crate::mechanism::Mechanism;
-use crate::ode::Method;
 use crate::simulation::Scene;
 use crate::{Error, Result};
 use std::path::Path;
@@ -185,10 +184,7 @@ impl Scene {
     /// would crawl into the step limit (1e-300 s took 78 s to fail); it fails here at once.
     pub fn check_step_budget(&self) -> Result<()> {
         let run = &self.run;
-        let (field, step) = match run.method {
-            Method::Rk4 { step } => ("run.fixed_step_s", step),
-            _ => ("run.max_step_s", run.tolerances.max_step),
-        };
+        let (field, step) = run.largest_step();
         let period = self.period();
         let needed = run.rotations as f64 * period / step;
         if needed <= run.max_steps as f64 {

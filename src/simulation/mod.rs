@@ -78,6 +78,17 @@ pub struct RunSettings {
     pub max_steps: u64,
 }
 
+impl RunSettings {
+    /// The largest step a run takes (s) and the scene key that sets it: `run.fixed_step_s` of
+    /// `rk4`, else `run.max_step_s`.
+    pub fn largest_step(&self) -> (&'static str, f64) {
+        match self.method {
+            Method::Rk4 { step } => ("run.fixed_step_s", step),
+            _ => ("run.max_step_s", self.tolerances.max_step),
+        }
+    }
+}
+
 /// Steady-state criterion: the journal orbit of each clearance joint, sampled at
 /// [`ORBIT_PHASES`] driver phases per rotation, changes from one rotation to the next by an RMS
 /// of at most `tolerance` times the radial clearance.

@@ -382,10 +382,7 @@ impl Simulation {
     /// or of what the window's steps can cover at the scene's largest (or fixed) step if that
     /// is less, so that a scene asking for tiny steps is not taken for a crawling one.
     fn crawl_threshold(&self) -> f64 {
-        let step = match self.settings.method {
-            Method::Rk4 { step } => step,
-            _ => self.settings.tolerances.max_step,
-        };
+        let (_, step) = self.settings.largest_step();
         CRAWL_FRACTION * self.period.min(CRAWL_WINDOW as f64 * step)
     }
 

@@ -80,7 +80,7 @@ pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
         r.atol,
         r.max_step_s
     );
-    let dof = m.coordinates() as i64 - m.constraint_count() as i64;
+    let dof = m.degrees_of_freedom();
     println!(
         "degrees of freedom: {dof} (2 per clearance joint; {} with the clearance joints ideal)",
         dof - 2 * m.clearance_joints.len() as i64

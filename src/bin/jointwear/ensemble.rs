@@ -3,11 +3,10 @@
 //! it prints.
 
 use crate::failure::{CliResult, Failure};
-use crate::outputs::conventions;
-use crate::run::{README_FILE, SUMMARY_FILE};
+use crate::outputs::{conventions, write_summary, PROGRAM, SUMMARY_FILE};
 use crate::{file_part, load_variant};
 use jointwear::analysis::statistics::{Distribution, QUANTILES};
-use jointwear::io::output::{number, write_json, write_outputs, write_rows, write_text};
+use jointwear::io::output::{number, write_outputs, write_rows};
 use jointwear::io::plot::{render, Axes, Series, Shade, Style};
 use jointwear::io::progress::progress_bar;
 use jointwear::laws::wear::sector_angles_deg;
@@ -66,7 +65,7 @@ pub fn run_ensemble(
     let stats = write_outputs(dir, &title, || {
         let stats = write_ensemble(scene, &settings, &members, &walls, dir)?;
         let summary = EnsembleSummary {
-            program: format!("jointwear {}", env!("CARGO_PKG_VERSION")),
+            program: PROGRAM.into(),
             scene: path.display().to_string(),
             title: scene.title.clone(),
             fingerprint: variant.fingerprint.clone(),
@@ -88,8 +87,7 @@ pub fn run_ensemble(
                 })
                 .collect(),
         };
-        write_json(&dir.join(SUMMARY_FILE), &summary)?;
-        write_text(&dir.join(README_FILE), &readme(&title, scene, &stats))?;
+        write_summary(dir, &summary, &readme(&title, scene, &stats))?;
         Ok(stats)
     })
     .map_err(bad)?;

@@ -4,9 +4,10 @@
 use crate::checked_out_dir;
 use crate::failure::{CliResult, Failure};
 use crate::file_part;
-use crate::outputs::{body_name, conventions, write_profiles};
-use crate::run::{README_FILE, SUMMARY_FILE};
-use jointwear::io::output::{write_csv, write_json, write_outputs, write_text};
+use crate::outputs::{
+    body_name, conventions, write_profiles, write_summary, PROGRAM, SUMMARY_FILE,
+};
+use jointwear::io::output::{write_csv, write_outputs};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::progress_bar;
 use jointwear::scene::SceneFile;
@@ -60,20 +61,16 @@ pub fn longlife(
     if let Some(k) = k_over_h {
         title.push_str(&format!(" --k-over-h {k:e}"));
     }
+    let summary = LongLifeSummary::new(path, &scene, &settings, &life);
     write_outputs(&dir, &title, || {
         write_longlife(&scene, &life, &dir)?;
-        let summary = LongLifeSummary::new(path, &scene, &settings, &life);
-        write_json(&dir.join(SUMMARY_FILE), &summary)?;
-        write_text(&dir.join(README_FILE), &readme(&title, &scene))
+        write_summary(&dir, &summary, &readme(&title, &scene))
     })
     .map_err(bad)?;
-    let last = life.history.last().map_or(0, |s| s.rotations);
+    let last = summary.rotations_predicted;
     println!(
         "{}: {last} rotations predicted from {} simulated in {:.1} s ({} blocks)",
-        scene.title,
-        life.simulated,
-        life.wall_time,
-        life.history.len() - 1
+        scene.title, summary.rotations_simulated, summary.wall_time_s, summary.blocks
     );
     match life.reached {
         Some((at, k)) => println!(
@@ -88,16 +85,15 @@ pub fn longlife(
         ),
         None => println!("  no joint reached its wear limit within {target} rotations"),
     }
-    for (k, cj) in scene.mechanism.clearance_joints.iter().enumerate() {
-        let depth = life.history.last().map_or(0.0, |s| s.max_depth(k));
+    for j in &summary.joints {
         println!(
             "  joint {}: max wear {:.3} µm ({:.0} % of its limit) after {last} rotations, \
              clearance {:.3} -> {:.3} µm",
-            cj.name,
-            depth * 1e6,
-            100.0 * depth / life.limits[k],
-            life.clearances[k] * 1e6,
-            (life.clearances[k] + depth) * 1e6
+            j.name,
+            j.max_wear_depth_m * 1e6,
+            100.0 * j.max_wear_depth_m / j.wear_limit_m,
+            j.clearance_m * 1e6,
+            j.effective_clearance_m * 1e6
         );
     }
     println!("outputs in {}", dir.display());
@@ -214,7 +210,7 @@ impl LongLifeSummary {
             })
             .collect();
         LongLifeSummary {
-            program: format!("jointwear {}", env!("CARGO_PKG_VERSION")),
+            program: PROGRAM.into(),
             scene: path.display().to_string(),
             title: scene.title.clone(),
             rotations_asked: settings.rotations,

@@ -351,28 +351,25 @@ fn load_variant(
     }
     let doc = SceneFile::read_document(path).map_err(input)?;
     let fingerprint = fingerprint(&doc, &assignments);
-    let from_set = |e| {
-        let sets: Vec<String> = sets.iter().map(|s| format!("--set {s}")).collect();
-        let mut from: Vec<String> = sets;
-        if let Some(n) = rotations {
-            from.push(format!("--rotations {n}"));
-        }
-        match e {
-            Error::Invalid {
-                field,
-                value,
-                expected,
-            } if !from.is_empty() => Error::Invalid {
-                field: format!("{field} (with {})", from.join(", ")),
-                value,
-                expected,
-            },
-            Error::Parse { path, message } if !from.is_empty() => Error::Parse {
-                path,
-                message: format!("{} (with {})", message.trim_end(), from.join(", ")),
-            },
-            e => e,
-        }
+    // The arguments that changed the file, for messages and the command line.
+    let from: Vec<String> = (sets.iter().map(|s| format!("--set {s}")))
+        .chain(rotations.map(|n| format!("--rotations {n}")))
+        .collect();
+    let from_set = |e| match e {
+        Error::Invalid {
+            field,
+            value,
+            expected,
+        } if !from.is_empty() => Error::Invalid {
+            field: format!("{field} (with {})", from.join(", ")),
+            value,
+            expected,
+        },
+        Error::Parse { path, message } if !from.is_empty() => Error::Parse {
+            path,
+            message: format!("{} (with {})", message.trim_end(), from.join(", ")),
+        },
+        e => e,
     };
     let mut varied = doc;
     for a in &assignments {
@@ -401,13 +398,10 @@ fn load_variant(
     }
     let scene = file.build().map_err(|e| input(from_set(e)))?;
     run::print_changes(&changes, rotations);
-    let mut command = format!("jointwear run {}", path.display());
-    for s in sets {
-        command.push_str(&format!(" --set {s}"));
-    }
-    if let Some(n) = rotations {
-        command.push_str(&format!(" --rotations {n}"));
-    }
+    let command = std::iter::once(format!("jointwear run {}", path.display()))
+        .chain(from)
+        .collect::<Vec<_>>()
+        .join(" ");
     Ok(Variant {
         scene,
         changes,

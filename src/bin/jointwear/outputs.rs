@@ -3,11 +3,30 @@
 //! `README.txt` states (units, frames, signs, number format).
 
 use crate::file_part;
-use jointwear::io::output::write_csv;
+use jointwear::io::output::{write_csv, write_json, write_text};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::laws::wear::sector_angles_deg;
 use jointwear::mechanism::{BodyIndex, Mechanism};
 use std::path::Path;
+
+/// The machine-readable summary every output folder holds.
+pub const SUMMARY_FILE: &str = "summary.json";
+
+/// The description of an output folder's files: units, frames and sign conventions.
+pub const README_FILE: &str = "README.txt";
+
+/// What wrote an output folder, as its summary says: `jointwear <version>`.
+pub const PROGRAM: &str = concat!("jointwear ", env!("CARGO_PKG_VERSION"));
+
+/// Writes an output folder's [`SUMMARY_FILE`] and [`README_FILE`].
+pub fn write_summary(
+    dir: &Path,
+    summary: &impl serde::Serialize,
+    readme: &str,
+) -> jointwear::Result<()> {
+    write_json(&dir.join(SUMMARY_FILE), summary)?;
+    write_text(&dir.join(README_FILE), readme)
+}
 
 /// At most this many profiles are drawn in one panel of a profile figure (the palette has
 /// nine colours); the CSV holds them all.
@@ -102,7 +121,7 @@ pub fn body_name(m: &Mechanism, b: BodyIndex) -> &str {
 pub fn conventions(command: &str, m: &Mechanism, title: &str) -> String {
     let driver = body_name(m, Some(m.driver.body));
     let mut text = format!(
-        "Outputs of `{command}` (jointwear {}): {title}\n\
+        "Outputs of `{command}` ({PROGRAM}): {title}\n\
          jointwear-manifest.txt lists the files of this run; other files in this folder are \
          not from it.\n\
          \n\
@@ -122,8 +141,7 @@ pub fn conventions(command: &str, m: &Mechanism, title: &str) -> String {
          * Wear depth: radial depth worn into the bearing (m), >= 0; sector i of N is \
          centred at (i + 0.5) * 360 / N deg.\n\
          \n\
-         CLEARANCE JOINTS (journal in bearing)\n",
-        env!("CARGO_PKG_VERSION"),
+         CLEARANCE JOINTS (journal in bearing)\n"
     );
     for cj in &m.clearance_joints {
         text.push_str(&format!(

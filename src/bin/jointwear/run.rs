@@ -3,10 +3,13 @@
 //! `summary.json` and `README.txt`, and the summary it prints.
 
 use crate::failure::{CliResult, Failure};
-use crate::outputs::{body_name, conventions, timeseries_columns, write_profiles};
+use crate::outputs::{
+    body_name, conventions, timeseries_columns, write_profiles, write_summary, PROGRAM,
+    SUMMARY_FILE,
+};
 use crate::{file_part, load_variant};
 use jointwear::io::interrupt;
-use jointwear::io::output::{write_csv, write_json, write_outputs, write_text};
+use jointwear::io::output::{write_csv, write_outputs};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::{progress_bar, Progress};
 use jointwear::laws::wear::sector_angles_deg;
@@ -85,8 +88,7 @@ pub fn run(
     let title = &variant.command;
     write_outputs(dir, title, || {
         write_run(scene, &out, dir)?;
-        write_json(&dir.join(SUMMARY_FILE), &summary)?;
-        write_text(&dir.join(README_FILE), &readme(title, scene, &out))
+        write_summary(dir, &summary, &readme(title, scene, &out))
     })
     .map_err(|e| Failure::from(path, e))?;
     // A completed run needs no checkpoint; a failed one keeps its last.
@@ -102,12 +104,6 @@ pub fn run(
     println!("outputs in {}", dir.display());
     Ok(())
 }
-
-/// The machine-readable summary every `run` writes beside its outputs.
-pub const SUMMARY_FILE: &str = "summary.json";
-
-/// The description of an output folder's files: units, frames and sign conventions.
-pub const README_FILE: &str = "README.txt";
 
 /// Says on stderr which values `--set` and `--rotations` changed beyond those they name.
 pub fn print_changes(changes: &[(String, String)], rotations: Option<u32>) {
@@ -378,7 +374,7 @@ impl RunSummary {
         let run = &scene.run;
         let settling = out.settling.map_or(0, |s| s.rotations);
         RunSummary {
-            program: format!("jointwear {}", env!("CARGO_PKG_VERSION")),
+            program: PROGRAM.into(),
             scene: SceneSummary {
                 path: path.display().to_string(),
                 title: scene.title.clone(),

@@ -22,8 +22,9 @@ pub(super) struct Axis {
     pub(super) log: bool,
 }
 
-/// `n` in superscript digits, with a true minus sign.
-fn superscript(n: i32) -> String {
+/// `n` in superscript digits with a true minus sign: `⁻⁴` (axis factors here, and the
+/// report's scientific notation).
+pub fn superscript(n: i32) -> String {
     const SUP: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
     n.to_string()
         .chars()
@@ -42,11 +43,11 @@ impl Axis {
         };
         // plotters 0.3.7 finds no key point at all on some narrow ranges far from zero (170 ±
         // 0.04 for 3 or 4 ticks, an inset of a mechanism picture): ask for more until it does.
-        let key_points = |n: usize| RangedCoordf64::from(lo..hi).key_points(n);
-        let ticks = (ticks..3 * ticks.max(1))
-            .find(|&n| key_points(n).len() >= 2)
-            .unwrap_or(ticks);
-        let points = key_points(ticks);
+        let key_points = |n: usize| (n, RangedCoordf64::from(lo..hi).key_points(n));
+        let (ticks, points) = (ticks..3 * ticks.max(1))
+            .map(key_points)
+            .find(|(_, p)| p.len() >= 2)
+            .unwrap_or_else(|| key_points(ticks));
         let step = points
             .windows(2)
             .map(|w| w[1] - w[0])

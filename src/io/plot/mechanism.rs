@@ -21,8 +21,8 @@ use std::path::Path;
 
 use super::axis::Axis;
 use super::draw::{draw_animation, draw_figure};
-use super::panel::{plot_size, Panel};
-use super::theme::{INSET_TICK_PX, LEGEND_PX, NOTE_LINE_PX, TICK_PX, Y_TICKS};
+use super::panel::{circle_points, legend_height_px, plot_size, Panel};
+use super::theme::{INSET_TICK_PX, NOTE_LINE_PX, TICK_PX, Y_TICKS};
 use super::{plot_error, Axes, Inset, Series, Style};
 use crate::Result;
 
@@ -189,15 +189,12 @@ fn view(frames: &[MechanismPicture]) -> Option<View> {
 fn legend_height(p: &MechanismPicture) -> f64 {
     let orbits = p.clearance.iter().filter(|c| !c.orbit.is_empty()).count();
     let rows = p.bodies.len() + p.clearance.len() + orbits + usize::from(!p.pins.is_empty());
-    (rows as f64 * f64::from(LEGEND_PX + 12) + 40.0) / PLOT_PX.1
+    legend_height_px(rows) / PLOT_PX.1
 }
 
-/// A closed polyline approximating the circle of radius `r` around `c`.
+/// A closed polyline approximating the circle of radius `r` around `c`, every 3°.
 fn circle(c: Point, r: f64) -> Vec<Point> {
-    (0..=120)
-        .map(|k| f64::from(k) * 3f64.to_radians())
-        .map(|t| (c.0 + r * t.cos(), c.1 + r * t.sin()))
-        .collect()
+    circle_points(c, r, 3.0)
 }
 
 /// The segment of `g` across the view `((x0, x1), (y0, y1))`: its line between the
@@ -284,13 +281,13 @@ fn series(p: &MechanismPicture, view: View) -> Vec<Owned> {
 
 /// The inset of the first clearance joint with an orbit: its clearance circle around the
 /// current bearing centre, at the same scale on both axes, titled with its magnification.
-fn inset(p: &MechanismPicture, view: View) -> Option<Inset> {
+fn inset(p: &MechanismPicture, view: View, (w, h): (f64, f64)) -> Option<Inset> {
     let c = p.clearance.iter().find(|c| !c.orbit.is_empty())?;
     let reach = INSET_REACH * c.clearance();
     let y_range = (c.bearing.1 - reach, c.bearing.1 + reach);
-    // The pixel box of the inset's chart, as `draw::draw_inset` lays it out (approximately:
-    // the main view's label area may change by a character when equal aspect widens it).
-    let (w, h) = plot_size(Axis::new(view.y, Y_TICKS).label_area(), 0, false);
+    // The pixel box of the inset's chart, as `draw::draw_inset` lays it out in the plotting
+    // area (w, h) (approximately: the main view's label area may change by a character when
+    // equal aspect widens it).
     // the note's lines under the x axis take from the plot's height
     let h = h - f64::from(NOTE_LINE_PX) * p.note.lines().count() as f64;
     let (l, b, r, t) = view.inset_at;
@@ -317,8 +314,7 @@ fn round2(v: f64) -> f64 {
 
 /// The label of each clearance joint (name and clearance), above its bearing circle and
 /// inside the view: its width estimated from the view's scale.
-fn joint_labels(p: &MechanismPicture, view: View) -> Vec<(f64, f64, String)> {
-    let (w, _) = plot_size(Axis::new(view.y, Y_TICKS).label_area(), 0, false);
+fn joint_labels(p: &MechanismPicture, view: View, w: f64) -> Vec<(f64, f64, String)> {
     let mm_per_px = (view.x.1 - view.x.0) / w;
     p.clearance
         .iter()
@@ -335,6 +331,8 @@ fn joint_labels(p: &MechanismPicture, view: View) -> Vec<(f64, f64, String)> {
 fn panel(p: &MechanismPicture, view: View) -> std::result::Result<Panel, String> {
     let owned = series(p, view);
     let pin = PIN_FRACTION * (view.x.1 - view.x.0);
+    // the plotting area (px) of the view, which places the labels and sizes the inset
+    let plot_px = plot_size(Axis::new(view.y, Y_TICKS).label_area(), 0, false);
     let axes = Axes {
         title: p.title.clone(),
         x_label: "x (mm)".into(),
@@ -348,9 +346,9 @@ fn panel(p: &MechanismPicture, view: View) -> std::result::Result<Panel, String>
         equal_aspect: true,
         circles: p.pins.iter().map(|&(x, y)| (x, y, pin)).collect(),
         circle_label: "ideal revolute joint".into(),
-        point_labels: joint_labels(p, view),
+        point_labels: joint_labels(p, view, plot_px.0),
         note: Some(p.note.clone()).filter(|n| !n.is_empty()),
-        inset: inset(p, view),
+        inset: inset(p, view, plot_px),
         ..Default::default()
     };
     Panel::new(&axes, axes.title.clone(), None)

@@ -40,6 +40,7 @@ mod polar;
 mod text;
 mod theme;
 
+pub use axis::superscript;
 pub use mechanism::{
     render_animation, render_mechanism, BodyShape, ClearanceShape, Guide, MechanismPicture, Point,
 };

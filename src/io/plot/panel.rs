@@ -217,12 +217,7 @@ impl Panel {
             .circles
             .iter()
             .filter(|(cx, cy, r)| cx.is_finite() && cy.is_finite() && r.is_finite())
-            .map(|&(cx, cy, r)| {
-                (0..=360)
-                    .map(|d| f64::from(d).to_radians())
-                    .map(|t| (cx + r * t.cos(), cy + r * t.sin()))
-                    .collect()
-            })
+            .map(|&(cx, cy, r)| circle_points((cx, cy), r, 1.0))
             .collect();
 
         let mut shades = Vec::new();
@@ -314,7 +309,7 @@ impl Panel {
                 .unwrap_or(0) as u32
                 + if has_y2 { 13 } else { 0 }; // " (right axis)"
             let w = f64::from(widest * LEGEND_CHAR_PX + 90) / size.0;
-            let h = f64::from(labelled as u32 * (LEGEND_PX + 12) + 40) / size.1;
+            let h = legend_height_px(labelled) / size.1;
             let uv = |y: &Axis, y2: Option<&Axis>| -> Vec<(f64, f64)> {
                 let normalized = |(px, py): (f64, f64), ya: &Axis| {
                     ((px - x.lo) / x.span(), (py - ya.lo) / ya.span())
@@ -416,4 +411,19 @@ fn least_crowded_corner(uv: &[(f64, f64)], w: f64, h: f64) -> (SeriesLabelPositi
         .map(|(pos, right, upper)| (pos, count(right, upper)))
         .min_by_key(|&(_, n)| n)
         .unwrap_or((UpperRight, 0))
+}
+
+/// A closed polyline around the circle of radius `r` about `c`, a point every `step_deg`
+/// degrees (which must divide 360).
+pub(super) fn circle_points(c: (f64, f64), r: f64, step_deg: f64) -> Vec<(f64, f64)> {
+    let step = step_deg.to_radians();
+    (0..=(360.0 / step_deg).round() as u32)
+        .map(|k| f64::from(k) * step)
+        .map(|t| (c.0 + r * t.cos(), c.1 + r * t.sin()))
+        .collect()
+}
+
+/// The height (px) of a legend of `rows` entries.
+pub(super) fn legend_height_px(rows: usize) -> f64 {
+    f64::from(rows as u32 * (LEGEND_PX + 12) + 40)
 }
