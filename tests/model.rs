@@ -437,3 +437,47 @@ fn worn_volume_balances_the_archard_integral() {
     // 1.0e-5; a tenfold margin.
     approx::assert_relative_eq!(volume, k_over_h * integral, max_relative = 1e-4);
 }
+
+/// The fastest time scale of the right-hand side (what the step-limit study reads) against
+/// eq. 1-3 linearised by hand: a free journal pressed `δ` into the bottom of its bearing
+/// moves normally as `m Δδ̈ = −(∂F/∂δ) Δδ − (∂F/∂δ̇) Δδ̇`, so the Jacobian's eigenvalue of
+/// largest modulus is a root of `m λ² + (∂F/∂δ̇) λ + ∂F/∂δ = 0`, the derivatives taken of
+/// [`paper_normal_force`], not of the library's law.
+#[test]
+fn fastest_eigenvalue_in_contact_is_the_linearised_contact_oscillator() {
+    let scene = free_journal([0.0, -9.81], 0.9).build().unwrap();
+    let m = &scene.mechanism;
+    let mut state = m.initial_state();
+    for (delta, onset) in [(1e-6, 0.05), (4e-6, 0.01), (2e-7, 0.2)] {
+        state.joints[0].onset_velocity = onset;
+        let mut y = vec![0.0; m.state_len()];
+        y[JX + 1] = -(CLEARANCE + delta);
+        y[N + 2] = m.driver.omega;
+        let jacobian = m.rhs_jacobian(&state, &mut m.workspace(), 0.0, &y).unwrap();
+        let fastest = (jacobian.complex_eigenvalues().iter())
+            .copied()
+            .max_by(|a, b| a.norm().total_cmp(&b.norm()))
+            .unwrap();
+        let dr = CLEARANCE;
+        let h = 1e-6 * delta;
+        let force = |d: f64, v: f64| paper_normal_force(d, v, onset, 0.9, dr);
+        let stiffness = (force(delta + h, 0.0) - force(delta - h, 0.0)) / (2.0 * h);
+        let damping = (force(delta, 1e-6) - force(delta, -1e-6)) / 2e-6;
+        // m λ² + c λ + k = 0: the root of largest modulus (complex when underdamped).
+        let (a, b) = (
+            -damping / (2.0 * M_JOURNAL),
+            damping.powi(2) - 4.0 * M_JOURNAL * stiffness,
+        );
+        let (re, im) = if b < 0.0 {
+            (a, (-b).sqrt() / (2.0 * M_JOURNAL))
+        } else {
+            (a - b.sqrt() / (2.0 * M_JOURNAL), 0.0)
+        };
+        let tag = format!("δ = {delta:e} m, onset {onset} m/s: {fastest} vs {re} ± {im}i");
+        assert!((fastest.re - re).abs() <= 1e-4 * fastest.norm(), "{tag}");
+        assert!(
+            (fastest.im.abs() - im).abs() <= 1e-4 * fastest.norm(),
+            "{tag}"
+        );
+    }
+}

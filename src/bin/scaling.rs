@@ -1,4 +1,5 @@
-//! Wall time of the standard scene against rotations and clearance: data/scaling.csv, figures/scaling.png.
+//! Wall time of the standard scene against rotations and clearance: data/scaling.csv,
+//! figures/scaling.png; and what sets its step: data/step_limit.csv.
 fn main() {
     print!(
         "{}",

@@ -6,7 +6,7 @@ use super::kinematics::perp;
 use super::workspace::Workspace;
 use super::{BodyIndex, Mechanism, RunState, MAX_PENETRATION_RATIO};
 use crate::{Error, Result};
-use nalgebra::Vector2;
+use nalgebra::{DMatrix, Vector2};
 
 /// Adds a force `f` applied at rotated offset `s` from the centre of mass of body `b`.
 #[inline]
@@ -89,6 +89,35 @@ impl Mechanism {
                 MAX_PENETRATION_RATIO * cj.r_journal
             ),
         }
+    }
+
+    /// The Jacobian ∂f/∂y of [`Mechanism::rhs`] in the coordinates and velocities (2n × 2n,
+    /// energy integrals left out) at (t, y), by central differences with steps of 1e-7 of each
+    /// component's size (at least 1e-3 m or rad, or 1e-3 m/s or rad/s): for studies of the
+    /// system's time scales (its eigenvalues), not for the hot path.
+    pub fn rhs_jacobian(
+        &self,
+        state: &RunState,
+        ws: &mut Workspace,
+        t: f64,
+        y: &[f64],
+    ) -> Result<DMatrix<f64>> {
+        let m = 2 * self.coordinates();
+        let mut jacobian = DMatrix::zeros(m, m);
+        let (mut y_step, mut plus, mut minus) =
+            (y.to_vec(), vec![0.0; y.len()], vec![0.0; y.len()]);
+        for j in 0..m {
+            let d = 1e-7 * y[j].abs().max(1e-3);
+            y_step[j] = y[j] + d;
+            self.rhs(state, ws, t, &y_step, &mut plus)?;
+            y_step[j] = y[j] - d;
+            self.rhs(state, ws, t, &y_step, &mut minus)?;
+            y_step[j] = y[j];
+            for i in 0..m {
+                jacobian[(i, j)] = (plus[i] - minus[i]) / (2.0 * d);
+            }
+        }
+        Ok(jacobian)
     }
 
     /// The right-hand side y' = f(t, y) of eq. 10 with Baumgarte stabilisation, for the wear

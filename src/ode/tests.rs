@@ -575,3 +575,44 @@ fn rejections_are_counted_by_what_preceded_them() {
     assert!(s.rejected > 50, "{s:?}");
     assert!(by.other + by.after_increase > s.rejected * 9 / 10, "{s:?}");
 }
+
+#[test]
+fn stability_boundaries_match_the_known_stability_polynomials() {
+    use nalgebra::Complex;
+    // RK4: R(z) = 1 + z + z²/2 + z³/6 + z⁴/24, real interval 2.7853, imaginary 2√2.
+    let rk4 = Method::Rk4 { step: 1.0 };
+    assert_relative_eq!(
+        rk4.stability_boundary(std::f64::consts::PI).unwrap(),
+        2.785_293_563_405_282,
+        max_relative = 1e-9
+    );
+    assert_relative_eq!(
+        rk4.stability_boundary(std::f64::consts::FRAC_PI_2).unwrap(),
+        8f64.sqrt(),
+        max_relative = 1e-9
+    );
+    // Dopri5 from its tableau against its stability polynomial (Hairer and Wanner, II.IV.2):
+    // R(z) = Σ_{k≤5} zᵏ/k! + z⁶/600, on rays across the left half plane.
+    let polynomial = |z: Complex<f64>| {
+        let mut term = Complex::new(1.0, 0.0);
+        let mut sum = term;
+        for k in 1..=5 {
+            term *= z / k as f64;
+            sum += term;
+        }
+        sum + z.powi(6) / 600.0
+    };
+    for degrees in [100.0f64, 120.0, 150.0, 180.0] {
+        let angle = degrees.to_radians();
+        let r = Method::Dopri5.stability_boundary(angle).unwrap();
+        let on_boundary = polynomial(Complex::from_polar(r, angle)).norm();
+        assert_relative_eq!(on_boundary, 1.0, max_relative = 1e-9);
+        let inside = polynomial(Complex::from_polar(0.99 * r, angle)).norm();
+        assert!(inside < 1.0, "{degrees}°: |R| = {inside} inside");
+    }
+    assert!((3.30..3.31).contains(
+        &Method::Dopri5
+            .stability_boundary(std::f64::consts::PI)
+            .unwrap()
+    ));
+}

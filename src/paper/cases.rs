@@ -212,6 +212,8 @@ pub struct SteadyMember {
     pub acc_wear_correlation: f64,
     /// Centred correlation of the wear rate with the normal force.
     pub force_wear_correlation: f64,
+    /// Right-hand-side evaluations of the run, settling included.
+    pub evaluations: u64,
     /// The time series, kept for the first member only (the one the figures draw).
     pub traces: Option<Traces>,
 }
@@ -418,6 +420,7 @@ pub fn steady_member(scene: &Scene, out: &RunOutput, keep_traces: bool) -> Resul
         max_wear_rate: max(&j.wear_rate),
         acc_wear_correlation: centred_cmf(&abs_acc, &j.wear_rate),
         force_wear_correlation: centred_cmf(&j.normal_force, &j.wear_rate),
+        evaluations: out.stats.evaluations,
         traces: keep_traces.then(|| Traces {
             crank_deg: rec
                 .driver_angle

@@ -6,17 +6,19 @@
 //! each without wear), with the integrator's work counters; it writes `data/scaling.csv` and
 //! `figures/scaling.png`. Wall times depend on the machine and its load: the counters
 //! (steps, rejected steps, right-hand-side evaluations) are the reproducible part.
+//! [`step_limit_study`], run with it, measures what sets the step of the 40-rotation run
+//! (`data/step_limit.csv`).
 //!
 //! [`benchmark_summary`] collects criterion's estimates of `cargo bench` into
 //! `data/benchmarks.csv`.
 
-use crate::io::output::write_rows;
+use crate::io::output::{write_csv, write_rows};
 use crate::io::plot::{render, Axes, Series, Style};
 use crate::ode::Stats;
 use crate::paper::cases::CASES;
 use crate::paper::figures::output_path;
 use crate::scene::{scene_path, SceneFile};
-use crate::simulation::simulate;
+use crate::simulation::{simulate, Simulation};
 use crate::{Error, Result};
 use serde::Deserialize;
 use std::fmt;
@@ -155,8 +157,90 @@ pub fn scaling_study() -> Result<Scaling> {
     }
     let scaling = Scaling { points };
     write_scaling(&scaling)?;
+    step_limit_study(&standard)?;
     Ok(scaling)
 }
+
+/// Accepted steps between two samples of [`step_limit_study`].
+pub const STEP_LIMIT_EVERY: u64 = 50;
+
+/// What limits the integrator's step on the standard scene's 40-rotation run (no time
+/// series): at every [`STEP_LIMIT_EVERY`]th accepted step, the eigenvalue λ of largest modulus
+/// of the right-hand side's Jacobian ([`crate::mechanism::Mechanism::rhs_jacobian`]), the step
+/// h just taken, and the method's stability boundary along λ's direction
+/// ([`crate::ode::Method::stability_boundary`]). `h|λ|` over that boundary near 1 means the
+/// step is held by stability (an implicit method could take longer ones), well below 1 that it
+/// is held by accuracy. Writes `data/step_limit.csv`, one row per sample.
+pub fn step_limit_study(standard: &SceneFile) -> Result<()> {
+    let mut file = standard.clone();
+    file.run.record_rotations = 0;
+    let scene = file.build()?;
+    let method = scene.run.method;
+    let mut sim = Simulation::start(&scene)?;
+    let mut ws = scene.mechanism.workspace();
+    let n = scene.mechanism.coordinates();
+    let mut columns: [Vec<f64>; 8] = Default::default();
+    let mut steps = 0u64;
+    while !sim.is_finished() {
+        sim.advance_step()?;
+        steps += 1;
+        if !steps.is_multiple_of(STEP_LIMIT_EVERY) {
+            continue;
+        }
+        let (t, y) = (sim.time(), sim.y());
+        let jacobian = scene.mechanism.rhs_jacobian(sim.state(), &mut ws, t, y)?;
+        let fastest = (jacobian.complex_eigenvalues().iter())
+            .copied()
+            .max_by(|a, b| a.norm().total_cmp(&b.norm()))
+            .unwrap_or_default();
+        let step = sim.last_step();
+        let boundary = method
+            .stability_boundary(fastest.arg())
+            .unwrap_or(f64::INFINITY);
+        let penetration = (0..scene.mechanism.clearance_joints.len())
+            .map(|k| {
+                scene
+                    .mechanism
+                    .contact_kinematics(sim.state(), k, &y[..n], &y[n..2 * n])
+                    .delta
+            })
+            .fold(f64::NEG_INFINITY, f64::max);
+        let row = [
+            t,
+            step,
+            fastest.re,
+            fastest.im,
+            step * fastest.norm(),
+            boundary,
+            step * fastest.norm() / boundary,
+            penetration,
+        ];
+        for (c, v) in columns.iter_mut().zip(row) {
+            c.push(v);
+        }
+    }
+    let columns: Vec<&[f64]> = columns.iter().map(Vec::as_slice).collect();
+    write_csv(
+        &output_path("data", STEP_LIMIT_FILE),
+        &STEP_LIMIT_HEADER,
+        &columns,
+    )
+}
+
+/// File of [`step_limit_study`] under `data/`.
+pub const STEP_LIMIT_FILE: &str = "step_limit.csv";
+
+/// Columns of [`STEP_LIMIT_FILE`].
+pub const STEP_LIMIT_HEADER: [&str; 8] = [
+    "t_s",
+    "step_s",
+    "lambda_re_per_s",
+    "lambda_im_per_s",
+    "step_times_lambda",
+    "stability_boundary",
+    "fraction_of_stable_step",
+    "max_penetration_m",
+];
 
 fn write_scaling(s: &Scaling) -> Result<()> {
     let column = |get: fn(&ScalingPoint) -> f64| s.points.iter().map(get).collect::<Vec<_>>();

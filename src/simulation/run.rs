@@ -54,6 +54,8 @@ pub struct Simulation {
     gaps: Vec<f64>,
     y_event: Vec<f64>,
     y_mid: Vec<f64>,
+    /// Length of the last accepted step, as cut (s).
+    last_step: f64,
     wears: bool,
     rotation: u32,
     out: RunOutput,
@@ -121,6 +123,7 @@ impl Simulation {
             gaps,
             y_event: vec![0.0; dim],
             y_mid: vec![0.0; dim],
+            last_step: 0.0,
             wears,
             rotation: 0,
             out: RunOutput {
@@ -254,6 +257,21 @@ impl Simulation {
         &self.state
     }
 
+    /// Simulated time reached (s).
+    pub fn time(&self) -> f64 {
+        self.integrator.t()
+    }
+
+    /// Coordinates and velocities (and energy integrals, when accounted) reached.
+    pub fn y(&self) -> &[f64] {
+        self.integrator.y()
+    }
+
+    /// Length of the last accepted step (s), as cut at a contact onset or a rotation's end.
+    pub fn last_step(&self) -> f64 {
+        self.last_step
+    }
+
     /// Runs the remaining rotations, telling `progress` the rotations done after each, or
     /// stops with [`Error::Cancelled`] before a rotation when `progress` asks to.
     pub fn run_to_end(&mut self, progress: &dyn Progress) -> Result<()> {
@@ -295,13 +313,29 @@ impl Simulation {
     /// Integrates one driver rotation: accepted steps up to the rotation's end, each followed
     /// by contact-onset location, wear and recording (see the module documentation).
     pub fn advance_rotation(&mut self) -> Result<()> {
-        let boundary = (self.rotation + 1) as f64 * self.period;
-        loop {
-            self.accepted_step(boundary)?;
-            if self.integrator.t() >= boundary {
-                break;
-            }
+        let rotation = self.rotation;
+        while self.rotation == rotation {
+            self.advance_step()?;
         }
+        Ok(())
+    }
+
+    /// Integrates one accepted step (cut at a contact onset or at the rotation's end), with
+    /// its contact-onset location, wear and recording, and the rotation's bookkeeping when it
+    /// ends one: the finest grain at which a run can be observed ([`Simulation::time`],
+    /// [`Simulation::y`], [`Simulation::last_step`]). Driving a run step by step or rotation
+    /// by rotation gives the same steps.
+    pub fn advance_step(&mut self) -> Result<()> {
+        let boundary = (self.rotation + 1) as f64 * self.period;
+        self.accepted_step(boundary)?;
+        if self.integrator.t() >= boundary {
+            self.finish_rotation();
+        }
+        Ok(())
+    }
+
+    /// Wear snapshots and the settling test at the end of a rotation.
+    fn finish_rotation(&mut self) {
         self.rotation += 1;
         if self
             .settings
@@ -327,7 +361,6 @@ impl Simulation {
                 self.settler = None;
             }
         }
-        Ok(())
     }
 
     /// Stops a run whose wear left the model's validity ([`MAX_WEAR_RATIO`]).
@@ -433,6 +466,7 @@ impl Simulation {
         let onset =
             integrator.earliest_event(&mut self.gaps, |k, y| gap(mechanism, state, k, y), y_event);
         let t_stop = onset.map_or(tb, |e| e.t);
+        self.last_step = t_stop - ta;
         // 2. Wear at the interval midpoint, 3. samples, both over [ta, t_stop].
         if self.wears {
             integrator.dense(0.5 * (ta + t_stop), &mut self.y_mid);

@@ -1,6 +1,7 @@
 //! Numerical studies of the integration itself: how error trades against run
 //! time ([`work_precision`](mod@work_precision)), whether the paper's results depend on
-//! integration accuracy ([`accuracy`]), and whether stiff and extreme cases run to completion
+//! integration accuracy ([`accuracy`]), whether Table 3's ensembles need the scenes' tolerance
+//! ([`ensemble_tolerance`](mod@ensemble_tolerance)), and whether stiff and extreme cases run to completion
 //! ([`stability`](mod@stability)). Each study writes `data/<study>.csv` (and a figure where it
 //! has one) atomically and returns what it measured, which the report (sections 5 and 6 of
 //! `paper.md`) reads; the `src/bin/` programs only call them.
@@ -8,6 +9,7 @@
 //! Owns: the studies' shared notion of an integration setting ([`Integration`]).
 
 pub mod accuracy;
+pub mod ensemble_tolerance;
 pub mod integration;
 pub mod stability;
 pub mod work_precision;
@@ -17,6 +19,7 @@ pub use accuracy::{
     accuracy_dependence, accuracy_settings, AccuracyDependence, AccuracyRow, Finding, Setting,
     Subject, ACCURACY_HEADER,
 };
+pub use ensemble_tolerance::{ensemble_tolerance, ToleranceRow};
 pub use integration::Integration;
 pub use stability::{
     stability, stability_case, stability_cases, StabilityRow, STABILITY_HEADER,
