@@ -443,7 +443,8 @@ fn run_set_rotations_and_wear_snapshots() {
     let c = summary["joints"][0]["radial_clearance_m"].as_f64().unwrap();
     assert!((c - 2e-5).abs() < 1e-12, "clearance {c}");
     assert_eq!(summary["counts"]["rotations_simulated"], 1);
-    // --rotations shorter than the scene's snapshots drops those past it, and says so.
+    // --rotations shorter than the scene's snapshots drops those past it, and says so (only
+    // that: a --set run.rotations it overrides is no change of its own to report).
     let std = dir.join("std");
     let o = jointwear(&[
         "run",
@@ -452,6 +453,8 @@ fn run_set_rotations_and_wear_snapshots() {
         "3",
         "--set",
         "run.record_rotations=1",
+        "--set",
+        "run.rotations=5",
         "--out",
         s(&std),
     ]);
@@ -461,6 +464,8 @@ fn run_set_rotations_and_wear_snapshots() {
         "{}",
         stderr(&o)
     );
+    assert!(!stderr(&o).contains("sets run.rotations"), "{}", stderr(&o));
+    assert_eq!(json(&std.join("summary.json"))["settings"]["rotations"], 3);
     assert!(!std.join("wear_snapshots_rod-slider.csv").exists());
     fs::remove_dir_all(&dir).unwrap();
 }

@@ -322,7 +322,7 @@ pub struct Variant {
 /// then cuts the wear snapshots past it and the recorded rotations to it, unless they were
 /// set. Validated as a scene file is, and every error is bad input (exit code 2): a bad key or
 /// value names the key, the value, the valid range and the `--set` it came from. The changes
-/// made on the user's behalf are printed ([`run::print_changes`]). `out` is checked as the
+/// made on the user's behalf are printed ([`run::print_cuts`]). `out` is checked as the
 /// output folder.
 fn load_variant(
     path: &Path,
@@ -382,22 +382,27 @@ fn load_variant(
         .map(|a| (a.key.clone(), a.values[0].clone()))
         .collect();
     let set = |key: &str| assignments.iter().any(|a| a.key == key);
+    // What --rotations cut on the user's behalf, besides run.rotations itself.
+    let mut cuts = Vec::new();
     if let Some(n) = rotations {
         let run = &mut file.run;
         if !set("run.wear_snapshots") && run.wear_snapshots.iter().any(|&s| s > n) {
             run.wear_snapshots.retain(|&s| s <= n);
-            changes.push((
-                "run.wear_snapshots".into(),
+            cuts.push((
+                "run.wear_snapshots".to_string(),
                 format!("{:?}", run.wear_snapshots),
             ));
         }
         if !set("run.record_rotations") && run.record_rotations > n {
             run.record_rotations = n;
-            changes.push(("run.record_rotations".into(), n.to_string()));
+            cuts.push(("run.record_rotations".to_string(), n.to_string()));
         }
     }
     let scene = file.build().map_err(|e| input(from_set(e)))?;
-    run::print_changes(&changes, rotations);
+    if let Some(n) = rotations {
+        run::print_cuts(&cuts, n);
+    }
+    changes.extend(cuts);
     let command = std::iter::once(format!("jointwear run {}", path.display()))
         .chain(from)
         .collect::<Vec<_>>()

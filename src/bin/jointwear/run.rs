@@ -105,16 +105,10 @@ pub fn run(
     Ok(())
 }
 
-/// Says on stderr which values `--set` and `--rotations` changed beyond those they name.
-pub fn print_changes(changes: &[(String, String)], rotations: Option<u32>) {
-    if let Some(n) = rotations {
-        for (key, value) in changes
-            .iter()
-            .skip_while(|(k, _)| k != "run.rotations")
-            .skip(1)
-        {
-            eprintln!("note: --rotations {n} sets {key} = {value}");
-        }
+/// Says on stderr which values `--rotations n` cut beyond `run.rotations` (`cuts`: key, value).
+pub fn print_cuts(cuts: &[(String, String)], n: u32) {
+    for (key, value) in cuts {
+        eprintln!("note: --rotations {n} sets {key} = {value}");
     }
 }
 
