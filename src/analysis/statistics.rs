@@ -9,6 +9,12 @@
 /// Quantiles reported for every distribution and band.
 pub const QUANTILES: [f64; 5] = [0.05, 0.25, 0.5, 0.75, 0.95];
 
+/// Names of a distribution's numbers ([`Distribution::values`]), as every output spells them:
+/// mean, sd, min, the [`QUANTILES`] as `qNN` (percent), max.
+pub const VALUE_KEYS: [&str; 9] = [
+    "mean", "sd", "min", "q05", "q25", "q50", "q75", "q95", "max",
+];
+
 /// Distribution of one scalar over the members (non-finite values are not counted).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Distribution {
@@ -40,6 +46,14 @@ pub fn quantile(sorted: &[f64], p: f64) -> f64 {
 }
 
 impl Distribution {
+    /// Its numbers in the order of [`VALUE_KEYS`] (the count `n` apart).
+    pub fn values(&self) -> [f64; 9] {
+        let q = self.quantiles;
+        [
+            self.mean, self.sd, self.min, q[0], q[1], q[2], q[3], q[4], self.max,
+        ]
+    }
+
     /// The distribution of the finite `values`; every statistic is NaN when there are none.
     pub fn of(values: impl IntoIterator<Item = f64>) -> Distribution {
         let mut v: Vec<f64> = values.into_iter().filter(|x| x.is_finite()).collect();
@@ -179,6 +193,17 @@ pub fn fractions<T: PartialEq + Clone>(labels: impl IntoIterator<Item = T>) -> V
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
+
+    #[test]
+    fn value_keys_name_the_quantiles_in_percent() {
+        let named: Vec<String> = QUANTILES.map(|p| format!("q{:02.0}", 100.0 * p)).into();
+        assert_eq!(&VALUE_KEYS[3..8], &named[..]);
+        let d = Distribution::of([1.0, 2.0, 3.0]);
+        let expected = [2.0, 1.0, 1.0, 1.1, 1.5, 2.0, 2.5, 2.9, 3.0];
+        for (v, e) in d.values().iter().zip(expected) {
+            assert_relative_eq!(*v, e, max_relative = 1e-15);
+        }
+    }
 
     #[test]
     fn distribution_matches_hand_computed_values() {

@@ -4,7 +4,7 @@
 
 use super::convert::{f64_bytes, from_toml, to_toml};
 use super::{to_py_err, SimulationError};
-use crate::analysis::statistics::{Distribution, QUANTILES};
+use crate::analysis::statistics::{Distribution, VALUE_KEYS};
 use crate::analysis::Motion;
 use crate::io::progress::Progress;
 use crate::laws::wear::sector_angles_deg;
@@ -253,22 +253,6 @@ fn sweep_columns(d: &Bound<'_, PyDict>, outcome: &Outcome) -> PyResult<()> {
     Ok(())
 }
 
-/// The names of a distribution's numbers: n, mean, sd, min, the quantiles (`q05` …), max.
-fn distribution_keys() -> Vec<String> {
-    let mut keys: Vec<String> = ["mean", "sd", "min"].map(String::from).into();
-    keys.extend(QUANTILES.map(|p| format!("q{:02.0}", 100.0 * p)));
-    keys.push("max".into());
-    keys
-}
-
-/// A distribution's numbers, in the order of [`distribution_keys`].
-fn distribution_values(d: &Distribution) -> Vec<f64> {
-    let mut v = vec![d.mean, d.sd, d.min];
-    v.extend(d.quantiles);
-    v.push(d.max);
-    v
-}
-
 /// A run's output as a dict (see [`Document::run`]).
 fn run_dict<'py>(py: Python<'py>, scene: &Scene, out: &RunOutput) -> PyResult<Bound<'py, PyDict>> {
     let m = &scene.mechanism;
@@ -376,7 +360,6 @@ fn ensemble_dict<'py>(
     d.set_item("rotations", scene.run.rotations)?;
     d.set_item("wall_time_s", wall)?;
     d.set_item("snapshot_rotations", scene.run.wear_snapshots.clone())?;
-    let keys = distribution_keys();
     let joints = PyList::empty(py);
     for (k, (cj, st)) in scene
         .mechanism
@@ -394,7 +377,7 @@ fn ensemble_dict<'py>(
             scalars.set_item(*name, f64_bytes(py, &values))?;
             let sd = PyDict::new(py);
             sd.set_item("n", dist.n)?;
-            for (key, x) in keys.iter().zip(distribution_values(dist)) {
+            for (key, x) in VALUE_KEYS.iter().zip(dist.values()) {
                 sd.set_item(key, x)?;
             }
             statistics.set_item(*name, sd)?;
@@ -419,8 +402,8 @@ fn ensemble_dict<'py>(
                 .collect();
             j.set_item("snapshots_m", f64_bytes(py, &snaps))?;
             let bd = PyDict::new(py);
-            let per_sector: Vec<Vec<f64>> = band.sectors.iter().map(distribution_values).collect();
-            for (i, key) in keys.iter().enumerate() {
+            let per_sector: Vec<[f64; 9]> = band.sectors.iter().map(Distribution::values).collect();
+            for (i, key) in VALUE_KEYS.iter().enumerate() {
                 let column: Vec<f64> = per_sector.iter().map(|v| v[i]).collect();
                 bd.set_item(key, f64_bytes(py, &column))?;
             }

@@ -5,7 +5,7 @@
 use crate::failure::{CliResult, Failure};
 use crate::outputs::{conventions, write_summary, PROGRAM, SUMMARY_FILE};
 use crate::{file_part, load_variant};
-use jointwear::analysis::statistics::{Distribution, QUANTILES};
+use jointwear::analysis::statistics::{Distribution, VALUE_KEYS};
 use jointwear::io::output::{number, write_outputs, write_rows};
 use jointwear::io::plot::{render, Axes, Series, Shade, Style};
 use jointwear::io::progress::progress_bar;
@@ -82,7 +82,7 @@ pub fn run_ensemble(
                     quantities: j
                         .scalars
                         .iter()
-                        .map(|(name, d)| (name.to_string(), DistributionSummary::of(d)))
+                        .map(|(name, d)| (name.to_string(), DistributionSummary(*d)))
                         .collect(),
                 })
                 .collect(),
@@ -156,18 +156,9 @@ fn write_ensemble(
         });
     write_rows(&dir.join("ensemble_members.csv"), &head, rows)?;
     let stats = joint_statistics(scene, members);
-    let q = QUANTILES.map(|p| format!("q{:02.0}", 100.0 * p));
-    let mut head = vec!["joint", "quantity", "n", "mean", "sd", "min"];
-    head.extend(q.iter().map(String::as_str));
-    head.push("max");
-    let numbers = |d: &Distribution| -> Vec<String> {
-        [d.mean, d.sd, d.min]
-            .iter()
-            .chain(&d.quantiles)
-            .chain([&d.max])
-            .map(|&x| number(x))
-            .collect()
-    };
+    let mut head = vec!["joint", "quantity", "n"];
+    head.extend(VALUE_KEYS);
+    let numbers = |d: &Distribution| d.values().map(number);
     let mut rows = Vec::new();
     for j in &stats {
         for (name, d) in &j.scalars {
@@ -182,9 +173,7 @@ fn write_ensemble(
         let Some(band) = &j.wear else { continue };
         let angles = sector_angles_deg(band.sectors.len());
         let mut head = vec!["angle_deg".to_string()];
-        head.extend(["mean_m", "sd_m", "min_m"].map(String::from));
-        head.extend(q.iter().map(|q| format!("{q}_m")));
-        head.push("max_m".into());
+        head.extend(VALUE_KEYS.map(|k| format!("{k}_m")));
         let rows = band.sectors.iter().zip(&angles).map(|(d, a)| {
             let mut row = vec![number(*a)];
             row.extend(numbers(d));
@@ -247,35 +236,18 @@ struct JointDistributions {
     quantities: Vec<(String, DistributionSummary)>,
 }
 
-#[derive(Serialize)]
-struct DistributionSummary {
-    n: usize,
-    mean: f64,
-    sd: f64,
-    min: f64,
-    q05: f64,
-    q25: f64,
-    q50: f64,
-    q75: f64,
-    q95: f64,
-    max: f64,
-}
+/// A distribution in summary.json: `n`, then [`VALUE_KEYS`] with their values.
+struct DistributionSummary(Distribution);
 
-impl DistributionSummary {
-    fn of(d: &Distribution) -> DistributionSummary {
-        let [q05, q25, q50, q75, q95] = d.quantiles;
-        DistributionSummary {
-            n: d.n,
-            mean: d.mean,
-            sd: d.sd,
-            min: d.min,
-            q05,
-            q25,
-            q50,
-            q75,
-            q95,
-            max: d.max,
+impl Serialize for DistributionSummary {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = s.serialize_map(Some(1 + VALUE_KEYS.len()))?;
+        map.serialize_entry("n", &self.0.n)?;
+        for (key, value) in VALUE_KEYS.iter().zip(self.0.values()) {
+            map.serialize_entry(key, &value)?;
         }
+        map.end()
     }
 }
 
