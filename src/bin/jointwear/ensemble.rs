@@ -4,7 +4,7 @@
 
 use crate::failure::{CliResult, Failure};
 use crate::outputs::{conventions, write_summary, PROGRAM, SUMMARY_FILE};
-use crate::{file_part, load_variant};
+use crate::{joint_file, load_variant};
 use jointwear::analysis::statistics::{Distribution, VALUE_KEYS};
 use jointwear::io::output::{number, write_outputs, write_rows};
 use jointwear::io::plot::{render, Axes, Series, Shade, Style};
@@ -179,7 +179,7 @@ fn write_ensemble(
             row.extend(numbers(d));
             row
         });
-        let file = format!("ensemble_wear_{}.csv", file_part(&j.name));
+        let file = joint_file("ensemble_wear", &j.name);
         write_rows(&dir.join(file), &head, rows)?;
         let um = |v: Vec<f64>| v.iter().map(|x| x * 1e6).collect::<Vec<f64>>();
         let (mean, lo, hi) = (um(band.mean()), um(band.quantile(0)), um(band.quantile(4)));
@@ -258,7 +258,7 @@ fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
     let worn: Vec<String> = stats
         .iter()
         .filter(|j| j.wear.is_some())
-        .map(|j| format!("ensemble_wear_{}.csv", file_part(&j.name)))
+        .map(|j| joint_file("ensemble_wear", &j.name))
         .collect();
     text.push_str(
         "\nFILES\n\

@@ -3,7 +3,7 @@
 
 use crate::checked_out_dir;
 use crate::failure::{CliResult, Failure};
-use crate::file_part;
+use crate::joint_file;
 use crate::outputs::{
     body_name, conventions, write_profiles, write_summary, PROGRAM, SUMMARY_FILE,
 };
@@ -229,12 +229,12 @@ impl LongLifeSummary {
 /// `README.txt` of a `longlife` folder: the conventions, then every file it wrote.
 fn readme(title: &str, scene: &Scene) -> String {
     let mut text = conventions(title, &scene.mechanism, &scene.title);
-    let worn: Vec<String> = (scene.mechanism.clearance_joints.iter())
+    let worn: Vec<&str> = (scene.mechanism.clearance_joints.iter())
         .filter(|cj| cj.wear.is_some())
-        .map(|cj| file_part(&cj.name))
+        .map(|cj| cj.name.as_str())
         .collect();
     let files = |stem: &str| {
-        let names: Vec<String> = worn.iter().map(|n| format!("{stem}_{n}.csv")).collect();
+        let names: Vec<String> = worn.iter().map(|n| joint_file(stem, n)).collect();
         names.join(", ")
     };
     text.push_str(&format!(

@@ -288,6 +288,12 @@ fn checked_out_dir(scene: &Path, out: Option<PathBuf>) -> CliResult<PathBuf> {
     Ok(dir)
 }
 
+/// The file `<stem>_<joint>.csv` of a per-joint output, the joint's name made safe for a file
+/// name ([`file_part`]).
+fn joint_file(stem: &str, joint: &str) -> String {
+    format!("{stem}_{}.csv", file_part(joint))
+}
+
 /// A joint name usable in a file name.
 fn file_part(name: &str) -> String {
     name.chars()

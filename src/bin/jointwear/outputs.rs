@@ -2,7 +2,7 @@
 //! figure, for `run`'s snapshots and `longlife`), and the conventions every output folder's
 //! `README.txt` states (units, frames, signs, number format).
 
-use crate::file_part;
+use crate::joint_file;
 use jointwear::io::output::{write_csv, write_json, write_text};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::laws::wear::sector_angles_deg;
@@ -60,7 +60,7 @@ pub fn write_profiles(
         columns.extend(snapshots.iter().map(|(_, d)| d[k].as_slice()));
         let header_ref: Vec<&str> = header.iter().map(String::as_str).collect();
         let name = &m.clearance_joints[k].name;
-        let path = dir.join(format!("{stem}_{}.csv", file_part(name)));
+        let path = dir.join(joint_file(stem, name));
         write_csv(&path, &header_ref, &columns)?;
         let um: Vec<(u64, Vec<f64>)> = drawn
             .iter()

@@ -7,7 +7,7 @@ use crate::outputs::{
     body_name, conventions, timeseries_columns, write_profiles, write_summary, PROGRAM,
     SUMMARY_FILE,
 };
-use crate::{file_part, load_variant};
+use crate::{joint_file, load_variant};
 use jointwear::io::interrupt;
 use jointwear::io::output::{write_csv, write_outputs};
 use jointwear::io::plot::{render, Axes, Series, Style};
@@ -136,7 +136,7 @@ fn write_run(scene: &Scene, out: &RunOutput, dir: &Path) -> jointwear::Result<()
         .collect();
     for (k, angles, _) in &worn {
         let name = &m.clearance_joints[*k].name;
-        let path = dir.join(format!("wear_{}.csv", file_part(name)));
+        let path = dir.join(joint_file("wear", name));
         write_csv(
             &path,
             &["angle_deg", "depth_m"],
@@ -461,10 +461,7 @@ fn readme(title: &str, scene: &Scene, out: &RunOutput) -> String {
         .map(|cj| cj.name.as_str())
         .collect();
     if !worn.is_empty() {
-        let files: Vec<String> = worn
-            .iter()
-            .map(|n| format!("wear_{}.csv", file_part(n)))
-            .collect();
+        let files: Vec<String> = worn.iter().map(|n| joint_file("wear", n)).collect();
         text.push_str(&format!(
             "{}: the wear profile of the bearing at the end of the run.\n\
              \x20 angle_deg    sector centre in the bearing frame (deg)\n\
@@ -475,7 +472,7 @@ fn readme(title: &str, scene: &Scene, out: &RunOutput) -> String {
         if !out.wear_snapshots.is_empty() {
             let files: Vec<String> = worn
                 .iter()
-                .map(|n| format!("wear_snapshots_{}.csv", file_part(n)))
+                .map(|n| joint_file("wear_snapshots", n))
                 .collect();
             let counts: Vec<String> = out
                 .wear_snapshots
