@@ -41,6 +41,7 @@ mod energy;
 mod kinematics;
 mod workspace;
 
+pub use dynamics::{eigenvalues_by_modulus, JACOBIAN_STEP};
 pub use kinematics::ContactState;
 pub use workspace::Workspace;
 

@@ -66,7 +66,9 @@ impl Method {
     /// axis), where `R(z) = 1 + z bᵀ(I − zA)⁻¹ 1` is the stability function (the step's
     /// amplification of `y' = λy`). A step `h` on an eigenvalue `λ` at that angle is stable
     /// while `h|λ|` is below it: for the classical RK4, 2.785 on the negative real axis and
-    /// 2√2 on the imaginary one. `None` if `|R|` stays within 1 up to `|z| = 50`.
+    /// 2√2 on the imaginary one. 0 on a ray where `|R|` exceeds 1 from the start (into the
+    /// right half-plane, where the exact solution grows too); `None` if `|R|` stays within 1
+    /// up to `|z| = 50`.
     pub fn stability_boundary(&self, angle: f64) -> Option<f64> {
         let tab = self.tableau();
         let direction = Complex::from_polar(1.0, angle);
@@ -85,6 +87,9 @@ impl Method {
         let first = (1..=50_000)
             .map(|i| i as f64 * DR)
             .find(|&r| amplification(r) > 1.0)?;
+        if first == DR {
+            return Some(0.0);
+        }
         let (mut lo, mut hi) = (first - DR, first);
         while hi - lo > 1e-12 * hi {
             let mid = 0.5 * (lo + hi);

@@ -615,4 +615,6 @@ fn stability_boundaries_match_the_known_stability_polynomials() {
             .stability_boundary(std::f64::consts::PI)
             .unwrap()
     ));
+    // Into the right half-plane every step amplifies.
+    assert_eq!(Method::Dopri5.stability_boundary(0.3), Some(0.0));
 }

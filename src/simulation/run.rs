@@ -267,7 +267,8 @@ impl Simulation {
         self.integrator.y()
     }
 
-    /// Length of the last accepted step (s), as cut at a contact onset or a rotation's end.
+    /// Length of the last accepted step (s), as cut at a contact onset or a rotation's end; 0
+    /// before the first step of a start or a resume.
     pub fn last_step(&self) -> f64 {
         self.last_step
     }
@@ -314,7 +315,7 @@ impl Simulation {
     /// by contact-onset location, wear and recording (see the module documentation).
     pub fn advance_rotation(&mut self) -> Result<()> {
         let rotation = self.rotation;
-        while self.rotation == rotation {
+        while self.rotation == rotation && !self.is_finished() {
             self.advance_step()?;
         }
         Ok(())
@@ -324,8 +325,11 @@ impl Simulation {
     /// its contact-onset location, wear and recording, and the rotation's bookkeeping when it
     /// ends one: the finest grain at which a run can be observed ([`Simulation::time`],
     /// [`Simulation::y`], [`Simulation::last_step`]). Driving a run step by step or rotation
-    /// by rotation gives the same steps.
+    /// by rotation gives the same steps. Does nothing once the run is finished.
     pub fn advance_step(&mut self) -> Result<()> {
+        if self.is_finished() {
+            return Ok(());
+        }
         let boundary = (self.rotation + 1) as f64 * self.period;
         self.accepted_step(boundary)?;
         if self.integrator.t() >= boundary {
