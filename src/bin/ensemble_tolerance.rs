@@ -11,7 +11,7 @@ fn main() {
     for r in &rows {
         println!(
             "{:>16} rtol {:e}: continuous {:>2}/{}, P-w dominant {:>2}, pw z {:>6.2}, sw z {:>6.2}, {:.0} evaluations/member",
-            r.case, r.rtol, r.continuous, r.members, r.pressure_dominated, r.pw_z, r.sw_z, r.evaluations
+            r.case, r.rtol, r.continuous, r.members, r.pressure_dominated, r.pw.z, r.sw.z, r.evaluations
         );
     }
     println!("wrote data/ensemble_tolerance.csv");

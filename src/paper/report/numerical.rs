@@ -13,7 +13,9 @@ use crate::paper::figures::output_path;
 use crate::paper::format::{count, number, sci};
 use crate::paper::golden::Golden;
 use crate::paper::performance::{STEP_LIMIT_EVERY, STEP_LIMIT_FILE, TARGETS};
-use crate::paper::studies::ensemble_tolerance::{ENSEMBLE_TOLERANCE_FILE, RTOLS, Z_FAMILY};
+use crate::paper::studies::ensemble_tolerance::{
+    read_ensemble_tolerance, ToleranceRow, ENSEMBLE_TOLERANCE_FILE, RTOLS, Z_FAMILY,
+};
 use crate::paper::studies::work_precision::{read_ensemble_wear_errors, EnsembleCost, ODE45_PAPER};
 use crate::paper::studies::Integration;
 use crate::paper::studies::{
@@ -171,32 +173,9 @@ const TIGHT_SE: f64 = 1e-5;
 /// tolerance within [`Z_FAMILY`]; cases that lose continuous contact; the largest change
 /// against the concordance tolerance of the golden data; and what that tolerance saves.
 fn ensemble_tolerance_findings() -> Option<String> {
-    let (header, rows) = read_rows(&output_path("data", ENSEMBLE_TOLERANCE_FILE)).ok()?;
-    let col = |name: &str| header.iter().position(|h| h == name);
-    let [case, rtol, members, continuous, pw_mean, pw_se, pw_z, sw_mean, sw_se, sw_z] = [
-        "case",
-        "rtol",
-        "members",
-        "continuous_contact_members",
-        "pw_mean",
-        "pw_se",
-        "pw_z",
-        "sw_mean",
-        "sw_se",
-        "sw_z",
-    ]
-    .map(col);
-    let (case, rtol, members, continuous) = (case?, rtol?, members?, continuous?);
-    let stats = [
-        ("P-w", pw_mean?, pw_se?, pw_z?),
-        ("s-w", sw_mean?, sw_se?, sw_z?),
-    ];
-    let num = |r: &[String], c: usize| r[c].parse::<f64>().unwrap_or(f64::NAN);
-    let base = |name: &str| {
-        rows.iter()
-            .find(|r| r[case] == name && num(r, rtol) == RTOLS[0])
-    };
-    let tight = |r: &[String]| stats.iter().all(|&(_, _, se, _)| num(r, se) < TIGHT_SE);
+    let rows = read_ensemble_tolerance()?;
+    let base = |case: &str| rows.iter().find(|r| r.case == case && r.rtol == RTOLS[0]);
+    let tight = |r: &ToleranceRow| r.pw.se < TIGHT_SE && r.sw.se < TIGHT_SE;
     let mut parts = Vec::new();
     let mut lost = Vec::new();
     let (mut loosest, mut previous) = (None, None);
@@ -204,30 +183,30 @@ fn ensemble_tolerance_findings() -> Option<String> {
     for &tol in &RTOLS[1..] {
         let mut worst_z: Option<(f64, String)> = None;
         let mut worst_tight: Option<(f64, String, f64)> = None;
-        for r in rows.iter().filter(|r| num(r, rtol) == tol) {
-            let b = base(&r[case])?;
-            for &(name, mean, se, z) in &stats {
-                let what = format!("{} {name}", r[case]);
-                let change = num(r, mean) - num(b, mean);
+        for r in rows.iter().filter(|r| r.rtol == tol) {
+            let b = base(&r.case)?;
+            for (name, now, then) in [("P-w", r.pw, b.pw), ("s-w", r.sw, b.sw)] {
+                let what = format!("{} {name}", r.case);
+                let change = now.mean - then.mean;
                 if change.abs() > largest.0.abs() {
                     largest = (change, format!("{what} at rtol {tol:e}"));
                 }
                 if tight(b) {
-                    let sd = num(b, se) * num(b, members).sqrt();
+                    let sd = then.se * (b.members as f64).sqrt();
                     if worst_tight
                         .as_ref()
                         .is_none_or(|w| change.abs() > w.0.abs())
                     {
                         worst_tight = Some((change, what, sd));
                     }
-                } else if worst_z.as_ref().is_none_or(|w| num(r, z).abs() > w.0.abs()) {
-                    worst_z = Some((num(r, z), what));
+                } else if worst_z.as_ref().is_none_or(|w| now.z.abs() > w.0.abs()) {
+                    worst_z = Some((now.z, what));
                 }
             }
-            if num(b, continuous) == num(b, members) && num(r, continuous) < num(r, members) {
+            if b.continuous == b.members && r.continuous < r.members {
                 lost.push(format!(
                     "{} at rtol {tol:e} ({} of {} members)",
-                    r[case], r[continuous], r[members]
+                    r.case, r.continuous, r.members
                 ));
             }
         }

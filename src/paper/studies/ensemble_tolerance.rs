@@ -19,7 +19,7 @@
 
 use super::integration::Integration;
 use crate::analysis::statistics::Distribution;
-use crate::io::output::write_rows;
+use crate::io::output::{read_rows, write_rows};
 use crate::io::progress::Progress;
 use crate::ode::Method;
 use crate::paper::cases::{Need, Runs, SteadyEnsemble, CASES};
@@ -51,11 +51,22 @@ pub const ENSEMBLE_TOLERANCE_HEADER: [&str; 13] = [
     "wall_time_s",
 ];
 
-/// One case at one tolerance.
+/// A concordance's mean over the members at one tolerance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeanChange {
+    /// Mean over the members.
+    pub mean: f64,
+    /// Its standard error, sd/√N.
+    pub se: f64,
+    /// Paired z of the mean against the scenes' setting (0 for that setting).
+    pub z: f64,
+}
+
+/// One case at one tolerance: a row of [`ENSEMBLE_TOLERANCE_FILE`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct ToleranceRow {
     /// Case scene.
-    pub case: &'static str,
+    pub case: String,
     /// Dopri5 rtol.
     pub rtol: f64,
     /// Members.
@@ -64,18 +75,70 @@ pub struct ToleranceRow {
     pub continuous: usize,
     /// Members whose P-w concordance exceeds their s-w one.
     pub pressure_dominated: usize,
-    /// CMF(P, w) over the members.
-    pub pw: Distribution,
-    /// CMF(s, w) over the members.
-    pub sw: Distribution,
-    /// Paired z of the P-w mean against the scenes' setting (0 for that setting).
-    pub pw_z: f64,
-    /// Paired z of the s-w mean against the scenes' setting.
-    pub sw_z: f64,
+    /// CMF(P, w).
+    pub pw: MeanChange,
+    /// CMF(s, w).
+    pub sw: MeanChange,
     /// Mean right-hand-side evaluations of a member (settling included).
     pub evaluations: f64,
     /// Wall time of all ensembles at this tolerance (s).
     pub wall_time: f64,
+}
+
+impl ToleranceRow {
+    /// The row as written, in the order of [`ENSEMBLE_TOLERANCE_HEADER`].
+    fn fields(&self) -> Vec<String> {
+        let (pw, sw) = (self.pw, self.sw);
+        vec![
+            self.case.clone(),
+            format!("{:e}", self.rtol),
+            self.members.to_string(),
+            self.continuous.to_string(),
+            self.pressure_dominated.to_string(),
+            format!("{:.7}", pw.mean),
+            format!("{:.2e}", pw.se),
+            format!("{:.2}", pw.z),
+            format!("{:.7}", sw.mean),
+            format!("{:.2e}", sw.se),
+            format!("{:.2}", sw.z),
+            format!("{:.0}", self.evaluations),
+            format!("{:.2}", self.wall_time),
+        ]
+    }
+
+    /// A row as [`ToleranceRow::fields`] wrote it; `None` if a field does not parse.
+    fn parse(f: &[String]) -> Option<ToleranceRow> {
+        let x = |i: usize| f.get(i)?.parse::<f64>().ok();
+        let count = |i: usize| f.get(i)?.parse::<usize>().ok();
+        let mean = |i: usize| {
+            Some(MeanChange {
+                mean: x(i)?,
+                se: x(i + 1)?,
+                z: x(i + 2)?,
+            })
+        };
+        Some(ToleranceRow {
+            case: f.first()?.clone(),
+            rtol: x(1)?,
+            members: count(2)?,
+            continuous: count(3)?,
+            pressure_dominated: count(4)?,
+            pw: mean(5)?,
+            sw: mean(8)?,
+            evaluations: x(11)?,
+            wall_time: x(12)?,
+        })
+    }
+}
+
+/// The rows an earlier run of the study wrote; `None` if the file is missing or not of this
+/// study's columns.
+pub fn read_ensemble_tolerance() -> Option<Vec<ToleranceRow>> {
+    let (header, rows) = read_rows(&output_path("data", ENSEMBLE_TOLERANCE_FILE)).ok()?;
+    if header != ENSEMBLE_TOLERANCE_HEADER {
+        return None;
+    }
+    rows.iter().map(|r| ToleranceRow::parse(r)).collect()
 }
 
 /// Largest `|z|` that sampling alone gives to one of the ten statistics of a tolerance with
@@ -127,16 +190,22 @@ pub fn ensemble_tolerance(progress: &dyn Progress) -> Result<Vec<ToleranceRow>> 
                 Some((_, pw0, sw0)) => (paired_z(&pw, pw0), paired_z(&sw, sw0)),
                 None => (0.0, 0.0),
             };
+            let mean = |values: &[f64], z| {
+                let d = Distribution::of(values.iter().copied());
+                MeanChange {
+                    mean: d.mean,
+                    se: d.standard_error(),
+                    z,
+                }
+            };
             rows.push(ToleranceRow {
-                case: case.scene,
+                case: case.scene.to_string(),
                 rtol,
                 members: e.members.len(),
                 continuous: e.continuous(),
                 pressure_dominated: e.pressure_dominated(),
-                pw: Distribution::of(pw.iter().copied()),
-                sw: Distribution::of(sw.iter().copied()),
-                pw_z,
-                sw_z,
+                pw: mean(&pw, pw_z),
+                sw: mean(&sw, sw_z),
                 evaluations: e.stat(|m| m.evaluations as f64).mean,
                 wall_time: runs.seconds,
             });
@@ -148,23 +217,7 @@ pub fn ensemble_tolerance(progress: &dyn Progress) -> Result<Vec<ToleranceRow>> 
     write_rows(
         &output_path("data", ENSEMBLE_TOLERANCE_FILE),
         &ENSEMBLE_TOLERANCE_HEADER,
-        rows.iter().map(|r| {
-            vec![
-                r.case.to_string(),
-                format!("{:e}", r.rtol),
-                r.members.to_string(),
-                r.continuous.to_string(),
-                r.pressure_dominated.to_string(),
-                format!("{:.7}", r.pw.mean),
-                format!("{:.2e}", r.pw.standard_error()),
-                format!("{:.2}", r.pw_z),
-                format!("{:.7}", r.sw.mean),
-                format!("{:.2e}", r.sw.standard_error()),
-                format!("{:.2}", r.sw_z),
-                format!("{:.0}", r.evaluations),
-                format!("{:.2}", r.wall_time),
-            ]
-        }),
+        rows.iter().map(ToleranceRow::fields),
     )?;
     Ok(rows)
 }
