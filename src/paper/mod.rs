@@ -14,4 +14,5 @@ pub mod format;
 pub mod golden;
 pub mod performance;
 pub mod report;
+pub mod separation;
 pub mod studies;

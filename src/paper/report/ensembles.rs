@@ -1,6 +1,7 @@
 //! What the ensembles show (end of section 2 of `paper.md`): the steady states each case
 //! settles in, with their basins, and the ensemble-size study (`data/ensemble_convergence.csv`,
-//! [`crate::paper::convergence`]) with the default size it picks.
+//! [`crate::paper::convergence`]) with the default size it picks, and how fast members separate
+//! (`data/member_separation.csv`, [`crate::paper::separation`]).
 
 use super::markdown::md_table;
 use crate::analysis::statistics::{fractions, Distribution};
@@ -9,6 +10,7 @@ use crate::paper::cases::{Runs, SteadyMember, CASES};
 use crate::paper::convergence::MAX_MEMBERS;
 use crate::paper::figures::output_path;
 use crate::paper::format::sci;
+use crate::paper::separation::read_separation;
 use crate::simulation::ensemble::DEFAULT_MEMBERS;
 use crate::Result;
 use std::fmt::Write as _;
@@ -96,6 +98,128 @@ pub(super) fn ensemble_section(runs: &Runs) -> Result<String> {
          model; claims that hold in some are properties of some of its runs.\n\n",
     );
     md.push_str(&convergence_section());
+    md.push_str(&separation_section(runs)?);
+    Ok(md)
+}
+
+/// Separation, as a fraction of the clearance, at which two members count as apart.
+const APART: f64 = 0.1;
+
+/// How fast members separate (`data/member_separation.csv`), and why each member settles on
+/// its own rather than sharing a settling phase.
+fn separation_section(runs: &Runs) -> Result<String> {
+    let mut md = String::from(
+        "### Why every member settles on its own
+
+\
+         The RMS distance between the journal orbits of members 0 and 1 (started at most 10 nm apart) in each \
+         rotation from the start, over the radial clearance (`cargo run --release --bin separation`, \
+         `src/paper/separation.rs`):\n\n",
+    );
+    let Some(study) = read_separation() else {
+        md.push_str("*`data/member_separation.csv` is missing: run `cargo run --release --bin separation`.*\n\n");
+        return Ok(md);
+    };
+    let rotations = study
+        .iter()
+        .map(|s| s.per_rotation.len())
+        .max()
+        .unwrap_or(0);
+    let mut header = vec!["rotation"];
+    header.extend(study.iter().map(|s| s.case.as_str()));
+    let rows: Vec<Vec<String>> = (0..rotations)
+        .map(|r| {
+            std::iter::once((r + 1).to_string())
+                .chain(
+                    study
+                        .iter()
+                        .map(|s| s.per_rotation.get(r).map_or(String::new(), |v| sci(*v))),
+                )
+                .collect()
+        })
+        .collect();
+    md_table(&mut md, &header, &rows);
+    let (apart, together): (Vec<_>, Vec<_>) = study
+        .iter()
+        .partition(|s| s.first_reaching(APART).is_some());
+    let when: Vec<String> = apart
+        .iter()
+        .filter_map(|s| {
+            Some(format!(
+                "{} in rotation {}",
+                s.case,
+                s.first_reaching(APART)?
+            ))
+        })
+        .collect();
+    let latest = apart.iter().filter_map(|s| s.first_reaching(APART)).max();
+    let _ = write!(
+        md,
+        "Members reach {:.0} % of the clearance apart: {}",
+        100.0 * APART,
+        if when.is_empty() {
+            "in no case".to_string()
+        } else {
+            when.join(", ")
+        }
+    );
+    if !together.is_empty() {
+        let names: Vec<&str> = together.iter().map(|s| s.case.as_str()).collect();
+        let _ = write!(
+            md,
+            "; {} stay{} closer (the orbit attracts)",
+            names.join(", "),
+            if names.len() == 1 { "s" } else { "" }
+        );
+    }
+    let mut split = Vec::new();
+    for case in CASES.list() {
+        let e = runs.steady(case.scene)?;
+        let k = e.continuous();
+        if k > 0 && k < e.members.len() {
+            split.push(format!("{}: {k} of {}", case.scene, e.members.len()));
+        }
+    }
+    md.push_str(
+        ". Settling once and perturbing the settled state per member, the way to share the settling \
+         rotations, would not sample the same ensemble without more rotations per member",
+    );
+    if let Some(r) = latest {
+        let _ = write!(
+            md,
+            ": after a perturbation of this size the members need up to {r} rotations to be {:.0} % of \
+             the clearance apart",
+            100.0 * APART
+        );
+    }
+    let settling: Vec<String> = CASES
+        .list()
+        .iter()
+        .map(|case| -> Result<String> {
+            let e = runs.steady(case.scene)?;
+            let d = e.stat(|m| f64::from(m.settling.rotations));
+            Ok(format!("{} {:.0}", case.scene, d.median()))
+        })
+        .collect::<Result<_>>()?;
+    let limit = (runs.steady(CASES.standard.scene)?.scene.run.settle).map(|s| s.max_rotations);
+    let _ = write!(
+        md,
+        ", while settling takes a median of {} rotations per member{}",
+        settling.join(", "),
+        limit.map_or(String::new(), |l| format!(
+            " ({l} is `steady_state.max_rotations`, reached where the orbit never repeats)"
+        ))
+    );
+    if !split.is_empty() {
+        let _ = write!(
+            md,
+            ". Where members settle into different states (continuous contact in {} members), every member \
+             would start from the state the shared run settled into: if the states are distinct attractors, \
+             the ensemble would measure the spread within one of them instead of how often each occurs",
+            split.join(", ")
+        );
+    }
+    md.push_str(". So each member settles from its own start.\n\n");
     Ok(md)
 }
 
