@@ -17,7 +17,7 @@ use std::path::Path;
 
 /// Everything a run carries from one rotation to the next: resuming from it continues the
 /// run bit for bit ([`super::Simulation::checkpoint`], [`super::Simulation::resume`]).
-#[derive(Serialize, Deserialize)]
+#[derive(Clone, Serialize, Deserialize)]
 pub struct Checkpoint {
     /// Rotations completed.
     pub(super) rotation: u32,

@@ -30,6 +30,7 @@
 //! update can never move a recorded statistic.
 
 use crate::io::progress::{Cancellation, Counter, Progress};
+use crate::mechanism::Mechanism;
 use crate::simulation::Scene;
 use crate::simulation::{RunOutput, RunSettings, Simulation};
 use crate::{Error, Result};
@@ -111,9 +112,9 @@ pub fn member_offsets(seed: u64, member: usize, joints: usize) -> Vec<Vector2<f6
         .collect()
 }
 
-/// The initial state of member `member` of `scene`: the ideal-joint configuration with every
-/// journal centre at its offset `e₀ = R(φ_J) d` (see the module documentation).
-pub fn member_state(scene: &Scene, seed: u64, member: usize) -> Result<Vec<f64>> {
+/// The mechanism of `scene` with every journal point moved by member `member`'s offset `−d`
+/// in its body: assembled, it puts the journal centre at `e₀ = R(φ_J) d` from the bearing's.
+pub fn member_mechanism(scene: &Scene, seed: u64, member: usize) -> Mechanism {
     let joints = scene.mechanism.clearance_joints.len();
     let mut shifted = scene.mechanism.clone();
     for (cj, d) in shifted
@@ -123,7 +124,13 @@ pub fn member_state(scene: &Scene, seed: u64, member: usize) -> Result<Vec<f64>>
     {
         cj.journal.local -= d;
     }
-    shifted.assemble(&scene.guess)
+    shifted
+}
+
+/// The initial state of member `member` of `scene`: the ideal-joint configuration with every
+/// journal centre at its offset `e₀ = R(φ_J) d` (see the module documentation).
+pub fn member_state(scene: &Scene, seed: u64, member: usize) -> Result<Vec<f64>> {
+    member_mechanism(scene, seed, member).assemble(&scene.guess)
 }
 
 /// Runs member `member` of `scene` with `settings` from [`member_state`], unless `cancel`

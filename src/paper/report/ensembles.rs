@@ -10,7 +10,9 @@ use crate::paper::cases::{Runs, SteadyMember, CASES};
 use crate::paper::convergence::MAX_MEMBERS;
 use crate::paper::figures::output_path;
 use crate::paper::format::sci;
-use crate::paper::separation::read_separation;
+use crate::paper::separation::{
+    first_reaching, level, pair_offset_distance, read_separation, SEPARATION_ROTATIONS,
+};
 use crate::simulation::ensemble::DEFAULT_MEMBERS;
 use crate::Result;
 use std::fmt::Write as _;
@@ -102,124 +104,112 @@ pub(super) fn ensemble_section(runs: &Runs) -> Result<String> {
     Ok(md)
 }
 
-/// Separation, as a fraction of the clearance, at which two members count as apart.
-const APART: f64 = 0.1;
+/// Separation (over the clearance) below which members count as identical either way.
+const AGREE: f64 = 1e-3;
 
-/// How fast members separate (`data/member_separation.csv`), and why each member settles on
-/// its own rather than sharing a settling phase.
+/// Whether members could share a settling phase (`data/member_separation.csv`,
+/// [`crate::paper::separation`]), and why each member settles on its own.
 fn separation_section(runs: &Runs) -> Result<String> {
     let mut md = String::from(
-        "### Why every member settles on its own
-
-\
-         The RMS distance between the journal orbits of members 0 and 1 (started at most 10 nm apart) in each \
-         rotation from the start, over the radial clearance (`cargo run --release --bin separation`, \
-         `src/paper/separation.rs`):\n\n",
+        "### Could members share a settling phase?\n\n\
+         Settling takes most of a steady run: its median per member is ",
+    );
+    let mut settling = Vec::new();
+    for case in CASES.list() {
+        let e = runs.steady(case.scene)?;
+        let d = e.stat(|m| f64::from(m.settling.rotations));
+        settling.push((case.scene, d.median()));
+    }
+    let limit = (runs.steady(CASES.standard.scene)?.scene.run.settle).map(|s| s.max_rotations);
+    let listed: Vec<String> = settling
+        .iter()
+        .map(|(c, r)| format!("{r:.0} rotations ({c})"))
+        .collect();
+    let _ = write!(
+        md,
+        "{}{}, before two recorded ones. Sharing it would settle one run and continue it once per member \
+         with that member's perturbation. The study runs exactly that (`cargo run --release --bin separation`, \
+         `src/paper/separation.rs`): member 0 of each case settles, and members 1-8 continue its settled state \
+         for {SEPARATION_ROTATIONS} rotations, each with its own journal offset (pairs 1-2, 3-4, 5-6, 7-8, \
+         offsets on average {:.1} nm apart). `shared r`: the RMS distance between a pair's journal orbits in \
+         rotation r after the shared settling, over the radial clearance, mean of the pairs; `independent`: \
+         the same pairs started each from its own assembly, over their last four of {SEPARATION_ROTATIONS} \
+         rotations, the spread of independent members:\n\n",
+        listed.join(", "),
+        limit.map_or(String::new(), |l| format!(" ({l} is `steady_state.max_rotations`, reached where the orbit never repeats)")),
+        1e9 * pair_offset_distance()
     );
     let Some(study) = read_separation() else {
         md.push_str("*`data/member_separation.csv` is missing: run `cargo run --release --bin separation`.*\n\n");
         return Ok(md);
     };
-    let rotations = study
+    const SHOWN: [usize; 5] = [1, 2, 4, 8, 12];
+    let mut header = vec!["case".to_string()];
+    header.extend(SHOWN.map(|r| format!("shared {r}")));
+    header.extend([
+        "independent".to_string(),
+        "shared reaches half of independent".to_string(),
+    ]);
+    let (mut mixing, mut holding, mut agreeing) = (Vec::new(), Vec::new(), Vec::new());
+    let rows: Vec<Vec<String>> = study
         .iter()
-        .map(|s| s.per_rotation.len())
-        .max()
-        .unwrap_or(0);
-    let mut header = vec!["rotation"];
-    header.extend(study.iter().map(|s| s.case.as_str()));
-    let rows: Vec<Vec<String>> = (0..rotations)
-        .map(|r| {
-            std::iter::once((r + 1).to_string())
-                .chain(
-                    study
-                        .iter()
-                        .map(|s| s.per_rotation.get(r).map_or(String::new(), |v| sci(*v))),
-                )
+        .map(|s| {
+            let independent = level(&s.independent);
+            let reached = first_reaching(&s.shared, 0.5 * independent);
+            if independent < AGREE && level(&s.shared) < AGREE {
+                agreeing.push(s.case.clone());
+            } else if let Some(r) = reached {
+                mixing.push(format!("{} in rotation {r}", s.case));
+            } else {
+                holding.push(format!(
+                    "{}: {} against {}",
+                    s.case,
+                    sci(level(&s.shared)),
+                    sci(independent)
+                ));
+            }
+            std::iter::once(s.case.clone())
+                .chain(SHOWN.map(|r| s.shared.get(r - 1).map_or(String::new(), |v| sci(*v))))
+                .chain([
+                    sci(independent),
+                    reached.map_or("no".into(), |r| format!("rotation {r}")),
+                ])
                 .collect()
         })
         .collect();
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
     md_table(&mut md, &header, &rows);
-    let (apart, together): (Vec<_>, Vec<_>) = study
-        .iter()
-        .partition(|s| s.first_reaching(APART).is_some());
-    let when: Vec<String> = apart
-        .iter()
-        .filter_map(|s| {
-            Some(format!(
-                "{} in rotation {}",
-                s.case,
-                s.first_reaching(APART)?
-            ))
-        })
-        .collect();
-    let latest = apart.iter().filter_map(|s| s.first_reaching(APART)).max();
-    let _ = write!(
-        md,
-        "Members reach {:.0} % of the clearance apart: {}",
-        100.0 * APART,
-        if when.is_empty() {
-            "in no case".to_string()
-        } else {
-            when.join(", ")
-        }
-    );
-    if !together.is_empty() {
-        let names: Vec<&str> = together.iter().map(|s| s.case.as_str()).collect();
+    if !mixing.is_empty() {
         let _ = write!(
             md,
-            "; {} stay{} closer (the orbit attracts)",
-            names.join(", "),
-            if names.len() == 1 { "s" } else { "" }
+            "Where the shared pairs reach half the independent separation within a few rotations ({}), the \
+             settled motion mixes its perturbations: settling once and running that many rotations per member \
+             would sample the same spread at a fraction of the settling cost. ",
+            mixing.join(", ")
         );
     }
-    let mut split = Vec::new();
-    for case in CASES.list() {
-        let e = runs.steady(case.scene)?;
-        let k = e.continuous();
-        if k > 0 && k < e.members.len() {
-            split.push(format!("{}: {k} of {}", case.scene, e.members.len()));
-        }
+    if !holding.is_empty() {
+        let _ = write!(
+            md,
+            "Where they do not within {SEPARATION_ROTATIONS} rotations (over the last four, {}), the settled \
+             state spreads its perturbations only slowly: sharing would narrow the ensemble towards one \
+             member's state, a different measurement. ",
+            holding.join(", ")
+        );
+    }
+    if !agreeing.is_empty() {
+        let _ = write!(
+            md,
+            "Where members agree to {} of the clearance either way ({}), sharing changes nothing and saves little. ",
+            sci(AGREE),
+            agreeing.join(", ")
+        );
     }
     md.push_str(
-        ". Settling once and perturbing the settled state per member, the way to share the settling \
-         rotations, would not sample the same ensemble without more rotations per member",
+        "Which kind a case is shows only by running it, so every member settles from its own start; a \
+         per-case switch to shared settling, checked against these independent ensembles' Table 3 \
+         statistics, is where the steady runs' cost could fall.\n\n",
     );
-    if let Some(r) = latest {
-        let _ = write!(
-            md,
-            ": after a perturbation of this size the members need up to {r} rotations to be {:.0} % of \
-             the clearance apart",
-            100.0 * APART
-        );
-    }
-    let settling: Vec<String> = CASES
-        .list()
-        .iter()
-        .map(|case| -> Result<String> {
-            let e = runs.steady(case.scene)?;
-            let d = e.stat(|m| f64::from(m.settling.rotations));
-            Ok(format!("{} {:.0}", case.scene, d.median()))
-        })
-        .collect::<Result<_>>()?;
-    let limit = (runs.steady(CASES.standard.scene)?.scene.run.settle).map(|s| s.max_rotations);
-    let _ = write!(
-        md,
-        ", while settling takes a median of {} rotations per member{}",
-        settling.join(", "),
-        limit.map_or(String::new(), |l| format!(
-            " ({l} is `steady_state.max_rotations`, reached where the orbit never repeats)"
-        ))
-    );
-    if !split.is_empty() {
-        let _ = write!(
-            md,
-            ". Where members settle into different states (continuous contact in {} members), every member \
-             would start from the state the shared run settled into: if the states are distinct attractors, \
-             the ensemble would measure the spread within one of them instead of how often each occurs",
-            split.join(", ")
-        );
-    }
-    md.push_str(". So each member settles from its own start.\n\n");
     Ok(md)
 }
 

@@ -51,9 +51,9 @@ pub const ENSEMBLE_TOLERANCE_HEADER: [&str; 13] = [
     "wall_time_s",
 ];
 
-/// A concordance's mean over the members at one tolerance.
+/// A concordance's mean over the members at one tolerance, with its paired z.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MeanChange {
+pub struct PairedMean {
     /// Mean over the members.
     pub mean: f64,
     /// Its standard error, sd/√N.
@@ -76,9 +76,9 @@ pub struct ToleranceRow {
     /// Members whose P-w concordance exceeds their s-w one.
     pub pressure_dominated: usize,
     /// CMF(P, w).
-    pub pw: MeanChange,
+    pub pw: PairedMean,
     /// CMF(s, w).
-    pub sw: MeanChange,
+    pub sw: PairedMean,
     /// Mean right-hand-side evaluations of a member (settling included).
     pub evaluations: f64,
     /// Wall time of all ensembles at this tolerance (s).
@@ -111,7 +111,7 @@ impl ToleranceRow {
         let x = |i: usize| f.get(i)?.parse::<f64>().ok();
         let count = |i: usize| f.get(i)?.parse::<usize>().ok();
         let mean = |i: usize| {
-            Some(MeanChange {
+            Some(PairedMean {
                 mean: x(i)?,
                 se: x(i + 1)?,
                 z: x(i + 2)?,
@@ -192,7 +192,7 @@ pub fn ensemble_tolerance(progress: &dyn Progress) -> Result<Vec<ToleranceRow>> 
             };
             let mean = |values: &[f64], z| {
                 let d = Distribution::of(values.iter().copied());
-                MeanChange {
+                PairedMean {
                     mean: d.mean,
                     se: d.standard_error(),
                     z,
@@ -226,6 +226,26 @@ pub fn ensemble_tolerance(progress: &dyn Progress) -> Result<Vec<ToleranceRow>> 
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
+
+    #[test]
+    fn rows_read_back_as_written() {
+        let mean = |mean, se, z| PairedMean { mean, se, z };
+        let row = ToleranceRow {
+            case: "standard".into(),
+            rtol: 1e-6,
+            members: 32,
+            continuous: 30,
+            pressure_dominated: 1,
+            pw: mean(0.25, 1.5e-3, -2.25),
+            sw: mean(0.75, 2.5e-4, 1.5),
+            evaluations: 98584.0,
+            wall_time: 11.25,
+        };
+        assert_eq!(ToleranceRow::parse(&row.fields()), Some(row.clone()));
+        let mut short = row.fields();
+        short.pop();
+        assert_eq!(ToleranceRow::parse(&short), None);
+    }
 
     #[test]
     fn paired_z_judges_the_members_own_changes() {
