@@ -52,6 +52,27 @@ pub enum Error {
 pub type Result<T> = std::result::Result<T, Error>;
 
 impl Error {
+    /// The error with ` (context)` appended to a bad value's field or to a parse message, so
+    /// that it names where the value came from (a `--set`, a sweep case); others unchanged.
+    pub fn in_context(self, context: &str) -> Error {
+        match self {
+            Error::Invalid {
+                field,
+                value,
+                expected,
+            } => Error::Invalid {
+                field: format!("{field} ({context})"),
+                value,
+                expected,
+            },
+            Error::Parse { path, message } => Error::Parse {
+                path,
+                message: format!("{} ({context})", message.trim_end()),
+            },
+            e => e,
+        }
+    }
+
     /// Shorthand for a validation error.
     pub fn invalid(
         field: impl Into<String>,

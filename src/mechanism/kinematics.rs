@@ -107,6 +107,14 @@ pub(super) fn sin_cos(q: &[f64]) -> impl Fn(usize) -> (f64, f64) + Copy + '_ {
 }
 
 impl Mechanism {
+    /// Penetration δ (m) of clearance joint `k` at state `y` (coordinates, then velocities).
+    #[inline]
+    pub fn penetration(&self, state: &RunState, k: usize, y: &[f64]) -> f64 {
+        let n = self.coordinates();
+        self.contact_kinematics(state, k, &y[..n], &y[n..2 * n])
+            .delta
+    }
+
     /// Kinematics of clearance joint `k` at state (q, v), without forces.
     #[inline]
     pub fn contact_kinematics(

@@ -373,6 +373,7 @@ impl Workspace {
 
     /// Sets each solved coordinate of x from its equation, `coef · x_k = b − Σ_other Φ_q x`
     /// (b from `target`), in order; x must be zero there on entry.
+    #[inline]
     pub(super) fn solve_fixed(&self, x: &mut [f64], target: impl Fn(&Solved) -> f64) {
         for s in &self.solved {
             x[s.coord] = (target(s) - s.row.dot(x)) * s.inv_coef;

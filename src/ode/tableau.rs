@@ -72,9 +72,11 @@ impl Method {
     pub fn stability_boundary(&self, angle: f64) -> Option<f64> {
         let tab = self.tableau();
         let direction = Complex::from_polar(1.0, angle);
-        let amplification = |r: f64| {
+        // The stage values, cleared and refilled for each r.
+        let mut k: Vec<Complex<f64>> = Vec::with_capacity(tab.c.len());
+        let mut amplification = |r: f64| {
             let z = direction * r;
-            let mut k: Vec<Complex<f64>> = Vec::with_capacity(tab.c.len());
+            k.clear();
             for row in tab.a {
                 let sum: Complex<f64> = row.iter().zip(&k).map(|(a, k)| k * *a).sum();
                 k.push(Complex::new(1.0, 0.0) + z * sum);

@@ -183,16 +183,17 @@ pub fn step_limit_study(standard: &SceneFile) -> Result<()> {
     let method = scene.run.method;
     let mut sim = Simulation::start(&scene)?;
     let mut ws = scene.mechanism.workspace();
-    let n = scene.mechanism.coordinates();
     let mut columns: [Vec<f64>; 7] = Default::default();
     let mut steps = 0u64;
     while !sim.is_finished() {
+        let start = sim.time();
         sim.advance_step()?;
         steps += 1;
         if !steps.is_multiple_of(STEP_LIMIT_EVERY) {
             continue;
         }
-        let (t, y, step) = (sim.time(), sim.y(), sim.last_step());
+        let (t, y) = (sim.time(), sim.y());
+        let step = t - start;
         let jacobian = scene.mechanism.rhs_jacobian(sim.state(), &mut ws, t, y)?;
         // An eigenvalue with h|λ| < 1e-3 cannot bind: its fraction is at most about 1e-3 (the
         // smallest boundary in the left half-plane is about 1 for Dopri5, near the imaginary
@@ -209,11 +210,7 @@ pub fn step_limit_study(standard: &SceneFile) -> Result<()> {
         let (fraction, lambda, boundary) =
             binding.unwrap_or((f64::NAN, Complex::new(f64::NAN, f64::NAN), f64::NAN));
         let penetration = (0..scene.mechanism.clearance_joints.len())
-            .map(|k| {
-                let m = &scene.mechanism;
-                m.contact_kinematics(sim.state(), k, &y[..n], &y[n..2 * n])
-                    .delta
-            })
+            .map(|k| scene.mechanism.penetration(sim.state(), k, y))
             .fold(f64::NEG_INFINITY, f64::max);
         let row = [
             t,

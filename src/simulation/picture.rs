@@ -41,15 +41,13 @@ fn joint_points(m: &Mechanism) -> Vec<(&BodyPoint, f64)> {
     revolutes.chain(sliders).chain(clearance).collect()
 }
 
-/// The distinct local points (m) of body `i`, and the largest bearing radius among them.
-fn body_points(m: &Mechanism, i: usize) -> (Vec<Vector2<f64>>, f64) {
+/// The distinct local points (m) of body `i` among `joints` ([`joint_points`]), and the
+/// largest bearing radius among them.
+fn body_points(joints: &[(&BodyPoint, f64)], i: usize) -> (Vec<Vector2<f64>>, f64) {
     let mut points: Vec<Vector2<f64>> = Vec::new();
     let mut radius = 0f64;
-    for (p, r) in joint_points(m)
-        .into_iter()
-        .filter(|(p, _)| p.body == Some(i))
-    {
-        radius = radius.max(r);
+    for (p, r) in joints.iter().filter(|(p, _)| p.body == Some(i)) {
+        radius = radius.max(*r);
         if points.iter().all(|q| (q - p.local).norm() > SAME_POINT) {
             points.push(p.local);
         }
@@ -57,9 +55,9 @@ fn body_points(m: &Mechanism, i: usize) -> (Vec<Vector2<f64>>, f64) {
     (points, radius)
 }
 
-/// The local outline (m) of body `i`: a line, a closed polygon, or a block (module doc).
-fn local_outline(m: &Mechanism, i: usize, longest: f64) -> Vec<Vector2<f64>> {
-    let (mut points, radius) = body_points(m, i);
+/// The local outline (m) of a body through its distinct `points`, with the largest bearing
+/// `radius` among them: a line, a closed polygon, or a block (module doc).
+fn local_outline(mut points: Vec<Vector2<f64>>, radius: f64, longest: f64) -> Vec<Vector2<f64>> {
     match points.len() {
         0 => Vec::new(),
         1 => {
@@ -86,6 +84,34 @@ fn local_outline(m: &Mechanism, i: usize, longest: f64) -> Vec<Vector2<f64>> {
     }
 }
 
+/// What a picture of a mechanism keeps from pose to pose: each body's local outline (m) and
+/// legend entry, built once for all the frames of an animation.
+struct Outlines {
+    local: Vec<Vec<Vector2<f64>>>,
+    labels: Vec<String>,
+}
+
+impl Outlines {
+    fn of(m: &Mechanism) -> Outlines {
+        let joints = joint_points(m);
+        let n = m.bodies().len();
+        let points: Vec<(Vec<Vector2<f64>>, f64)> =
+            (0..n).map(|i| body_points(&joints, i)).collect();
+        let longest = (points.iter())
+            .flat_map(|(p, _)| {
+                p.iter()
+                    .flat_map(move |a| p.iter().map(move |b| (a - b).norm()))
+            })
+            .fold(0f64, f64::max);
+        Outlines {
+            local: (points.into_iter())
+                .map(|(p, radius)| local_outline(p, radius, longest))
+                .collect(),
+            labels: (0..n).map(|i| body_label(m, i)).collect(),
+        }
+    }
+}
+
 /// The legend entry of body `i`: its name, and for the driven body its speed and sense.
 fn body_label(m: &Mechanism, i: usize) -> String {
     let name = &m.bodies()[i].name;
@@ -104,27 +130,21 @@ fn body_label(m: &Mechanism, i: usize) -> String {
 /// The picture of the mechanism at coordinates `q` (m, rad), without title or note; clearance
 /// joints carry no orbit.
 pub fn pose_picture(m: &Mechanism, q: &[f64]) -> MechanismPicture {
-    let n = m.bodies().len();
-    let longest = (0..n)
-        .flat_map(|i| {
-            let (p, _) = body_points(m, i);
-            let spans: Vec<f64> = p
-                .iter()
-                .flat_map(|a| p.iter().map(move |b| (a - b).norm()))
-                .collect();
-            spans
-        })
-        .fold(0f64, f64::max);
-    let bodies = (0..n)
-        .map(|i| {
+    posed(&Outlines::of(m), m, q)
+}
+
+/// [`pose_picture`] with the mechanism's `outlines` built beforehand.
+fn posed(outlines: &Outlines, m: &Mechanism, q: &[f64]) -> MechanismPicture {
+    let bodies = (outlines.local.iter().zip(&outlines.labels).enumerate())
+        .map(|(i, (local, label))| {
             let (r, phi) = m.pose(q, Some(i));
-            let outline = local_outline(m, i, longest)
-                .into_iter()
+            let outline = local
+                .iter()
                 .map(|p| (r + Rotation2::new(phi) * p) * 1e3)
                 .map(|w| (w.x, w.y))
                 .collect();
             BodyShape {
-                label: body_label(m, i),
+                label: label.clone(),
                 outline,
             }
         })
@@ -178,6 +198,7 @@ pub fn pose_picture(m: &Mechanism, q: &[f64]) -> MechanismPicture {
 /// with its orbit from the first sample up to the frame's.
 pub fn animation_frames(scene: &Scene, rec: &Recording, frames: usize) -> Vec<MechanismPicture> {
     let m = &scene.mechanism;
+    let outlines = Outlines::of(m);
     let samples = rec.time.len();
     let frames = frames.min(samples);
     (0..frames)
@@ -188,7 +209,7 @@ pub fn animation_frames(scene: &Scene, rec: &Recording, frames: usize) -> Vec<Me
                 .iter()
                 .flat_map(|body| [body[0][k], body[1][k], body[2][k]])
                 .collect();
-            let mut picture = pose_picture(m, &q);
+            let mut picture = posed(&outlines, m, &q);
             for (shape, trace) in picture.clearance.iter_mut().zip(&rec.joints) {
                 shape.orbit = (0..=k)
                     .map(|s| (trace.ex[s] * 1e3, trace.ey[s] * 1e3))

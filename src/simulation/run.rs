@@ -54,8 +54,6 @@ pub struct Simulation {
     gaps: Vec<f64>,
     y_event: Vec<f64>,
     y_mid: Vec<f64>,
-    /// Length of the last accepted step, as cut (s).
-    last_step: f64,
     wears: bool,
     rotation: u32,
     out: RunOutput,
@@ -97,7 +95,7 @@ impl Simulation {
             .energy_accounting
             .then(|| mechanical_energy(&mechanism, &state, y0));
         let gaps = (0..joints)
-            .map(|k| gap(&mechanism, &state, k, y0))
+            .map(|k| mechanism.penetration(&state, k, y0))
             .collect();
         let wears = mechanism.clearance_joints.iter().any(|c| c.wear.is_some());
         let mut ws = mechanism.workspace();
@@ -123,7 +121,6 @@ impl Simulation {
             gaps,
             y_event: vec![0.0; dim],
             y_mid: vec![0.0; dim],
-            last_step: 0.0,
             wears,
             rotation: 0,
             out: RunOutput {
@@ -267,12 +264,6 @@ impl Simulation {
         self.integrator.y()
     }
 
-    /// Length of the last accepted step (s), as cut at a contact onset or a rotation's end; 0
-    /// before the first step of a start or a resume.
-    pub fn last_step(&self) -> f64 {
-        self.last_step
-    }
-
     /// Runs the remaining rotations, telling `progress` the rotations done after each, or
     /// stops with [`Error::Cancelled`] before a rotation when `progress` asks to.
     pub fn run_to_end(&mut self, progress: &dyn Progress) -> Result<()> {
@@ -296,7 +287,7 @@ impl Simulation {
         self.check_wear_depth()?;
         let (t, y) = (self.integrator.t(), self.integrator.y().to_vec());
         for (k, g) in self.gaps.iter_mut().enumerate() {
-            *g = gap(&self.mechanism, &self.state, k, &y);
+            *g = self.mechanism.penetration(&self.state, k, &y);
         }
         self.restart(t, &y)
     }
@@ -324,8 +315,9 @@ impl Simulation {
     /// Integrates one accepted step (cut at a contact onset or at the rotation's end), with
     /// its contact-onset location, wear and recording, and the rotation's bookkeeping when it
     /// ends one: the finest grain at which a run can be observed ([`Simulation::time`],
-    /// [`Simulation::y`], [`Simulation::last_step`]). Driving a run step by step or rotation
-    /// by rotation gives the same steps. Does nothing once the run is finished.
+    /// [`Simulation::y`]; the step's length is the change of `time`, as the integrator
+    /// restarts at an onset it cut at). Driving a run step by step or rotation by rotation
+    /// gives the same steps. Does nothing once the run is finished.
     pub fn advance_step(&mut self) -> Result<()> {
         if self.is_finished() {
             return Ok(());
@@ -467,10 +459,12 @@ impl Simulation {
             (&self.mechanism, &self.integrator, &mut self.y_event);
         // 1. Contact onsets: the earliest gap sign change from free flight to contact.
         let state = &self.state;
-        let onset =
-            integrator.earliest_event(&mut self.gaps, |k, y| gap(mechanism, state, k, y), y_event);
+        let onset = integrator.earliest_event(
+            &mut self.gaps,
+            |k, y| mechanism.penetration(state, k, y),
+            y_event,
+        );
         let t_stop = onset.map_or(tb, |e| e.t);
-        self.last_step = t_stop - ta;
         // 2. Wear at the interval midpoint, 3. samples, both over [ta, t_stop].
         if self.wears {
             integrator.dense(0.5 * (ta + t_stop), &mut self.y_mid);
@@ -504,7 +498,7 @@ impl Simulation {
                 *g = if j == k {
                     0.0
                 } else {
-                    gap(mechanism, &self.state, j, y_event)
+                    mechanism.penetration(&self.state, j, y_event)
                 };
             }
             self.integrator.record_event();
@@ -545,12 +539,6 @@ impl Simulation {
         self.out.wall_time += self.clock.elapsed().as_secs_f64();
         self.out
     }
-}
-
-/// Penetration of joint `k` at state `y`.
-fn gap(m: &Mechanism, state: &RunState, k: usize, y: &[f64]) -> f64 {
-    let n = m.coordinates();
-    m.contact_kinematics(state, k, &y[..n], &y[n..2 * n]).delta
 }
 
 fn wear_depths(state: &RunState) -> Vec<Vec<f64>> {

@@ -134,23 +134,7 @@ fn in_case(e: Error, case: usize, sets: &[Assignment], values: &[&str]) -> Error
     let assigned: Vec<String> = (sets.iter().zip(values))
         .map(|(a, v)| format!("{}={v}", a.key))
         .collect();
-    let label = format!("case {case}: {}", assigned.join(", "));
-    match e {
-        Error::Invalid {
-            field,
-            value,
-            expected,
-        } => Error::Invalid {
-            field: format!("{field} (in {label})"),
-            value,
-            expected,
-        },
-        Error::Parse { path, message } => Error::Parse {
-            path,
-            message: format!("{} (in {label})", message.trim_end()),
-        },
-        e => e,
-    }
+    e.in_context(&format!("in case {case}: {}", assigned.join(", ")))
 }
 
 /// The scene document `doc` (read from `path`) with `values` assigned to the keys of `sets`.

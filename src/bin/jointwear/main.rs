@@ -361,21 +361,12 @@ fn load_variant(
     let from: Vec<String> = (sets.iter().map(|s| format!("--set {s}")))
         .chain(rotations.map(|n| format!("--rotations {n}")))
         .collect();
-    let from_set = |e| match e {
-        Error::Invalid {
-            field,
-            value,
-            expected,
-        } if !from.is_empty() => Error::Invalid {
-            field: format!("{field} (with {})", from.join(", ")),
-            value,
-            expected,
-        },
-        Error::Parse { path, message } if !from.is_empty() => Error::Parse {
-            path,
-            message: format!("{} (with {})", message.trim_end(), from.join(", ")),
-        },
-        e => e,
+    let from_set = |e: Error| {
+        if from.is_empty() {
+            e
+        } else {
+            e.in_context(&format!("with {}", from.join(", ")))
+        }
     };
     let mut varied = doc;
     for a in &assignments {

@@ -258,10 +258,10 @@ fn ensemble_tolerance_findings() -> Option<String> {
             if largest.0.abs() <= ctol { "inside" } else { "outside" }
         );
     }
+    let costs = read_ensemble_wear_errors().unwrap_or_default();
     let evaluations = |tol: f64| {
         let setting = format!("rtol={tol:e} ");
-        read_ensemble_wear_errors()?
-            .into_iter()
+        (costs.iter())
             .find(|c| c.method == "dopri5" && c.setting.starts_with(&setting))
             .map(|c| c.evaluations as f64)
     };
@@ -270,7 +270,9 @@ fn ensemble_tolerance_findings() -> Option<String> {
         .iter()
         .find(|(name, _)| *name == PROCESS)
         .map(|t| t.1);
-    let needed = bench_median(PROCESS).zip(target).map(|(m, t)| m / t);
+    let needed = (bench_medians().and_then(|m| median_of(&m, PROCESS)))
+        .zip(target)
+        .map(|(m, t)| m / t);
     if let (Some(tol), Some(loose), Some(scene), Some(needed)) = (
         loosest,
         loosest.and_then(evaluations),
@@ -511,21 +513,30 @@ fn benchmarks(md: &mut String) {
     md_table(md, &header, &rows);
 }
 
-/// The median (ns) of criterion bench `name` in `data/benchmarks.csv`, if measured.
-fn bench_median(name: &str) -> Option<f64> {
+/// The medians (ns) of `data/benchmarks.csv` by bench name; `None` if it is missing.
+fn bench_medians() -> Option<Vec<(String, f64)>> {
     let (_, rows) = read_rows(&output_path("data", "benchmarks.csv")).ok()?;
-    rows.iter().find(|r| r[0] == name)?.get(1)?.parse().ok()
+    Some(
+        rows.into_iter()
+            .filter_map(|r| Some((r.first()?.clone(), r.get(1)?.parse().ok()?)))
+            .collect(),
+    )
+}
+
+/// The median of bench `name` among `medians` ([`bench_medians`]), if measured.
+fn median_of(medians: &[(String, f64)], name: &str) -> Option<f64> {
+    medians.iter().find(|(n, _)| n == name).map(|m| m.1)
 }
 
 /// The run-time targets against the medians of `data/benchmarks.csv`.
 fn targets() -> String {
-    if read_rows(&output_path("data", "benchmarks.csv")).is_err() {
+    let Some(medians) = bench_medians() else {
         return String::new();
-    }
+    };
     let rows: Vec<Vec<String>> = TARGETS
         .iter()
         .map(|&(name, budget)| {
-            let (measured, verdict) = match bench_median(name) {
+            let (measured, verdict) = match median_of(&medians, name) {
                 Some(m) => (ns(m), if m < budget { "met" } else { "**missed**" }),
                 None => ("not measured".into(), "**missed**"),
             };
