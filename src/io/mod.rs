@@ -1,11 +1,12 @@
-//! Files a run writes and reads: atomic CSV/PNG/JSON writing, output-folder checks and
-//! manifests, plotting, clean interruption (SIGINT/SIGTERM remove temporary files), and the
+//! Files a run writes and reads: atomic CSV/PNG/JSON writing, output-folder checks, claims
+//! and manifests, plotting, clean interruption (SIGINT/SIGTERM remove temporary files), and the
 //! progress observers of long computations.
 //!
 //! Owns: the byte formats and the file system. Uses: nothing of the crate but
 //! [`crate::Error`]; it knows no physics.
 
 pub mod interrupt;
+pub mod lock;
 pub mod output;
 pub mod plot;
 pub mod progress;

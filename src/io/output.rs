@@ -13,6 +13,7 @@ use std::ffi::OsString;
 use std::fs::{self, File};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
 use crate::io::interrupt;
@@ -25,13 +26,34 @@ fn io_error(path: &Path, source: std::io::Error) -> Error {
     }
 }
 
-/// Hidden temporary sibling of `path` that keeps the extension (`dir/.name.tmp.png` for
-/// `dir/name.png`), so writers that pick the format from the extension still work.
+/// Distinguishes the temporary names of one process.
+static TEMPORARY_COUNT: AtomicU64 = AtomicU64::new(0);
+
+/// `tag-<pid>-<n>`: a part of a file name no other process, and no other call of this
+/// process, uses.
+fn unique_tag(tag: &str) -> String {
+    let n = TEMPORARY_COUNT.fetch_add(1, Ordering::Relaxed);
+    format!("{tag}-{}-{n}", std::process::id())
+}
+
+/// A hidden sibling of `path` with a name of its own (`dir/.name.tag-<pid>-<n>`).
+pub(crate) fn unique_sibling(path: &Path, tag: &str) -> PathBuf {
+    let mut name = OsString::from(".");
+    name.push(path.file_name().unwrap_or(path.as_os_str()));
+    name.push(".");
+    name.push(unique_tag(tag));
+    path.with_file_name(name)
+}
+
+/// Hidden temporary sibling of `path`, unique to this process and call, that keeps the
+/// extension (`dir/.name.tmp-<pid>-<n>.png` for `dir/name.png`), so writers that pick the
+/// format from the extension still work and two processes never write the same temporary.
 fn temp_path(path: &Path) -> PathBuf {
     let stem = path.file_stem().unwrap_or(path.as_os_str());
     let mut name = OsString::from(".");
     name.push(stem);
-    name.push(".tmp");
+    name.push(".");
+    name.push(unique_tag("tmp"));
     if let Some(ext) = path.extension() {
         name.push(".");
         name.push(ext);

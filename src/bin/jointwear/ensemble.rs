@@ -4,7 +4,7 @@
 
 use crate::failure::{CliResult, Failure};
 use crate::outputs::{conventions, write_summary, PROGRAM, SUMMARY_FILE};
-use crate::{joint_file, load_variant};
+use crate::{claim_out, joint_file, load_variant};
 use jointwear::analysis::statistics::{Distribution, VALUE_KEYS};
 use jointwear::io::output::{number, write_outputs, write_rows};
 use jointwear::io::plot::{render, Axes, Series, Shade, Style};
@@ -47,6 +47,7 @@ pub fn run_ensemble(
     checked(path, &settings)?;
     let variant = load_variant(path, sets, rotations, out)?;
     let (scene, dir) = (&variant.scene, &variant.dir);
+    let _claim = claim_out(path, dir)?;
     let clock = std::time::Instant::now();
     let bar = progress_bar(settings.members as u64, "members");
     let members = ensemble::run(

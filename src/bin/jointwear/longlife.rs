@@ -1,12 +1,12 @@
 //! `jointwear longlife SCENE`: wear after many rotations by cycle-jump extrapolation, to a
 //! rotation count or a wear limit; its growth and profile CSVs, figures and summary.
 
-use crate::checked_out_dir;
 use crate::failure::{CliResult, Failure};
 use crate::joint_file;
 use crate::outputs::{
     body_name, conventions, write_profiles, write_summary, PROGRAM, SUMMARY_FILE,
 };
+use crate::{checked_out_dir, claim_out};
 use jointwear::io::output::{write_csv, write_outputs};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::progress_bar;
@@ -44,6 +44,7 @@ pub fn longlife(
     }
     let scene = file.build().map_err(bad)?;
     let dir = checked_out_dir(path, out)?;
+    let _claim = claim_out(path, &dir)?;
     let target = rotations as u64;
     let settings = LongLifeSettings {
         rotations: target,

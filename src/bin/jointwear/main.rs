@@ -21,6 +21,7 @@ mod sweep;
 use clap::{Parser, Subcommand};
 use failure::{CliResult, Failure};
 use jointwear::io::interrupt;
+use jointwear::io::lock::{self, Lock};
 use jointwear::scene::{set_dotted, SceneFile};
 use jointwear::simulation::ensemble::{EnsembleSettings, DEFAULT_SEED};
 use jointwear::simulation::Scene;
@@ -286,6 +287,12 @@ fn checked_out_dir(scene: &Path, out: Option<PathBuf>) -> CliResult<PathBuf> {
     let dir = out_dir(scene, out);
     jointwear::io::output::check_output_dir("--out", &dir).map_err(|e| Failure::from(scene, e))?;
     Ok(dir)
+}
+
+/// Claims the output folder `dir` of the scene at `scene` for this process until the lock
+/// drops: refused (exit 2, naming the holder) while another process writes into it.
+fn claim_out(scene: &Path, dir: &Path) -> CliResult<Lock> {
+    lock::claim_folder("--out", dir).map_err(|e| Failure::from(scene, e))
 }
 
 /// The file `<stem>_<joint>.csv` of a per-joint output, the joint's name made safe for a file

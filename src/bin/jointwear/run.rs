@@ -7,7 +7,7 @@ use crate::outputs::{
     body_name, conventions, timeseries_columns, write_profiles, write_summary, PROGRAM,
     SUMMARY_FILE,
 };
-use crate::{joint_file, load_variant};
+use crate::{claim_out, joint_file, load_variant};
 use jointwear::io::interrupt;
 use jointwear::io::output::{write_csv, write_outputs};
 use jointwear::io::plot::{render, Axes, Series, Style};
@@ -36,6 +36,7 @@ pub fn run(
     let bad = |e| Failure::from(path, e);
     let variant = load_variant(path, sets, rotations, out)?;
     let (scene, dir, fingerprint) = (&variant.scene, &variant.dir, &variant.fingerprint);
+    let _claim = claim_out(path, dir)?;
     if checkpoint_every == Some(0) {
         return Err(Failure::input(
             path,

@@ -5,6 +5,7 @@
 use crate::failure::{CliResult, Failure};
 use crate::out_dir;
 use jointwear::io::interrupt;
+use jointwear::io::lock::claim_file;
 use jointwear::io::output::check_output_file;
 use jointwear::io::progress::progress_bar;
 use jointwear::simulation::ensemble::EnsembleSettings;
@@ -16,6 +17,7 @@ use std::path::{Path, PathBuf};
 /// `sweep-merge`: joins the shard files `inputs` of one sweep into `out`.
 pub fn sweep_merge(inputs: &[PathBuf], out: &Path, allow_partial: bool) -> CliResult<()> {
     check_output_file("--out", out).map_err(|e| Failure::from(out, e))?;
+    let _claim = claim_file("--out", out).map_err(|e| Failure::from(out, e))?;
     // Reading the inputs is reading input: an unreadable one is bad input.
     let rows = merge(inputs, out, allow_partial).map_err(|e| {
         if matches!(&e, Error::Io { path, .. } if inputs.contains(path)) {
@@ -65,6 +67,7 @@ pub fn sweep(
             .map_err(|e| Failure::input(path, e))?;
     }
     check_output_file("--out", &out).map_err(bad)?;
+    let _claim = claim_file("--out", &out).map_err(bad)?;
     if !resume && out.exists() {
         eprintln!(
             "{} exists: starting over (--resume keeps its finished cases)",
