@@ -127,8 +127,12 @@ fn command_line_resumes_and_refuses_what_it_cannot() {
         err.contains("started with other --set/--rotations values"),
         "{err}"
     );
-    // --checkpoint-every writes checkpoints and removes the last one when the run completes
-    let r = jointwear(&["run", p, "--out", o, "--checkpoint-every", "2"]);
+    // --checkpoint-every writes checkpoints and removes the last one when the run completes;
+    // the folder's checkpoint of an unfinished run goes only when the user says so
+    let every = ["run", p, "--out", o, "--checkpoint-every", "2"];
+    assert_eq!(jointwear(&every).status.code(), Some(2));
+    assert!(saved.exists());
+    let r = jointwear(&[&every[..], &["--discard-checkpoint"]].concat());
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     assert!(!saved.exists());
     let _ = std::fs::remove_dir_all(&dir);

@@ -135,3 +135,57 @@ fn a_second_sweep_into_a_file_in_use_is_refused() {
     assert!(!lock.exists());
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Fails on today's code: repeating a killed checkpointed run without `--resume` overwrote
+/// its checkpoint (rotation 520 became 210), and any run that completed in the folder
+/// removed it.
+#[test]
+fn the_checkpoint_of_an_unfinished_run_is_kept_unless_the_user_says_otherwise() {
+    let dir = temp_dir("outputs", "checkpoint");
+    let scene = short_standard(&dir, "scene.toml", 200, &[]);
+    let out = dir.join("out");
+    let args = [
+        "run",
+        s(&scene),
+        "--out",
+        s(&out),
+        "--checkpoint-every",
+        "1",
+    ];
+    let mut killed = spawn(&args);
+    let saved = out.join("checkpoint.json");
+    wait_for(&saved, &mut killed);
+    killed.kill().unwrap(); // SIGKILL: the lock stays behind, stale
+    killed.wait().unwrap();
+    let before = fs::read(&saved).unwrap();
+    for again in [&args[..], &["run", s(&scene), "--out", s(&out)][..]] {
+        let o = jointwear(again);
+        assert_fails(
+            &o,
+            2,
+            &[
+                s(&saved),
+                "--resume",
+                "--discard-checkpoint",
+                "another --out",
+            ],
+        );
+        assert_eq!(fs::read(&saved).unwrap(), before, "the checkpoint is kept");
+    }
+    // --resume and --discard-checkpoint exclude each other.
+    let both = [&args[..], &["--resume", "--discard-checkpoint"]].concat();
+    assert_eq!(jointwear(&both).status.code(), Some(2));
+    let o = jointwear(&[
+        "run",
+        s(&scene),
+        "--out",
+        s(&out),
+        "--rotations",
+        "1",
+        "--discard-checkpoint",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("removed"), "{}", stderr(&o));
+    assert!(!saved.exists());
+    fs::remove_dir_all(&dir).unwrap();
+}

@@ -104,6 +104,10 @@ enum Command {
         /// stopped
         #[arg(long, conflicts_with = "ensemble")]
         resume: bool,
+        /// Remove <out>/checkpoint.json, the saved state of an unfinished run, and start over
+        /// (without it or --resume, a run into a folder holding one is refused)
+        #[arg(long, conflicts_with_all = ["ensemble", "resume"])]
+        discard_checkpoint: bool,
     },
     /// Validate a scene, print what it describes and draw its assembled pose.
     ///
@@ -211,8 +215,18 @@ fn main() -> ExitCode {
             ensemble: None,
             checkpoint_every,
             resume,
+            discard_checkpoint,
             ..
-        } => run::run(&scene, &sets, rotations, out, checkpoint_every, resume),
+        } => {
+            let saved = if resume {
+                run::Saved::Resume
+            } else if discard_checkpoint {
+                run::Saved::Discard
+            } else {
+                run::Saved::Keep
+            };
+            run::run(&scene, &sets, rotations, out, checkpoint_every, saved)
+        }
         Command::Run {
             scene,
             out,

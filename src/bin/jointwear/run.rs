@@ -22,16 +22,27 @@ use jointwear::Error;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
+/// What a run does with the checkpoint of an unfinished run in its output folder.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Saved {
+    /// `--resume`: continues it.
+    Resume,
+    /// `--discard-checkpoint`: removes it and starts over.
+    Discard,
+    /// Neither: a folder holding one is refused, so that no checkpoint is lost unasked.
+    Keep,
+}
+
 /// `run` without `--ensemble`: simulates the scene at `path` with `sets` and `rotations`
-/// applied ([`load_variant`]), or resumes its checkpoint, writes its outputs into `out` and
-/// prints a summary.
+/// applied ([`load_variant`]), or resumes its checkpoint (`saved_run`), writes its outputs into
+/// `out` and prints a summary.
 pub fn run(
     path: &Path,
     sets: &[String],
     rotations: Option<u32>,
     out: Option<PathBuf>,
     checkpoint_every: Option<u32>,
-    resume: bool,
+    saved_run: Saved,
 ) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
     let variant = load_variant(path, sets, rotations, out)?;
@@ -44,7 +55,34 @@ pub fn run(
         ));
     }
     let saved = dir.join(CHECKPOINT_FILE);
-    let mut sim = if resume {
+    let io = |source| {
+        bad(Error::Io {
+            path: saved.clone(),
+            source,
+        })
+    };
+    if saved.exists() && saved_run == Saved::Discard {
+        std::fs::remove_file(&saved).map_err(io)?;
+        eprintln!(
+            "note: removed {}, the checkpoint of an unfinished run (--discard-checkpoint)",
+            saved.display()
+        );
+    } else if saved.exists() && saved_run == Saved::Keep {
+        return Err(Failure::input(
+            path,
+            Error::invalid(
+                "--out",
+                dir.display(),
+                format!(
+                    "a folder without the checkpoint of an unfinished run: {} holds one; \
+                     continue that run with --resume, start over with --discard-checkpoint, \
+                     or choose another --out",
+                    saved.display()
+                ),
+            ),
+        ));
+    }
+    let mut sim = if saved_run == Saved::Resume {
         let checkpoint = read_checkpoint(&saved, fingerprint).map_err(|e| match e {
             Error::Io { .. } => Failure::input(
                 path,
@@ -56,7 +94,13 @@ pub fn run(
             ),
             e => Failure::input(path, e),
         })?;
-        Simulation::resume(scene, checkpoint).map_err(|e| Failure::input(path, e))?
+        let sim = Simulation::resume(scene, checkpoint).map_err(|e| Failure::input(path, e))?;
+        eprintln!(
+            "note: continuing the run saved in {} after rotation {} (--resume)",
+            saved.display(),
+            sim.rotations_done()
+        );
+        sim
     } else {
         Simulation::start(scene).map_err(bad)?
     };
@@ -92,14 +136,10 @@ pub fn run(
         write_summary(dir, &summary, &readme(title, scene, &out))
     })
     .map_err(|e| Failure::from(path, e))?;
-    // A completed run needs no checkpoint; a failed one keeps its last.
+    // A completed run needs no checkpoint (any there is its own: another is refused or
+    // discarded above); a failed one keeps its last.
     if saved.exists() {
-        std::fs::remove_file(&saved).map_err(|source| {
-            bad(Error::Io {
-                path: saved.clone(),
-                source,
-            })
-        })?;
+        std::fs::remove_file(&saved).map_err(io)?;
     }
     print_summary(scene, &out, &joints);
     println!("outputs in {}", dir.display());
