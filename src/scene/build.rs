@@ -19,6 +19,7 @@ const GPA: f64 = 1e9;
 impl SceneFile {
     /// Validates every value and converts the scene to SI.
     pub fn build(&self) -> Result<Scene> {
+        self.check_sizes()?;
         if let Some(g) =
             (self.gravity_m_s2.iter()).find(|g| !(g.is_finite() && g.abs() <= GRAVITY_M_S2))
         {
@@ -150,6 +151,38 @@ impl SceneFile {
         scene.check_record_budget()?;
         scene.check_step_budget()?;
         Ok(scene)
+    }
+
+    /// Checks the lengths of the title and of every name ([`MAX_TITLE_BYTES`],
+    /// [`MAX_NAME_BYTES`]), and that no two clearance joints write the same files.
+    fn check_sizes(&self) -> Result<()> {
+        if self.title.len() > MAX_TITLE_BYTES {
+            return Err(Error::invalid(
+                "title",
+                format!("a title of {} bytes", self.title.len()),
+                format!(
+                    "a title of at most {MAX_TITLE_BYTES} bytes (it is drawn above every \
+                     figure; likely cause: a description that belongs in a comment)"
+                ),
+            ));
+        }
+        for name in self.materials.keys() {
+            check_name(&format!("materials.{name:.64}"), name)?;
+        }
+        for name in self.ground.points_mm.keys() {
+            check_name(&format!("ground.points_mm.{name:.64}"), name)?;
+        }
+        for (i, b) in self.bodies.iter().enumerate() {
+            check_name(&format!("bodies[{i}].name"), &b.name)?;
+            for name in b.points_mm.keys() {
+                check_name(&format!("bodies[{i}].points_mm.{name:.64}"), name)?;
+            }
+        }
+        for (i, c) in self.clearance.iter().enumerate() {
+            check_name(&format!("clearance[{i}].name"), &c.name)?;
+        }
+        let names: Vec<&str> = self.clearance.iter().map(|c| c.name.as_str()).collect();
+        check_joint_file_names(&names)
     }
 
     /// `Some(None)` for the ground, `Some(Some(i))` for body i, `None` if unknown.

@@ -105,6 +105,74 @@ pub const GRAVITY_M_S2: f64 = 1e4;
 /// clearance the half-width is infinite and the pressure zero (435 N of force, no wear).
 pub const MIN_HERTZ_CLEARANCE_RATIO: f64 = 1e-4;
 
+/// Largest scene file (bytes): the largest shipped scene is a few kB, so a file of more is
+/// almost surely not a scene, and reading it whole would only fill the memory.
+pub const MAX_SCENE_BYTES: u64 = 1 << 20;
+
+/// Longest title (bytes): it is drawn above every figure, where 400 bytes already fill
+/// several lines (a 1e6-byte title made `check` take 1.5 GB to lay out).
+pub const MAX_TITLE_BYTES: usize = 400;
+
+/// Longest name of a body, point, material or clearance joint (bytes). Names become column
+/// and file names (`wear_<joint>.csv`, at most 83 bytes with this limit, within every file
+/// system's 255), so a longer one failed only when the outputs were written, after simulating.
+pub const MAX_NAME_BYTES: usize = 64;
+
+/// Checks that `name` has 1 to [`MAX_NAME_BYTES`] bytes.
+pub(super) fn check_name(field: &str, name: &str) -> Result<()> {
+    if (1..=MAX_NAME_BYTES).contains(&name.len()) {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        field,
+        format!("a name of {} bytes", name.len()),
+        format!(
+            "a name of 1 to {MAX_NAME_BYTES} bytes (names become column and file names; likely \
+             cause: a description where a short name belongs)"
+        ),
+    ))
+}
+
+/// The part of a file name that stands for the clearance joint `name`: letters, digits, `-`
+/// and `_` kept, every other character turned into `_` (`wear_<part>.csv`).
+pub fn joint_file_part(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// Checks that no two clearance joints write the same files: their [`joint_file_part`]s
+/// must differ ignoring case (file systems of macOS and Windows ignore it), or one joint's
+/// profile would silently replace the other's.
+pub(super) fn check_joint_file_names(names: &[&str]) -> Result<()> {
+    let parts: Vec<String> = names
+        .iter()
+        .map(|n| joint_file_part(n).to_lowercase())
+        .collect();
+    for (j, part) in parts.iter().enumerate() {
+        if let Some(i) = parts[..j].iter().position(|p| p == part) {
+            return Err(Error::invalid(
+                format!("clearance[{j}].name"),
+                format!("\"{}\"", names[j]),
+                format!(
+                    "a name whose output files differ from those of clearance[{i}] \
+                     (\"{}\"): both would write wear_{}.csv (file names keep letters, digits, - \
+                     and _, turn every other character into _, and are compared ignoring case)",
+                    names[i],
+                    joint_file_part(names[j])
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// A number as a message shows it: scientific for very small or large magnitudes.
 pub(super) fn number(v: f64) -> String {
     if v != 0.0 && v.is_finite() && !(1e-4..1e6).contains(&v.abs()) {
@@ -155,9 +223,9 @@ pub(super) fn check_finite(field: &str, values: &[f64]) -> Result<()> {
     }
 }
 
-/// Memory budget of what a run records (bytes): 2 GiB of `f64`s. A run holds its time series
-/// and wear history in memory until it ends, growing them by doubling (briefly twice the
-/// size), and writes them as CSV text about three times larger; 2 GiB keeps that within an
+/// Memory budget of what a run records (bytes): 2 GiB of `f64`s. A run holds its time series,
+/// wear history and wear snapshots in memory until it ends, growing them by doubling (briefly
+/// twice the size), and writes them as CSV text about three times larger; 2 GiB keeps that within an
 /// ordinary workstation, where a larger estimate is almost always an interval in the wrong
 /// unit, and fails at validation instead of on a failed allocation deep into the run.
 pub const RECORD_BUDGET_BYTES: f64 = 2.0 * GIB;
@@ -203,8 +271,8 @@ impl Scene {
     }
 
     /// Checks that the time series (`run.record_rotations` of the driver period sampled every
-    /// `run.record_interval_s`) and the wear history fit in [`RECORD_BUDGET_BYTES`], naming the
-    /// setting that dominates the estimate if not.
+    /// `run.record_interval_s`), the wear history and the wear snapshots fit in
+    /// [`RECORD_BUDGET_BYTES`], naming the setting that dominates the estimate if not.
     pub fn check_record_budget(&self) -> Result<()> {
         let (run, m) = (&self.run, &self.mechanism);
         let period = self.period();
@@ -218,11 +286,14 @@ impl Scene {
             .map(|c| c.initial_profile.depths().len())
             .sum();
         let history = points * sectors as f64 * 8.0;
-        if series + history <= RECORD_BUDGET_BYTES {
+        let snapshots = run.wear_snapshots.len() as f64;
+        let snapshot_bytes = snapshots * sectors as f64 * 8.0;
+        if series + history + snapshot_bytes <= RECORD_BUDGET_BYTES {
             return Ok(());
         }
         let budget = format!("the record budget of {:.0} GiB", RECORD_BUDGET_BYTES / GIB);
-        Err(if series >= history {
+        // The setting of the largest part names the error.
+        Err(if series >= history.max(snapshot_bytes) {
             Error::invalid(
                 "run.record_interval_s",
                 format!("{:e} s", run.record_interval),
@@ -236,7 +307,7 @@ impl Scene {
                     series / GIB
                 ),
             )
-        } else {
+        } else if history >= snapshot_bytes {
             Error::invalid(
                 "run.profile_history_per_rotation",
                 run.profile_history_per_rotation,
@@ -245,6 +316,17 @@ impl Scene {
                      sectors = {:.3e} GiB; likely cause: a history of every rotation of a long \
                      run (save fewer per rotation, or use run.wear_snapshots)",
                     history / GIB
+                ),
+            )
+        } else {
+            Error::invalid(
+                "run.wear_snapshots",
+                format!("{snapshots} snapshots"),
+                format!(
+                    "snapshots that fit in {budget}: {snapshots:.3e} profiles x {sectors} \
+                     sectors = {:.3e} GiB; likely cause: a snapshot after every rotation of a \
+                     long run (snapshot fewer rotations, or fewer wear.sectors)",
+                    snapshot_bytes / GIB
                 ),
             )
         })

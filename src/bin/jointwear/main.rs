@@ -22,7 +22,7 @@ use clap::{Parser, Subcommand};
 use failure::{CliResult, Failure};
 use jointwear::io::interrupt;
 use jointwear::io::lock::{self, Lock};
-use jointwear::scene::{set_dotted, SceneFile};
+use jointwear::scene::{joint_file_part, set_dotted, SceneFile};
 use jointwear::simulation::ensemble::{EnsembleSettings, DEFAULT_SEED};
 use jointwear::simulation::Scene;
 use jointwear::sweep::file::fingerprint;
@@ -310,22 +310,9 @@ fn claim_out(scene: &Path, dir: &Path) -> CliResult<Lock> {
 }
 
 /// The file `<stem>_<joint>.csv` of a per-joint output, the joint's name made safe for a file
-/// name ([`file_part`]).
+/// name ([`joint_file_part`]; a scene whose joints would share a file is refused at load).
 fn joint_file(stem: &str, joint: &str) -> String {
-    format!("{stem}_{}.csv", file_part(joint))
-}
-
-/// A joint name usable in a file name.
-fn file_part(name: &str) -> String {
-    name.chars()
-        .map(|c| {
-            if c.is_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
+    format!("{stem}_{}.csv", joint_file_part(joint))
 }
 
 /// A scene as `run` simulates it: the file with its `--set` values and `--rotations`.

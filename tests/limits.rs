@@ -1,0 +1,153 @@
+//! Sizes and names at their limits: what a scene may hold is bounded when it is read, and
+//! the names that become file names cannot collide, so nothing is lost after simulating.
+//! Every test fails on the code before these limits (noted per test), bounded in bytes.
+
+use jointwear::scene::{scene_path, SceneFile, MAX_SCENE_BYTES};
+use std::fs;
+use std::path::PathBuf;
+
+fn scene(name: &str) -> SceneFile {
+    SceneFile::read(scene_path(name)).unwrap()
+}
+
+/// The message of building `f`, which must fail.
+#[track_caller]
+fn refused(f: &SceneFile) -> String {
+    match f.build() {
+        Ok(_) => panic!("the scene was accepted"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[track_caller]
+fn assert_contains(msg: &str, needles: &[&str]) {
+    for needle in needles {
+        assert!(msg.contains(needle), "lacks `{needle}`: {msg}");
+    }
+}
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("jointwear-limits-{}", std::process::id()));
+    fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+#[test]
+fn joints_whose_file_names_collide_are_refused_naming_both() {
+    // Before: both wrote wear_joint_a.csv and one profile was lost.
+    for (first, second) in [("joint a", "joint_a"), ("Joint_A", "joint_a")] {
+        let mut f = scene("two_clearance");
+        f.clearance[0].name = first.into();
+        f.clearance[1].name = second.into();
+        assert_contains(
+            &refused(&f),
+            &[
+                "`clearance[1].name`",
+                &format!("\"{second}\""),
+                &format!("clearance[0] (\"{first}\")"),
+                "wear_joint_a.csv",
+                "ignoring case",
+            ],
+        );
+    }
+    // Distinct file names pass.
+    let mut f = scene("two_clearance");
+    f.clearance[0].name = "joint a".into();
+    f.clearance[1].name = "joint b".into();
+    f.build().unwrap();
+}
+
+#[test]
+fn long_names_and_titles_are_refused_at_load() {
+    // Before: a 300-byte joint name failed with "File name too long" only after simulating,
+    // and a 1e6-byte title made `check` lay out 1.5 GB of text.
+    let mut f = scene("standard");
+    f.clearance[0].name = "j".repeat(300);
+    assert_contains(
+        &refused(&f),
+        &[
+            "`clearance[0].name`",
+            "a name of 300 bytes",
+            "1 to 64 bytes",
+        ],
+    );
+    let mut f = scene("standard");
+    f.bodies[1].name = "b".repeat(65);
+    assert_contains(&refused(&f), &["`bodies[1].name`", "a name of 65 bytes"]);
+    let mut f = scene("standard");
+    f.clearance[0].name = "j".repeat(64);
+    f.build().unwrap();
+    let mut f = scene("standard");
+    f.title = "t".repeat(1_000_000);
+    assert_contains(
+        &refused(&f),
+        &["`title`", "a title of 1000000 bytes", "at most 400 bytes"],
+    );
+    f.title = "t".repeat(400);
+    f.build().unwrap();
+}
+
+#[test]
+fn a_scene_file_larger_than_the_limit_is_refused_before_parsing() {
+    // Before: read whole (a 50 MB title took 15 GB in `check`). Bounded: 1 MiB + 1 byte.
+    let text = fs::read_to_string(scene_path("standard")).unwrap();
+    let path = temp("large.toml");
+    let padding = "#".repeat(MAX_SCENE_BYTES as usize + 1 - text.len());
+    fs::write(&path, format!("{text}{padding}")).unwrap();
+    let msg = SceneFile::read(&path).unwrap_err().to_string();
+    assert_contains(&msg, &["large.toml", "1048577 bytes or more", "1 MiB"]);
+    // At the limit it is read.
+    fs::write(&path, format!("{text}{}", &padding[1..])).unwrap();
+    SceneFile::read(&path).unwrap().build().unwrap();
+}
+
+#[test]
+fn devices_and_fifos_are_refused_without_reading_them() {
+    // /dev/null is a character device like /dev/zero, which used to be read until the memory
+    // ran out; before, /dev/null gave "missing field `title`".
+    let msg = SceneFile::read("/dev/null").unwrap_err().to_string();
+    assert_contains(&msg, &["/dev/null", "not a regular file"]);
+    // A FIFO: before, the open waited for a writer, then read everything it wrote. The writer
+    // here writes 2 MiB of comments at most, so the old code failed otherwise, not forever.
+    let fifo = temp("scene.fifo");
+    let _ = fs::remove_file(&fifo);
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let writer_path = fifo.clone();
+    let writer = std::thread::spawn(move || {
+        use std::io::Write;
+        let mut w = fs::OpenOptions::new().write(true).open(writer_path)?;
+        w.write_all(&b"#\n".repeat(1 << 20))
+    });
+    let msg = SceneFile::read(&fifo).unwrap_err().to_string();
+    assert_contains(&msg, &["scene.fifo", "not a regular file"]);
+    // Release the writer: on Linux a FIFO opened for reading and writing does not wait; once
+    // it is closed the writer's open has returned and its write fails with no reader.
+    drop(fs::OpenOptions::new().read(true).write(true).open(&fifo));
+    assert!(writer.join().unwrap().is_err());
+}
+
+#[test]
+fn wear_snapshots_count_in_the_record_budget() {
+    // Before: 1e6 snapshots of a 36 000-sector profile (268 GiB) passed validation.
+    let mut f = scene("standard");
+    f.run.rotations = 1_000_000;
+    f.run.record_rotations = 0;
+    f.run.wear_snapshots = (1..=1_000_000).collect();
+    f.clearance[0].wear.as_mut().unwrap().sectors = 36_000;
+    assert_contains(
+        &refused(&f),
+        &[
+            "`run.wear_snapshots`: 1000000 snapshots",
+            "1.000e6 profiles x 36000 sectors",
+            "2 GiB",
+        ],
+    );
+    // 1000 of them (0.27 GiB) fit.
+    f.run.rotations = 1000;
+    f.run.wear_snapshots.truncate(1000);
+    f.build().unwrap();
+}
