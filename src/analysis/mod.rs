@@ -1,5 +1,6 @@
 //! Analysis of simulated results: wear peaks on the circular profile, motion mode of the
-//! journal, and cycle-to-cycle steady state.
+//! journal, and cycle-to-cycle steady state; over ensembles, [`statistics`], the [`states`]
+//! members fall into, and [`significance`] tests of two ensembles' difference.
 //!
 //! * **Peaks** are local maxima of the circular sector profile ranked by depth; each carries
 //!   its topographic prominence (depth above the higher of the two lowest points separating
@@ -14,6 +15,8 @@
 //!   uses [`Motion::continuous`] / [`Motion::mode`], never a threshold of its own.
 
 pub mod concordance;
+pub mod significance;
+pub mod states;
 pub mod statistics;
 
 /// A wear region on the bearing.

@@ -1,0 +1,220 @@
+//! States of an ensemble: where the members of one scene end in two distinct states (a high-
+//! and a low-wear state, say), the pooled mean depends on the share in each, and that share
+//! depends on how the members were perturbed; each state's mean does not. So every ensemble
+//! statistic that can be bimodal is reported per state beside the pooled value.
+//!
+//! **Rule (largest gap).** Sort the finite values `x₍₀₎ ≤ … ≤ x₍ₙ₋₁₎`. Among the splits that
+//! leave at least [`min_state_members`]`(n)` = max(2, ⌈n/10⌉) members on either side, take the
+//! one at the largest gap `g = x₍ₖ₎ − x₍ₖ₋₁₎`; the members fall into two states when
+//! `g > GAP_OVER_SPREAD · s_p`, `s_p` the pooled within-group standard deviation
+//! `√(((k−1)s₁² + (n−k−1)s₂²)/(n−2))`. One split at most: two states.
+//!
+//! Why these constants: in 2000 draws each of 32 values from unimodal distributions (normal,
+//! uniform, lognormal σ = 0.5, Student t₃, exponential) the rule splits at most 2.3 % of the
+//! draws (exponential; normal 0 %), while two normal states 8 sd apart with 5 of 32 members in
+//! the smaller are split in 99 % of the draws. Without the minimum share a skewed sample's two
+//! or three extreme members split off in up to 12 % of the draws (exponential, gap ratio 2); a
+//! state held by fewer than a tenth of the members is not resolved by 32 members anyway.
+
+use super::statistics::Distribution;
+
+/// The largest gap must exceed this many pooled within-state standard deviations.
+pub const GAP_OVER_SPREAD: f64 = 2.0;
+
+/// The fewest members a state may hold in an ensemble of `n` finite values: max(2, ⌈n/10⌉).
+pub fn min_state_members(n: usize) -> usize {
+    n.div_ceil(10).max(2)
+}
+
+/// One state of an ensemble.
+#[derive(Clone, Debug, PartialEq)]
+pub struct State {
+    /// The members in it (indices into the values given to [`States::of`]), ascending.
+    pub members: Vec<usize>,
+    /// Distribution of its values.
+    pub distribution: Distribution,
+}
+
+/// An ensemble's values split into states by the largest-gap rule (module documentation).
+#[derive(Clone, Debug, PartialEq)]
+pub struct States {
+    /// Distribution of all finite values.
+    pub pooled: Distribution,
+    /// One state (no split) or two, the lower first; non-finite values are in none.
+    pub states: Vec<State>,
+    /// The largest admissible gap over the pooled within-group sd (NaN when no split was
+    /// admissible: too few members or no spread).
+    pub gap_ratio: f64,
+}
+
+impl States {
+    /// The states of `values` (member `i` is `values[i]`).
+    pub fn of(values: &[f64]) -> States {
+        let mut order: Vec<usize> = (0..values.len())
+            .filter(|&i| values[i].is_finite())
+            .collect();
+        order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
+        let sorted: Vec<f64> = order.iter().map(|&i| values[i]).collect();
+        let n = sorted.len();
+        let min = min_state_members(n);
+        // the first of the largest gaps among admissible splits
+        let split = (min..=n.saturating_sub(min)).fold(None, |best: Option<usize>, k| match best {
+            Some(b) if sorted[b] - sorted[b - 1] >= sorted[k] - sorted[k - 1] => Some(b),
+            _ => Some(k),
+        });
+        let state = |members: &[usize]| {
+            let mut members = members.to_vec();
+            members.sort_unstable();
+            let distribution = Distribution::of(members.iter().map(|&i| values[i]));
+            State {
+                members,
+                distribution,
+            }
+        };
+        let pooled = Distribution::of(sorted.iter().copied());
+        let gap_ratio = split.map_or(f64::NAN, |k| {
+            let (low, high) = (
+                Distribution::of(sorted[..k].iter().copied()),
+                Distribution::of(sorted[k..].iter().copied()),
+            );
+            let ss = (k - 1) as f64 * low.sd.powi(2) + (n - k - 1) as f64 * high.sd.powi(2);
+            let spread = (ss / (n - 2) as f64).sqrt();
+            let gap = sorted[k] - sorted[k - 1];
+            if gap > 0.0 {
+                gap / spread
+            } else {
+                f64::NAN
+            }
+        });
+        let states = match split {
+            Some(k) if gap_ratio > GAP_OVER_SPREAD => vec![state(&order[..k]), state(&order[k..])],
+            _ => vec![state(&order)],
+        };
+        States {
+            pooled,
+            states,
+            gap_ratio,
+        }
+    }
+
+    /// Whether the members fall into two states.
+    pub fn split(&self) -> bool {
+        self.states.len() == 2
+    }
+
+    /// Share of the finite values in state `i` (0 for a state that does not exist).
+    pub fn share(&self, i: usize) -> f64 {
+        self.states.get(i).map_or(0.0, |s| {
+            s.distribution.n as f64 / self.pooled.n.max(1) as f64
+        })
+    }
+
+    /// The low state and the high one when the members split; `None` otherwise.
+    pub fn low_high(&self) -> Option<(&State, &State)> {
+        match &self.states[..] {
+            [low, high] => Some((low, high)),
+            _ => None,
+        }
+    }
+
+    /// The states as a person reads them: `one state` or `low 5/32 0.601 ± 0.004, high 27/32
+    /// 0.681 ± 0.006` (values × `scale`, `digits` decimals).
+    pub fn describe(&self, scale: f64, digits: usize) -> String {
+        match self.low_high() {
+            None => "one state".into(),
+            Some((low, high)) => {
+                let part = |name: &str, s: &State| {
+                    format!(
+                        "{name} {}/{} {}",
+                        s.distribution.n,
+                        self.pooled.n,
+                        s.distribution.mean_sd(scale, digits)
+                    )
+                };
+                format!("{}, {}", part("low", low), part("high", high))
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    /// Deterministic uniform numbers in (0, 1) (SplitMix64's output, top 53 bits).
+    fn uniforms(seed: u64) -> impl FnMut() -> f64 {
+        let mut z = seed;
+        move || {
+            z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut x = z;
+            x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            ((x ^ (x >> 31)) >> 11) as f64 / (1u64 << 53) as f64 + 1e-17
+        }
+    }
+
+    #[test]
+    fn two_states_are_split_with_their_shares_and_means() {
+        // five low members near 0.60, seven high near 0.68 (µm), interleaved
+        let v = [
+            0.68, 0.60, 0.67, 0.69, 0.61, 0.68, 0.59, 0.67, 0.60, 0.69, 0.68, 0.60,
+        ];
+        let s = States::of(&v);
+        let (low, high) = s.low_high().expect("two states");
+        assert_eq!(low.members, vec![1, 4, 6, 8, 11]);
+        assert_eq!(high.members, vec![0, 2, 3, 5, 7, 9, 10]);
+        assert_relative_eq!(s.share(0), 5.0 / 12.0);
+        assert_relative_eq!(low.distribution.mean, 0.6, max_relative = 1e-12);
+        assert_relative_eq!(high.distribution.mean, 4.76 / 7.0, max_relative = 1e-12);
+        assert_relative_eq!(s.pooled.mean, 7.76 / 12.0, max_relative = 1e-12);
+        // gap 0.67 − 0.61 = 0.06 against a pooled sd of about 0.0078
+        assert!(s.gap_ratio > 7.0 && s.gap_ratio < 8.0, "{}", s.gap_ratio);
+        assert_eq!(
+            s.describe(1.0, 3),
+            "low 5/12 0.600 ± 0.007, high 7/12 0.680 ± 0.008"
+        );
+    }
+
+    #[test]
+    fn a_lone_outlier_or_identical_values_make_no_state() {
+        // one member far off: below the minimum state size of 2
+        let s = States::of(&[1.0, 1.1, 0.9, 1.05, 0.95, 3.0]);
+        assert!(!s.split());
+        assert_eq!(s.states[0].members.len(), 6);
+        assert!(!States::of(&[2.0; 8]).split());
+        assert!(!States::of(&[1.0, 2.0, 3.0]).split());
+        // non-finite values belong to no state
+        let s = States::of(&[1.0, f64::NAN, 1.0, 5.0, 5.0]);
+        assert!(s.split());
+        assert_eq!(s.states[1].members, vec![3, 4]);
+        assert_eq!(s.pooled.n, 4);
+    }
+
+    #[test]
+    fn unimodal_samples_rarely_split() {
+        // 400 exponential samples of 32 (the most skewed distribution the constant was chosen
+        // on: 2.3 % split). Checked to fail: with GAP_OVER_SPREAD = 1, 111 of the 400 split;
+        // with a minimum state of 2 members instead of ⌈n/10⌉, 47.
+        let mut u = uniforms(11);
+        let split = (0..400)
+            .filter(|_| {
+                let v: Vec<f64> = (0..32).map(|_| -u().ln()).collect();
+                States::of(&v).split()
+            })
+            .count();
+        assert!(split <= 20, "{split} of 400 unimodal samples split");
+        // and two states 8 sd apart, 5 of 32 in the lower, are found nearly always
+        let mut u = uniforms(12);
+        let mut normal = move || (-2.0 * u().ln()).sqrt() * (std::f64::consts::TAU * u()).cos();
+        let found = (0..100)
+            .filter(|_| {
+                let v: Vec<f64> = (0..32)
+                    .map(|i| if i < 5 { 0.0 } else { 8.0 } + normal())
+                    .collect();
+                States::of(&v).split() && States::of(&v).states[0].members == [0, 1, 2, 3, 4]
+            })
+            .count();
+        assert!(found >= 95, "{found} of 100 bimodal samples split rightly");
+    }
+}
