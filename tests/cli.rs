@@ -58,7 +58,7 @@ fn run_writes_series_wear_plots_and_summary() {
         "wall time",
         "max normal force",
         "motion:",
-        "wear peak",
+        "wear region at",
     ] {
         assert!(text.contains(needle), "summary lacks {needle}: {text}");
     }
@@ -381,7 +381,7 @@ fn run_outputs_are_documented_and_numbers_round_trip() {
     assert_eq!(joint["name"], "rod-slider");
     assert!(joint["max_normal_force_n"].as_f64().unwrap() > 0.0);
     assert!(joint["max_penetration_m"].as_f64().unwrap() > 0.0);
-    assert!(joint["wear_peaks"][0]["depth_m"].as_f64().unwrap() > 0.0);
+    assert!(joint["wear_regions"][0]["depth_m"].as_f64().unwrap() > 0.0);
     assert!(joint["motion"]["mode"].is_string());
     let manifest = fs::read_to_string(out.join("jointwear-manifest.txt")).unwrap();
     assert!(manifest.contains("summary.json") && manifest.contains("README.txt"));

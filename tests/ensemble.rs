@@ -116,7 +116,7 @@ fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
     let (_, summary) = jointwear::io::output::read_rows(&out.join("ensemble_summary.csv")).unwrap();
     assert!(summary
         .iter()
-        .any(|r| r[1] == "peak_wear_depth_m" && r[2] == "3"));
+        .any(|r| r[1] == "max_wear_depth_m" && r[2] == "3"));
     let (_, band) =
         jointwear::io::output::read_csv(&out.join("ensemble_wear_rod-slider.csv")).unwrap();
     // mean between min and max in every sector
@@ -157,8 +157,8 @@ fn sweep_runs_each_case_as_an_ensemble_with_mean_and_sd_columns() {
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
     for row in &rows {
         assert_eq!(row[col("members")], "2");
-        let sd: f64 = row[col("rod-slider.peak_wear_depth_m.sd")].parse().unwrap();
-        let mean: f64 = row[col("rod-slider.peak_wear_depth_m.mean")]
+        let sd: f64 = row[col("rod-slider.max_wear_depth_m.sd")].parse().unwrap();
+        let mean: f64 = row[col("rod-slider.max_wear_depth_m.mean")]
             .parse()
             .unwrap();
         assert!(mean > 0.0 && sd >= 0.0 && sd < mean, "{mean} {sd}");

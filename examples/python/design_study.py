@@ -1,5 +1,5 @@
 """A small design study from Python: which radial clearance and crank speed of the standard
-slider-crank give the shallowest wear peak?
+slider-crank give the shallowest deepest wear (max_wear_depth_m)?
 
 Runs an ensemble sweep over a grid of clearance and speed (each case the mean deepest wear of
 a few members after a few rotations: single runs are chaotic), takes the best grid point and,
@@ -28,7 +28,7 @@ import jointwear  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 JOINT = "rod-slider"
-PEAK = f"{JOINT}.peak_wear_depth_m.mean"
+PEAK = f"{JOINT}.max_wear_depth_m.mean"
 
 
 def study_scene(rotations: int) -> jointwear.Scene:
@@ -66,7 +66,7 @@ def main() -> None:
 
     best = sweep.best(PEAK)
     best_c, best_s = best["clearance.0.clearance_mm"], -best["driver.speed_rpm"]
-    print(f"best grid point: clearance {best_c} mm, {best_s:.0f} r/min: wear peak {best[PEAK] * 1e6:.4f} µm")
+    print(f"best grid point: clearance {best_c} mm, {best_s:.0f} r/min: deepest wear {best[PEAK] * 1e6:.4f} µm")
 
     refined = None
     if not args.no_scipy:
@@ -86,7 +86,7 @@ def main() -> None:
 
     fig, ax = plt.subplots(figsize=(7, 5.4), dpi=120)
     mesh = ax.pcolormesh(speeds, clearances, peak_um, shading="nearest", cmap="viridis")
-    fig.colorbar(mesh, ax=ax, label=f"mean wear peak after {rotations} rotations (µm)")
+    fig.colorbar(mesh, ax=ax, label=f"mean deepest wear after {rotations} rotations (µm)")
     for i, c in enumerate(clearances):
         for j, s in enumerate(speeds):
             ax.annotate(f"{peak_um[i, j]:.3f}", (s, c), ha="center", va="center", fontsize=7, color="w")
@@ -97,7 +97,7 @@ def main() -> None:
         yscale="log",
         xlabel="crank speed (r/min)",
         ylabel="radial clearance (mm)",
-        title=f"Standard slider-crank: wear peak, mean of {members} members",
+        title=f"Standard slider-crank: deepest wear, mean of {members} members",
     )
     ax.set_yticks(clearances, [f"{c:g}" for c in clearances])
     ax.minorticks_off()
@@ -128,7 +128,7 @@ def refine(scene, clearances, speeds, peak_um, best_c, best_s, members, spline, 
     check = scene.copy()
     check.set("clearance.0.clearance_mm", clearance).set("driver.speed_rpm", -float(speed))
     ens = check.ensemble(members=members, seed=1)
-    simulated = ens.statistics[JOINT]["peak_wear_depth_m"]["mean"] * 1e6
+    simulated = ens.statistics[JOINT]["max_wear_depth_m"]["mean"] * 1e6
     print(
         f"scipy optimum of the surrogate: clearance {clearance:.4f} mm, {speed:.0f} r/min: "
         f"predicted {result.fun:.4f} µm, simulated {simulated:.4f} µm "

@@ -45,10 +45,11 @@ class Run:
         snapshot_rotations: rotation counts of ``run.wear_snapshots``.
         snapshots: joint -> array (snapshot, sector) of wear depths (m).
         summary: joint -> dict: ``max_normal_force_n`` (recorded rotations),
-            ``max_penetration_m``, ``peak_wear_angle_deg``, ``peak_wear_depth_m`` (the deepest
-            wear peak), ``contact_fraction``, ``impacts_per_rotation``, ``continuous_contact``
-            (1 or 0), ``motion_mode``, ``impacts`` (contact onsets of the run) and ``peaks``
-            (every wear peak, deepest first).
+            ``max_penetration_m``, ``max_wear_angle_deg``, ``max_wear_depth_m`` (angle and depth
+            of the deepest sector), ``contact_fraction``, ``impacts_per_rotation``,
+            ``continuous_contact`` (1 or 0), ``motion_mode``, ``impacts`` (contact onsets of the
+            run) and ``wear_regions`` (every wear region, most prominent first: ``angle_deg``,
+            ``depth_m``, ``prominence_m``, ``width_deg``; the README's "Wear regions").
         stats: integrator counters (``steps``, ``rejected``, ``evaluations``,
             ``contact_onsets``).
         energy: the energy account with ``run.energy_accounting``, else None.
@@ -107,7 +108,7 @@ class Run:
             return pd.DataFrame(rows, columns=["joint", "rotation", "angle_deg", "depth_m"])
         if table == "summary":
             rows = {
-                name: {k: v for k, v in s.items() if k != "peaks"}
+                name: {k: v for k, v in s.items() if k != "wear_regions"}
                 for name, s in self.summary.items()
             }
             return pd.DataFrame.from_dict(rows, orient="index").rename_axis("joint")
@@ -133,7 +134,7 @@ class Ensemble:
         scalars: joint -> name -> array (member,) of that result.
         motion_modes: joint -> list of each member's motion mode (None without a recording).
         statistics: joint -> name -> dict of ``n`` (finite values), ``mean``, ``sd``, ``min``,
-            ``q05``, ``q25``, ``q50``, ``q75``, ``q95``, ``max`` (peak angles unwrapped around
+            ``q05``, ``q25``, ``q50``, ``q75``, ``q95``, ``max`` (angles unwrapped around
             their circular mean), as ``ensemble_summary.csv``.
         angles_deg: joint -> sector centres (deg), for joints with wear.
         wear: joint -> array (member, sector) of final wear depths (m).

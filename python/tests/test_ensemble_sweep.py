@@ -21,8 +21,8 @@ def test_ensemble_shapes_and_statistics():
     assert not np.array_equal(wear[0], wear[1])
     for name in ens.scalar_names:
         assert ens.scalars["rod-slider"][name].shape == (3,)
-    stats = ens.statistics["rod-slider"]["peak_wear_depth_m"]
-    depths = ens.scalars["rod-slider"]["peak_wear_depth_m"]
+    stats = ens.statistics["rod-slider"]["max_wear_depth_m"]
+    depths = ens.scalars["rod-slider"]["max_wear_depth_m"]
     assert stats["n"] == 3
     assert stats["mean"] == pytest.approx(depths.mean(), rel=1e-12)
     assert stats["sd"] == pytest.approx(depths.std(ddof=1), rel=1e-9)
@@ -79,11 +79,11 @@ def test_a_sweep_runs_the_product_in_case_order():
     assert sweep["driver.speed_rpm"].tolist() == [-600, -2000, -600, -2000]
     # case 2 is the run of the scene with its values, bit for bit
     one = scene.copy().set("clearance.0.clearance_mm", 0.1).set("driver.speed_rpm", -600).run()
-    assert sweep["rod-slider.peak_wear_depth_m"][2] == one.wear["rod-slider"].max()
+    assert sweep["rod-slider.max_wear_depth_m"][2] == one.wear["rod-slider"].max()
     assert sweep["rod-slider.motion_mode"][2] == one.summary["rod-slider"]["motion_mode"]
-    best = sweep.best("rod-slider.peak_wear_depth_m")
-    depths = sweep["rod-slider.peak_wear_depth_m"]
-    assert best["rod-slider.peak_wear_depth_m"] == depths.min()
+    best = sweep.best("rod-slider.max_wear_depth_m")
+    depths = sweep["rod-slider.max_wear_depth_m"]
+    assert best["rod-slider.max_wear_depth_m"] == depths.min()
     k = int(np.argmin(depths))
     assert best["driver.speed_rpm"] == sweep["driver.speed_rpm"][k]
 
@@ -93,9 +93,9 @@ def test_an_ensemble_sweep_has_mean_and_sd_columns():
     sweep = scene.sweep({"driver.speed_rpm": [-2000]}, members=2, seed=3)
     ens = scene.ensemble(2, seed=3)
     assert sweep["members"].tolist() == [2]
-    stats = ens.statistics["rod-slider"]["peak_wear_depth_m"]
-    assert sweep["rod-slider.peak_wear_depth_m.mean"][0] == stats["mean"]
-    assert sweep["rod-slider.peak_wear_depth_m.sd"][0] == stats["sd"]
+    stats = ens.statistics["rod-slider"]["max_wear_depth_m"]
+    assert sweep["rod-slider.max_wear_depth_m.mean"][0] == stats["mean"]
+    assert sweep["rod-slider.max_wear_depth_m.sd"][0] == stats["sd"]
 
 
 def test_a_bad_case_stops_the_sweep_before_it_runs_with_the_programs_message(tmp_path, cli):
@@ -123,8 +123,8 @@ def test_a_case_that_fails_while_running_has_the_programs_error_and_the_others_g
     sweep = jointwear.Scene.load(path).sweep({key: [1e-12, 1e-6]})
     assert sweep.errors[0] is None and rows[0]["error"] == ""
     assert sweep.errors[1] == rows[1]["error"] and "wear" in sweep.errors[1]
-    depth = sweep["rod-slider.peak_wear_depth_m"]
-    assert depth[0] == float(rows[0]["rod-slider.peak_wear_depth_m"]) and np.isnan(depth[1])
+    depth = sweep["rod-slider.max_wear_depth_m"]
+    assert depth[0] == float(rows[0]["rod-slider.max_wear_depth_m"]) and np.isnan(depth[1])
 
 
 def test_sweep_to_pandas():

@@ -37,7 +37,7 @@ def test_a_run_is_the_programs_run_bit_for_bit(tmp_path, cli):
     assert np.array_equal(run.angles_deg["rod-slider"], table[:, 0])
     assert np.array_equal(run.wear["rod-slider"], table[:, 1])
     # and the summary the program prints
-    depth_um = run.summary["rod-slider"]["peak_wear_depth_m"] * 1e6
+    depth_um = run.summary["rod-slider"]["max_wear_depth_m"] * 1e6
     assert f"depth {depth_um:.4f} µm" in program.stdout
 
 
@@ -56,8 +56,12 @@ def test_a_run_is_physically_sane(short_run):
     assert (snaps[1] >= snaps[0]).all() and snaps[1].sum() > snaps[0].sum()
     assert np.array_equal(snaps[1], wear)
     s = run.summary["rod-slider"]
-    assert s["peak_wear_depth_m"] == wear.max()
-    assert s["peaks"][0]["depth_m"] == wear.max()
+    assert s["max_wear_depth_m"] == wear.max()
+    # wear regions by prominence, the first at the deepest sector
+    regions = s["wear_regions"]
+    assert regions[0]["depth_m"] == wear.max()
+    prominences = [r["prominence_m"] for r in regions]
+    assert prominences == sorted(prominences, reverse=True)
     assert s["impacts"] >= 1 and s["max_normal_force_n"] > 0
     # one recorded rotation of 0.03 s every 1e-5 s
     t = run.timeseries["time_s"]
@@ -139,7 +143,7 @@ def test_to_pandas_frames(short_run):
     snaps = short_run.to_pandas("snapshots")
     assert len(snaps) == 2 * 360
     summary = short_run.to_pandas("summary")
-    assert summary.loc["rod-slider", "peak_wear_depth_m"] == short_run.wear["rod-slider"].max()
+    assert summary.loc["rod-slider", "max_wear_depth_m"] == short_run.wear["rod-slider"].max()
     with pytest.raises(ValueError, match="unknown table"):
         short_run.to_pandas("nope")
 

@@ -1,12 +1,9 @@
-//! Analysis of simulated results: wear peaks on the circular profile, motion mode of the
+//! Analysis of simulated results: wear regions on the circular profile, motion mode of the
 //! journal, and cycle-to-cycle steady state; over ensembles, [`statistics`], the [`states`]
 //! members fall into, and [`significance`] tests of two ensembles' difference.
 //!
-//! * **Peaks** are local maxima of the circular sector profile ranked by depth; each carries
-//!   its topographic prominence (depth above the higher of the two lowest points separating
-//!   it from a deeper peak, or from itself around the circle) and its full width at half
-//!   prominence. Peaks whose prominence is below `min_prominence` × the deepest depth are
-//!   dropped, so sector-scale ripples are not reported as wear regions.
+//! * **Wear regions** ([`regions`]): the humps of the circular wear profile by topographic
+//!   prominence, the one definition every output uses.
 //! * **Motion mode** (Table 3's "free flight and impact" or "continuous contact"): the
 //!   fraction of recorded time in contact, contact onsets per rotation, and the mean
 //!   free-flight time. Rule: continuous contact when the journal is in contact at least
@@ -15,78 +12,10 @@
 //!   uses [`Motion::continuous`] / [`Motion::mode`], never a threshold of its own.
 
 pub mod concordance;
+pub mod regions;
 pub mod significance;
 pub mod states;
 pub mod statistics;
-
-/// A wear region on the bearing.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Peak {
-    /// Index of the deepest sector.
-    pub sector: usize,
-    /// Angle of the deepest sector (deg, counter-clockwise from the bearing's +x).
-    pub angle_deg: f64,
-    /// Wear depth at the peak (m).
-    pub depth: f64,
-    /// Prominence (m).
-    pub prominence: f64,
-    /// Full width at half prominence (deg).
-    pub width_deg: f64,
-}
-
-/// Minimum prominence of a reported wear peak, as a fraction of the deepest wear: the
-/// threshold the reproduction and `jointwear sweep` use.
-pub const PEAK_PROMINENCE: f64 = 0.05;
-
-/// Peaks of a circular profile `depths` (sector i centred at (i + 0.5)·360/N deg), deepest first.
-pub fn peaks(depths: &[f64], min_prominence: f64) -> Vec<Peak> {
-    let n = depths.len();
-    let top = depths.iter().cloned().fold(0.0, f64::max);
-    if n < 3 || top <= 0.0 {
-        return Vec::new();
-    }
-    let width = 360.0 / n as f64;
-    let at = |i: isize| depths[i.rem_euclid(n as isize) as usize];
-    let mut found = Vec::new();
-    for i in 0..n as isize {
-        let d = at(i);
-        // a plateau counts once, at its first sector
-        if !(d > at(i - 1) && d >= at(i + 1)) {
-            continue;
-        }
-        // walk each way until a deeper point (or all around), tracking the lowest point
-        let walk = |dir: isize| {
-            let mut low = d;
-            for k in 1..n as isize {
-                let v = at(i + dir * k);
-                if v > d {
-                    break;
-                }
-                low = low.min(v);
-            }
-            low
-        };
-        let prominence = d - walk(-1).max(walk(1));
-        if prominence < min_prominence * top {
-            continue;
-        }
-        let half = d - 0.5 * prominence;
-        let extent = |dir: isize| {
-            (1..n as isize)
-                .take_while(|&k| at(i + dir * k) > half)
-                .count() as f64
-        };
-        found.push(Peak {
-            sector: i as usize,
-            angle_deg: (i as f64 + 0.5) * width,
-            depth: d,
-            prominence,
-            width_deg: (1.0 + extent(-1) + extent(1)) * width,
-        });
-    }
-    found.sort_by(|a, b| b.depth.total_cmp(&a.depth));
-    found
-}
 
 /// In-contact time fraction at or above which a run is "continuous contact".
 pub const CONTINUOUS_CONTACT_FRACTION: f64 = 0.9;
@@ -159,43 +88,6 @@ pub fn wear_location(theta: &[f64], rate: &[f64]) -> f64 {
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
-
-    fn bumps(centres: &[(f64, f64)]) -> Vec<f64> {
-        (0..360)
-            .map(|i| {
-                let a = i as f64 + 0.5;
-                centres
-                    .iter()
-                    .map(|&(c, h)| {
-                        let d = ((a - c + 180.0).rem_euclid(360.0)) - 180.0;
-                        h * (-(d / 10.0).powi(2)).exp()
-                    })
-                    .sum()
-            })
-            .collect()
-    }
-
-    #[test]
-    fn finds_three_regions_deepest_first_across_the_seam() {
-        // bumps centred on sector centres, so no two sectors tie for the top
-        let p = peaks(&bumps(&[(50.5, 1.0), (180.5, 3.0), (355.5, 2.0)]), 0.05);
-        assert_eq!(p.len(), 3);
-        let angles: Vec<f64> = p.iter().map(|p| p.angle_deg).collect();
-        assert_eq!(angles, vec![180.5, 355.5, 50.5]);
-        // Gaussian of σ = 10/√2 deg: full width at half maximum 2·sqrt(ln 2)·10 ≈ 16.7 deg
-        assert!((p[0].width_deg - 16.7).abs() <= 1.0, "{:?}", p[0]);
-        assert_relative_eq!(p[0].depth, 3.0, max_relative = 1e-2);
-    }
-
-    #[test]
-    fn ripples_are_not_peaks() {
-        let mut d = bumps(&[(90.0, 1.0)]);
-        for (i, x) in d.iter_mut().enumerate() {
-            *x += 1e-3 * ((i as f64) * 2.0).sin();
-        }
-        assert_eq!(peaks(&d, 0.05).len(), 1);
-        assert!(peaks(&[0.0; 36], 0.05).is_empty());
-    }
 
     #[test]
     fn motion_modes() {

@@ -15,11 +15,11 @@ fn main() {
         .find(|r| r.1.admissible() && r.0 == FACTORIAL_GROUP);
     for (group, p, m) in ranked.iter().take(8).chain(best_admissible) {
         println!(
-            "{} {:.3}  {group:9} {} mu_d {} v_s {} {:?} grazing {} k/H {:e} L {} sectors {} | peaks {:?} err {:.1} deg, 180 largest {}, modes {}/5, dominance {}/5, CMF rms {:.4}, 30 r/min wear at {:.0} deg",
+            "{} {:.3}  {group:9} {} mu_d {} v_s {} {:?} grazing {} k/H {:e} L {} sectors {} | regions {:?} err {:.1} deg, 180 largest {}, modes {}/5, dominance {}/5, CMF rms {:.4}, 30 r/min wear at {:.0} deg",
             if p.admissible() { '*' } else { ' ' },
             m.score,
             if p.counter_clockwise { "ccw" } else { "cw" }, p.mu_d, p.v_s, p.pressure, p.grazing, p.k_over_h, p.length_mm,
-            p.sectors, m.peak_angles, m.peak_error_deg, m.largest_at_180, m.modes_matched, m.dominance_matched, m.concordance_rms, m.low_speed_angle
+            p.sectors, m.region_angles, m.region_error_deg, m.largest_at_180, m.modes_matched, m.dominance_matched, m.concordance_rms, m.low_speed_angle
         );
     }
 }

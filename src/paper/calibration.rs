@@ -2,16 +2,17 @@
 //! against the paper's claims, not guessed.
 //!
 //! Each parameter set is applied to every case scene and scored on the claims:
-//! * peak-angle error: mean distance (deg) from each of the paper's severe-wear angles (50, 180,
-//!   320 deg) to the nearest of the three deepest measured peaks after 40 rotations of the
-//!   standard case, and whether the deepest region is the one at 180 deg;
+//! * region-angle error: mean distance (deg) from each of the paper's severe-wear angles (50,
+//!   180, 320 deg) to the nearest of the three most prominent measured wear regions
+//!   ([`crate::analysis::regions`]) after 40 rotations of the standard case, and whether the
+//!   deepest region is the one at 180 deg;
 //! * Table 3: motion modes and P-w/s-w dominance matched (of 5 rows), RMS error of the ten
 //!   concordance values;
 //! * low speed: distance of the 30 r/min wear location (the angle collecting most wear over the
 //!   recorded rotations) from 270 deg.
 //!
 //! ```text
-//! score = peak_error/10° + 3·[deepest region not at 180°] + (5 − modes) + (5 − dominance)
+//! score = region_error/10° + 3·[deepest region not at 180°] + (5 − modes) + (5 − dominance)
 //!         + concordance_rms/0.03 + low_speed_error/10°
 //! ```
 //! (lower is better: one unit is one missed qualitative claim, 10° of angle or 0.03 of
@@ -27,8 +28,8 @@
 //! the best-scoring admissible set of the factorial; the one-at-a-time rows are sensitivity
 //! checks around it, not candidates, so the choice does not chase that noise.
 
-use crate::analysis::PEAK_PROMINENCE;
-use crate::analysis::{peaks, wear_location};
+use crate::analysis::regions::wear_regions;
+use crate::analysis::wear_location;
 use crate::io::output::write_rows;
 use crate::io::plot::{render, Axes, Series, Style};
 use crate::io::progress::{Counter, Progress};
@@ -118,10 +119,11 @@ impl Params {
 /// How well one parameter set reproduces the paper.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Metrics {
-    /// The three deepest peaks of the standard case after 40 rotations (deg), deepest first.
-    pub peak_angles: Vec<f64>,
-    /// Mean distance from each claimed severe-wear angle to the nearest measured peak (deg).
-    pub peak_error_deg: f64,
+    /// The three most prominent wear regions of the standard case after 40 rotations (deg),
+    /// most prominent (the deepest) first.
+    pub region_angles: Vec<f64>,
+    /// Mean distance from each claimed severe-wear angle to the nearest of them (deg).
+    pub region_error_deg: f64,
     /// Whether the deepest region lies within the golden tolerance of 180 deg.
     pub largest_at_180: bool,
     /// Table 3 motion modes matched (of 5).
@@ -153,17 +155,17 @@ pub struct CaseMetrics {
 pub fn evaluate(p: &Params, golden: &Golden) -> Result<Metrics> {
     let modify = |f: &mut SceneFile| p.apply(f);
     let (_, wear) = wear_run_with(&golden.standard_wear.scene, 0, modify)?;
-    let found = peaks(&wear.final_wear[0], PEAK_PROMINENCE);
-    let peak_angles: Vec<f64> = found.iter().take(3).map(|p| p.angle_deg).collect();
+    let found = wear_regions(&wear.final_wear[0]);
+    let region_angles: Vec<f64> = found.iter().take(3).map(|p| p.angle_deg).collect();
     let nearest = |a: f64| {
-        peak_angles
+        region_angles
             .iter()
             .map(|&m| angle_distance(a, m))
             .fold(180.0, f64::min)
     };
     let claimed = &golden.standard_wear.peak_angles_deg;
-    let peak_error_deg = claimed.iter().map(|&a| nearest(a)).sum::<f64>() / claimed.len() as f64;
-    let largest_at_180 = peak_angles.first().is_some_and(|&a| {
+    let region_error_deg = claimed.iter().map(|&a| nearest(a)).sum::<f64>() / claimed.len() as f64;
+    let largest_at_180 = region_angles.first().is_some_and(|&a| {
         angle_distance(a, golden.standard_wear.largest_peak_deg)
             <= golden.standard_wear.angle_tolerance_deg
     });
@@ -188,15 +190,15 @@ pub fn evaluate(p: &Params, golden: &Golden) -> Result<Metrics> {
     })?;
     let concordance_rms = (sq / (2.0 * rows.list().len() as f64)).sqrt();
     let low_speed_error = angle_distance(low_speed_angle, golden.low_speed_wear.largest_peak_deg);
-    let score = peak_error_deg / 10.0
+    let score = region_error_deg / 10.0
         + if largest_at_180 { 0.0 } else { 3.0 }
         + (5 - modes_matched) as f64
         + (5 - dominance_matched) as f64
         + concordance_rms / 0.03
         + low_speed_error / 10.0;
     Ok(Metrics {
-        peak_angles,
-        peak_error_deg,
+        region_angles,
+        region_error_deg,
         largest_at_180,
         modes_matched,
         dominance_matched,
@@ -288,10 +290,10 @@ fn write_study(done: &[(usize, String, Params, Metrics)]) -> Result<()> {
         "length_mm",
         "sectors",
         "admissible",
-        "peak1_deg",
-        "peak2_deg",
-        "peak3_deg",
-        "peak_error_deg",
+        "region1_deg",
+        "region2_deg",
+        "region3_deg",
+        "region_error_deg",
         "largest_at_180",
         "modes_matched",
         "dominance_matched",
@@ -304,7 +306,7 @@ fn write_study(done: &[(usize, String, Params, Metrics)]) -> Result<()> {
         &header,
         done.iter().map(|(i, g, p, m)| {
             let angle = |k: usize| {
-                m.peak_angles
+                m.region_angles
                     .get(k)
                     .map_or(String::new(), |a| format!("{a:.1}"))
             };
@@ -323,7 +325,7 @@ fn write_study(done: &[(usize, String, Params, Metrics)]) -> Result<()> {
                 angle(0),
                 angle(1),
                 angle(2),
-                format!("{:.2}", m.peak_error_deg),
+                format!("{:.2}", m.region_error_deg),
                 m.largest_at_180.to_string(),
                 m.modes_matched.to_string(),
                 m.dominance_matched.to_string(),
@@ -333,11 +335,11 @@ fn write_study(done: &[(usize, String, Params, Metrics)]) -> Result<()> {
             ]
         }),
     )?;
-    // Sensitivity: the three measured peak angles and the concordance error of every set.
+    // Sensitivity: the three measured region angles and the concordance error of every set.
     let index: Vec<f64> = done.iter().map(|d| d.0 as f64).collect();
     let angle = |k: usize| {
         done.iter()
-            .map(|d| d.3.peak_angles.get(k).copied().unwrap_or(f64::NAN))
+            .map(|d| d.3.region_angles.get(k).copied().unwrap_or(f64::NAN))
             .collect::<Vec<f64>>()
     };
     let (a1, a2, a3) = (angle(0), angle(1), angle(2));
@@ -348,11 +350,11 @@ fn write_study(done: &[(usize, String, Params, Metrics)]) -> Result<()> {
         &output_path("figures", "calibration.png"),
         &[
             Axes::new(
-                "Deepest wear regions, standard case (paper: 50, 180, 320 deg)",
+                "Most prominent wear regions, standard case (paper: 50, 180, 320 deg)",
                 "parameter set (index in data/calibration.csv)",
-                "peak angle (deg)",
+                "region angle (deg)",
                 vec![
-                    Series::new("deepest", &index, &a1, Style::Points),
+                    Series::new("first (deepest)", &index, &a1, Style::Points),
                     Series::new("second", &index, &a2, Style::Points),
                     Series::new("third", &index, &a3, Style::Points),
                 ],

@@ -12,9 +12,9 @@
 //! figures and claims read, so the paper's whole reproduction holds a few megabytes per member.
 
 use crate::analysis::concordance::{centred_cmf, Concordance};
+use crate::analysis::regions::{wear_regions, Region};
 use crate::analysis::statistics::{Band, Distribution};
-use crate::analysis::PEAK_PROMINENCE;
-use crate::analysis::{peaks, Motion, Peak};
+use crate::analysis::Motion;
 use crate::io::progress::{Counter, Progress};
 use crate::scene::{scene_path, SceneFile};
 use crate::simulation::ensemble::{run_member, EnsembleSettings};
@@ -225,8 +225,8 @@ pub struct WearMember {
     pub final_wear: Vec<f64>,
     /// `(rotation, depth per sector)` at the scene's wear snapshots.
     pub snapshots: Vec<(u32, Vec<f64>)>,
-    /// Wear regions of the final profile, deepest first.
-    pub peaks: Vec<Peak>,
+    /// Wear regions of the final profile, most prominent first.
+    pub regions: Vec<Region>,
     /// `(time, depth per sector)` history, for [`Need::WearHistory`] runs.
     pub history: Vec<(f64, Vec<f64>)>,
 }
@@ -242,23 +242,23 @@ impl WearMember {
         self.final_wear.iter().sum::<f64>() / self.final_wear.len().max(1) as f64
     }
 
-    /// (deepest − third region) / deepest: 0 when the three deepest regions are equal; `None`
-    /// with fewer than three regions.
+    /// (first − third region's depth) / first's, of the three most prominent regions: 0 when
+    /// they are equally deep; `None` with fewer than three regions.
     pub fn region_spread(&self) -> Option<f64> {
-        match &self.peaks[..] {
+        match &self.regions[..] {
             [a, _, c, ..] => Some((a.depth - c.depth) / a.depth),
             _ => None,
         }
     }
 
-    /// Angle of the deepest region (deg); `None` without regions.
+    /// Angle of the deepest region (deg), the most prominent; `None` without regions.
     pub fn deepest_angle(&self) -> Option<f64> {
-        self.peaks.first().map(|p| p.angle_deg)
+        self.regions.first().map(|p| p.angle_deg)
     }
 
-    /// Angles of the three deepest regions (deg).
-    pub fn peak_angles(&self) -> Vec<f64> {
-        self.peaks.iter().take(3).map(|p| p.angle_deg).collect()
+    /// Angles of the three most prominent regions (deg).
+    pub fn region_angles(&self) -> Vec<f64> {
+        self.regions.iter().take(3).map(|p| p.angle_deg).collect()
     }
 }
 
@@ -440,7 +440,7 @@ pub fn wear_member(out: RunOutput) -> WearMember {
     let mut final_wear = out.final_wear;
     let final_wear = final_wear.swap_remove(0);
     WearMember {
-        peaks: peaks(&final_wear, PEAK_PROMINENCE),
+        regions: wear_regions(&final_wear),
         final_wear,
         snapshots: out
             .wear_snapshots

@@ -340,7 +340,7 @@ pub enum Quantity {
     /// A Table 3 measure of a case's steady ensemble.
     Steady(Case, SteadyQuantity),
     /// Signed offset (deg) from the paper's angle `claimed_deg` of the nearest of each
-    /// member's three deepest wear regions.
+    /// member's three most prominent wear regions ([`crate::analysis::regions`]).
     RegionNearOffset {
         /// The wear case.
         case: Case,
@@ -423,9 +423,9 @@ pub fn measure(runs: &Runs, golden: &Golden) -> Result<Vec<Measurement>> {
     let case = case_of_scene(&claim.scene)?;
     let w = runs.wear(case.scene)?;
     for &a in &claim.peak_angles_deg {
-        // signed offset of the nearest of the three deepest regions from the paper's angle
+        // signed offset of the nearest of the three most prominent regions from the paper's angle
         let nearest = move |m: &WearMember| {
-            m.peak_angles()
+            m.region_angles()
                 .into_iter()
                 .map(|p| angle_offset(p, a))
                 .min_by(|x, y| x.abs().total_cmp(&y.abs()))

@@ -287,16 +287,16 @@ fn run_dict<'py>(py: Python<'py>, scene: &Scene, out: &RunOutput) -> PyResult<Bo
         for (name, x) in s.scalars() {
             j.set_item(name, x)?;
         }
-        let peaks = PyList::empty(py);
-        for p in &s.peaks {
+        let regions = PyList::empty(py);
+        for p in &s.regions {
             let pd = PyDict::new(py);
             pd.set_item("angle_deg", p.angle_deg)?;
             pd.set_item("depth_m", p.depth)?;
             pd.set_item("prominence_m", p.prominence)?;
             pd.set_item("width_deg", p.width_deg)?;
-            peaks.append(pd)?;
+            regions.append(pd)?;
         }
-        j.set_item("peaks", peaks)?;
+        j.set_item("wear_regions", regions)?;
         if cj.wear.is_some() {
             let depth = &out.final_wear[k];
             j.set_item("angle_deg", f64_bytes(py, &sector_angles_deg(depth.len())))?;

@@ -12,9 +12,9 @@
 
 pub mod file;
 
+use crate::analysis::regions::{wear_regions, Region};
 use crate::analysis::statistics::{Band, Distribution};
-use crate::analysis::PEAK_PROMINENCE;
-use crate::analysis::{peaks, Motion, Peak};
+use crate::analysis::Motion;
 use crate::io::progress::{Cancellation, Progress};
 use crate::scene::{set_dotted, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
@@ -157,8 +157,9 @@ pub struct JointSummary {
     pub max_penetration: f64,
     /// Motion of the recorded rotations, if any were recorded.
     pub motion: Option<Motion>,
-    /// Wear regions of the final profile, deepest first (empty without wear).
-    pub peaks: Vec<Peak>,
+    /// Wear regions of the final profile, most prominent (and so deepest) first; empty
+    /// without wear.
+    pub regions: Vec<Region>,
 }
 
 /// Summarises every clearance joint of a run of `scene`.
@@ -180,7 +181,7 @@ pub fn summarize(scene: &Scene, out: &RunOutput) -> Vec<JointSummary> {
                 max_penetration: out.max_penetration[k],
                 motion: trace
                     .map(|t| Motion::classify(&t.delta, dt, scene.run.record_rotations as f64)),
-                peaks: peaks(&out.final_wear[k], PEAK_PROMINENCE),
+                regions: wear_regions(&out.final_wear[k]),
             }
         })
         .collect()
@@ -191,13 +192,13 @@ impl JointSummary {
     /// `continuous_contact` as 1 or 0 (NaN where nothing was recorded), whose mean over an
     /// ensemble is the share of members in continuous contact.
     pub fn scalars(&self) -> [(&'static str, f64); 7] {
-        let peak = self.peaks.first();
+        let deepest = self.regions.first();
         let motion = |f: fn(&Motion) -> f64| self.motion.as_ref().map_or(f64::NAN, f);
         let values = [
             self.max_normal_force,
             self.max_penetration,
-            peak.map_or(f64::NAN, |p| p.angle_deg),
-            peak.map_or(f64::NAN, |p| p.depth),
+            deepest.map_or(f64::NAN, |p| p.angle_deg),
+            deepest.map_or(f64::NAN, |p| p.depth),
             motion(|m| m.contact_fraction),
             motion(|m| m.impacts_per_rotation),
             motion(|m| f64::from(u8::from(m.mode() == "continuous contact"))),
@@ -259,8 +260,8 @@ pub fn joint_statistics(
 const JOINT_COLUMNS: [&str; 7] = [
     "max_normal_force_n",
     "max_penetration_m",
-    "peak_wear_angle_deg",
-    "peak_wear_depth_m",
+    "max_wear_angle_deg",
+    "max_wear_depth_m",
     "motion_mode",
     "contact_fraction",
     "impacts_per_rotation",
@@ -296,8 +297,8 @@ pub fn ensemble_header(sets: &[Assignment], joints: &[String]) -> Vec<String> {
 pub const SCALARS: [&str; 7] = [
     "max_normal_force_n",
     "max_penetration_m",
-    "peak_wear_angle_deg",
-    "peak_wear_depth_m",
+    "max_wear_angle_deg",
+    "max_wear_depth_m",
     "contact_fraction",
     "impacts_per_rotation",
     "continuous_contact",
@@ -348,12 +349,12 @@ impl CaseResult {
             }
             Ok((Outcome::Run(summaries), wall)) => {
                 for s in summaries {
-                    let peak = s.peaks.first();
+                    let deepest = s.regions.first();
                     r.extend([
                         number(s.max_normal_force),
                         number(s.max_penetration),
-                        peak.map_or(String::new(), |p| number(p.angle_deg)),
-                        peak.map_or(String::new(), |p| number(p.depth)),
+                        deepest.map_or(String::new(), |p| number(p.angle_deg)),
+                        deepest.map_or(String::new(), |p| number(p.depth)),
                         s.motion.map_or(String::new(), |m| m.mode().to_string()),
                         s.motion
                             .map_or(String::new(), |m| number(m.contact_fraction)),

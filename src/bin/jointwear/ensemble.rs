@@ -275,8 +275,9 @@ fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
          rotations (N)\n\
          \x20 J.max_penetration_m                  largest penetration of the whole run (m), \
          positive = overlap\n\
-         \x20 J.peak_wear_angle_deg                deepest wear peak, bearing frame (deg)\n\
-         \x20 J.peak_wear_depth_m                  its depth (m)\n\
+         \x20 J.max_wear_angle_deg                 deepest sector of the final wear profile \
+         (the most prominent wear region), bearing frame (deg)\n\
+         \x20 J.max_wear_depth_m                   its depth (m)\n\
          \x20 J.motion_mode                        `continuous contact` or `free flight and \
          impact` (recorded rotations)\n\
          \x20 J.contact_fraction                   share of recorded samples in contact\n\

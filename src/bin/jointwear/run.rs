@@ -8,6 +8,7 @@ use crate::outputs::{
     SUMMARY_FILE,
 };
 use crate::{claim_out, joint_file, load_variant};
+use jointwear::analysis::regions::{MIN_PROMINENCE_OF_HEIGHT, MIN_RELATIVE_PROMINENCE};
 use jointwear::io::interrupt;
 use jointwear::io::output::{write_csv, write_outputs};
 use jointwear::io::plot::{render, Axes, Series, Style};
@@ -249,8 +250,11 @@ fn write_run(scene: &Scene, out: &RunOutput, dir: &Path) -> jointwear::Result<()
     Ok(())
 }
 
+/// Wear regions printed per joint; `summary.json` lists them all.
+const SHOWN_REGIONS: usize = 3;
+
 /// The run's summary on stdout: counters, and per joint (`joints`, [`summarize`]) forces,
-/// motion and wear peaks. What was not recorded is said to be, never printed as NaN.
+/// motion and wear regions. What was not recorded is said to be, never printed as NaN.
 fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
     let s = &out.stats;
     println!("{}", scene.title);
@@ -282,11 +286,19 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
         } else {
             println!("    motion: not classified (run.record_rotations = 0)");
         }
-        for p in j.peaks.iter().take(3) {
+        let shown = j.regions.len().min(SHOWN_REGIONS);
+        if shown < j.regions.len() {
             println!(
-                "    wear peak at {:6.1} deg: depth {:.4} µm, width {:.0} deg",
+                "    wear regions: {} ({shown} most prominent shown, all in {SUMMARY_FILE})",
+                j.regions.len()
+            );
+        }
+        for p in &j.regions[..shown] {
+            println!(
+                "    wear region at {:6.1} deg: depth {:.4} µm, prominence {:.4} µm, width {:.0} deg",
                 p.angle_deg,
                 p.depth * 1e6,
+                p.prominence * 1e6,
                 p.width_deg
             );
         }
@@ -374,8 +386,8 @@ struct JointResult {
     motion: Option<MotionResult>,
     /// Deepest wear of the final profile (m); `null` without a wear model.
     max_wear_depth_m: Option<f64>,
-    /// Wear regions of the final profile, deepest first.
-    wear_peaks: Vec<PeakResult>,
+    /// Wear regions of the final profile, most prominent first.
+    wear_regions: Vec<RegionResult>,
 }
 
 #[derive(Serialize)]
@@ -388,7 +400,7 @@ struct MotionResult {
 }
 
 #[derive(Serialize)]
-struct PeakResult {
+struct RegionResult {
     /// Bearing frame, counter-clockwise from its +x axis.
     angle_deg: f64,
     depth_m: f64,
@@ -465,10 +477,10 @@ impl RunSummary {
                     max_wear_depth_m: cj
                         .wear
                         .map(|_| out.final_wear[k].iter().cloned().fold(0.0, f64::max)),
-                    wear_peaks: j
-                        .peaks
+                    wear_regions: j
+                        .regions
                         .iter()
-                        .map(|p| PeakResult {
+                        .map(|p| RegionResult {
                             angle_deg: p.angle_deg,
                             depth_m: p.depth,
                             prominence_m: p.prominence,
@@ -548,8 +560,12 @@ fn readme(title: &str, scene: &Scene, out: &RunOutput) -> String {
          clearance, max_normal_force_n over the recorded rotations or null if none were \
          recorded, max_penetration_m over the whole run, contact onsets, motion (mode: \
          `continuous contact` or `free flight and impact`, contact fraction, impacts per \
-         rotation, mean flight time) or null, max_wear_depth_m, wear_peaks: angle_deg in the \
-         bearing frame, depth_m, prominence_m, width_deg, deepest first).\n"
+         rotation, mean flight time) or null, max_wear_depth_m, wear_regions: angle_deg in the \
+         bearing frame, depth_m, prominence_m, width_deg at half prominence, most prominent \
+         first; a region is a hump of the profile by topographic prominence, at least {:.0} % of \
+         the most prominent one's and {:.0} % of its own height above the shallowest sector).\n",
+        100.0 * MIN_RELATIVE_PROMINENCE,
+        100.0 * MIN_PROMINENCE_OF_HEIGHT,
     ));
     text
 }

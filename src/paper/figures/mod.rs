@@ -20,7 +20,7 @@ pub mod wear_profiles;
 
 pub use table3::{table3_rows, Table3Row};
 pub use wear_history::{share_for_90pct, staircase_shares};
-pub use wear_profiles::mean_profile_peaks;
+pub use wear_profiles::mean_profile_regions;
 
 use crate::error::exit_on_error;
 use crate::paper::cases::{Case, Need, Runs, CASES};

@@ -7,7 +7,7 @@
 //! 90 % of its wear.
 
 use super::output_path;
-use super::wear_profiles::{band_axes, mean_profile_peaks, write_band_csv, BandCurve};
+use super::wear_profiles::{band_axes, mean_profile_regions, write_band_csv, BandCurve};
 use crate::analysis::statistics::{Band, Distribution};
 use crate::io::plot::render;
 use crate::paper::cases::{Runs, WearEnsemble, CASES, HISTORY_PER_ROTATION};
@@ -27,12 +27,12 @@ pub fn share_for_90pct(depth: &[f64]) -> f64 {
 }
 
 /// Per member, the share of crank positions that carry 90 % of the wear of each of its own
-/// three deepest regions (figure 7's staircase).
+/// three most prominent regions (figure 7's staircase).
 pub fn staircase_shares(e: &WearEnsemble) -> Vec<Vec<f64>> {
     e.members
         .iter()
         .map(|m| {
-            m.peaks
+            m.regions
                 .iter()
                 .take(3)
                 .map(|p| {
@@ -47,7 +47,7 @@ pub fn staircase_shares(e: &WearEnsemble) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// For the deepest, second and third region: the distribution over the members of
+/// For the first, second and third most prominent region: the distribution over the members of
 /// [`staircase_shares`] (members with fewer regions left out).
 pub fn region_share_stats(shares: &[Vec<f64>]) -> [Distribution; 3] {
     [0, 1, 2].map(|i| Distribution::of(shares.iter().filter_map(|s| s.get(i).copied())))
@@ -64,7 +64,7 @@ pub fn fig07(runs: &Runs) -> Result<Vec<String>> {
         .map(|k| k as f64 * interval / e.period)
         .collect();
     let mut curves = Vec::new();
-    for p in mean_profile_peaks(e).iter().take(3) {
+    for p in mean_profile_regions(e).iter().take(3) {
         let per_point = Band {
             sectors: (0..points)
                 .map(|k| {

@@ -9,8 +9,8 @@
 //! panels and CSV columns that figure 7 ([`super::wear_history`]) draws with.
 
 use super::{output_path, standard_panel, CasePanel, Varied};
+use crate::analysis::regions::{wear_regions, Region};
 use crate::analysis::statistics::Band;
-use crate::analysis::Peak;
 use crate::io::output::write_csv;
 use crate::io::plot::{render, render_polar, Axes, Series, Shade, Style};
 use crate::laws::wear::sector_angles_deg;
@@ -21,7 +21,7 @@ use crate::{Error, Result};
 /// The line a wear ensemble's figure prints.
 fn wear_line(name: &str, e: &WearEnsemble) -> String {
     let n = e.members.len();
-    let mean_peaks: Vec<String> = mean_profile_peaks(e)
+    let mean_regions: Vec<String> = mean_profile_regions(e)
         .iter()
         .take(3)
         .map(|p| format!("{:.1} deg ({:.3} µm)", p.angle_deg, p.depth * 1e6))
@@ -36,13 +36,13 @@ fn wear_line(name: &str, e: &WearEnsemble) -> String {
             format!("{:.3}-{:.3}", lo * 1e6, hi * 1e6)
         },
         e.stat(|m| m.mean_depth()).mean_sd(1e6, 3),
-        mean_peaks.join(", ")
+        mean_regions.join(", ")
     )
 }
 
-/// Wear regions of the ensemble-mean final profile, deepest first.
-pub fn mean_profile_peaks(e: &WearEnsemble) -> Vec<Peak> {
-    crate::analysis::peaks(&e.band().mean(), crate::analysis::PEAK_PROMINENCE)
+/// Wear regions of the ensemble-mean final profile, most prominent first.
+pub fn mean_profile_regions(e: &WearEnsemble) -> Vec<Region> {
+    wear_regions(&e.band().mean())
 }
 
 /// A curve drawn as its mean line with the 5-95 % band shaded.
@@ -209,7 +209,7 @@ fn comparison_figure(runs: &Runs, name: &str, title: &str, varied: Varied) -> Re
         lines.push(wear_line(&case.label(), e));
         let spread = e.stat(|m| m.region_spread().unwrap_or(f64::NAN));
         lines.push(format!(
-            "{}: (deepest − third region) / deepest {}",
+            "{}: (deepest − third most prominent region) / deepest {}",
             case.label(),
             spread.mean_sd(1.0, 2)
         ));

@@ -14,7 +14,8 @@
 
 use super::integration::Integration;
 use crate::analysis::concordance::Concordance;
-use crate::analysis::{peaks, Motion, PEAK_PROMINENCE};
+use crate::analysis::regions::wear_regions;
+use crate::analysis::Motion;
 use crate::io::output::write_rows;
 use crate::io::progress::Progress;
 use crate::ode::Method;
@@ -117,8 +118,8 @@ pub struct AccuracyRow {
     pub pw: (f64, f64),
     /// (min, max) of s-w over the windows.
     pub sw: (f64, f64),
-    /// Three deepest wear peaks (deg), for the wear case.
-    pub peak_angles: Vec<f64>,
+    /// Angles of the three most prominent wear regions (deg), for the wear case.
+    pub region_angles: Vec<f64>,
     /// Wall time of the run (s).
     pub wall_time: f64,
     /// The error (with its time) of a failed run.
@@ -144,7 +145,7 @@ pub const ACCURACY_HEADER: [&str; 11] = [
     "pw_max",
     "sw_min",
     "sw_max",
-    "peak_angles_deg",
+    "region_angles_deg",
     "wall_time_s",
     "failure",
 ];
@@ -159,7 +160,7 @@ impl AccuracyRow {
             dominance: Vec::new(),
             pw: (f64::NAN, f64::NAN),
             sw: (f64::NAN, f64::NAN),
-            peak_angles: Vec::new(),
+            region_angles: Vec::new(),
             wall_time: 0.0,
             failure: None,
         }
@@ -175,7 +176,11 @@ impl AccuracyRow {
 
     /// Its row of `data/accuracy_dependence.csv` (columns [`ACCURACY_HEADER`]).
     pub fn csv_row(&self) -> Vec<String> {
-        let angles: Vec<String> = self.peak_angles.iter().map(|a| format!("{a:.1}")).collect();
+        let angles: Vec<String> = self
+            .region_angles
+            .iter()
+            .map(|a| format!("{a:.1}"))
+            .collect();
         vec![
             self.case.name().to_string(),
             self.setting.label().to_string(),
@@ -324,7 +329,8 @@ fn windowed_case(case: Case, setting: Setting) -> AccuracyRow {
     }
 }
 
-/// The standard case's 40-rotation wear profile under `setting`: its three deepest regions.
+/// The standard case's 40-rotation wear profile under `setting`: its three most prominent
+/// regions.
 fn wear_case(setting: Setting) -> AccuracyRow {
     let subject = Subject::StandardWear;
     match wear_run_with(CASES.standard.scene, 0, |f| {
@@ -333,7 +339,7 @@ fn wear_case(setting: Setting) -> AccuracyRow {
         }
     }) {
         Ok((_, out)) => AccuracyRow {
-            peak_angles: peaks(&out.final_wear[0], PEAK_PROMINENCE)
+            region_angles: wear_regions(&out.final_wear[0])
                 .iter()
                 .take(3)
                 .map(|p| p.angle_deg)
@@ -415,14 +421,14 @@ pub fn accuracy_dependence(progress: &dyn Progress) -> Result<AccuracyDependence
             claim
                 .peak_angles_deg
                 .iter()
-                .all(|&p| r.peak_angles.iter().any(|&a| near(a, p)))
+                .all(|&p| r.region_angles.iter().any(|&a| near(a, p)))
         }),
     });
     findings.push(Finding {
         result: "standard deepest wear region".into(),
         paper: format!("{} deg", claim.largest_peak_deg),
         holds: holds(Subject::StandardWear, &|r| {
-            r.peak_angles
+            r.region_angles
                 .first()
                 .is_some_and(|&a| near(a, claim.largest_peak_deg))
         }),

@@ -5,7 +5,7 @@
 
 use super::{across, decreasing, increasing, within, Claims, Ensembles};
 use crate::paper::cases::SteadyMember;
-use crate::paper::figures::mean_profile_peaks;
+use crate::paper::figures::mean_profile_regions;
 use crate::paper::golden::Golden;
 
 /// Adds the claims of figures 8-11.
@@ -52,7 +52,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         },
     );
     let regions = |w| {
-        mean_profile_peaks(w)
+        mean_profile_regions(w)
             .iter()
             .take(3)
             .map(|p| format!("{:.0}", p.angle_deg))
@@ -70,10 +70,10 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
             regions(e.wear.standard)
         ),
         &|m| {
-            let std = m.wear.standard.peak_angles();
+            let std = m.wear.standard.region_angles();
             [m.wear.clearance_0_2mm, m.wear.clearance_0_5mm]
                 .iter()
-                .flat_map(|w| w.peak_angles())
+                .flat_map(|w| w.region_angles())
                 .map(|a| within(&std, a, 2.0 * tol))
                 .collect()
         },
@@ -82,9 +82,9 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
     c.claim(
         "Fig. 11",
         "a larger clearance gives a more uniform wear distribution (smaller differences between the regions)",
-        "(deepest − third region) / deepest decreases with clearance",
+        "(deepest − third most prominent region) / deepest decreases with clearance",
         format!(
-            "(deepest − third region) / deepest: {} at 0.02 / 0.2 / 0.5 mm",
+            "(deepest − third most prominent region) / deepest: {} at 0.02 / 0.2 / 0.5 mm",
             across(&wcl, |e| e.stat(|m| m.region_spread().unwrap_or(f64::NAN)), 1.0, 2)
         ),
         &|m| {

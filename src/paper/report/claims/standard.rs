@@ -8,11 +8,11 @@ use crate::paper::cases::WearMember;
 use crate::paper::figures::wear_history::region_share_stats;
 use crate::paper::golden::{angle_distance, Golden};
 
-/// Depth of a member's three deepest regions after snapshot `i`, deepest over the mean of the
-/// other two.
+/// Depth of a member's three most prominent regions after snapshot `i`: the first (the
+/// deepest) over the mean of the other two.
 fn lead(m: &WearMember, i: usize) -> f64 {
     let d = |k: usize| {
-        m.peaks
+        m.regions
             .get(k)
             .map_or(f64::NAN, |p| m.snapshots[i].1[p.sector])
     };
@@ -57,7 +57,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
     let std_we = e.wear.standard;
     let region_angle = |target: f64| {
         std_we.angle_stat(move |m| {
-            m.peak_angles()
+            m.region_angles()
                 .into_iter()
                 .min_by(|a, b| angle_distance(*a, target).total_cmp(&angle_distance(*b, target)))
                 .unwrap_or(f64::NAN)
@@ -67,7 +67,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
     c.claim(
         "Fig. 5, 6",
         "wear concentrates in three severe regions around 50, 180 and 320 deg",
-        "a peak within the golden tolerance (10 deg) of each claimed angle",
+        "one of the three most prominent regions within the golden tolerance (10 deg) of each claimed angle",
         format!(
             "nearest region to 50 / 180 / 320 deg at {} deg",
             claimed
@@ -77,7 +77,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
                 .join(" / ")
         ),
         &|m| {
-            let angles = m.wear.standard.peak_angles();
+            let angles = m.wear.standard.region_angles();
             claimed.iter().map(|&a| within(&angles, a, tol)).collect()
         },
     );
@@ -103,7 +103,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "the radius of each region grows like a staircase: contact alternates between the regions",
         "every region gets 90% of its wear in less than half of the crank positions",
         format!(
-            "the deepest three regions get 90% of their wear in {} % of the crank positions",
+            "the three most prominent regions get 90% of their wear in {} % of the crank positions",
             region_share_stats(&e.shares)
                 .map(|d| d.mean_sd(100.0, 0))
                 .join(", ")
