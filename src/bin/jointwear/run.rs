@@ -2,6 +2,7 @@
 //! checkpoints and resumption; its time series, wear profiles and snapshots, default plots,
 //! `summary.json` and `README.txt`, and the summary it prints.
 
+use crate::ensemble::checked;
 use crate::failure::{CliResult, Failure};
 use crate::outputs::{
     body_name, conventions, timeseries_columns, write_profiles, write_summary, PROGRAM,
@@ -15,6 +16,7 @@ use jointwear::io::progress::{progress_bar, Progress};
 use jointwear::laws::wear::sector_angles_deg;
 use jointwear::ode::Method;
 use jointwear::simulation::checkpoint::{read_checkpoint, write_checkpoint, CHECKPOINT_FILE};
+use jointwear::simulation::ensemble::{member_simulation, EnsembleSettings};
 use jointwear::simulation::Scene;
 use jointwear::simulation::{RunOutput, Settling, Simulation};
 use jointwear::sweep::{summarize, JointSummary};
@@ -22,9 +24,10 @@ use jointwear::Error;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
-/// `run` without `--ensemble`: simulates the scene at `path` with `sets` and `rotations`
-/// applied ([`load_variant`]), or resumes its checkpoint, writes its outputs into `out` and
-/// prints a summary.
+/// `run` without `--ensemble` (or with `--member`): simulates the scene at `path` with `sets`
+/// and `rotations` applied ([`load_variant`]), or resumes its checkpoint, or runs `member`
+/// (the ensemble and member number) of an ensemble, writes its outputs into `out` and prints
+/// a summary.
 pub fn run(
     path: &Path,
     sets: &[String],
@@ -32,9 +35,27 @@ pub fn run(
     out: Option<PathBuf>,
     checkpoint_every: Option<u32>,
     resume: bool,
+    member: Option<(EnsembleSettings, usize)>,
 ) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
-    let variant = load_variant(path, sets, rotations, out)?;
+    if let Some((ensemble, k)) = &member {
+        checked(path, ensemble)?;
+        if *k >= ensemble.members {
+            let expected = format!(
+                "a member number in [0, {}] (0-based) of `--ensemble {}`",
+                ensemble.members - 1,
+                ensemble.members
+            );
+            return Err(Failure::input(
+                path,
+                Error::invalid("--member", k, expected),
+            ));
+        }
+    }
+    let mut variant = load_variant(path, sets, rotations, out)?;
+    if let Some((ensemble, k)) = &member {
+        variant.command = format!("{} --member {k} --seed {}", variant.command, ensemble.seed);
+    }
     let (scene, dir, fingerprint) = (&variant.scene, &variant.dir, &variant.fingerprint);
     if checkpoint_every == Some(0) {
         return Err(Failure::input(
@@ -56,6 +77,8 @@ pub fn run(
             e => Failure::input(path, e),
         })?;
         Simulation::resume(scene, checkpoint).map_err(|e| Failure::input(path, e))?
+    } else if let Some((ensemble, k)) = &member {
+        member_simulation(scene, &scene.run, ensemble, *k).map_err(bad)?
     } else {
         Simulation::start(scene).map_err(bad)?
     };
@@ -84,7 +107,12 @@ pub fn run(
     result.map_err(bad)?;
     let out = sim.finish();
     let joints = summarize(scene, &out);
-    let summary = RunSummary::new(path, scene, &variant.changes, fingerprint, &out, &joints);
+    let mut summary = RunSummary::new(path, scene, &variant.changes, fingerprint, &out, &joints);
+    summary.ensemble_member = member.map(|(e, member)| EnsembleMember {
+        member,
+        seed: e.seed,
+        perturbation: e.perturbation.describe(),
+    });
     let title = &variant.command;
     write_outputs(dir, title, || {
         write_run(scene, &out, dir)?;
@@ -269,8 +297,18 @@ struct RunSummary {
     energy_balance_residual: Option<f64>,
     /// How the run settled, for `run.settle`.
     settling: Option<Settling>,
+    /// With `--member`: the ensemble member this run is; `null` for the scene's own start.
+    ensemble_member: Option<EnsembleMember>,
     /// Per clearance joint.
     joints: Vec<JointResult>,
+}
+
+#[derive(Serialize)]
+struct EnsembleMember {
+    /// 0-based.
+    member: usize,
+    seed: u64,
+    perturbation: String,
 }
 
 #[derive(Serialize)]
@@ -402,6 +440,7 @@ impl RunSummary {
             wall_time_s: out.wall_time,
             energy_balance_residual: out.energy.map(|e| e.residual()),
             settling: out.settling,
+            ensemble_member: None,
             joints: m
                 .clearance_joints
                 .iter()
