@@ -140,6 +140,7 @@ fn runs(c: &mut Criterion) {
     let settings = EnsembleSettings {
         members: 16,
         seed: 1,
+        ..EnsembleSettings::default()
     };
     let mut group = c.benchmark_group("ensemble");
     group

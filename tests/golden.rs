@@ -23,6 +23,7 @@ fn runs(seed: u64, modify: &(dyn Fn(&mut SceneFile) + Sync)) -> Runs {
     let ensemble = EnsembleSettings {
         members: recorded.members,
         seed,
+        ..EnsembleSettings::default()
     };
     Runs::compute(&GOLDEN_NEEDS, ensemble, modify, &Silent).unwrap()
 }

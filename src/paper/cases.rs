@@ -509,7 +509,7 @@ impl Runs {
             .par_iter()
             .map(|&(k, m)| {
                 let scene = &scenes[k];
-                let out = run_member(scene, &scene.run, ensemble.seed, m, progress);
+                let out = run_member(scene, &scene.run, &ensemble, m, progress);
                 let out = out.map_err(|e| match e {
                     Error::Integration { time, cause } => Error::Integration {
                         time,

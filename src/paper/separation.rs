@@ -25,7 +25,7 @@ use crate::paper::cases::CASES;
 use crate::paper::figures::output_path;
 use crate::scene::{scene_path, SceneFile};
 use crate::simulation::ensemble::{
-    member_mechanism, member_offsets, member_state, run_member, DEFAULT_SEED,
+    member_mechanism, member_offsets, member_state, run_member, EnsembleSettings, DEFAULT_SEED,
 };
 use crate::simulation::{Recording, Scene, Simulation};
 use crate::{Error, Result};
@@ -133,7 +133,14 @@ fn separation(case: &'static str) -> Result<Separation> {
         Ok(sim.finish().recording)
     })?;
     let independent = pair_series(case, clearance, |m| {
-        Ok(run_member(&scene, &from_start, DEFAULT_SEED, m, &Silent)?.recording)
+        Ok(run_member(
+            &scene,
+            &from_start,
+            &EnsembleSettings::default(),
+            m,
+            &Silent,
+        )?
+        .recording)
     })?;
     Ok(Separation {
         case: case.to_string(),

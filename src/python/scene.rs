@@ -146,7 +146,11 @@ impl Document {
         members: usize,
         seed: u64,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let settings = EnsembleSettings { members, seed };
+        let settings = EnsembleSettings {
+            members,
+            seed,
+            ..EnsembleSettings::default()
+        };
         settings.validate().map_err(|e| self.error(e))?;
         let scene = self.scene()?;
         let clock = std::time::Instant::now();
@@ -206,7 +210,11 @@ impl Document {
             .map_err(|e| self.error(e))?;
         if let Some(members) = members {
             sweep = sweep
-                .with_ensemble(EnsembleSettings { members, seed })
+                .with_ensemble(EnsembleSettings {
+                    members,
+                    seed,
+                    ..EnsembleSettings::default()
+                })
                 .map_err(|e| self.error(e))?;
         }
         let results = interruptible(py, |cancel| sweep.run(|_| {}, cancel))?;

@@ -23,6 +23,13 @@
 //! in `data/golden/ensemble.toml`); where it is chaotic, they sample the attractor. The offset enters through the assembly (the journal point is moved in its
 //! body before the ideal-joint configuration is solved), so every ideal joint holds exactly.
 //!
+//! **Other protocols** ([`Perturbation`]): a disc of another radius, offsets along the journal
+//! body's x axis only, the journal centred with its velocity relative to the bearing drawn from
+//! a disc, or the journal centred with the integrator's tolerances jittered (members then differ
+//! by their numerics, not their state). The default stays the 10 nm disc; the perturbation
+//! study (`cargo run --release --bin perturbation`, `data/perturbation_sensitivity.csv`)
+//! measures which ensemble statistics depend on the protocol.
+//!
 //! Members run in parallel (rayon); each depends only on its index and the seed, and results
 //! come back in member order, so an ensemble is bit-identical for a given seed whatever the
 //! number of threads. The SplitMix64 generator (Steele, Lea and Flood 2014) is written out here
@@ -49,13 +56,178 @@ pub const DEFAULT_MEMBERS: usize = 32;
 /// Seed of the ensembles unless asked otherwise.
 pub const DEFAULT_SEED: u64 = 1;
 
-/// Size and seed of an ensemble.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// How the members of an ensemble differ from the scene's run and from each other. Every
+/// draw `u, v ∈ [0, 1)` comes from (seed, member, joint) as in the module documentation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Perturbation {
+    /// Journal offsets uniform over a disc of this radius (m) in the journal body's frame,
+    /// `d = r √u (cos 2πv, sin 2πv)`: the default, with [`OFFSET_RADIUS`].
+    Disc(f64),
+    /// Journal offsets uniform on `[−r, r]` along the journal body's x axis only (m):
+    /// `d = r (2u − 1, 0)`.
+    Axis(f64),
+    /// The journal centred, its initial velocity relative to the bearing drawn uniformly from a
+    /// disc of this radius (m/s, global frame) as the offsets are; the other bodies' velocities
+    /// follow from the ideal joints ([`Perturbation::start`]).
+    Velocity(f64),
+    /// The journal centred (every member starts from the same state), the run's relative and
+    /// absolute tolerances multiplied by `1 + s (2u − 1)` (this is `s`): members differ by their
+    /// step sequences only.
+    Tolerance(f64),
+}
+
+impl Default for Perturbation {
+    fn default() -> Self {
+        Perturbation::Disc(OFFSET_RADIUS)
+    }
+}
+
+/// Time over which the velocity perturbation's offset is differenced (s): the relative
+/// velocity `u` is the journal offset `u·τ` of the ideal-joint assembly divided by τ. Short
+/// against a rotation (30 ms at 2000 r/min) so the offset stays below a nanometre, long against
+/// the assembly's 1e-13 m closure so its rounding moves `u` by under 1e-6 relative.
+const VELOCITY_DIFFERENCE_TIME: f64 = 1e-4;
+
+impl Perturbation {
+    /// The protocol as the study's CSV names it: `disc_10nm`, `axis_10nm`, `velocity_10um_s`,
+    /// `tolerance_1e-3`.
+    pub fn key(&self) -> String {
+        match *self {
+            Perturbation::Disc(r) => format!("disc_{}nm", r * 1e9),
+            Perturbation::Axis(r) => format!("axis_{}nm", r * 1e9),
+            Perturbation::Velocity(v) => format!("velocity_{}um_s", v * 1e6),
+            Perturbation::Tolerance(s) => format!("tolerance_{s:e}"),
+        }
+    }
+
+    /// What it does, as a sentence fragment: `journal offsets uniform over a 10 nm disc`.
+    pub fn describe(&self) -> String {
+        match *self {
+            Perturbation::Disc(r) => {
+                format!("journal offsets uniform over a {} nm disc", r * 1e9)
+            }
+            Perturbation::Axis(r) => format!(
+                "journal offsets uniform within ±{} nm along one body axis",
+                r * 1e9
+            ),
+            Perturbation::Velocity(v) => format!(
+                "journal centred, its initial velocity relative to the bearing uniform over a \
+                 {} µm/s disc",
+                v * 1e6
+            ),
+            Perturbation::Tolerance(s) => format!(
+                "journal centred, rtol and atol multiplied by a factor uniform in [1 − {s}, 1 + {s}]"
+            ),
+        }
+    }
+
+    /// The draws `(u, v)` of each of `joints` clearance joints of `member`.
+    fn draws(seed: u64, member: usize, joints: usize) -> impl Iterator<Item = (f64, f64)> {
+        let stream = splitmix64(splitmix64(seed) ^ member as u64);
+        (0..joints as u64).map(move |j| {
+            (
+                unit(splitmix64(stream ^ (2 * j))),
+                unit(splitmix64(stream ^ (2 * j + 1))),
+            )
+        })
+    }
+
+    /// A point of a disc of radius `r` from the draws `(u, v)`.
+    fn in_disc(r: f64, (u, v): (f64, f64)) -> Vector2<f64> {
+        let (s, c) = (TAU * v).sin_cos();
+        r * u.sqrt() * Vector2::new(c, s)
+    }
+
+    /// The initial journal offset `d` of each of `joints` clearance joints of `member` (m, in
+    /// the journal body's frame): zero for the protocols that start with the journal centred.
+    pub fn offsets(&self, seed: u64, member: usize, joints: usize) -> Vec<Vector2<f64>> {
+        Perturbation::draws(seed, member, joints)
+            .map(|draw| match *self {
+                Perturbation::Disc(r) => Perturbation::in_disc(r, draw),
+                Perturbation::Axis(r) => Vector2::new(r * (2.0 * draw.0 - 1.0), 0.0),
+                Perturbation::Velocity(_) | Perturbation::Tolerance(_) => Vector2::zeros(),
+            })
+            .collect()
+    }
+
+    /// The mechanism of `scene` with every journal point moved by member `member`'s offset `−d`
+    /// in its body: assembled, it puts the journal centre at `e₀ = R(φ_J) d` from the bearing's.
+    pub fn mechanism(&self, scene: &Scene, seed: u64, member: usize) -> Mechanism {
+        shifted(
+            scene,
+            &self.offsets(seed, member, scene.mechanism.clearance_joints.len()),
+        )
+    }
+
+    /// The run settings and initial state of member `member` of `scene` run with `settings`.
+    ///
+    /// For [`Perturbation::Velocity`] the state's velocities are the assembly's plus
+    /// `(q(u·τ) − q(0))/τ`, `q(e)` the positions assembled with the journal at `e` from the
+    /// bearing (in the journal body's frame) and τ = 0.1 ms: to first order the ideal-joint
+    /// velocity field in which the journal centre moves at `u` relative to the bearing.
+    pub fn start(
+        &self,
+        scene: &Scene,
+        settings: &RunSettings,
+        seed: u64,
+        member: usize,
+    ) -> Result<(RunSettings, Vec<f64>)> {
+        let mut settings = settings.clone();
+        let y0 = match *self {
+            Perturbation::Disc(_) | Perturbation::Axis(_) => {
+                self.mechanism(scene, seed, member).assemble(&scene.guess)?
+            }
+            Perturbation::Velocity(speed) => {
+                let joints = scene.mechanism.clearance_joints.len();
+                let mut y = scene.mechanism.assemble(&scene.guess)?;
+                let n = scene.mechanism.coordinates();
+                // u in the global frame, turned into the journal body's frame for the offset
+                let moved: Vec<Vector2<f64>> = Perturbation::draws(seed, member, joints)
+                    .zip(&scene.mechanism.clearance_joints)
+                    .map(|(draw, cj)| {
+                        let angle = cj.journal.body.map_or(0.0, |b| y[3 * b + 2]);
+                        let u = Perturbation::in_disc(speed, draw);
+                        nalgebra::Rotation2::new(-angle) * u * VELOCITY_DIFFERENCE_TIME
+                    })
+                    .collect();
+                let q = shifted(scene, &moved).assemble(&scene.guess)?;
+                for i in 0..n {
+                    y[n + i] += (q[i] - y[i]) / VELOCITY_DIFFERENCE_TIME;
+                }
+                y
+            }
+            Perturbation::Tolerance(s) => {
+                let (u, _) = Perturbation::draws(seed, member, 1)
+                    .next()
+                    .unwrap_or_default();
+                let factor = 1.0 + s * (2.0 * u - 1.0);
+                settings.tolerances.rtol *= factor;
+                settings.tolerances.atol *= factor;
+                scene.mechanism.assemble(&scene.guess)?
+            }
+        };
+        Ok((settings, y0))
+    }
+}
+
+/// The mechanism of `scene` with the journal point of clearance joint `j` moved by `−d[j]`.
+fn shifted(scene: &Scene, d: &[Vector2<f64>]) -> Mechanism {
+    let mut shifted = scene.mechanism.clone();
+    for (cj, d) in shifted.clearance_joints.iter_mut().zip(d) {
+        cj.journal.local -= d;
+    }
+    shifted
+}
+
+/// Size, seed and protocol of an ensemble.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnsembleSettings {
     /// Members, ≥ 1.
     pub members: usize,
-    /// Seed of the initial offsets.
+    /// Seed of the perturbations.
     pub seed: u64,
+    /// How members are perturbed.
+    pub perturbation: Perturbation,
 }
 
 impl Default for EnsembleSettings {
@@ -63,6 +235,7 @@ impl Default for EnsembleSettings {
         EnsembleSettings {
             members: DEFAULT_MEMBERS,
             seed: DEFAULT_SEED,
+            perturbation: Perturbation::default(),
         }
     }
 }
@@ -98,52 +271,63 @@ fn unit(bits: u64) -> f64 {
     (bits >> 11) as f64 / (1u64 << 53) as f64
 }
 
-/// The initial journal offset `d` of each of `joints` clearance joints of `member` (m, in the
-/// journal body's frame).
+/// The initial journal offset `d` of each of `joints` clearance joints of `member` under the
+/// default protocol (m, in the journal body's frame).
 pub fn member_offsets(seed: u64, member: usize, joints: usize) -> Vec<Vector2<f64>> {
-    let stream = splitmix64(splitmix64(seed) ^ member as u64);
-    (0..joints as u64)
-        .map(|j| {
-            let u = unit(splitmix64(stream ^ (2 * j)));
-            let v = unit(splitmix64(stream ^ (2 * j + 1)));
-            let (s, c) = (TAU * v).sin_cos();
-            OFFSET_RADIUS * u.sqrt() * Vector2::new(c, s)
-        })
-        .collect()
+    Perturbation::default().offsets(seed, member, joints)
 }
 
-/// The mechanism of `scene` with every journal point moved by member `member`'s offset `−d`
-/// in its body: assembled, it puts the journal centre at `e₀ = R(φ_J) d` from the bearing's.
+/// The mechanism of member `member` of `scene` under the default protocol
+/// ([`Perturbation::mechanism`]).
 pub fn member_mechanism(scene: &Scene, seed: u64, member: usize) -> Mechanism {
-    let joints = scene.mechanism.clearance_joints.len();
-    let mut shifted = scene.mechanism.clone();
-    for (cj, d) in shifted
-        .clearance_joints
-        .iter_mut()
-        .zip(member_offsets(seed, member, joints))
-    {
-        cj.journal.local -= d;
-    }
-    shifted
+    Perturbation::default().mechanism(scene, seed, member)
 }
 
-/// The initial state of member `member` of `scene`: the ideal-joint configuration with every
-/// journal centre at its offset `e₀ = R(φ_J) d` (see the module documentation).
+/// The initial state of member `member` of `scene` under the default protocol: the ideal-joint
+/// configuration with every journal centre at its offset `e₀ = R(φ_J) d`.
 pub fn member_state(scene: &Scene, seed: u64, member: usize) -> Result<Vec<f64>> {
-    member_mechanism(scene, seed, member).assemble(&scene.guess)
+    Ok(Perturbation::default()
+        .start(scene, &scene.run, seed, member)?
+        .1)
 }
 
-/// Runs member `member` of `scene` with `settings` from [`member_state`], unless `cancel`
-/// asks it to stop ([`Progress::cancelled`]; its counts are not told).
+/// The simulation of member `member` of an ensemble of `scene` run with `settings`, ready to
+/// run: what `jointwear run --member` runs and [`run`] runs for every member. Refuses a
+/// member outside the ensemble.
+pub fn member_simulation(
+    scene: &Scene,
+    settings: &RunSettings,
+    ensemble: &EnsembleSettings,
+    member: usize,
+) -> Result<Simulation> {
+    ensemble.validate()?;
+    if member >= ensemble.members {
+        return Err(Error::invalid(
+            "member",
+            member,
+            format!(
+                "a member number in [0, {}] (0-based) of an ensemble of {}",
+                ensemble.members - 1,
+                ensemble.members
+            ),
+        ));
+    }
+    let (settings, y0) = ensemble
+        .perturbation
+        .start(scene, settings, ensemble.seed, member)?;
+    Simulation::new(scene.mechanism.clone(), settings, &y0)
+}
+
+/// Runs member `member` of an ensemble of `scene` with `settings` ([`member_simulation`]),
+/// unless `cancel` asks it to stop ([`Progress::cancelled`]; its counts are not told).
 pub fn run_member(
     scene: &Scene,
     settings: &RunSettings,
-    seed: u64,
+    ensemble: &EnsembleSettings,
     member: usize,
     cancel: &dyn Progress,
 ) -> Result<RunOutput> {
-    let y0 = member_state(scene, seed, member)?;
-    let mut sim = Simulation::new(scene.mechanism.clone(), settings.clone(), &y0)?;
+    let mut sim = member_simulation(scene, settings, ensemble, member)?;
     sim.run_to_end(&Cancellation(cancel))?;
     Ok(sim.finish())
 }
@@ -163,7 +347,7 @@ pub fn run<T: Send>(
     (0..ensemble.members)
         .into_par_iter()
         .map(|m| {
-            let out = run_member(scene, &scene.run, ensemble.seed, m, progress);
+            let out = run_member(scene, &scene.run, ensemble, m, progress);
             let out = out.map_err(|e| match e {
                 Error::Integration { time, cause } => Error::Integration {
                     time,

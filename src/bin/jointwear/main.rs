@@ -23,7 +23,7 @@ use failure::{CliResult, Failure};
 use jointwear::io::interrupt;
 use jointwear::io::lock::{self, Lock};
 use jointwear::scene::{joint_file_part, set_dotted, SceneFile};
-use jointwear::simulation::ensemble::{EnsembleSettings, DEFAULT_SEED};
+use jointwear::simulation::ensemble::{EnsembleSettings, DEFAULT_SEED, MAX_MEMBERS};
 use jointwear::simulation::Scene;
 use jointwear::sweep::file::fingerprint;
 use jointwear::sweep::{parse_value, Assignment};
@@ -48,7 +48,11 @@ shortest decimal form that reads back to the identical double.
 With --ensemble N: ensemble_members.csv (one row per member), ensemble_summary.csv (mean, \
 sd, min, quantiles and max of every scalar result), ensemble_wear_<joint>.csv (the \
 per-sector band of the final wear profiles), wear.png (mean profile, 5-95 % band shaded), \
-summary.json and README.txt.";
+summary.json and README.txt.
+
+With --member K (and the --seed S of the ensemble, default 1): member K (0-based) of \
+`--ensemble N --seed S` as one run, bit for bit the member the ensemble ran, with all of a \
+run's outputs; with --ensemble N too, K must be below N.";
 
 const EXAMPLES: &str = "\
 Examples:
@@ -76,6 +80,7 @@ struct Cli {
 enum Command {
     /// Simulate a scene: time series and wear CSVs, plots and a summary.
     #[command(after_help = RUN_HELP)]
+    #[command(group(clap::ArgGroup::new("perturbed").args(["ensemble", "member"]).multiple(true)))]
     Run {
         scene: PathBuf,
         /// Output directory [default: out/<scene stem>]
@@ -94,15 +99,19 @@ enum Command {
         #[arg(long, value_name = "N")]
         ensemble: Option<usize>,
         /// Seed of the ensemble's initial offsets
-        #[arg(long, default_value_t = DEFAULT_SEED, requires = "ensemble")]
+        #[arg(long, default_value_t = DEFAULT_SEED, requires = "perturbed")]
         seed: u64,
+        /// Run only member K (0-based) of the ensemble of this --seed, as one run with every
+        /// output of a run (K below --ensemble N when that is given too)
+        #[arg(long, value_name = "K")]
+        member: Option<usize>,
         /// Save the run's whole state to <out>/checkpoint.json every K rotations (removed when
         /// the run completes)
-        #[arg(long, value_name = "K", conflicts_with = "ensemble")]
+        #[arg(long, value_name = "K", conflicts_with = "perturbed")]
         checkpoint_every: Option<u32>,
         /// Continue the run saved in <out>/checkpoint.json, bit for bit as if it had never
         /// stopped
-        #[arg(long, conflicts_with = "ensemble")]
+        #[arg(long, conflicts_with = "perturbed")]
         resume: bool,
         /// Remove <out>/checkpoint.json, the saved state of an unfinished run, and start over
         /// (without it or --resume, a run into a folder holding one is refused)
@@ -212,21 +221,46 @@ fn main() -> ExitCode {
             out,
             sets,
             rotations,
+            ensemble,
+            seed,
+            member: Some(member),
+            discard_checkpoint,
+            ..
+        } => {
+            let of = EnsembleSettings {
+                members: ensemble.unwrap_or(MAX_MEMBERS),
+                seed,
+                ..EnsembleSettings::default()
+            };
+            run::run(
+                &scene,
+                &sets,
+                rotations,
+                out,
+                None,
+                run::Saved::from_flags(false, discard_checkpoint),
+                Some((of, member)),
+            )
+        }
+        Command::Run {
+            scene,
+            out,
+            sets,
+            rotations,
             ensemble: None,
             checkpoint_every,
             resume,
             discard_checkpoint,
             ..
-        } => {
-            let saved = if resume {
-                run::Saved::Resume
-            } else if discard_checkpoint {
-                run::Saved::Discard
-            } else {
-                run::Saved::Keep
-            };
-            run::run(&scene, &sets, rotations, out, checkpoint_every, saved)
-        }
+        } => run::run(
+            &scene,
+            &sets,
+            rotations,
+            out,
+            checkpoint_every,
+            run::Saved::from_flags(resume, discard_checkpoint),
+            None,
+        ),
         Command::Run {
             scene,
             out,
@@ -240,7 +274,11 @@ fn main() -> ExitCode {
             &sets,
             rotations,
             out,
-            EnsembleSettings { members, seed },
+            EnsembleSettings {
+                members,
+                seed,
+                ..EnsembleSettings::default()
+            },
         ),
         Command::Check { scene, out } => check::check(&scene, out),
         Command::Animate {
@@ -258,7 +296,11 @@ fn main() -> ExitCode {
             ensemble,
             seed,
         } => {
-            let ensemble = ensemble.map(|members| EnsembleSettings { members, seed });
+            let ensemble = ensemble.map(|members| EnsembleSettings {
+                members,
+                seed,
+                ..EnsembleSettings::default()
+            });
             sweep::sweep(&scene, &sets, shard.as_deref(), out, resume, ensemble)
         }
         Command::SweepMerge {

@@ -2,6 +2,7 @@
 //! checkpoints and resumption; its time series, wear profiles and snapshots, default plots,
 //! `summary.json` and `README.txt`, and the summary it prints.
 
+use crate::ensemble::checked;
 use crate::failure::{CliResult, Failure};
 use crate::outputs::{
     body_name, conventions, timeseries_columns, write_profiles, write_summary, PROGRAM,
@@ -16,6 +17,7 @@ use jointwear::io::progress::{progress_bar, Progress};
 use jointwear::laws::wear::sector_angles_deg;
 use jointwear::ode::Method;
 use jointwear::simulation::checkpoint::{read_checkpoint, write_checkpoint, CHECKPOINT_FILE};
+use jointwear::simulation::ensemble::{member_simulation, EnsembleSettings};
 use jointwear::simulation::Scene;
 use jointwear::simulation::{RunOutput, Settling, Simulation};
 use jointwear::sweep::{summarize, JointSummary};
@@ -34,9 +36,23 @@ pub enum Saved {
     Keep,
 }
 
-/// `run` without `--ensemble`: simulates the scene at `path` with `sets` and `rotations`
-/// applied ([`load_variant`]), or resumes its checkpoint (`saved_run`), writes its outputs into
-/// `out` and prints a summary.
+impl Saved {
+    /// The choice the flags `--resume` and `--discard-checkpoint` (exclusive) make.
+    pub fn from_flags(resume: bool, discard: bool) -> Saved {
+        if resume {
+            Saved::Resume
+        } else if discard {
+            Saved::Discard
+        } else {
+            Saved::Keep
+        }
+    }
+}
+
+/// `run` without `--ensemble` (or with `--member`): simulates the scene at `path` with `sets`
+/// and `rotations` applied ([`load_variant`]), or resumes its checkpoint (`saved_run`), or runs
+/// `member` (the ensemble and member number) of an ensemble, writes its outputs into `out` and
+/// prints a summary.
 pub fn run(
     path: &Path,
     sets: &[String],
@@ -44,9 +60,27 @@ pub fn run(
     out: Option<PathBuf>,
     checkpoint_every: Option<u32>,
     saved_run: Saved,
+    member: Option<(EnsembleSettings, usize)>,
 ) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
-    let variant = load_variant(path, sets, rotations, out)?;
+    if let Some((ensemble, k)) = &member {
+        checked(path, ensemble)?;
+        if *k >= ensemble.members {
+            let expected = format!(
+                "a member number in [0, {}] (0-based) of `--ensemble {}`",
+                ensemble.members - 1,
+                ensemble.members
+            );
+            return Err(Failure::input(
+                path,
+                Error::invalid("--member", k, expected),
+            ));
+        }
+    }
+    let mut variant = load_variant(path, sets, rotations, out)?;
+    if let Some((ensemble, k)) = &member {
+        variant.command = format!("{} --member {k} --seed {}", variant.command, ensemble.seed);
+    }
     let (scene, dir, fingerprint) = (&variant.scene, &variant.dir, &variant.fingerprint);
     let _claim = claim_out(path, dir)?;
     if checkpoint_every == Some(0) {
@@ -102,6 +136,8 @@ pub fn run(
             sim.rotations_done()
         );
         sim
+    } else if let Some((ensemble, k)) = &member {
+        member_simulation(scene, &scene.run, ensemble, *k).map_err(bad)?
     } else {
         Simulation::start(scene).map_err(bad)?
     };
@@ -130,7 +166,12 @@ pub fn run(
     result.map_err(bad)?;
     let out = sim.finish();
     let joints = summarize(scene, &out);
-    let summary = RunSummary::new(path, scene, &variant.changes, fingerprint, &out, &joints);
+    let mut summary = RunSummary::new(path, scene, &variant.changes, fingerprint, &out, &joints);
+    summary.ensemble_member = member.map(|(e, member)| EnsembleMember {
+        member,
+        seed: e.seed,
+        perturbation: e.perturbation.describe(),
+    });
     let title = &variant.command;
     write_outputs(dir, title, || {
         write_run(scene, &out, dir)?;
@@ -322,8 +363,18 @@ struct RunSummary {
     energy_balance_residual: Option<f64>,
     /// How the run settled, for `run.settle`.
     settling: Option<Settling>,
+    /// With `--member`: the ensemble member this run is; `null` for the scene's own start.
+    ensemble_member: Option<EnsembleMember>,
     /// Per clearance joint.
     joints: Vec<JointResult>,
+}
+
+#[derive(Serialize)]
+struct EnsembleMember {
+    /// 0-based.
+    member: usize,
+    seed: u64,
+    perturbation: String,
 }
 
 #[derive(Serialize)]
@@ -455,6 +506,7 @@ impl RunSummary {
             wall_time_s: out.wall_time,
             energy_balance_residual: out.energy.map(|e| e.residual()),
             settling: out.settling,
+            ensemble_member: None,
             joints: m
                 .clearance_joints
                 .iter()

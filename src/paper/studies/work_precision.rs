@@ -309,6 +309,7 @@ fn wear_ensemble(int: &Integration, seed: u64) -> Result<Band> {
     let ensemble = EnsembleSettings {
         members: WP_MEMBERS,
         seed,
+        ..EnsembleSettings::default()
     };
     let needs = [Need::Wear(CASES.standard.scene)];
     let runs = Runs::compute(&needs, ensemble, &apply, &Silent)?;
