@@ -85,7 +85,13 @@ pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Res
             std::io::Error::new(std::io::ErrorKind::Interrupted, "interrupted"),
         )
     })?;
-    let result = write(&tmp).and_then(|()| fs::rename(&tmp, path).map_err(|e| io_error(path, e)));
+    // A failure to write the temporary is a failure to write `path`: it names the output.
+    let result = write(&tmp)
+        .map_err(|e| match e {
+            Error::Io { path: p, source } if p == tmp => io_error(path, source),
+            e => e,
+        })
+        .and_then(|()| fs::rename(&tmp, path).map_err(|e| io_error(path, e)));
     match result {
         Ok(()) => WRITTEN.with_borrow_mut(|w| w.iter_mut().for_each(|w| w.push(path.into()))),
         // Best effort: the writer may have failed before creating the file.
@@ -94,6 +100,14 @@ pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Res
         }
     }
     result
+}
+
+/// 64-bit FNV-1a of `bytes`: a stable hash (the standard library's may change between
+/// releases) for fingerprints and checksums of the files this crate writes.
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
 }
 
 thread_local! {
@@ -237,6 +251,25 @@ pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
     })?;
     text.push('\n');
     write_text(path, &text)
+}
+
+/// Writes `value` as compact JSON into a new file at `path`, flushed: a failure of the file
+/// system (a full disk) is an [`Error::Io`] naming the file, never a parse error.
+pub fn write_json_file(path: &Path, value: &impl serde::Serialize) -> Result<()> {
+    let file = File::create(path).map_err(|e| io_error(path, e))?;
+    let mut w = std::io::BufWriter::new(file);
+    serde_json::to_writer(&mut w, value).map_err(|e| {
+        if e.is_io() {
+            io_error(path, e.into())
+        } else {
+            Error::Parse {
+                path: path.to_path_buf(),
+                message: format!("cannot be written as JSON: {e}"),
+            }
+        }
+    })?;
+    // An error of the last buffered bytes shows only here (dropping would lose it).
+    w.flush().map_err(|e| io_error(path, e))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -521,6 +554,35 @@ pub fn read_csv(path: &Path) -> Result<(Vec<String>, Vec<Vec<f64>>)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_hash_is_fnv1a_so_fingerprints_agree_across_builds() {
+        // The published FNV-1a 64 test vectors.
+        assert_eq!(fnv1a(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a(b"a"), 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(fnv1a(b"foobar"), 0x8594_4171_f739_67e8);
+    }
+
+    /// A full disk is a write error naming the file. Would fail with the error of
+    /// `serde_json::to_writer` passed on as a parse error, or with the final flush left to
+    /// `BufWriter`'s drop (which ignores its error).
+    #[test]
+    fn a_full_disk_is_a_write_error_naming_the_file() {
+        let full = Path::new("/dev/full");
+        if !full.exists() {
+            return; // not Linux
+        }
+        let big = vec![1.5_f64; 10_000];
+        for value in [&big[..], &big[..1]] {
+            match write_json_file(full, &value) {
+                Err(Error::Io { path, source }) => {
+                    assert_eq!(path, full);
+                    assert_eq!(source.raw_os_error(), Some(28), "ENOSPC: {source}");
+                }
+                other => panic!("{other:?}"),
+            }
+        }
+    }
 
     /// The bytes of the one CSV dialect: sweep files (tests/sweeps.rs) depend on them.
     #[test]

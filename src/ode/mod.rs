@@ -290,18 +290,32 @@ impl Integrator {
         self.s.clone()
     }
 
-    /// Continues from a saved state; fails (changing nothing) if its vectors do not have this
-    /// integrator's length.
-    pub fn restore(&mut self, s: IntegratorState) -> Result<()> {
+    /// Continues from a saved state; fails (changing nothing) with the name of the first field
+    /// that no run of this integrator can have written: a vector of another length, a
+    /// non-finite number, a time before the previous one, a step that is not positive.
+    pub fn restore(&mut self, s: IntegratorState) -> std::result::Result<(), &'static str> {
         let n = self.s.y.len();
-        if [&s.y, &s.y_prev, &s.dy, &s.dy_prev, &s.dense5]
-            .iter()
-            .any(|v| v.len() != n)
+        let vectors = [
+            ("y", &s.y),
+            ("y_prev", &s.y_prev),
+            ("dy", &s.dy),
+            ("dy_prev", &s.dy_prev),
+            ("dense5", &s.dense5),
+        ];
+        if let Some((name, _)) =
+            (vectors.iter()).find(|(_, v)| v.len() != n || v.iter().any(|x| !x.is_finite()))
         {
-            return Err(integration_error(
-                s.t,
-                "saved state of another length".into(),
-            ));
+            return Err(name);
+        }
+        let times_fit = s.t.is_finite() && s.t_prev.is_finite() && s.t_prev <= s.t;
+        if !times_fit || s.t < 0.0 {
+            return Err("t");
+        }
+        if !(s.h.is_finite() && s.h > 0.0) {
+            return Err("h");
+        }
+        if !(s.err_prev.is_finite() && s.err_prev > 0.0) {
+            return Err("err_prev");
         }
         self.s = s;
         Ok(())

@@ -2,14 +2,20 @@
 //! process continue it, bit for bit the same as a run that was never interrupted.
 //!
 //! The file (`checkpoint.json` in the run's output folder) holds the scene's fingerprint (the
-//! resolved scene document, as sweeps fingerprint theirs) and the [`Checkpoint`]; a checkpoint
-//! of another scene, or of the same scene edited since, is refused. Floats are written in the
-//! shortest form that parses back to the same bits. Files are written atomically, so a run
-//! killed while writing keeps its previous checkpoint.
+//! resolved scene document, as sweeps fingerprint theirs), the [`Checkpoint`] and its checksum;
+//! a checkpoint of another scene, or of the same scene edited since, is refused, and so is one
+//! whose content does not match its checksum (edited or damaged). [`super::Simulation::resume`]
+//! then checks every field against the scene. Floats are written in the shortest form that
+//! parses back to the same bits. Files are written atomically, so a run killed while writing
+//! keeps its previous checkpoint.
+//!
+//! The checksum is the 64-bit FNV-1a hash ([`fnv1a`]), as 16 hex digits, of the checkpoint
+//! written as compact JSON with the keys of every object in sorted order (`serde_json`'s
+//! `Value` as it prints).
 
 use super::record::{Sampler, Settler};
 use super::RunOutput;
-use crate::io::output::write_atomic;
+use crate::io::output::{fnv1a, write_atomic, write_json_file};
 use crate::ode::IntegratorState;
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
@@ -43,38 +49,53 @@ pub const CHECKPOINT_FILE: &str = "checkpoint.json";
 #[derive(Serialize, Deserialize)]
 struct CheckpointFile {
     scene_fingerprint: String,
-    checkpoint: Checkpoint,
+    /// [`checksum`] of `checkpoint`.
+    checksum: String,
+    checkpoint: serde_json::Value,
+}
+
+/// The checksum of a checkpoint as JSON (see the module documentation).
+fn checksum(checkpoint: &serde_json::Value) -> String {
+    format!("{:016x}", fnv1a(checkpoint.to_string().as_bytes()))
 }
 
 /// Writes `checkpoint` of the scene with `fingerprint` to `path`, atomically.
 pub fn write_checkpoint(path: &Path, fingerprint: &str, checkpoint: Checkpoint) -> Result<()> {
+    let checkpoint = serde_json::to_value(checkpoint).map_err(|e| Error::Parse {
+        path: path.to_path_buf(),
+        message: format!("the checkpoint cannot be written as JSON: {e}"),
+    })?;
     let file = CheckpointFile {
         scene_fingerprint: fingerprint.to_string(),
+        checksum: checksum(&checkpoint),
         checkpoint,
     };
-    write_atomic(path, |tmp| {
-        let w =
-            std::io::BufWriter::new(std::fs::File::create(tmp).map_err(|source| Error::Io {
-                path: tmp.to_path_buf(),
-                source,
-            })?);
-        serde_json::to_writer(w, &file).map_err(|e| Error::Parse {
-            path: tmp.to_path_buf(),
-            message: e.to_string(),
-        })
-    })
+    write_atomic(path, |tmp| write_json_file(tmp, &file))
 }
 
-/// Reads the checkpoint at `path`, which must be of the scene with `fingerprint`.
+/// Reads the checkpoint at `path`, which must be of the scene with `fingerprint` and match
+/// its checksum.
 pub fn read_checkpoint(path: &Path, fingerprint: &str) -> Result<Checkpoint> {
     let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
         source,
     })?;
-    let file: CheckpointFile = serde_json::from_str(&text).map_err(|e| Error::Parse {
+    let parse = |e: serde_json::Error| Error::Parse {
         path: path.to_path_buf(),
         message: e.to_string(),
-    })?;
+    };
+    let file: CheckpointFile = serde_json::from_str(&text).map_err(parse)?;
+    let sum = checksum(&file.checkpoint);
+    if file.checksum != sum {
+        return Err(Error::invalid(
+            format!("checksum (of {})", path.display()),
+            &file.checksum,
+            format!(
+                "{sum}, the checksum of the checkpoint the file holds: it was edited or damaged \
+                 since it was written (start over with --discard-checkpoint)"
+            ),
+        ));
+    }
     if file.scene_fingerprint != fingerprint {
         return Err(Error::invalid(
             "--resume",
@@ -91,5 +112,5 @@ pub fn read_checkpoint(path: &Path, fingerprint: &str) -> Result<Checkpoint> {
             ),
         ));
     }
-    Ok(file.checkpoint)
+    serde_json::from_value(file.checkpoint).map_err(parse)
 }

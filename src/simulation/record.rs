@@ -35,6 +35,29 @@ impl Sampler {
         }
     }
 
+    /// The first field in which a saved sampler is not `fresh`, the window this run records
+    /// (a checkpoint keeps its window and how far into it the run has sampled).
+    pub(super) fn misfit(&self, fresh: &Sampler) -> Option<&'static str> {
+        if self.start.to_bits() != fresh.start.to_bits() {
+            Some("start")
+        } else if self.interval.to_bits() != fresh.interval.to_bits() {
+            Some("interval")
+        } else if self.count != fresh.count {
+            Some("count")
+        } else if self.dy.len() != fresh.dy.len() {
+            Some("dy")
+        } else if self.next > self.count {
+            Some("next")
+        } else {
+            None
+        }
+    }
+
+    /// Grid points sampled so far (recorded or before the run's start).
+    pub(super) fn sampled(&self) -> usize {
+        self.next
+    }
+
     #[allow(clippy::too_many_arguments)]
     pub(super) fn sample(
         &mut self,
@@ -128,6 +151,35 @@ impl Settler {
             orbits: [orbit.clone(), orbit],
             rotation: 0,
             next_phase: 0,
+        }
+    }
+
+    /// The first field in which a settler saved after `rotation` completed rotations is not
+    /// `fresh` (the one this run starts) in all but its orbits, or holds a non-finite orbit.
+    pub(super) fn misfit(&self, fresh: &Settler, rotation: u32) -> Option<&'static str> {
+        let shape = |o: &Vec<Vec<[f64; 2]>>| o.iter().map(Vec::len).collect::<Vec<_>>();
+        if self.criterion != fresh.criterion {
+            Some("criterion")
+        } else if self.period.to_bits() != fresh.period.to_bits() {
+            Some("period")
+        } else if self.clearances != fresh.clearances {
+            Some("clearances")
+        } else if (0..2).any(|i| shape(&self.orbits[i]) != shape(&fresh.orbits[i]))
+            || self
+                .orbits
+                .iter()
+                .flatten()
+                .flatten()
+                .flatten()
+                .any(|x| !x.is_finite())
+        {
+            Some("orbits")
+        } else if self.rotation != rotation as usize {
+            Some("rotation")
+        } else if self.next_phase != 0 {
+            Some("next_phase")
+        } else {
+            None
         }
     }
 

@@ -182,42 +182,75 @@ impl Simulation {
     }
 
     /// Continues the run of `scene` saved in `checkpoint`: the same steps, bit for bit, as
-    /// the run that wrote it. Fails if the checkpoint does not fit the scene's mechanism.
+    /// the run that wrote it. Every field is checked against the scene and against the others
+    /// (`Error::Invalid` naming the field `checkpoint.<field>`): a checkpoint that no run of
+    /// this scene can have written (edited, damaged, or of another scene) is refused, never
+    /// run to a panic, a wrong result or no end.
     pub fn resume(scene: &Scene, checkpoint: Checkpoint) -> Result<Simulation> {
         let c = checkpoint;
         let mechanism = scene.mechanism.clone();
         let mut state = mechanism.initial_state();
-        let misfit = |what: &str| {
-            Error::invalid(
-                "checkpoint",
-                format!("its {what} do not fit the scene"),
-                "a checkpoint written by a run of this scene",
-            )
-        };
         let joints = mechanism.clearance_joints.len();
-        if c.profiles.len() != joints
-            || c.impact_velocities.len() != joints
-            || c.gaps.len() != joints
-        {
-            return Err(misfit("clearance joints"));
+        let per_joint = [
+            ("profiles", c.profiles.len()),
+            ("impact_velocities", c.impact_velocities.len()),
+            ("gaps", c.gaps.len()),
+            ("out.impacts", c.out.impacts.len()),
+            ("out.max_penetration", c.out.max_penetration.len()),
+        ];
+        if let Some((field, len)) = per_joint.iter().find(|(_, len)| *len != joints) {
+            return Err(misfit(
+                field,
+                format!("{len} entries"),
+                format!("one per clearance joint ({joints})"),
+            ));
         }
-        for ((joint, depths), v) in (state.joints.iter_mut())
+        for (k, ((joint, depths), v)) in (state.joints.iter_mut())
             .zip(&c.profiles)
             .zip(&c.impact_velocities)
+            .enumerate()
         {
-            if !joint.wear.set_depths(depths) {
-                return Err(misfit("wear profiles"));
+            let limit = wear_limit(&mechanism.clearance_joints[k]);
+            if !joint.wear.set_depths(depths) || depths.iter().any(|d| *d > limit) {
+                return Err(misfit(
+                    &format!("profiles[{k}]"),
+                    format!("{} depths", depths.len()),
+                    format!(
+                        "{} finite depths in [0, {limit:e}] m",
+                        joint.wear.depths().len()
+                    ),
+                ));
+            }
+            if !v.is_finite() {
+                return Err(misfit(
+                    &format!("impact_velocities[{k}]"),
+                    v,
+                    "a finite velocity (m/s)".into(),
+                ));
             }
             joint.onset_velocity = *v;
         }
         let y: Vec<f64> = c.integrator.y().to_vec();
         if y.len() != mechanism.state_len() {
-            return Err(misfit("states"));
+            return Err(misfit(
+                "integrator.y",
+                format!("{} entries", y.len()),
+                format!("the state length of this scene ({})", mechanism.state_len()),
+            ));
         }
         let mut sim = Simulation::with_state(mechanism, state, scene.run.clone(), &y)?;
         sim.integrator
-            .restore(c.integrator)
-            .map_err(|_| misfit("integrator buffers"))?;
+            .restore(c.integrator.clone())
+            .map_err(|field| {
+                misfit(
+                    &format!("integrator.{field}"),
+                    "(as saved)",
+                    "what an integrator of this scene writes: vectors of the state's length, \
+                 finite numbers, t_prev <= t, a positive step"
+                        .into(),
+                )
+            })?;
+        sim.validate(&c)?;
         sim.rotation = c.rotation;
         sim.end_rotation = c.end_rotation;
         sim.gaps = c.gaps;
@@ -229,6 +262,250 @@ impl Simulation {
         Ok(sim)
     }
 
+    /// Checks the fields of `c` that a fresh run of this scene (`self`, its integrator
+    /// restored) determines, or that must agree with its integrator's time.
+    fn validate(&self, c: &Checkpoint) -> Result<()> {
+        let (t, period, run) = (self.integrator.t(), self.period, &self.settings);
+        // A checkpoint is taken at a rotation's end, where the integrator stopped exactly;
+        // a millionth of a period allows any rounding of that time.
+        let rotations = t / period;
+        if (rotations - f64::from(c.rotation)).abs() > 1e-6 {
+            return Err(misfit(
+                "rotation",
+                c.rotation,
+                format!(
+                    "the rotations completed at the integrator's time t = {t:e} s \
+                     ({rotations:.6} periods)"
+                ),
+            ));
+        }
+        let steps = self.integrator.stats().steps;
+        if steps >= run.max_steps {
+            return Err(misfit(
+                "integrator.stats.steps",
+                steps,
+                format!("fewer than run.max_steps = {}", run.max_steps),
+            ));
+        }
+        if c.out.period.to_bits() != period.to_bits() {
+            return Err(misfit(
+                "out.period",
+                c.out.period,
+                format!("the driver period of this scene ({period:e} s)"),
+            ));
+        }
+        let settled = c.out.settling;
+        let end = match (run.settle, settled) {
+            (None, None) => Some(run.rotations),
+            (Some(_), Some(s)) if s.rotations <= c.rotation && s.orbit_change.is_finite() => {
+                s.rotations.checked_add(run.rotations)
+            }
+            (Some(_), None) => None,
+            (_, Some(s)) => {
+                return Err(misfit(
+                    "out.settling",
+                    format!("{s:?}"),
+                    "none without run.settle; with it, settling after at most the completed \
+                     rotations and a finite orbit change"
+                        .into(),
+                ))
+            }
+        };
+        if c.end_rotation != end {
+            return Err(misfit(
+                "end_rotation",
+                format!("{:?}", c.end_rotation),
+                format!("{end:?}: run.rotations after the settling rotations, none while settling"),
+            ));
+        }
+        match (end, run.settle) {
+            (Some(end), _) if c.rotation > end => {
+                return Err(misfit(
+                    "rotation",
+                    c.rotation,
+                    format!("at most end_rotation = {end}"),
+                ))
+            }
+            (None, Some(s)) if c.rotation >= s.max_rotations.max(2) => {
+                return Err(misfit(
+                    "rotation",
+                    c.rotation,
+                    format!(
+                        "fewer than the settling limit of {} rotations while settling",
+                        s.max_rotations.max(2)
+                    ),
+                ))
+            }
+            _ => {}
+        }
+        let settler_misfit = match (&c.settler, run.settle, end) {
+            (None, _, Some(_)) | (None, None, None) => None,
+            (Some(saved), Some(criterion), None) => {
+                let fresh = Settler::new(&self.mechanism, criterion, period);
+                saved
+                    .misfit(&fresh, c.rotation)
+                    .map(|f| format!("settler.{f}"))
+            }
+            _ => Some("settler".to_string()),
+        };
+        if let Some(field) = settler_misfit {
+            return Err(misfit(
+                &field,
+                "(as saved)",
+                "the settling state of this scene's run: present while it settles, each orbit \
+                 360 finite phases per clearance joint"
+                    .into(),
+            ));
+        }
+        let sampler_misfit = match (&c.sampler, end) {
+            (None, None) => None,
+            (Some(saved), Some(end)) => saved
+                .misfit(&self.recording_window(end))
+                .map(|f| format!("sampler.{f}")),
+            _ => Some("sampler".to_string()),
+        };
+        if let Some(field) = sampler_misfit {
+            return Err(misfit(
+                &field,
+                "(as saved)",
+                "the recording window of this scene's run: the last run.record_rotations \
+                 rotations on the run.record_interval_s grid, present once the run's length is \
+                 known"
+                    .into(),
+            ));
+        }
+        let history = run.profile_history_per_rotation > 0;
+        let ahead = t + self.history_interval;
+        match c.next_history {
+            None if !history => {}
+            Some(h) if history && h > 0.0 && h <= ahead + 1e-9 * ahead => {}
+            other => {
+                return Err(misfit(
+                    "next_history",
+                    format!("{other:?}"),
+                    format!(
+                        "the next wear history time, in (0, {ahead:e}] s with \
+                         run.profile_history_per_rotation > 0, none without"
+                    ),
+                ))
+            }
+        }
+        match c.energy_start {
+            None if !run.energy_accounting => {}
+            Some((a, b)) if run.energy_accounting && a.is_finite() && b.is_finite() => {}
+            other => {
+                return Err(misfit(
+                    "energy_start",
+                    format!("{other:?}"),
+                    "the initial energies (finite, J) with run.energy_accounting, none without"
+                        .into(),
+                ))
+            }
+        }
+        if c.gaps.iter().any(|g| !g.is_finite()) {
+            return Err(misfit(
+                "gaps",
+                format!("{:?}", c.gaps),
+                "finite penetrations (m)".into(),
+            ));
+        }
+        self.validate_output(c)
+    }
+
+    /// Checks the outputs a checkpoint carries: shapes of this scene's run, finite numbers.
+    fn validate_output(&self, c: &Checkpoint) -> Result<()> {
+        let out = &c.out;
+        let sectors: Vec<usize> = self
+            .state
+            .joints
+            .iter()
+            .map(|j| j.wear.depths().len())
+            .collect();
+        let profiles_fit = |depths: &Vec<Vec<f64>>| {
+            depths.iter().map(Vec::len).eq(sectors.iter().copied())
+                && depths.iter().flatten().all(|d| d.is_finite() && *d >= 0.0)
+        };
+        let mut previous = 0;
+        for (i, s) in out.wear_snapshots.iter().enumerate() {
+            let listed = self
+                .settings
+                .wear_snapshots
+                .binary_search(&s.rotation)
+                .is_ok();
+            if !listed
+                || s.rotation <= previous
+                || s.rotation > c.rotation
+                || !profiles_fit(&s.depths)
+            {
+                return Err(misfit(
+                    &format!("out.wear_snapshots[{i}]"),
+                    format!("rotation {}", s.rotation),
+                    "a profile per clearance joint at a rotation of run.wear_snapshots, in \
+                     order, completed"
+                        .into(),
+                ));
+            }
+            previous = s.rotation;
+        }
+        let t = self.integrator.t();
+        if let Some(i) = (out.profile_history.iter())
+            .position(|(time, depths)| !(time.is_finite() && *time <= t && profiles_fit(depths)))
+        {
+            return Err(misfit(
+                &format!("out.profile_history[{i}]"),
+                "(as saved)",
+                format!("a time up to t = {t:e} s and a profile per clearance joint"),
+            ));
+        }
+        let rec = &out.recording;
+        let n = rec.time.len();
+        let bodies = self.mechanism.bodies().len();
+        let joints = self.mechanism.clearance_joints.len();
+        let series = (rec.positions.iter().chain(&rec.accelerations))
+            .flatten()
+            .chain(rec.joints.iter().flat_map(|j| {
+                [
+                    &j.ex,
+                    &j.ey,
+                    &j.theta,
+                    &j.delta,
+                    &j.normal_force,
+                    &j.friction_force,
+                    &j.sliding_velocity,
+                    &j.pressure,
+                    &j.wear_rate,
+                ]
+            }))
+            .chain([&rec.driver_angle]);
+        let lengths_fit = series.clone().all(|s| s.len() == n);
+        let recorded = if n == 0 {
+            rec.positions.is_empty() && rec.accelerations.is_empty() && rec.joints.is_empty()
+        } else {
+            rec.positions.len() == bodies
+                && rec.accelerations.len() == bodies
+                && rec.joints.len() == joints
+        };
+        let sampled = c.sampler.as_ref().map_or(0, Sampler::sampled);
+        let finite = series.chain([&rec.time]).flatten().all(|x| x.is_finite());
+        if !(lengths_fit && recorded && finite && n <= sampled) {
+            return Err(misfit(
+                "out.recording",
+                format!("{n} samples"),
+                format!(
+                    "at most the {sampled} grid points sampled, every series as long as \
+                     `time`, one per body and clearance joint, finite"
+                ),
+            ));
+        }
+        if !(out.wall_time.is_finite() && out.wall_time >= 0.0) {
+            return Err(misfit(
+                "out.wall_time",
+                out.wall_time,
+                "a wall time (s), finite and not negative".into(),
+            ));
+        }
+        Ok(())
+    }
     /// Driver rotations completed.
     pub fn rotations_done(&self) -> u32 {
         self.rotation
@@ -539,6 +816,11 @@ impl Simulation {
         self.out.wall_time += self.clock.elapsed().as_secs_f64();
         self.out
     }
+}
+
+/// A checkpoint field that no run of the scene can have written.
+fn misfit(field: &str, value: impl std::fmt::Display, expected: String) -> Error {
+    Error::invalid(format!("checkpoint.{field}"), value, expected)
 }
 
 fn wear_depths(state: &RunState) -> Vec<Vec<f64>> {

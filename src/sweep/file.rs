@@ -15,11 +15,11 @@
 //!   merging. `shard=I/N` and `cases` (rows the shard holds when complete) let [`merge`]
 //!   refuse a missing, repeated or unfinished shard; `total` is the whole sweep's case count.
 
-use crate::io::output::{parse_rows, write_table, GrowingTable};
+use crate::io::output::{fnv1a, parse_rows, write_table, GrowingTable};
 use crate::io::progress::{Counter, Progress};
-use crate::sweep::{case_count, Assignment, Shard, Sweep};
+use crate::sweep::{shard_cases, Assignment, Shard, Sweep, MAX_CASES};
 use crate::{Error, Result};
-use std::collections::HashSet;
+use std::collections::{BTreeMap, HashSet};
 use std::path::Path;
 use std::sync::Mutex;
 
@@ -63,6 +63,22 @@ impl SweepId {
         })
     }
 
+    /// Why this id cannot be of a sweep this program wrote, if it cannot: the whole sweep
+    /// within [`MAX_CASES`], and the shard's case count the one its number and the whole
+    /// sweep's give. Checked before any number read is used.
+    fn misfit(&self) -> Option<String> {
+        if self.total > MAX_CASES {
+            return Some(format!("total={}: at most {MAX_CASES} cases", self.total));
+        }
+        let owned = shard_cases(self.total, self.shard);
+        (self.cases != owned).then(|| {
+            format!(
+                "cases={}: shard {}/{} of {} cases owns {owned}",
+                self.cases, self.shard.index, self.shard.count, self.total
+            )
+        })
+    }
+
     /// The id of the whole sweep this shard belongs to.
     fn whole(&self) -> SweepId {
         SweepId {
@@ -71,13 +87,6 @@ impl SweepId {
             ..self.clone()
         }
     }
-}
-
-/// 64-bit FNV-1a: a stable hash (the standard library's may change between releases).
-fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
-        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
-    })
 }
 
 /// Fingerprint of a sweep: the scene document (`extends` resolved) and the assignments.
@@ -104,8 +113,8 @@ impl Sweep {
         SweepId {
             fingerprint: self.fingerprint.clone(),
             shard: self.shard,
-            cases: self.len(),
-            total: case_count(&self.sets),
+            cases: shard_cases(self.total, self.shard),
+            total: self.total,
         }
     }
 }
@@ -160,6 +169,12 @@ impl SweepFile {
                 ),
             )
         })?;
+        if let Some(why) = id.misfit() {
+            return Err(parse_error(
+                path,
+                format!("its sweep header line does not add up: {why}"),
+            ));
+        }
         let (header, all) = parse_rows(path, rest)?;
         if header.first().map(String::as_str) != Some("case") {
             return Err(parse_error(
@@ -168,8 +183,22 @@ impl SweepFile {
             ));
         }
         let mut rows = Vec::new();
+        let mut seen = HashSet::new();
         for row in all.into_iter().filter(|row| row.len() == header.len()) {
-            case_of(path, &row)?;
+            let case = case_of(path, &row)?;
+            if case >= id.total || !id.shard.contains(case) || !seen.insert(case) {
+                return Err(parse_error(
+                    path,
+                    format!(
+                        "case {case} is not a case of shard {}/{} of this {}-case sweep, or \
+                         appears twice (row {})",
+                        id.shard.index,
+                        id.shard.count,
+                        id.total,
+                        row.join(",")
+                    ),
+                ));
+            }
             rows.push(row);
         }
         Ok(SweepFile { id, header, rows })
@@ -359,7 +388,8 @@ pub fn merge(inputs: &[impl AsRef<Path>], out: &Path, allow_partial: bool) -> Re
             expected,
         )
     };
-    let mut shards = vec![None; first.id.shard.count];
+    // Shard numbers come from the files: a map, never a vector as long as a number read.
+    let mut shards = BTreeMap::new();
     let mut rows = Vec::new();
     for (path, f) in &files {
         if f.id.fingerprint != first.id.fingerprint || f.id.shard.count != first.id.shard.count {
@@ -389,8 +419,7 @@ pub fn merge(inputs: &[impl AsRef<Path>], out: &Path, allow_partial: bool) -> Re
                 ),
             ));
         }
-        let slot = &mut shards[f.id.shard.index - 1];
-        if let Some(other) = slot.replace(*path) {
+        if let Some(other) = shards.insert(f.id.shard.index, *path) {
             return Err(bad(
                 path,
                 format!("shard {}/{}", f.id.shard.index, f.id.shard.count),
@@ -410,10 +439,12 @@ pub fn merge(inputs: &[impl AsRef<Path>], out: &Path, allow_partial: bool) -> Re
             rows.push((case_of(path, row)?, row.clone()));
         }
     }
-    if let (false, Some(missing)) = (allow_partial, shards.iter().position(Option::is_none)) {
+    // Fewer shards than the count: one of the first `shards.len() + 1` numbers is missing.
+    let missing = (1..=first.id.shard.count).find(|i| !shards.contains_key(i));
+    if let (false, Some(missing)) = (allow_partial, missing) {
         return Err(Error::invalid(
             "inputs",
-            format!("no shard {}/{}", missing + 1, first.id.shard.count),
+            format!("no shard {missing}/{}", first.id.shard.count),
             "every shard of the sweep (or --allow-partial)",
         ));
     }
@@ -434,14 +465,6 @@ pub fn merge(inputs: &[impl AsRef<Path>], out: &Path, allow_partial: bool) -> Re
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_hash_is_fnv1a_so_fingerprints_agree_across_builds() {
-        // The published FNV-1a 64 test vectors.
-        assert_eq!(fnv1a(b""), 0xcbf2_9ce4_8422_2325);
-        assert_eq!(fnv1a(b"a"), 0xaf63_dc4c_8601_ec8c);
-        assert_eq!(fnv1a(b"foobar"), 0x8594_4171_f739_67e8);
-    }
 
     #[test]
     fn fingerprints_tell_sweeps_apart() {

@@ -107,9 +107,34 @@ impl Shard {
     }
 }
 
-/// Number of cases of the product (1 without assignments).
-pub fn case_count(sets: &[Assignment]) -> usize {
-    sets.iter().map(|a| a.values.len()).product()
+/// Most cases a sweep may have: its rows, each a run, would take years on any machine long
+/// before the count could overflow.
+pub const MAX_CASES: usize = 1_000_000;
+
+/// Number of cases of the product (1 without assignments), refused beyond [`MAX_CASES`] with
+/// the product spelled out; computed with checked multiplication, so it never wraps.
+pub fn case_count(sets: &[Assignment]) -> Result<usize> {
+    let count = (sets.iter()).try_fold(1usize, |n, a| n.checked_mul(a.values.len()));
+    match count {
+        Some(n) if n <= MAX_CASES => Ok(n),
+        _ => {
+            let factors: Vec<String> = sets.iter().map(|a| a.values.len().to_string()).collect();
+            let product = count.map_or("more than 2^64".into(), |n| n.to_string());
+            Err(Error::invalid(
+                "--set",
+                format!("{} = {product} cases", factors.join(" x ")),
+                format!("at most {MAX_CASES} cases"),
+            ))
+        }
+    }
+}
+
+/// Cases of `total` that shard `shard` owns (case k belongs to shard (k mod N) + 1).
+pub fn shard_cases(total: usize, shard: Shard) -> usize {
+    match total.checked_sub(shard.index) {
+        Some(rest) => rest / shard.count + 1,
+        None => 0,
+    }
 }
 
 /// The value of each assignment in case `case` (last key varying fastest).
@@ -383,6 +408,8 @@ pub struct Sweep {
     pub fingerprint: String,
     /// The part of the sweep this one runs.
     pub shard: Shard,
+    /// Cases of the whole sweep ([`case_count`]).
+    pub total: usize,
     /// Run every case as an ensemble of this size and seed.
     pub ensemble: Option<EnsembleSettings>,
     cases: Vec<(usize, Vec<String>, Scene)>,
@@ -403,9 +430,10 @@ impl Sweep {
         sets: Vec<Assignment>,
         shard: Shard,
     ) -> Result<Sweep> {
+        let total = case_count(&sets)?;
         let mut cases = Vec::new();
         let mut joints = None;
-        for case in (0..case_count(&sets)).filter(|&k| shard.contains(k)) {
+        for case in (0..total).filter(|&k| shard.contains(k)) {
             let values = case_values(&sets, case);
             let in_this = |e| in_case(e, case, &sets, &values);
             let mut scene = vary(doc, path, &sets, &values).map_err(in_this)?;
@@ -440,6 +468,7 @@ impl Sweep {
         };
         Ok(Sweep {
             fingerprint: fingerprint(doc, &sets),
+            total,
             sets,
             joints,
             shard,
@@ -560,7 +589,7 @@ mod tests {
             Assignment::parse("a=1,2,3").unwrap(),
             Assignment::parse("b=x,y").unwrap(),
         ];
-        assert_eq!(case_count(&sets), 6);
+        assert_eq!(case_count(&sets).unwrap(), 6);
         assert_eq!(case_values(&sets, 0), vec!["1", "x"]);
         assert_eq!(case_values(&sets, 1), vec!["1", "y"]);
         assert_eq!(case_values(&sets, 5), vec!["3", "y"]);

@@ -129,7 +129,8 @@ pub fn run(
             ),
             e => Failure::input(path, e),
         })?;
-        let sim = Simulation::resume(scene, checkpoint).map_err(|e| Failure::input(path, e))?;
+        let sim = Simulation::resume(scene, checkpoint)
+            .map_err(|e| Failure::input(path, e.in_context(&format!("in {}", saved.display()))))?;
         eprintln!(
             "note: continuing the run saved in {} after rotation {} (--resume)",
             saved.display(),

@@ -1,0 +1,257 @@
+//! State files read back are checked, field by field: an edited or damaged checkpoint or sweep
+//! file gives a bad-input error naming the file and the field, never a panic, a wrong result
+//! or a run without end. Each case below failed on the code before these checks (exit 101,
+//! a wrong exit 0 or no end), as listed in issue 21.
+
+mod common;
+
+use common::*;
+use jointwear::io::output::fnv1a;
+use jointwear::io::progress::Silent;
+use jointwear::simulation::checkpoint::{read_checkpoint, write_checkpoint};
+use jointwear::simulation::{Scene, Simulation};
+use jointwear::sweep::file::SweepFile;
+use jointwear::Error;
+use serde_json::Value;
+use std::fs;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::Path;
+
+/// A checkpoint after rotation 1 of a 2-rotation run of the standard scene (energy accounted,
+/// wear history on), as JSON, and the scene.
+fn real_checkpoint(dir: &Path) -> (Scene, Value) {
+    let extra = [
+        (
+            "baumgarte_per_s = 100.0",
+            "baumgarte_per_s = 100.0\nenergy_accounting = true\nprofile_history_per_rotation = 4",
+        ),
+        ("record_interval_s = 1e-5", "record_interval_s = 1e-4"),
+    ];
+    let scene = Scene::load(short_standard(dir, "scene.toml", 2, &extra)).unwrap();
+    let mut sim = Simulation::start(&scene).unwrap();
+    sim.advance_rotation().unwrap();
+    let path = dir.join("real.json");
+    write_checkpoint(&path, "fp", sim.checkpoint()).unwrap();
+    let json = serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
+    (scene, json)
+}
+
+/// Writes `file` with its checksum recomputed (the documented FNV-1a 64 of the compact,
+/// key-sorted JSON of `checkpoint`), as an edit that knows the format would.
+fn reseal(path: &Path, mut file: Value) {
+    let sum = fnv1a(file["checkpoint"].to_string().as_bytes());
+    file["checksum"] = Value::String(format!("{sum:016x}"));
+    fs::write(path, file.to_string()).unwrap();
+}
+
+/// Reads and resumes the checkpoint at `path`; an accepted one is run to its end.
+fn resume(scene: &Scene, path: &Path) -> jointwear::Result<u32> {
+    let mut sim = Simulation::resume(scene, read_checkpoint(path, "fp")?)?;
+    sim.run_to_end(&Silent)?;
+    let done = sim.rotations_done();
+    let out = sim.finish();
+    assert_eq!(out.impacts.len(), out.final_wear.len());
+    Ok(done)
+}
+
+#[test]
+fn edited_checkpoints_are_refused_naming_the_field() {
+    let dir = temp_dir("state", "edits");
+    let (scene, real) = real_checkpoint(&dir);
+    let path = dir.join("edited.json");
+    let ptr = |v: &mut Value, p: &str| v.pointer_mut(&format!("/checkpoint{p}")).unwrap().take();
+    type Edit = fn(&mut Value);
+    let edits: [(&str, Edit); 11] = [
+        ("sampler.dy", |v| {
+            v["sampler"]["dy"].as_array_mut().unwrap().pop();
+        }),
+        ("out.impacts", |v| {
+            v["out"]["impacts"] = Value::Array(vec![])
+        }),
+        ("out.max_penetration", |v| {
+            v["out"]["max_penetration"] = Value::Array(vec![])
+        }),
+        ("rotation", |v| v["rotation"] = 999.into()),
+        ("sampler.interval", |v| {
+            v["sampler"]["interval"] = 0.0.into()
+        }),
+        ("sampler", |v| v["sampler"] = Value::Null),
+        ("sampler.start", |v| v["sampler"]["start"] = 0.0.into()),
+        ("end_rotation", |v| v["end_rotation"] = 4294967295u32.into()),
+        ("end_rotation", |v| v["end_rotation"] = Value::Null),
+        ("energy_start", |v| v["energy_start"] = Value::Null),
+        ("next_history", |v| v["next_history"] = 1e300.into()),
+    ];
+    for (field, edit) in edits {
+        let mut file = real.clone();
+        edit(file.pointer_mut("/checkpoint").unwrap());
+        reseal(&path, file);
+        match resume(&scene, &path) {
+            Err(Error::Invalid { field: f, .. }) => {
+                assert_eq!(f, format!("checkpoint.{field}"), "edit of {field}")
+            }
+            other => panic!("edit of {field}: {:?}", other.map_err(|e| e.to_string())),
+        }
+    }
+    // Unsealed, any edit is caught by the checksum.
+    let mut file = real.clone();
+    let _ = ptr(&mut file, "/rotation");
+    file["checkpoint"]["rotation"] = 2.into();
+    fs::write(&path, file.to_string()).unwrap();
+    let e = resume(&scene, &path).unwrap_err().to_string();
+    assert!(
+        e.contains("checksum") && e.contains("edited or damaged"),
+        "{e}"
+    );
+    // The real one resumes to the end.
+    reseal(&path, real);
+    assert_eq!(resume(&scene, &path).unwrap(), 2);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Every number, array and option of a real checkpoint replaced in turn (at most `MUTANTS`
+/// mutations, taken evenly over its leaves) and resealed: each is refused or resumes to the
+/// run's end, never a panic.
+#[test]
+fn mutated_checkpoints_never_panic_nor_run_without_end() {
+    const MUTANTS: usize = 400;
+    let dir = temp_dir("state", "fuzz");
+    let (scene, real) = real_checkpoint(&dir);
+    let path = dir.join("mutant.json");
+    let mut pointers = Vec::new();
+    collect(&real["checkpoint"], String::new(), &mut pointers);
+    let replacements = [
+        Value::Null,
+        0.into(),
+        (-1).into(),
+        1e300.into(),
+        4294967295u32.into(),
+        Value::Array(vec![]),
+    ];
+    let stride = (pointers.len() * replacements.len())
+        .div_ceil(MUTANTS)
+        .max(1);
+    let (mut refused, mut resumed) = (0, 0);
+    for (i, (pointer, replacement)) in (pointers.iter())
+        .flat_map(|p| replacements.iter().map(move |r| (p, r)))
+        .enumerate()
+        .filter(|(i, _)| i % stride == 0)
+    {
+        let mut file = real.clone();
+        *file.pointer_mut(&format!("/checkpoint{pointer}")).unwrap() = replacement.clone();
+        reseal(&path, file);
+        let result = catch_unwind(AssertUnwindSafe(|| resume(&scene, &path)));
+        match result {
+            Err(_) => panic!("mutant {i}: {pointer} = {replacement} panicked"),
+            Ok(Ok(done)) => {
+                assert_eq!(done, 2, "mutant {i}: {pointer} = {replacement}");
+                resumed += 1;
+            }
+            Ok(Err(_)) => refused += 1,
+        }
+    }
+    // Most fields are checked; the state vector and counters can take many values.
+    assert!(refused > resumed, "{refused} refused, {resumed} resumed");
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// JSON pointers of every leaf and array of `v` (array elements beyond the second skipped:
+/// their siblings are alike).
+fn collect(v: &Value, at: String, out: &mut Vec<String>) {
+    match v {
+        Value::Object(map) => {
+            for (k, x) in map {
+                collect(x, format!("{at}/{k}"), out);
+            }
+        }
+        Value::Array(items) => {
+            out.push(at.clone());
+            for (k, x) in items.iter().enumerate().take(2) {
+                collect(x, format!("{at}/{k}"), out);
+            }
+        }
+        _ => out.push(at),
+    }
+}
+
+/// The three-line file of a 2-case sweep's shard 1 of 2 with `id` as its numbers.
+fn shard_file(dir: &Path) -> (String, Vec<String>) {
+    let scene = short_standard(dir, "scene.toml", 1, &[]);
+    let out = dir.join("whole.csv");
+    let o = jointwear(&[
+        "sweep",
+        s(&scene),
+        "--set",
+        "driver.speed_rpm=-2000,-1000",
+        "--out",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = fs::read_to_string(&out).unwrap();
+    let lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    (s(&scene).to_string(), lines)
+}
+
+#[test]
+fn edited_sweep_files_are_refused_before_any_number_read_is_used() {
+    let dir = temp_dir("state", "sweep");
+    let (scene, lines) = shard_file(&dir);
+    let fingerprint = lines[0].split_whitespace().nth(3).unwrap().to_string();
+    let id = |rest: &str| format!("# jointwear sweep {fingerprint} {rest}");
+    let edited = dir.join("edited.csv");
+    let merged = dir.join("merged.csv");
+    let write = |first: &str, rows: &[&String]| {
+        let mut text = format!("{first}\n{}\n", lines[1]);
+        for r in rows {
+            text.push_str(r);
+            text.push('\n');
+        }
+        fs::write(&edited, text).unwrap();
+    };
+    let merge = || jointwear(&["sweep-merge", s(&edited), "--out", s(&merged)]);
+    // A shard count of 2^64 - 1 panicked, one of 4e9 allocated 64 GB.
+    for count in ["18446744073709551615", "4000000000"] {
+        write(
+            &id(&format!("shard=1/{count} cases=1 total=2")),
+            &[&lines[2]],
+        );
+        assert_fails(&merge(), 2, &[&format!("no shard 2/{count}")]);
+    }
+    // Numbers that do not add up.
+    for (bad, why) in [
+        (
+            "shard=1/1 cases=3 total=2",
+            "cases=3: shard 1/1 of 2 cases owns 2",
+        ),
+        (
+            "shard=1/1 cases=2000000 total=2000000",
+            "at most 1000000 cases",
+        ),
+    ] {
+        write(&id(bad), &[&lines[2], &lines[3]]);
+        assert_fails(&merge(), 2, &[s(&edited), why]);
+    }
+    // A case outside the sweep, or twice, in merge and in --resume.
+    let outside = lines[3].replacen("1,", "7,", 1);
+    let twice = lines[2].clone();
+    for row in [&outside, &twice] {
+        write(&lines[0], &[&lines[2], row]);
+        assert_fails(&merge(), 2, &["is not a case of shard 1/1"]);
+        let resumed = jointwear(&[
+            "sweep",
+            &scene,
+            "--set",
+            "driver.speed_rpm=-2000,-1000",
+            "--out",
+            s(&edited),
+            "--resume",
+        ]);
+        assert_fails(&resumed, 2, &["is not a case of shard 1/1"]);
+    }
+    // A row deleted: partial.
+    write(&lines[0], &[&lines[2]]);
+    assert_fails(&merge(), 2, &["1 of its 2 cases", "--allow-partial"]);
+    let file = SweepFile::read(&edited).unwrap();
+    assert_eq!((file.rows.len(), file.id.cases), (1, 2));
+    fs::remove_dir_all(&dir).unwrap();
+}
