@@ -379,8 +379,8 @@ fn run_outputs_are_documented_and_numbers_round_trip() {
     assert_eq!(summary["settings"]["rotations"], 2);
     let joint = &summary["joints"][0];
     assert_eq!(joint["name"], "rod-slider");
-    assert!(joint["max_normal_force_n"].as_f64().unwrap() > 0.0);
-    assert!(joint["max_penetration_m"].as_f64().unwrap() > 0.0);
+    assert!(joint["max_normal_force_recorded_n"].as_f64().unwrap() > 0.0);
+    assert!(joint["max_penetration_recorded_m"].as_f64().unwrap() > 0.0);
     assert!(joint["wear_regions"][0]["depth_m"].as_f64().unwrap() > 0.0);
     assert!(joint["motion"]["mode"].is_string());
     let manifest = fs::read_to_string(out.join("jointwear-manifest.txt")).unwrap();
@@ -522,11 +522,16 @@ fn run_without_recording_prints_no_nan() {
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
     assert!(!text.to_lowercase().contains("nan"), "{text}");
-    assert!(text.contains("max normal force not recorded"), "{text}");
+    assert!(
+        text.contains("max normal force and penetration not recorded"),
+        "{text}"
+    );
     let summary = json(&out.join("summary.json"));
-    assert!(summary["joints"][0]["max_normal_force_n"].is_null());
-    assert!(summary["joints"][0]["motion"].is_null());
-    assert!(summary["joints"][0]["max_penetration_m"].as_f64().unwrap() > 0.0);
+    let joint = &summary["joints"][0];
+    assert!(joint["max_normal_force_recorded_n"].is_null());
+    assert!(joint["max_penetration_recorded_m"].is_null());
+    assert!(joint["motion"].is_null());
+    assert!(joint["max_penetration_whole_run_m"].as_f64().unwrap() > 0.0);
     let (header, columns) = read_csv(&out.join("timeseries.csv")).unwrap();
     assert!(header.iter().any(|h| h == "rod-slider.contact_angle_deg"));
     assert!(header.iter().any(|h| h == "slider.alpha_rad_s2"));
@@ -555,7 +560,7 @@ fn ensemble_outputs_are_documented() {
     assert_eq!(summary["members"], 2);
     assert!(summary["changes"].to_string().contains("driver.speed_rpm"));
     let quantities = &summary["joints"][0]["quantities"];
-    assert_eq!(quantities[0][0], "max_normal_force_n");
+    assert_eq!(quantities[0][0], "max_normal_force_recorded_n");
     assert_eq!(quantities[0][1]["n"], 2);
     let readme = fs::read_to_string(out.join("README.txt")).unwrap();
     for needle in [

@@ -21,9 +21,9 @@ fn completes(name: &str) -> StabilityRow {
     assert!(r.failure.is_none(), "{name}: {:?}", r.failure);
     assert!(r.finite, "{name}: non-finite values {r:?}");
     assert!(
-        r.max_penetration.is_finite() && r.max_penetration < MAX_PENETRATION,
+        r.max_penetration_whole_run.is_finite() && r.max_penetration_whole_run < MAX_PENETRATION,
         "{name}: penetration {:e} m",
-        r.max_penetration
+        r.max_penetration_whole_run
     );
     assert!(
         r.energy_residual.abs() < MAX_RESIDUAL,

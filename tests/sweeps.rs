@@ -161,7 +161,7 @@ fn merge_refuses_missing_foreign_repeated_and_unfinished_shards() {
         empty
             .header
             .iter()
-            .any(|h| h == "rod-slider.max_normal_force_n"),
+            .any(|h| h == "rod-slider.max_normal_force_recorded_n"),
         "{:?}",
         empty.header
     );

@@ -44,8 +44,10 @@ class Run:
         wear: joint -> final wear depth per sector (m), as ``wear_<joint>.csv``.
         snapshot_rotations: rotation counts of ``run.wear_snapshots``.
         snapshots: joint -> array (snapshot, sector) of wear depths (m).
-        summary: joint -> dict: ``max_normal_force_n`` (recorded rotations),
-            ``max_penetration_m``, ``max_wear_angle_deg``, ``max_wear_depth_m`` (angle and depth
+        summary: joint -> dict: ``max_normal_force_recorded_n`` and
+            ``max_penetration_recorded_m`` (over the recorded rotations; NaN when none were
+            recorded), ``max_penetration_whole_run_m`` (every step from the start, the start-up
+            transient included), ``max_wear_angle_deg``, ``max_wear_depth_m`` (angle and depth
             of the deepest sector), ``contact_fraction``, ``impacts_per_rotation``,
             ``continuous_contact`` (1 or 0), ``motion_mode``, ``impacts`` (contact onsets of the
             run) and ``wear_regions`` (every wear region, most prominent first: ``angle_deg``,

@@ -313,6 +313,16 @@ pub fn number(x: f64) -> String {
     text
 }
 
+/// [`number`]`(x)`, or an empty field for NaN: what a CSV writes for a value that was not
+/// measured (nothing recorded, no finite member), never the text `NaN`.
+pub fn number_or_empty(x: f64) -> String {
+    if x.is_nan() {
+        String::new()
+    } else {
+        number(x)
+    }
+}
+
 /// Appends [`number`]`(x)` to `out`. Formats once, in e-notation, and spells the plain form
 /// from its digits and exponent when that is not longer: a recorded run writes millions of
 /// numbers, and formatting each twice into two fresh strings was a sixth of its instructions.

@@ -198,15 +198,16 @@ pub struct SteadyMember {
     pub motion: Motion,
     /// Concordances of Table 3.
     pub concordance: Concordance,
-    /// Largest |slider acceleration| (m/s²).
+    /// Largest |slider acceleration| of the recorded rotations (m/s²).
     pub max_slider_acc: f64,
-    /// Largest normal force (N).
+    /// Largest normal force of the recorded rotations (N).
     pub max_normal_force: f64,
-    /// Largest sampled penetration (m).
+    /// Largest sampled penetration of the recorded rotations (m): the window of the force,
+    /// without the start-up impact.
     pub max_penetration: f64,
     /// Share of the circumference (1° bins) touched while in contact.
     pub contact_coverage: f64,
-    /// Largest wear rate (m/s).
+    /// Largest wear rate of the recorded rotations (m/s).
     pub max_wear_rate: f64,
     /// Centred correlation of the wear rate with |slider acceleration|.
     pub acc_wear_correlation: f64,

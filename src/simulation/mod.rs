@@ -288,8 +288,9 @@ pub struct RunOutput {
     pub final_state: Vec<f64>,
     /// Integrator work counters of the whole run.
     pub stats: Stats,
-    /// Largest penetration of each joint at the accepted step ends (m).
-    pub max_penetration: Vec<f64>,
+    /// Largest penetration of each joint at the accepted step ends of the whole run (m): the
+    /// start-up transient and settling included, unlike the recorded rotations' statistics.
+    pub max_penetration_whole_run: Vec<f64>,
     /// Contact onsets of each joint.
     pub impacts: Vec<u64>,
     /// Energy balance, with `energy_accounting`.

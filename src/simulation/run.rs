@@ -130,7 +130,7 @@ impl Simulation {
                 final_wear: Vec::new(),
                 final_state: Vec::new(),
                 stats: Stats::default(),
-                max_penetration: vec![f64::NEG_INFINITY; joints],
+                max_penetration_whole_run: vec![f64::NEG_INFINITY; joints],
                 impacts: vec![0; joints],
                 energy: None,
                 settling: None,
@@ -784,7 +784,12 @@ impl Simulation {
             self.y_event = y;
             restarted?;
         }
-        for (m, g) in self.out.max_penetration.iter_mut().zip(&self.gaps) {
+        for (m, g) in self
+            .out
+            .max_penetration_whole_run
+            .iter_mut()
+            .zip(&self.gaps)
+        {
             *m = m.max(*g);
         }
         if t_stop >= self.next_history * (1.0 - 1e-12) {

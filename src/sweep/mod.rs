@@ -176,10 +176,15 @@ pub fn vary(doc: &toml::Value, path: &Path, sets: &[Assignment], values: &[&str]
 pub struct JointSummary {
     /// The joint's name.
     pub name: String,
-    /// Largest sampled normal force of the recorded rotations (N), NaN if none recorded.
-    pub max_normal_force: f64,
-    /// Largest penetration at the accepted steps of the whole run (m).
-    pub max_penetration: f64,
+    /// Largest sampled normal force of the recorded rotations (N); `None` when none were
+    /// recorded.
+    pub max_normal_force_recorded: Option<f64>,
+    /// Largest sampled penetration of the recorded rotations (m), the window of the force;
+    /// `None` when none were recorded.
+    pub max_penetration_recorded: Option<f64>,
+    /// Largest penetration at the accepted steps of the whole run (m): the start-up transient
+    /// (the impact after the centred start) and any settling included.
+    pub max_penetration_whole_run: f64,
     /// Motion of the recorded rotations, if any were recorded.
     pub motion: Option<Motion>,
     /// Wear regions of the final profile, most prominent (and so deepest) first; empty
@@ -198,12 +203,12 @@ pub fn summarize(scene: &Scene, out: &RunOutput) -> Vec<JointSummary> {
         .enumerate()
         .map(|(k, cj)| {
             let trace = rec.joints.get(k).filter(|t| !t.delta.is_empty());
+            let max = |v: &[f64]| v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
             JointSummary {
                 name: cj.name.clone(),
-                max_normal_force: trace.map_or(f64::NAN, |t| {
-                    t.normal_force.iter().cloned().fold(0.0, f64::max)
-                }),
-                max_penetration: out.max_penetration[k],
+                max_normal_force_recorded: trace.map(|t| max(&t.normal_force)),
+                max_penetration_recorded: trace.map(|t| max(&t.delta)),
+                max_penetration_whole_run: out.max_penetration_whole_run[k],
                 motion: trace
                     .map(|t| Motion::classify(&t.delta, dt, scene.run.record_rotations as f64)),
                 regions: wear_regions(&out.final_wear[k]),
@@ -214,14 +219,16 @@ pub fn summarize(scene: &Scene, out: &RunOutput) -> Vec<JointSummary> {
 
 impl JointSummary {
     /// The joint's scalar results by name: the numeric sweep columns, and
-    /// `continuous_contact` as 1 or 0 (NaN where nothing was recorded), whose mean over an
-    /// ensemble is the share of members in continuous contact.
-    pub fn scalars(&self) -> [(&'static str, f64); 7] {
+    /// `continuous_contact` as 1 or 0, whose mean over an ensemble is the share of members in
+    /// continuous contact. What was not recorded is NaN here, and an empty field or "not
+    /// recorded" wherever it is written or printed.
+    pub fn scalars(&self) -> [(&'static str, f64); 8] {
         let deepest = self.regions.first();
         let motion = |f: fn(&Motion) -> f64| self.motion.as_ref().map_or(f64::NAN, f);
         let values = [
-            self.max_normal_force,
-            self.max_penetration,
+            self.max_normal_force_recorded.unwrap_or(f64::NAN),
+            self.max_penetration_recorded.unwrap_or(f64::NAN),
+            self.max_penetration_whole_run,
             deepest.map_or(f64::NAN, |p| p.angle_deg),
             deepest.map_or(f64::NAN, |p| p.depth),
             motion(|m| m.contact_fraction),
@@ -281,10 +288,13 @@ pub fn joint_statistics(
         .collect()
 }
 
-/// Per-joint columns of a sweep row, after the joint's name and a dot.
-const JOINT_COLUMNS: [&str; 7] = [
-    "max_normal_force_n",
-    "max_penetration_m",
+/// Per-joint columns of a sweep row, after the joint's name and a dot. Each maximum names its
+/// window: `recorded` the recorded rotations (empty when none were recorded), `whole_run` every
+/// step from the start.
+const JOINT_COLUMNS: [&str; 8] = [
+    "max_normal_force_recorded_n",
+    "max_penetration_recorded_m",
+    "max_penetration_whole_run_m",
     "max_wear_angle_deg",
     "max_wear_depth_m",
     "motion_mode",
@@ -319,9 +329,10 @@ pub fn ensemble_header(sets: &[Assignment], joints: &[String]) -> Vec<String> {
 }
 
 /// The names of [`JointSummary::scalars`], in order.
-pub const SCALARS: [&str; 7] = [
-    "max_normal_force_n",
-    "max_penetration_m",
+pub const SCALARS: [&str; 8] = [
+    "max_normal_force_recorded_n",
+    "max_penetration_recorded_m",
+    "max_penetration_whole_run_m",
     "max_wear_angle_deg",
     "max_wear_depth_m",
     "contact_fraction",
@@ -355,13 +366,7 @@ impl CaseResult {
     pub fn record(&self, cells: usize) -> Vec<String> {
         let mut r = vec![self.case.to_string()];
         r.extend(self.values.iter().cloned());
-        let number = |x: f64| {
-            if x.is_nan() {
-                String::new()
-            } else {
-                crate::io::output::number(x)
-            }
-        };
+        let number = crate::io::output::number_or_empty;
         match &self.outcome {
             Ok((Outcome::Ensemble(members, stats), wall)) => {
                 r.push(members.to_string());
@@ -375,9 +380,11 @@ impl CaseResult {
             Ok((Outcome::Run(summaries), wall)) => {
                 for s in summaries {
                     let deepest = s.regions.first();
+                    let recorded = |x: Option<f64>| x.map_or(String::new(), number);
                     r.extend([
-                        number(s.max_normal_force),
-                        number(s.max_penetration),
+                        recorded(s.max_normal_force_recorded),
+                        recorded(s.max_penetration_recorded),
+                        number(s.max_penetration_whole_run),
                         deepest.map_or(String::new(), |p| number(p.angle_deg)),
                         deepest.map_or(String::new(), |p| number(p.depth)),
                         s.motion.map_or(String::new(), |m| m.mode().to_string()),

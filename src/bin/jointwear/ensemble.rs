@@ -6,7 +6,7 @@ use crate::failure::{CliResult, Failure};
 use crate::outputs::{conventions, write_summary, PROGRAM, SUMMARY_FILE};
 use crate::{claim_out, joint_file, load_variant};
 use jointwear::analysis::statistics::{Distribution, VALUE_KEYS};
-use jointwear::io::output::{number, write_outputs, write_rows};
+use jointwear::io::output::{number, number_or_empty, write_outputs, write_rows};
 use jointwear::io::plot::{render, Axes, Series, Shade, Style};
 use jointwear::io::progress::progress_bar;
 use jointwear::laws::wear::sector_angles_deg;
@@ -100,10 +100,12 @@ pub fn run_ensemble(
     for j in &stats {
         println!("  joint {} (mean ± sd, [5 %, 95 %]):", j.name);
         for (name, d) in &j.scalars {
-            if name == &"continuous_contact" {
+            if d.n == 0 {
+                println!("    {name:22} not recorded (run.record_rotations = 0)");
+            } else if name == &"continuous_contact" {
                 let k = (d.mean * d.n as f64).round();
                 println!("    continuous contact in {k} of {} members", d.n);
-            } else if d.n > 0 {
+            } else {
                 println!(
                     "    {name:22} {:.6e} ± {:.2e}  [{:.6e}, {:.6e}]",
                     d.mean, d.sd, d.quantiles[0], d.quantiles[4]
@@ -159,7 +161,7 @@ fn write_ensemble(
     let stats = joint_statistics(scene, members);
     let mut head = vec!["joint", "quantity", "n"];
     head.extend(VALUE_KEYS);
-    let numbers = |d: &Distribution| d.values().map(number);
+    let numbers = |d: &Distribution| d.values().map(number_or_empty);
     let mut rows = Vec::new();
     for j in &stats {
         for (name, d) in &j.scalars {
@@ -271,10 +273,12 @@ fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
          \x20 member                               0-based member number\n\
          \x20 J.offset_body_x_m, J.offset_body_y_m  initial journal offset, in the frame of the \
          journal's body (m)\n\
-         \x20 J.max_normal_force_n                 largest normal force of the recorded \
-         rotations (N)\n\
-         \x20 J.max_penetration_m                  largest penetration of the whole run (m), \
-         positive = overlap\n\
+         \x20 J.max_normal_force_recorded_n        largest normal force of the recorded \
+         rotations (N); empty when none were recorded\n\
+         \x20 J.max_penetration_recorded_m         largest penetration of the recorded \
+         rotations (m), positive = overlap; empty when none were recorded\n\
+         \x20 J.max_penetration_whole_run_m        largest penetration of the whole run (m), \
+         the start-up transient (impact after the centred start) included\n\
          \x20 J.max_wear_angle_deg                 deepest sector of the final wear profile \
          (the most prominent wear region), bearing frame (deg)\n\
          \x20 J.max_wear_depth_m                   its depth (m)\n\
@@ -285,7 +289,8 @@ fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
          \x20 wall_time_s, error                   the member's wall time (s); empty error\n\
          ensemble_summary.csv: per joint and quantity (the numeric columns above, and \
          continuous_contact, 1 or 0 per member, whose mean is the share in continuous \
-         contact): n (finite values), mean, sd, min, q05, q25, q50, q75, q95, max.\n",
+         contact): n (finite values), mean, sd, min, q05, q25, q50, q75, q95, max; empty \
+         fields where n is 0 (nothing recorded).\n",
     );
     if !worn.is_empty() {
         text.push_str(&format!(

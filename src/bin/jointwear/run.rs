@@ -309,14 +309,18 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
     }
     for j in joints {
         println!("  joint {}:", j.name);
-        let force = if j.max_normal_force.is_finite() {
-            format!("{:.2} N (recorded rotations)", j.max_normal_force)
-        } else {
-            "not recorded (run.record_rotations = 0)".to_string()
-        };
+        match (j.max_normal_force_recorded, j.max_penetration_recorded) {
+            (Some(f), Some(p)) => println!(
+                "    max normal force {f:.2} N, max penetration {:.3} µm (recorded rotations)",
+                p * 1e6
+            ),
+            _ => println!(
+                "    max normal force and penetration not recorded (run.record_rotations = 0)"
+            ),
+        }
         println!(
-            "    max normal force {force}, max penetration {:.3} µm",
-            j.max_penetration * 1e6
+            "    max penetration {:.3} µm over the whole run (start-up transient included)",
+            j.max_penetration_whole_run * 1e6
         );
         if let Some(m) = j.motion {
             println!(
@@ -429,9 +433,12 @@ struct JointResult {
     bearing_body: String,
     radial_clearance_m: f64,
     /// Largest normal force of the recorded rotations (N); `null` when none were recorded.
-    max_normal_force_n: Option<f64>,
-    /// Largest penetration at the accepted steps of the whole run (m).
-    max_penetration_m: f64,
+    max_normal_force_recorded_n: Option<f64>,
+    /// Largest penetration of the recorded rotations (m); `null` when none were recorded.
+    max_penetration_recorded_m: Option<f64>,
+    /// Largest penetration at the accepted steps of the whole run, start-up transient
+    /// included (m).
+    max_penetration_whole_run_m: f64,
     /// Contact onsets of this joint over the whole run.
     contact_onsets: u64,
     /// Motion of the recorded rotations; `null` when none were recorded.
@@ -518,8 +525,9 @@ impl RunSummary {
                     journal_body: body_name(m, cj.journal.body).to_string(),
                     bearing_body: body_name(m, cj.bearing.body).to_string(),
                     radial_clearance_m: cj.clearance(),
-                    max_normal_force_n: Some(j.max_normal_force).filter(|f| f.is_finite()),
-                    max_penetration_m: j.max_penetration,
+                    max_normal_force_recorded_n: j.max_normal_force_recorded,
+                    max_penetration_recorded_m: j.max_penetration_recorded,
+                    max_penetration_whole_run_m: j.max_penetration_whole_run,
                     contact_onsets: out.impacts[k],
                     motion: j.motion.map(|m| MotionResult {
                         mode: m.mode().to_string(),
@@ -610,8 +618,10 @@ fn readme(title: &str, scene: &Scene, out: &RunOutput) -> String {
          counter-clockwise); counts (rotations simulated, settling rotations, recorded samples, \
          steps, rejected steps, right-hand-side evaluations, contact onsets); wall_time_s; \
          energy_balance_residual; settling; joints (per clearance joint: bodies, radial \
-         clearance, max_normal_force_n over the recorded rotations or null if none were \
-         recorded, max_penetration_m over the whole run, contact onsets, motion (mode: \
+         clearance, max_normal_force_recorded_n and max_penetration_recorded_m over the \
+         recorded rotations or null if none were recorded, max_penetration_whole_run_m over \
+         every step from the start (the start-up transient, the impact after the centred \
+         start, included), contact onsets, motion (mode: \
          `continuous contact` or `free flight and impact`, contact fraction, impacts per \
          rotation, mean flight time) or null, max_wear_depth_m, wear_regions: angle_deg in the \
          bearing frame, depth_m, prominence_m, width_deg at half prominence, most prominent \

@@ -105,8 +105,9 @@ fn steady_lines(name: &str, e: &SteadyEnsemble) -> String {
         .collect();
     let unsteady = e.members.iter().filter(|m| !m.settling.steady).count();
     format!(
-        "{name} ({n} members): {}; in contact {} %, {} impacts/rotation; max |slider acc| {} m/s², \
-         max force {} N, max penetration {} µm; CMF P-w {}, s-w {}{}",
+        "{name} ({n} members): {}; in contact {} %, {} impacts/rotation; over the recorded \
+         rotations max |slider acc| {} m/s², max force {} N, max penetration {} µm; CMF P-w {}, \
+         s-w {}{}",
         modes.join(", "),
         e.stat(|m| m.motion.contact_fraction).mean_sd(100.0, 1),
         e.stat(|m| m.motion.impacts_per_rotation).mean_sd(1.0, 1),

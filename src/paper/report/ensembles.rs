@@ -79,7 +79,7 @@ pub(super) fn ensemble_section(runs: &Runs) -> Result<String> {
             "case",
             "steady state",
             "members",
-            "max normal force (N)",
+            "max normal force, recorded rotations (N)",
             "onsets per rotation",
             "in contact (%)",
             "P-w",

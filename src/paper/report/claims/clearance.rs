@@ -37,7 +37,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "penetration depth and slider acceleration peaks grow with the clearance",
         "both increase with clearance",
         format!(
-            "max penetration {} µm, max |slider acceleration| {} m/s² at 0.02 / 0.2 / 0.5 mm",
+            "over the recorded rotations, max penetration {} µm, max |slider acceleration| {} m/s² at 0.02 / 0.2 / 0.5 mm",
             across(&cl, |e| e.stat(|m| m.max_penetration), 1e6, 2),
             across(&cl, |e| e.stat(|m| m.max_slider_acc), 1.0, 0)
         ),

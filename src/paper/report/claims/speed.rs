@@ -59,7 +59,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "penetration, slider acceleration and wear rate rise with crank speed",
         "all three increase with speed",
         format!(
-            "at 30 / 600 / 2000 r/min: max penetration {} µm; max |acceleration| {} m/s²; max wear rate {} µm/s",
+            "at 30 / 600 / 2000 r/min, over the recorded rotations: max penetration {} µm; max |acceleration| {} m/s²; max wear rate {} µm/s",
             across(&sp, |e| e.stat(|m| m.max_penetration), 1e6, 2),
             across(&sp, |e| e.stat(|m| m.max_slider_acc), 1.0, 0),
             across(&sp, |e| e.stat(|m| m.max_wear_rate), 1e6, 3)
