@@ -68,8 +68,8 @@ fn edited_checkpoints_are_refused_naming_the_field() {
         ("out.impacts", |v| {
             v["out"]["impacts"] = Value::Array(vec![])
         }),
-        ("out.max_penetration", |v| {
-            v["out"]["max_penetration"] = Value::Array(vec![])
+        ("out.max_penetration_whole_run", |v| {
+            v["out"]["max_penetration_whole_run"] = Value::Array(vec![])
         }),
         ("rotation", |v| v["rotation"] = 999.into()),
         ("sampler.interval", |v| {
