@@ -73,7 +73,7 @@ impl Mechanism {
         Ok(())
     }
 
-    /// Turns the driver of the ideal loop ([`Mechanism::held_ideal`]) through one rotation
+    /// Turns the driver of the ideal loop (clearance joints held centred) through one rotation
     /// from time `t0` at coordinates `q0` (assembled, or close to it), closing the loop every
     /// [`SWEEP_STEP_DEG`] by Newton iterations from the last pose: where it cannot close, the
     /// links cannot reach, and a run locks there. Returns that range of driver angles (found

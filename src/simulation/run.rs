@@ -466,7 +466,7 @@ impl Simulation {
             cause: format!(
                 "the run crawls: its last {CRAWL_WINDOW} steps advanced {advanced:.3e} s (mean \
                  step {mean:.1e} s), under {} % of a driver period, and at that pace it needs \
-                 about {needed:.1e} more steps, beyond run.max_steps = {}: {cause}",
+                 about {needed:.0e} more steps, beyond run.max_steps = {}: {cause}",
                 100.0 * CRAWL_FRACTION,
                 self.settings.max_steps
             ),
