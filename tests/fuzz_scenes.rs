@@ -149,7 +149,6 @@ fn log_uniform(rng: &mut XorShift, lo: f64, hi: f64) -> f64 {
 
 #[test]
 fn runs_of_valid_random_scenes_are_finite_and_within_the_validity_limits() {
-    use jointwear::mechanism::MAX_PENETRATION_RATIO;
     use jointwear::simulation::simulate;
     let mut rng = XorShift(0x2545_f491_4f6c_dd1d);
     let base = SceneFile::read(scene_path("standard")).unwrap();
@@ -194,7 +193,7 @@ fn runs_of_valid_random_scenes_are_finite_and_within_the_validity_limits() {
                 );
                 let cj = &scene.mechanism.clearance_joints[0];
                 assert!(
-                    out.max_penetration_whole_run[0] <= MAX_PENETRATION_RATIO * cj.r_journal,
+                    out.max_penetration_whole_run[0] <= cj.penetration_limit(),
                     "case {case}: penetration {:e} m",
                     out.max_penetration_whole_run[0]
                 );
@@ -203,7 +202,9 @@ fn runs_of_valid_random_scenes_are_finite_and_within_the_validity_limits() {
             Err(e) => panic!("case {case}: {e}"),
         }
     }
-    // Most valid scenes run through (31 of 32 with this seed); a failure is a named
-    // integration error.
-    assert!(completed >= 28, "{completed} completed, {failed} failed");
+    // Most valid scenes run through (26 of 32 with this seed); a failure is a named
+    // integration error. 31 completed before the penetration limit of 20 clearances (at least
+    // 1 % of the journal radius): 5 of them, heavy bodies on soft materials with clearances
+    // of 1-22 µm, pass it (20 to 99 clearances) and now stop naming it.
+    assert!(completed >= 24, "{completed} completed, {failed} failed");
 }

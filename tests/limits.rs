@@ -107,8 +107,8 @@ fn devices_and_fifos_are_refused_without_reading_them() {
     // ran out; before, /dev/null gave "missing field `title`".
     let msg = SceneFile::read("/dev/null").unwrap_err().to_string();
     assert_contains(&msg, &["/dev/null", "not a regular file"]);
-    // A FIFO: before, the open waited for a writer, then read everything it wrote. The writer
-    // here writes 2 MiB of comments at most, so the old code failed otherwise, not forever.
+    // A FIFO: before, the open waited for a writer, then read all it wrote (2 kB here, a
+    // comment: the old code failed with another message).
     let fifo = temp("scene.fifo");
     let _ = fs::remove_file(&fifo);
     let made = std::process::Command::new("mkfifo")
@@ -120,14 +120,20 @@ fn devices_and_fifos_are_refused_without_reading_them() {
     let writer = std::thread::spawn(move || {
         use std::io::Write;
         let mut w = fs::OpenOptions::new().write(true).open(writer_path)?;
-        w.write_all(&b"#\n".repeat(1 << 20))
+        w.write_all(&b"#\n".repeat(1000))
     });
     let msg = SceneFile::read(&fifo).unwrap_err().to_string();
     assert_contains(&msg, &["scene.fifo", "not a regular file"]);
-    // Release the writer: on Linux a FIFO opened for reading and writing does not wait; once
-    // it is closed the writer's open has returned and its write fails with no reader.
-    drop(fs::OpenOptions::new().read(true).write(true).open(&fifo));
-    assert!(writer.join().unwrap().is_err());
+    // Release the writer, whenever it opens: on Linux a FIFO opened for reading and writing
+    // does not wait, and held open it is the reader the writer waits for; 2 kB fit in the
+    // pipe's buffer.
+    let reader = fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .open(&fifo)
+        .unwrap();
+    writer.join().unwrap().unwrap();
+    drop(reader);
 }
 
 #[test]
@@ -150,4 +156,87 @@ fn wear_snapshots_count_in_the_record_budget() {
     f.run.rotations = 1000;
     f.run.wear_snapshots.truncate(1000);
     f.build().unwrap();
+}
+
+/// The integration error of simulating `f`, which must fail while running.
+#[track_caller]
+fn run_failure(f: &SceneFile) -> (f64, String) {
+    match jointwear::simulation::simulate(&f.build().unwrap()) {
+        Err(jointwear::Error::Integration { time, cause }) => (time, cause),
+        other => panic!("expected an integration error, got {:?}", other.map(|_| ())),
+    }
+}
+
+/// The standard scene cut to one unrecorded rotation.
+fn one_rotation() -> SceneFile {
+    let mut f = scene("standard");
+    (f.run.rotations, f.run.record_rotations) = (1, 0);
+    f.run.wear_snapshots.clear();
+    f
+}
+
+#[test]
+fn the_penetration_limit_is_twenty_clearances_within_its_floor_and_ceiling() {
+    let limit = |clearance_mm: f64| {
+        let mut f = scene("standard");
+        f.clearance[0].clearance_mm = clearance_mm;
+        // No Hertz-line pressure, which needs a clearance (the hybrid law holds down to 0).
+        f.clearance[0].wear = None;
+        let scene = f.build().unwrap();
+        let cj = &scene.mechanism.clearance_joints[0];
+        (cj.penetration_limit(), cj.r_journal)
+    };
+    // Tolerances: a product of two decimal numbers, a few ulps.
+    let (l, _) = limit(0.02);
+    approx::assert_relative_eq!(l, 20.0 * 2e-5, max_relative = 1e-12);
+    let (l, r) = limit(0.0);
+    approx::assert_relative_eq!(l, 1e-2 * r, max_relative = 1e-12);
+    let (l, r) = limit(1.0);
+    approx::assert_relative_eq!(l, 0.1 * r, max_relative = 1e-12);
+}
+
+#[test]
+fn a_penetration_beyond_twenty_clearances_stops_the_run_naming_it() {
+    // Before: 1e5 r/min ran to the end with a 1.18 MN force and 620 µm (31 clearances) of
+    // penetration, exit 0. Bounded: the limit is passed within the first 10 000 steps, and
+    // without it the run fails at that step limit with another message.
+    let mut f = one_rotation();
+    f.driver.speed_rpm = -1e5;
+    f.run.max_steps = 10_000;
+    let (time, cause) = run_failure(&f);
+    assert_contains(
+        &cause,
+        &[
+            "clearance joint `rod-slider` penetrates",
+            "x its radial clearance of 2.000e-5 m",
+            "at driver angle",
+            "beyond the contact laws' limit of 4.000e-4 m (20 clearances",
+            "a speed or load far beyond what the joint carries",
+        ],
+    );
+    // 1e5 r/min: 0.6 ms a rotation; it fails within its first tenth.
+    assert!(time < 6e-5, "t = {time}");
+}
+
+#[test]
+fn a_driver_too_slow_for_the_steps_of_the_dynamics_is_named_at_once() {
+    // Before: 0.01 r/min ran into the step limit (48 s at the default 2e7 steps) with no
+    // cause. One 6000 s rotation takes steps of about 2.4e-4 s, 2.5e7 of them; here the
+    // limit is 1e6 (max_step_s raised so that the load's step budget admits it), and the run
+    // must stop at the second 100 000-step window, naming the slow driver.
+    let mut f = one_rotation();
+    f.driver.speed_rpm = -0.01;
+    f.run.max_step_s = 1e-2;
+    f.run.max_steps = 1_000_000;
+    let (time, cause) = run_failure(&f);
+    assert_contains(
+        &cause,
+        &[
+            "the run crawls",
+            "the driver turns too slowly for the time scale of the dynamics",
+            "per driver period of 6.0000e3 s",
+        ],
+    );
+    // Two windows of 2.4e-4 s steps: about 48 s of the 6000 s period.
+    assert!((40.0..60.0).contains(&time), "t = {time}");
 }

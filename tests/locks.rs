@@ -4,6 +4,7 @@
 
 use jointwear::scene::{scene_path, RevoluteSpec, SceneFile};
 use jointwear::simulation::simulate;
+use jointwear::simulation::Scene;
 use jointwear::Error;
 
 /// Steps within which a locked run must fail: the standard scene takes ~5000 steps per
@@ -37,11 +38,16 @@ fn run_failure(f: &SceneFile) -> (f64, String) {
 #[test]
 fn a_rod_shorter_than_the_crank_stops_at_the_clearance_joint_it_pulls_apart() {
     let (time, cause) = run_failure(&short_rod());
+    // The joint now gives way at 20 clearances (4e-4 m), before the 10 % of the journal
+    // radius (9.98e-4 m at 335.1 deg) it used to; the lock of the ideal loop it ran into is
+    // named beside it.
     for needle in [
-        "clearance joint `rod-slider` (journal on rod, bearing on slider)",
-        "beyond 10 % of its journal radius (9.980e-4 m)",
-        "driver angle 335.1 deg",
-        "lock the mechanism",
+        "clearance joint `rod-slider` penetrates",
+        "beyond the contact laws' limit of 4.000e-4 m (20 clearances",
+        "at driver angle 336.3 deg",
+        "links that cannot reach",
+        "cannot close from 336.4 to 23.6 deg of driver angle (turning clockwise)",
+        "revolute[1] (crank-rod)",
     ] {
         assert!(cause.contains(needle), "lacks `{needle}`: {cause}");
     }
@@ -100,4 +106,78 @@ fn a_fourbar_whose_links_cannot_close_names_the_open_joints() {
     ] {
         assert!(msg.contains(joint), "lacks `{joint}`: {msg}");
     }
+}
+
+/// The four-bar of `data/scenes/fourbar.toml` with ground 120, crank 40, coupler 30 and rocker
+/// 90 mm, assembled at crank angle 0 (pin B at (35, 29.58) mm): past the crank angle where the
+/// crank pin is 120 mm from the rocker pivot, acos(1/6) = 80.406 deg, coupler and rocker
+/// cannot reach.
+fn locked_fourbar() -> SceneFile {
+    let mut f = SceneFile::read(scene_path("fourbar")).unwrap();
+    f.ground.points_mm.insert("D".into(), [120.0, 0.0]);
+    let points = |a: &str, b: &str, half: f64| {
+        [(a.to_string(), [-half, 0.0]), (b.to_string(), [half, 0.0])].into()
+    };
+    let [crank, coupler, rocker] = &mut f.bodies[..] else {
+        panic!("the four-bar has three bodies")
+    };
+    (crank.points_mm, crank.position_mm) = (points("O", "A", 20.0), [20.0, 0.0]);
+    (coupler.points_mm, coupler.position_mm) = (points("A", "B", 15.0), [37.5, 14.79]);
+    coupler.angle_deg = 99.6;
+    (rocker.points_mm, rocker.position_mm) = (points("D", "B", 45.0), [77.5, 14.79]);
+    rocker.angle_deg = 160.8;
+    f
+}
+
+/// The lock of the ideal loop of `scene` over one rotation from its assembled start.
+fn rotation_lock(scene: &Scene) -> Option<jointwear::mechanism::Lock> {
+    let y = scene.mechanism.assemble(&scene.guess).unwrap();
+    scene.mechanism.check_rotation(0.0, &y).unwrap()
+}
+
+#[test]
+fn one_driver_rotation_finds_where_a_fourbar_cannot_close() {
+    // Before, `check` assembled only at t = 0 and passed this scene. Fails if the sweep turns
+    // against the driver (it would stop at 279.6 deg first).
+    let lock = rotation_lock(&locked_fourbar().build().unwrap()).expect("the four-bar locks");
+    // Tolerance: the sweep's resolution (1e-3 deg) plus Newton's slower convergence at the
+    // limit position, where the loop's Jacobian becomes singular.
+    approx::assert_abs_diff_eq!(
+        lock.from,
+        (1.0f64 / 6.0).acos().to_degrees(),
+        epsilon = 1e-2
+    );
+    approx::assert_abs_diff_eq!(lock.to, 360.0 - lock.from, epsilon = 1e-2);
+    let text = lock.error().to_string();
+    for needle in [
+        "`joints (one driver rotation)`",
+        "cannot close from 80.4 to 279.6 deg of driver angle (turning counter-clockwise)",
+        "clearance joint `coupler-rocker`",
+        "revolute[2] (ground-rocker)",
+    ] {
+        assert!(text.contains(needle), "lacks `{needle}`: {text}");
+    }
+    // The shipped scenes turn fully.
+    for name in ["fourbar", "standard", "two_clearance"] {
+        assert_eq!(
+            rotation_lock(&Scene::load(scene_path(name)).unwrap()),
+            None,
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn a_run_into_the_lock_of_its_loop_names_it() {
+    // Before: it failed after about 2 s blaming friction or a stiff contact, with no driver
+    // angle. Bounded: it fails by 300 000 steps (the crawl is judged at 200 000).
+    let mut f = locked_fourbar();
+    f.run.max_steps = 300_000;
+    let (time, cause) = run_failure(&f);
+    assert!(
+        cause.contains("cannot close from 80.4 to 279.6 deg of driver angle"),
+        "{cause}"
+    );
+    // 1000 r/min: 80.4 deg at 13.4 ms; the clearance lets the crank go a little further.
+    assert!((13.3e-3..13.8e-3).contains(&time), "t = {time}");
 }

@@ -70,7 +70,9 @@ class Scene:
         return self.to_dict()["title"]
 
     def check(self) -> dict:
-        """Validates and assembles the scene as ``jointwear check`` does. Returns its
+        """Validates and assembles the scene and turns its driver through one rotation as
+        ``jointwear check`` does (a loop that cannot close at some driver angle is a
+        :class:`SceneError` naming the angles and the joints). Returns its
         ``title``, ``bodies``, clearance ``joints`` (``name``, ``clearance_m``,
         ``bearing_radius_m``, ``sectors`` or None without wear), ``dof``, ``period_s`` (of the
         driver) and ``rotations``."""

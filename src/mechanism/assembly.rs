@@ -1,6 +1,7 @@
 //! Assembly of a consistent initial state (every clearance joint held ideal: Newton
-//! iterations on Φ(q, 0) = 0, then Φ_q q̇ = −Φ_t), and the messages that name the joints of
-//! a loop that cannot close or a linkage that locks.
+//! iterations on Φ(q, 0) = 0, then Φ_q q̇ = −Φ_t), the kinematic sweep of one driver rotation
+//! that finds where the loop cannot close ([`Mechanism::check_rotation`]), and the messages
+//! that name the joints of a loop that cannot close or a linkage that locks.
 
 use super::workspace::{Dependent, Solved, Workspace};
 use super::{BodyIndex, BodyPoint, ClearanceJoint, Mechanism, Revolute};
@@ -11,6 +12,26 @@ impl Mechanism {
     /// positions by Newton iterations from the scene's guess, velocities from Φ_q q̇ = −Φ_t.
     /// Mass-weighted minimum-norm corrections make it work for any number of degrees of freedom.
     pub fn assemble(&self, guess: &[f64]) -> Result<Vec<f64>> {
+        let ideal = self.held_ideal();
+        let mut ws = Workspace::new(&ideal)?;
+        let held = &self.clearance_joints;
+        let n = self.coordinates();
+        let zeros = vec![0.0; n];
+        let mut q = guess.to_vec();
+        ideal.close(&mut ws, 0.0, &mut q, held)?;
+        // Velocities: Φ_q q̇ = −Φ_t.
+        ideal.constraints(&mut ws, 0.0, &q, &zeros, None);
+        ws.lambda.fill(0.0);
+        let v = ideal.min_norm_step(&mut ws, |s| -s.phi_t, held)?;
+        let mut y = vec![0.0; self.state_len()];
+        y[..n].copy_from_slice(&q);
+        y[n..2 * n].copy_from_slice(&v);
+        Ok(y)
+    }
+
+    /// The ideal loop of this mechanism: every clearance joint held as a revolute (journal
+    /// centred), no energy states.
+    fn held_ideal(&self) -> Mechanism {
         let mut ideal = self.clone();
         for cj in &self.clearance_joints {
             ideal.revolutes.push(Revolute {
@@ -20,39 +41,113 @@ impl Mechanism {
         }
         ideal.clearance_joints.clear();
         ideal.energy_accounting = false;
-        let mut ws = Workspace::new(&ideal)?;
-        let held = &self.clearance_joints;
-        let n = self.coordinates();
-        let zeros = vec![0.0; n];
-        let mut q = guess.to_vec();
+        ideal
+    }
+
+    /// Newton iterations on Φ(q, t) = 0 from `q`, which they move to the closed pose (or leave
+    /// at the last iterate if the loop stays open). `held`: the clearance joints held ideal.
+    fn close(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        q: &mut [f64],
+        held: &[ClearanceJoint],
+    ) -> Result<()> {
         for iteration in 0.. {
-            let phi = ideal.constraint_vector(&mut ws, 0.0, &q);
+            let phi = self.constraint_vector(ws, t, q);
             let residual = phi.iter().fold(0.0f64, |a, p| a.max(p.abs()));
             if residual < 1e-13 {
                 break;
             }
             if iteration == 50 || !residual.is_finite() {
-                return Err(ideal.unclosed(&ws, &phi, iteration, held));
+                return Err(self.unclosed(ws, &phi, iteration, held));
             }
             // Newton step Δq with Φ_q Δq = −Φ (the rows' part of Φ first).
             for (b, p) in ws.lambda.iter_mut().zip(&phi) {
                 *b = -p;
             }
-            for (q, dq) in q
-                .iter_mut()
-                .zip(ideal.min_norm_step(&mut ws, |s| -s.phi, held)?)
-            {
+            for (q, dq) in q.iter_mut().zip(self.min_norm_step(ws, |s| -s.phi, held)?) {
                 *q += dq;
             }
         }
-        // Velocities: Φ_q q̇ = −Φ_t.
-        ideal.constraints(&mut ws, 0.0, &q, &zeros, None);
-        ws.lambda.fill(0.0);
-        let v = ideal.min_norm_step(&mut ws, |s| -s.phi_t, held)?;
-        let mut y = vec![0.0; self.state_len()];
-        y[..n].copy_from_slice(&q);
-        y[n..2 * n].copy_from_slice(&v);
-        Ok(y)
+        Ok(())
+    }
+
+    /// Turns the driver of the ideal loop (clearance joints held centred) through one rotation
+    /// from time `t0` at coordinates `q0` (assembled, or close to it), closing the loop every
+    /// [`SWEEP_STEP_DEG`] by Newton iterations from the last pose: where it cannot close, the
+    /// links cannot reach, and a run locks there. Returns that range of driver angles (found
+    /// turning forwards and backwards from the start, to [`SWEEP_RESOLUTION_DEG`]) and the
+    /// joints left open, or `None` if the loop closes at every angle.
+    pub fn check_rotation(&self, t0: f64, q0: &[f64]) -> Result<Option<Lock>> {
+        let ideal = self.held_ideal();
+        let mut ws = Workspace::new(&ideal)?;
+        let held = &self.clearance_joints;
+        let mut q = q0[..self.coordinates()].to_vec();
+        ideal.close(&mut ws, t0, &mut q, held)?;
+        let step = SWEEP_STEP_DEG.to_radians() / self.driver.omega.abs();
+        let Some((from, joints)) = ideal.first_open(&mut ws, t0, &q, step, held) else {
+            return Ok(None);
+        };
+        let to = ideal
+            .first_open(&mut ws, t0, &q, -step, held)
+            .map_or(from, |(t, _)| t);
+        Ok(Some(Lock {
+            from: self.driver_angle(from),
+            to: self.driver_angle(to),
+            t_from: from - t0,
+            t_to: to - t0,
+            counter_clockwise: self.driver.omega > 0.0,
+            joints,
+        }))
+    }
+
+    /// The first time, from `t0` in steps of `step` (s, negative: backwards) over one
+    /// rotation, at which the loop closed at `q0` cannot close, refined by bisection, and the
+    /// joints open there; `None` if it closes throughout.
+    fn first_open(
+        &self,
+        ws: &mut Workspace,
+        t0: f64,
+        q0: &[f64],
+        step: f64,
+        held: &[ClearanceJoint],
+    ) -> Option<(f64, Vec<String>)> {
+        let steps = (360.0 / SWEEP_STEP_DEG).round() as usize;
+        let mut q = q0.to_vec();
+        let mut trial = q.clone();
+        let (mut closed, mut open) = (t0, None);
+        for i in 1..=steps {
+            let t = t0 + i as f64 * step;
+            trial.copy_from_slice(&q);
+            if self.close(ws, t, &mut trial, held).is_err() {
+                open = Some(t);
+                break;
+            }
+            q.copy_from_slice(&trial);
+            closed = t;
+        }
+        let mut open = open?;
+        let halvings = (SWEEP_STEP_DEG / SWEEP_RESOLUTION_DEG).log2().ceil() as usize;
+        for _ in 0..halvings {
+            let t = 0.5 * (closed + open);
+            trial.copy_from_slice(&q);
+            if self.close(ws, t, &mut trial, held).is_ok() {
+                q.copy_from_slice(&trial);
+                closed = t;
+            } else {
+                open = t;
+            }
+        }
+        trial.copy_from_slice(&q);
+        let _ = self.close(ws, open, &mut trial, held);
+        let phi = self.constraint_vector(ws, open, &trial);
+        let joints = self
+            .largest_residuals(ws, &phi, held)
+            .into_iter()
+            .map(|(joint, _)| joint)
+            .collect();
+        Some((closed, joints))
     }
 
     /// The mass-weighted minimum-norm x with `J x = b` (the rows' b in `ws.lambda`, the
@@ -89,19 +184,8 @@ impl Mechanism {
         iterations: usize,
         held: &[ClearanceJoint],
     ) -> Error {
-        let mut order: Vec<usize> = (0..phi.len()).collect();
-        order.sort_by(|&a, &b| phi[b].abs().total_cmp(&phi[a].abs()));
-        let largest = phi[order[0]].abs();
-        let mut joints: Vec<(String, f64)> = Vec::new();
-        // The joints whose residual is of the order of the largest: where the loop breaks.
-        let near_largest = |i: &&usize| phi[**i].abs() >= 0.1 * largest || phi[**i].is_nan();
-        for &i in order.iter().take_while(near_largest) {
-            let joint = self.equation_joint(ws.vector_equation(i), held);
-            if !joints.iter().any(|(j, _)| *j == joint) {
-                joints.push((joint, phi[i].abs()));
-            }
-        }
-        let list: Vec<String> = joints
+        let list: Vec<String> = self
+            .largest_residuals(ws, phi, held)
             .iter()
             .map(|(j, r)| format!("{j} by {r:.3e}"))
             .collect();
@@ -115,6 +199,28 @@ impl Mechanism {
             "links whose lengths can close every loop at the driver's initial angle, and a \
              pose guess (bodies' position_mm, angle_deg) near an assembled pose",
         )
+    }
+
+    /// The joints whose residual in `phi` is of the order of the largest (where the loop
+    /// breaks), largest first, with their residual.
+    fn largest_residuals(
+        &self,
+        ws: &Workspace,
+        phi: &[f64],
+        held: &[ClearanceJoint],
+    ) -> Vec<(String, f64)> {
+        let mut order: Vec<usize> = (0..phi.len()).collect();
+        order.sort_by(|&a, &b| phi[b].abs().total_cmp(&phi[a].abs()));
+        let largest = order.first().map_or(0.0, |&i| phi[i].abs());
+        let mut joints: Vec<(String, f64)> = Vec::new();
+        let near_largest = |i: &&usize| phi[**i].abs() >= 0.1 * largest || phi[**i].is_nan();
+        for &i in order.iter().take_while(near_largest) {
+            let joint = self.equation_joint(ws.vector_equation(i), held);
+            if !joints.iter().any(|(j, _)| *j == joint) {
+                joints.push((joint, phi[i].abs()));
+            }
+        }
+        joints
     }
 
     /// Name of body `b` as the scene writes it (`ground` for the ground).
@@ -169,12 +275,80 @@ impl Mechanism {
         joints
     }
 
-    /// The driver's prescribed angle at time `t`, for messages (deg in [0, 360)).
-    pub(super) fn driver_angle_text(&self, t: f64) -> String {
+    /// The driver's prescribed angle at time `t` (deg in [0, 360)).
+    pub fn driver_angle(&self, t: f64) -> f64 {
         let d = &self.driver;
+        (d.angle0 + d.omega * t).to_degrees().rem_euclid(360.0)
+    }
+
+    /// The driver's prescribed angle at time `t`, for messages.
+    pub(super) fn driver_angle_text(&self, t: f64) -> String {
+        format!("{:.1} deg", self.driver_angle(t))
+    }
+}
+
+/// Driver step of [`Mechanism::check_rotation`] (deg): 360 closures of a few Newton
+/// iterations each, a millisecond for a four-bar.
+pub const SWEEP_STEP_DEG: f64 = 1.0;
+
+/// How closely [`Mechanism::check_rotation`] locates where the loop stops closing (deg).
+pub const SWEEP_RESOLUTION_DEG: f64 = 1e-3;
+
+/// Where the ideal loop of a mechanism cannot close over one driver rotation
+/// ([`Mechanism::check_rotation`]): the driver cannot turn through these angles.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lock {
+    /// Driver angle (deg, [0, 360)) where the loop, turned in the driver's direction from the
+    /// start, last closes.
+    pub from: f64,
+    /// Driver angle (deg) where it closes again: the last one reached turning backwards from
+    /// the start (`from` if it closes nowhere else).
+    pub to: f64,
+    /// Time from the start of the sweep to `from` (s, positive).
+    pub t_from: f64,
+    /// Time from the start of the sweep to `to` (s, negative or zero).
+    pub t_to: f64,
+    /// The driver turns counter-clockwise (its angle grows from `from` to `to`).
+    pub counter_clockwise: bool,
+    /// The joints left open just past `from`, in the scene's words.
+    pub joints: Vec<String>,
+}
+
+impl Lock {
+    /// What the lock means, for messages: the range of angles and the open joints.
+    pub fn describe(&self) -> String {
         format!(
-            "{:.1} deg",
-            (d.angle0 + d.omega * t).to_degrees().rem_euclid(360.0)
+            "the ideal loop (clearance joints centred) cannot close from {:.1} to {:.1} deg of \
+             driver angle (turning {}): past {:.1} deg it stays open at {}",
+            self.from,
+            self.to,
+            if self.counter_clockwise {
+                "counter-clockwise"
+            } else {
+                "clockwise"
+            },
+            self.from,
+            self.joints.join(", ")
         )
+    }
+
+    /// The error of a scene whose driver cannot turn a whole rotation (bad input).
+    pub fn error(&self) -> Error {
+        Error::invalid(
+            "joints (one driver rotation)",
+            self.describe(),
+            "links whose lengths close every loop at every driver angle (a four-bar's crank \
+             turns fully when its shortest and longest links together are no longer than the \
+             other two, the crank being the shortest); likely cause: a link length or a pivot \
+             in the wrong place",
+        )
+    }
+
+    /// Whether a run from the sweep's start that failed `elapsed` (s) after it failed at
+    /// the lock: within `near` (s) before the angle where the loop stops closing, or past it
+    /// in the range where it cannot close; `period`: the driver's period (s).
+    pub fn explains(&self, elapsed: f64, near: f64, period: f64) -> bool {
+        let phase = (elapsed - self.t_from).rem_euclid(period);
+        phase <= self.t_to + period - self.t_from || phase >= period - near
     }
 }

@@ -99,13 +99,16 @@ impl Document {
         }
     }
 
-    /// Validates and assembles the scene as `jointwear check` does; returns its title, bodies,
-    /// clearance joints (name, radial clearance in m, sectors or None without wear), degrees of
-    /// freedom and driver period (s).
+    /// Validates and assembles the scene and turns its driver through one rotation as
+    /// `jointwear check` does; returns its title, bodies, clearance joints (name, radial
+    /// clearance in m, sectors or None without wear), degrees of freedom and driver period (s).
     fn check<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let scene = self.scene()?;
         let m = &scene.mechanism;
-        m.assemble(&scene.guess).map_err(|e| self.error(e))?;
+        let y = m.assemble(&scene.guess).map_err(|e| self.error(e))?;
+        if let Some(lock) = m.check_rotation(0.0, &y).map_err(|e| self.error(e))? {
+            return Err(self.error(lock.error()));
+        }
         let d = PyDict::new(py);
         d.set_item("title", &scene.title)?;
         let bodies: Vec<&str> = m.bodies().iter().map(|b| b.name.as_str()).collect();

@@ -116,15 +116,28 @@ pub fn wear_limit(cj: &ClearanceJoint) -> f64 {
 /// period, checked at every multiple of it.
 pub const CRAWL_WINDOW: u64 = 100_000;
 
-/// Least share of a driver period (or of what the window's steps cover at the largest step, if
-/// less) that [`CRAWL_WINDOW`] accepted steps must advance. A run slower than that crawls, and
-/// stops when at that pace it would not finish within `run.max_steps`: a force that switches at
-/// zero velocity (pure Coulomb friction in sticking contact chatters at 1e-10 s steps) would
-/// otherwise take minutes to reach the limit. Measured per window: the slowest
-/// completing shipped scene (stick-slip friction, sticking in its first milliseconds) advances
-/// 7.8 % of a period; pure Coulomb friction (`data/scenes/stability/coulomb_0.5.toml`)
-/// 0.045 % in its first judged window, 0.05 % to 1.3 % later.
+/// Least share of a driver period that [`CRAWL_WINDOW`] accepted steps must advance. A run
+/// slower than that crawls, and stops when at that pace it would not finish within
+/// `run.max_steps`: a force that switches at zero velocity (pure Coulomb friction in sticking
+/// contact chatters at 1e-10 s steps) or a driver far too slow for the dynamics' steps (0.01
+/// r/min: 2.4e-4 s steps, 0.4 % of its 6000 s period per window) would otherwise take minutes
+/// to reach the limit. Measured per window: the slowest completing shipped scene (stick-slip
+/// friction, sticking in its first milliseconds) advances 7.8 % of a period; pure Coulomb
+/// friction (`data/scenes/stability/coulomb_0.5.toml`) 0.045 % in its first judged window,
+/// 0.05 % to 1.3 % later.
 pub const CRAWL_FRACTION: f64 = 0.01;
+
+/// Mean step of a crawling window, as a fraction of the largest step, below which the
+/// integrator is taken to chatter (a switching force) rather than to follow a driver too slow
+/// for its steps: pure Coulomb friction chatters at 1e-7 of `run.max_step_s`, the standard
+/// scene at 0.01 r/min steps at 0.24 of it.
+pub const CHATTER_STEP_RATIO: f64 = 1e-3;
+
+/// How far before the driver angle where its ideal loop stops closing a failed run counts as
+/// locked there (deg): the clearance and the contacts' compliance let the linkage go on a
+/// little, or give way a little earlier (a rod shorter than the crank passed 20 clearances
+/// 0.1 deg before the lock of its ideal loop, 10 % of its journal radius 1.3 deg before).
+pub const LOCK_NEAR_DEG: f64 = 5.0;
 
 /// Orbit samples per rotation for the steady-state test.
 pub const ORBIT_PHASES: usize = 360;

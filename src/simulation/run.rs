@@ -5,7 +5,10 @@ use super::checkpoint::Checkpoint;
 use super::record::{Sampler, Settler};
 use super::*;
 use crate::io::progress::Progress;
-use crate::mechanism::{Mechanism, RunState, Workspace};
+use crate::mechanism::{
+    Mechanism, RunState, Workspace, MAX_PENETRATION_CLEARANCES, MAX_PENETRATION_RATIO,
+    MIN_PENETRATION_LIMIT_RATIO,
+};
 use crate::ode::{Event, Integrator, OdeSystem};
 use crate::{Error, Result};
 use std::f64::consts::TAU;
@@ -52,6 +55,9 @@ pub struct Simulation {
     crawl_mark: Option<f64>,
     /// Penetration of each joint at the end of the last accepted step.
     gaps: Vec<f64>,
+    /// Time and coordinates the run started (or resumed) from: where a failed run turns its
+    /// ideal loop through a rotation to see whether the links lock ([`Simulation::at_lock`]).
+    start: (f64, Vec<f64>),
     y_event: Vec<f64>,
     y_mid: Vec<f64>,
     wears: bool,
@@ -119,6 +125,7 @@ impl Simulation {
             energy_start,
             crawl_mark: None,
             gaps,
+            start: (0.0, y0[..n].to_vec()),
             y_event: vec![0.0; dim],
             y_mid: vec![0.0; dim],
             wears,
@@ -254,6 +261,7 @@ impl Simulation {
                 )
             })?;
         sim.validate(&c)?;
+        sim.start.0 = sim.integrator.t();
         sim.rotation = c.rotation;
         sim.end_rotation = c.end_rotation;
         sim.gaps = c.gaps;
@@ -603,7 +611,7 @@ impl Simulation {
             return Ok(());
         }
         let boundary = (self.rotation + 1) as f64 * self.period;
-        self.accepted_step(boundary)?;
+        self.accepted_step(boundary).map_err(|e| self.at_lock(e))?;
         if self.integrator.t() >= boundary {
             self.finish_rotation();
         }
@@ -639,6 +647,50 @@ impl Simulation {
         }
     }
 
+    /// `e`, a failure of this run, with the lock of its ideal loop appended when the links
+    /// cannot close at its driver angle or [`LOCK_NEAR_DEG`] before it
+    /// ([`Mechanism::check_rotation`] from the run's start): the run failed because the
+    /// mechanism locks, whatever gave way first (a penetration, the constraint solve).
+    fn at_lock(&self, e: Error) -> Error {
+        let Error::Integration { time, cause } = e else {
+            return e;
+        };
+        let (t0, q0) = &self.start;
+        let near = LOCK_NEAR_DEG.to_radians() / self.mechanism.driver.omega.abs();
+        let cause = match self.mechanism.check_rotation(*t0, q0) {
+            Ok(Some(lock)) if lock.explains(time - t0, near, self.period) => {
+                format!("{cause}; {}", lock.describe())
+            }
+            _ => cause,
+        };
+        Error::Integration { time, cause }
+    }
+
+    /// The error of clearance joint `k` penetrating `delta` (m) at time `t` beyond its
+    /// [`crate::mechanism::ClearanceJoint::penetration_limit`].
+    fn penetration_error(&self, t: f64, k: usize, delta: f64) -> Error {
+        let cj = &self.mechanism.clearance_joints[k];
+        Error::Integration {
+            time: t,
+            cause: format!(
+                "clearance joint `{}` penetrates {delta:.3e} m ({:.1} x its radial clearance of \
+                 {:.3e} m) at driver angle {:.1} deg, beyond the contact laws' limit of \
+                 {:.3e} m ({} clearances, at least {} % and at most {} % of the journal \
+                 radius): the contact would cover the whole half of the bore; likely cause: a \
+                 speed or load far beyond what the joint carries, a material far too soft, or \
+                 links that cannot reach (the linkage pulls the joint apart)",
+                cj.name,
+                delta / cj.clearance(),
+                cj.clearance(),
+                self.mechanism.driver_angle(t),
+                cj.penetration_limit(),
+                MAX_PENETRATION_CLEARANCES,
+                100.0 * MIN_PENETRATION_LIMIT_RATIO,
+                100.0 * MAX_PENETRATION_RATIO,
+            ),
+        }
+    }
+
     /// Stops a run whose wear left the model's validity ([`MAX_WEAR_RATIO`]).
     fn check_wear_depth(&self) -> Result<()> {
         for (k, joint) in self.state.joints.iter().enumerate() {
@@ -669,39 +721,47 @@ impl Simulation {
     }
 
     /// The error of a run that advanced only `advanced` (s) over the [`CRAWL_WINDOW`] steps
-    /// up to `t` and at that pace needs `needed` more.
+    /// up to `t` and at that pace needs `needed` more; the cause it names depends on the mean
+    /// step against the largest ([`CHATTER_STEP_RATIO`]).
     fn crawl_error(&self, t: f64, advanced: f64, needed: f64) -> Error {
+        let mean = advanced / CRAWL_WINDOW as f64;
+        let (field, largest) = self.settings.largest_step();
+        let cause = if mean < CHATTER_STEP_RATIO * largest {
+            "a force that switches at zero velocity, such as pure Coulomb friction in sticking \
+             contact (the modified law of eq. 4 regularises it), or a contact far stiffer than \
+             the integrator can follow"
+                .to_string()
+        } else {
+            format!(
+                "the driver turns too slowly for the time scale of the dynamics: steps of \
+                 {mean:.1e} s (what the contacts allow; {field} = {largest:e} s) make {:.1e} \
+                 steps per driver period of {:.4e} s; simulate fewer rotations, drive faster \
+                 or raise run.max_steps",
+                self.period / mean,
+                self.period
+            )
+        };
         Error::Integration {
             time: t,
             cause: format!(
                 "the run crawls: its last {CRAWL_WINDOW} steps advanced {advanced:.3e} s (mean \
-                 step {:.1e} s), under {} % of a driver period, and at that pace it needs about \
-                 {needed:.0e} more steps, beyond run.max_steps = {}: a force that switches at \
-                 zero velocity, such as pure Coulomb friction in sticking contact (the modified \
-                 law of eq. 4 regularises it), or a contact far stiffer than the integrator can \
-                 follow",
-                advanced / CRAWL_WINDOW as f64,
+                 step {mean:.1e} s), under {} % of a driver period, and at that pace it needs \
+                 about {needed:.0e} more steps, beyond run.max_steps = {}: {cause}",
                 100.0 * CRAWL_FRACTION,
                 self.settings.max_steps
             ),
         }
     }
 
-    /// Least time [`CRAWL_WINDOW`] steps must advance: [`CRAWL_FRACTION`] of a driver period,
-    /// or of what the window's steps can cover at the scene's largest (or fixed) step if that
-    /// is less, so that a scene asking for tiny steps is not taken for a crawling one.
-    fn crawl_threshold(&self) -> f64 {
-        let (_, step) = self.settings.largest_step();
-        CRAWL_FRACTION * self.period.min(CRAWL_WINDOW as f64 * step)
-    }
-
     /// The steps a run at `t` after `steps` steps still needs, if its last [`CRAWL_WINDOW`]
-    /// steps `advanced` (s) under [`Simulation::crawl_threshold`] and at that pace it would
-    /// not finish within `run.max_steps`; a run that could still finish goes on, however slow.
+    /// steps `advanced` (s) under [`CRAWL_FRACTION`] of a driver period and at that pace it
+    /// would not finish within `run.max_steps`; a run that could still finish goes on, however
+    /// slow. A scene asking for tiny steps is not taken for a crawling one: at its largest
+    /// step it finishes within the limit ([`Scene::check_step_budget`]).
     fn crawling(&self, t: f64, advanced: f64, steps: u64) -> Option<f64> {
         let needed = self.remaining_time(t) / advanced * CRAWL_WINDOW as f64;
         let allowed = self.settings.max_steps.saturating_sub(steps) as f64;
-        (advanced < self.crawl_threshold() && needed > allowed).then_some(needed)
+        (advanced < CRAWL_FRACTION * self.period && needed > allowed).then_some(needed)
     }
 
     /// Simulated time left until the run's end (s); settling counts as one more rotation.
@@ -794,6 +854,10 @@ impl Simulation {
             .zip(&self.gaps)
         {
             *m = m.max(*g);
+        }
+        let joints = &self.mechanism.clearance_joints;
+        if let Some(k) = (0..joints.len()).find(|&k| self.gaps[k] > joints[k].penetration_limit()) {
+            return Err(self.penetration_error(t_stop, k, self.gaps[k]));
         }
         if t_stop >= self.next_history * (1.0 - 1e-12) {
             self.out
@@ -888,17 +952,14 @@ mod tests {
         let mut f = SceneFile::read(scene_path("standard")).unwrap();
         (f.run.rotations, f.run.record_rotations) = (1, 0);
         f.run.wear_snapshots.clear();
-        let period = 60.0 / 2000.0;
-        for (max_step, threshold) in [
-            // 100 000 steps of at most 1 ms could cover 100 s: 1 % of the period it is.
-            (1e-3, CRAWL_FRACTION * period),
-            // At most 2e-9 s a step, they cover 0.67 % of the period: 1 % of that.
-            (2e-9, CRAWL_FRACTION * CRAWL_WINDOW as f64 * 2e-9),
-        ] {
-            f.run.max_step_s = max_step;
-            let sim = Simulation::start(&f.build().unwrap()).unwrap();
-            approx::assert_relative_eq!(sim.crawl_threshold(), threshold, max_relative = 1e-12);
-        }
+        // At most 2e-9 s a step, 100 000 steps cover 0.67 % of the 30 ms period (under 1 %),
+        // but at that pace the 15e6 steps of the rotation fit in the 20e6 allowed.
+        f.run.max_step_s = 2e-9;
+        let sim = Simulation::start(&f.build().unwrap()).unwrap();
+        assert_eq!(
+            sim.crawling(0.0, CRAWL_WINDOW as f64 * 2e-9, CRAWL_WINDOW),
+            None
+        );
     }
 
     #[test]

@@ -1,18 +1,21 @@
 //! `jointwear check SCENE`: validates a scene, prints what it describes and the pose it
-//! assembles to, noting bodies that may have closed on another branch of their loop, and
-//! draws that pose (`mechanism_<scene>.png`).
+//! assembles to, noting bodies that may have closed on another branch of their loop, turns
+//! the driver through one rotation to find where the loop cannot close (bad input), and
+//! draws the assembled pose (`mechanism_<scene>.png`).
 
 use crate::failure::{CliResult, Failure};
 use crate::{checked_out_dir, scene_stem};
 use jointwear::io::plot::render_mechanism;
+use jointwear::mechanism::SWEEP_STEP_DEG;
 use jointwear::scene::SceneFile;
 use jointwear::simulation::picture::pose_picture;
 use jointwear::simulation::Scene;
 use std::path::{Path, PathBuf};
 
 /// `check`: reads and builds the scene at `path`, prints its bodies, joints, driver, run
-/// settings, degrees of freedom and assembled pose, and draws the pose into `out`
-/// ([`checked_out_dir`]).
+/// settings, degrees of freedom and assembled pose, draws the pose into `out`
+/// ([`checked_out_dir`]), and fails (bad input) if the driver cannot turn a whole rotation
+/// ([`jointwear::mechanism::Mechanism::check_rotation`]).
 pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
     let file = SceneFile::read(path).map_err(|e| Failure::input(path, e))?;
     let scene = file.build().map_err(|e| Failure::from(path, e))?;
@@ -86,6 +89,15 @@ pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
         dof - 2 * m.clearance_joints.len() as i64
     );
     let (q, far) = print_assembly(path, &scene)?;
+    let lock = m
+        .check_rotation(0.0, &q)
+        .map_err(|e| Failure::from(path, e))?;
+    if lock.is_none() {
+        println!(
+            "one driver rotation: the ideal loop closes at every driver angle (every \
+             {SWEEP_STEP_DEG} deg)"
+        );
+    }
     let mut picture = pose_picture(m, &q);
     picture.title = scene.title.clone();
     // the branch on a line of its own: a note of several bodies is long
@@ -97,7 +109,11 @@ pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
         png.display(),
         picture.note.replace('\n', "; ")
     );
-    Ok(())
+    // Drawn first: the pose at the start shows which links cannot reach.
+    match lock {
+        Some(lock) => Err(Failure::from(path, lock.error())),
+        None => Ok(()),
+    }
 }
 
 /// A body assembled far from its guessed angle: its name and turn from the guess (deg).
