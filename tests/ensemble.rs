@@ -122,7 +122,13 @@ fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
         jointwear::io::output::read_rows(&out.join("ensemble_members.csv")).unwrap();
     assert_eq!(rows.len(), 3);
     assert_eq!(header[0], "member");
-    let (_, summary) = jointwear::io::output::read_rows(&out.join("ensemble_summary.csv")).unwrap();
+    let (head, summary) =
+        jointwear::io::output::read_rows(&out.join("ensemble_summary.csv")).unwrap();
+    // every quantity but an angle has its state count (1 or 2)
+    let states = head.iter().position(|h| h == "states").unwrap();
+    assert!(summary
+        .iter()
+        .all(|r| r[1].ends_with("_deg") || ["1", "2"].contains(&r[states].as_str())));
     assert!(summary
         .iter()
         .any(|r| r[1] == "max_wear_depth_m" && r[2] == "3"));

@@ -78,10 +78,13 @@ class Scene:
         driver) and ``rotations``."""
         return self._doc.check()
 
-    def run(self) -> Run:
+    def run(self, member: Optional[int] = None, seed: int = 1) -> Run:
         """Simulates the scene (the GIL is released meanwhile) and returns the :class:`Run`:
-        the same numbers, bit for bit, as ``jointwear run``."""
-        return Run(self._doc.run())
+        the same numbers, bit for bit, as ``jointwear run``. With ``member``, runs member
+        ``member`` (0-based) of ``ensemble(members, seed)`` instead, bit for bit the member the
+        ensemble ran (``jointwear run --member K --seed S``); a member beyond the largest
+        ensemble raises :class:`jointwear.SceneError`."""
+        return Run(self._doc.run(None if member is None else int(member), int(seed)))
 
     def ensemble(self, members: int = 32, seed: int = 1) -> Ensemble:
         """Runs ``members`` copies of the scene in parallel, each with every journal displaced

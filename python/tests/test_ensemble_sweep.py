@@ -134,3 +134,13 @@ def test_sweep_to_pandas():
     assert isinstance(frame, pd.DataFrame) and len(frame) == 2
     assert frame["error"].isna().all()
     assert frame["driver.speed_rpm"].tolist() == [-600, -2000]
+
+
+def test_a_member_run_is_its_ensemble_member_bit_for_bit():
+    scene = short(jointwear.Scene.load(STANDARD))
+    ens = scene.ensemble(members=3, seed=7)
+    one = scene.run(member=2, seed=7)
+    assert np.array_equal(one.wear["rod-slider"], ens.wear["rod-slider"][2])
+    assert not np.array_equal(one.wear["rod-slider"], ens.wear["rod-slider"][1])
+    with pytest.raises(jointwear.SceneError, match="member"):
+        scene.run(member=10_000, seed=7)

@@ -13,6 +13,7 @@ pub mod figures;
 pub mod format;
 pub mod golden;
 pub mod performance;
+pub mod perturbation;
 pub mod report;
 pub mod separation;
 pub mod studies;

@@ -9,7 +9,7 @@ use crate::analysis::Motion;
 use crate::io::progress::Progress;
 use crate::laws::wear::sector_angles_deg;
 use crate::scene::{set_dotted, SceneFile};
-use crate::simulation::ensemble::{self, EnsembleSettings};
+use crate::simulation::ensemble::{self, EnsembleSettings, MAX_MEMBERS};
 use crate::simulation::{simulate_with_progress, RunOutput, Scene};
 use crate::sweep::{
     joint_statistics, summarize, Assignment, JointSummary, Outcome, Shard, Sweep, SCALARS,
@@ -130,12 +130,28 @@ impl Document {
         Ok(d)
     }
 
-    /// Simulates the scene with the GIL released; returns the time series (the columns of
-    /// `jointwear run`'s `timeseries.csv`, then every body's position), the final wear profile
-    /// and summary of every clearance joint, the wear snapshots and the run's counters.
-    fn run<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    /// Simulates the scene with the GIL released, or with `member`, member `member` of the
+    /// ensemble of `seed` (`jointwear run --member K --seed S`); returns the time series (the
+    /// columns of `jointwear run`'s `timeseries.csv`, then every body's position), the final
+    /// wear profile and summary of every clearance joint, the wear snapshots and the run's
+    /// counters.
+    #[pyo3(signature = (member=None, seed=1))]
+    fn run<'py>(
+        &self,
+        py: Python<'py>,
+        member: Option<usize>,
+        seed: u64,
+    ) -> PyResult<Bound<'py, PyDict>> {
         let scene = self.scene()?;
-        let out = interruptible(py, |cancel| simulate_with_progress(&scene, cancel))?;
+        let of = EnsembleSettings {
+            members: MAX_MEMBERS,
+            seed,
+            ..EnsembleSettings::default()
+        };
+        let out = interruptible(py, |cancel| match member {
+            Some(k) => ensemble::run_member(&scene, &scene.run, &of, k, cancel),
+            None => simulate_with_progress(&scene, cancel),
+        })?;
         let out = out.map_err(|e| self.error(e))?;
         run_dict(py, &scene, &out)
     }

@@ -13,6 +13,7 @@
 pub mod file;
 
 use crate::analysis::regions::{wear_regions, Region};
+use crate::analysis::states::States;
 use crate::analysis::statistics::{Band, Distribution};
 use crate::analysis::Motion;
 use crate::io::progress::{Cancellation, Progress};
@@ -247,6 +248,9 @@ pub struct JointStatistics {
     /// Distribution of each of [`JointSummary::scalars`] (angles unwrapped around their
     /// circular mean).
     pub scalars: Vec<(&'static str, Distribution)>,
+    /// The states of each quantity of `scalars` but the angles ([`States`]: largest-gap rule;
+    /// an angle's values are circular, so sorting them has no meaning), in the same order.
+    pub states: Vec<(&'static str, States)>,
     /// Per-sector band of the final wear profiles, for a joint with a wear model.
     pub wear: Option<Band>,
 }
@@ -263,22 +267,30 @@ pub fn joint_statistics(
         .iter()
         .enumerate()
         .map(|(k, cj)| {
+            let values = |i: usize| members.iter().map(move |(s, _)| s[k].scalars()[i].1);
+            let angle = |name: &str| name.ends_with("_deg");
             let scalars = SCALARS
                 .iter()
                 .enumerate()
                 .map(|(i, &name)| {
-                    let values = members.iter().map(|(s, _)| s[k].scalars()[i].1);
-                    let d = if name.ends_with("_deg") {
-                        Distribution::of_angles_deg(values)
+                    let d = if angle(name) {
+                        Distribution::of_angles_deg(values(i))
                     } else {
-                        Distribution::of(values)
+                        Distribution::of(values(i))
                     };
                     (name, d)
                 })
                 .collect();
+            let states = SCALARS
+                .iter()
+                .enumerate()
+                .filter(|(_, name)| !angle(name))
+                .map(|(i, &name)| (name, States::of(&values(i).collect::<Vec<f64>>())))
+                .collect();
             JointStatistics {
                 name: cj.name.clone(),
                 scalars,
+                states,
                 wear: cj
                     .wear
                     .is_some()

@@ -5,6 +5,7 @@
 use crate::failure::{CliResult, Failure};
 use crate::outputs::{conventions, write_summary, PROGRAM, SUMMARY_FILE};
 use crate::{claim_out, joint_file, load_variant};
+use jointwear::analysis::states::States;
 use jointwear::analysis::statistics::{Distribution, VALUE_KEYS};
 use jointwear::io::output::{number, number_or_empty, write_outputs, write_rows};
 use jointwear::io::plot::{render, Axes, Series, Shade, Style};
@@ -110,6 +111,14 @@ pub fn run_ensemble(
                     "    {name:22} {:.6e} ± {:.2e}  [{:.6e}, {:.6e}]",
                     d.mean, d.sd, d.quantiles[0], d.quantiles[4]
                 );
+                let states = j.states.iter().find(|(n, _)| n == name);
+                if let Some((low, high)) = states.and_then(|(_, s)| s.low_high()) {
+                    let part = |s: &jointwear::analysis::states::State| {
+                        let x = &s.distribution;
+                        format!("{} of {}: {:.6e} ± {:.2e}", x.n, d.n, x.mean, x.sd)
+                    };
+                    println!("      two states: low {}, high {}", part(low), part(high));
+                }
             }
         }
     }
@@ -161,12 +170,15 @@ fn write_ensemble(
     let stats = joint_statistics(scene, members);
     let mut head = vec!["joint", "quantity", "n"];
     head.extend(VALUE_KEYS);
+    head.extend(STATE_KEYS);
     let numbers = |d: &Distribution| d.values().map(number_or_empty);
     let mut rows = Vec::new();
     for j in &stats {
         for (name, d) in &j.scalars {
             let mut row = vec![j.name.clone(), name.to_string(), d.n.to_string()];
             row.extend(numbers(d));
+            let states = j.states.iter().find(|(n, _)| n == name).map(|(_, s)| s);
+            row.extend(state_cells(states));
             rows.push(row);
         }
     }
@@ -212,6 +224,36 @@ fn write_ensemble(
         render(&dir.join("wear.png"), &[axes])?;
     }
     Ok(stats)
+}
+
+/// Columns of a quantity's states in `ensemble_summary.csv` ([`States`]).
+const STATE_KEYS: [&str; 7] = [
+    "states",
+    "low_n",
+    "low_mean",
+    "low_sd",
+    "high_n",
+    "high_mean",
+    "high_sd",
+];
+
+/// The [`STATE_KEYS`] cells of a quantity: its state count, then the low and the high state's
+/// members, mean and sd (empty with one state); all empty for an angle (no states).
+fn state_cells(states: Option<&States>) -> Vec<String> {
+    let Some(s) = states else {
+        return vec![String::new(); STATE_KEYS.len()];
+    };
+    let mut cells = vec![s.states.len().to_string()];
+    for i in 0..2 {
+        match s.low_high().map(|(low, high)| [low, high][i]) {
+            Some(state) => {
+                let d = &state.distribution;
+                cells.extend([d.n.to_string(), number(d.mean), number(d.sd)]);
+            }
+            None => cells.extend([String::new(), String::new(), String::new()]),
+        }
+    }
+    cells
 }
 
 /// `summary.json` of `run --ensemble`: the ensemble and the distribution of every quantity.
@@ -289,8 +331,13 @@ fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
          \x20 wall_time_s, error                   the member's wall time (s); empty error\n\
          ensemble_summary.csv: per joint and quantity (the numeric columns above, and \
          continuous_contact, 1 or 0 per member, whose mean is the share in continuous \
-         contact): n (finite values), mean, sd, min, q05, q25, q50, q75, q95, max; empty \
-         fields where n is 0 (nothing recorded).\n",
+         contact): n (finite values), mean, sd, min, q05, q25, q50, q75, q95, max (empty \
+         fields where n is 0: nothing recorded); then the \
+         states the members fall into (largest-gap rule: split at the largest gap of the sorted \
+         values that leaves max(2, ceil(n/10)) members on each side, when it exceeds 2 pooled \
+         within-state sds; none for angles): states (1 or 2), and with two low_n, low_mean, \
+         low_sd, high_n, high_mean, high_sd. Where a quantity has two states, its pooled mean \
+         depends on the share in each, and that share on how members are perturbed.\n",
     );
     if !worn.is_empty() {
         text.push_str(&format!(

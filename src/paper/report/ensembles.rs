@@ -101,6 +101,7 @@ pub(super) fn ensemble_section(runs: &Runs) -> Result<String> {
     );
     md.push_str(&convergence_section());
     md.push_str(&separation_section(runs)?);
+    md.push_str(&super::perturbation::perturbation_section());
     Ok(md)
 }
 

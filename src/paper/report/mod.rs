@@ -18,6 +18,7 @@ mod ensembles;
 mod figures;
 mod markdown;
 mod numerical;
+mod perturbation;
 mod table2;
 mod table3;
 mod text;

@@ -1,0 +1,372 @@
+//! How much do the ensembles depend on how members are perturbed? Table 3's ensembles (every
+//! case, settled, two recorded rotations) and the standard case's 40-rotation wear run, each
+//! run under every protocol of [`PROTOCOLS`] with [`DEFAULT_MEMBERS`] members (seed
+//! [`DEFAULT_SEED`]), every statistic set beside the default protocol's:
+//!
+//! * a mean (deepest wear, largest penetration, the P-w and s-w concordances): pooled, and
+//!   within each state where the default ensemble splits into two ([`States`]; the other
+//!   protocols' members are assigned by the default's gap midpoint, so a state means the same
+//!   under every protocol), each against the default by Welch's t test;
+//! * a share (the low state's; the members in continuous contact; those whose P-w concordance
+//!   dominates) against the default by Fisher's exact test.
+//!
+//! Members of different protocols are independent draws, so the tests are unpaired. Writes
+//! `data/perturbation_sensitivity.csv` ([`PERTURBATION_FILE`]); paper.md's section 2 reads it.
+
+use crate::analysis::significance::{fisher_two_sided, Welch};
+use crate::analysis::states::States;
+use crate::analysis::statistics::Distribution;
+use crate::io::output::{read_rows, write_rows};
+use crate::io::progress::Progress;
+use crate::paper::cases::{Need, Runs, CASES};
+use crate::paper::figures::output_path;
+use crate::simulation::ensemble::{
+    EnsembleSettings, Perturbation, DEFAULT_MEMBERS, DEFAULT_SEED, OFFSET_RADIUS,
+};
+use crate::Result;
+
+/// The protocols compared; the first is the default every other is measured against.
+pub const PROTOCOLS: [Perturbation; 6] = [
+    Perturbation::Disc(OFFSET_RADIUS),
+    Perturbation::Disc(1e-9),
+    Perturbation::Disc(100e-9),
+    Perturbation::Axis(OFFSET_RADIUS),
+    Perturbation::Velocity(10e-6),
+    Perturbation::Tolerance(1e-3),
+];
+
+/// File of the study under `data/`.
+pub const PERTURBATION_FILE: &str = "perturbation_sensitivity.csv";
+
+/// Columns of [`PERTURBATION_FILE`].
+pub const PERTURBATION_HEADER: [&str; 13] = [
+    "protocol",
+    "case",
+    "quantity",
+    "state",
+    "members",
+    "count",
+    "mean",
+    "sd",
+    "test",
+    "statistic",
+    "dof",
+    "p",
+    "wall_time_s",
+];
+
+/// A difference from the default protocol is called significant below this p: with about
+/// fifteen statistics per protocol, 0.01 keeps the chance of one false alarm per protocol near
+/// 15 % rather than the 54 % of 0.05.
+pub const SIGNIFICANT_P: f64 = 0.01;
+
+/// One statistic of one protocol: a mean (`count` empty) or a share (`count` of `members`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SensitivityRow {
+    /// [`Perturbation::key`].
+    pub protocol: String,
+    /// Case scene.
+    pub case: String,
+    /// What was measured (SI unit in its name, or a concordance or a share).
+    pub quantity: String,
+    /// `pooled`, `low` or `high` (a state's members), or `share` (of the low state, or of the
+    /// members the quantity names).
+    pub state: String,
+    /// Members counted.
+    pub members: usize,
+    /// For a share: how many of `members`.
+    pub count: Option<usize>,
+    /// Mean over the members (the share itself for a share).
+    pub mean: f64,
+    /// Sample standard deviation (NaN for a share).
+    pub sd: f64,
+    /// `welch`, `fisher`, or empty (the default protocol, or no test possible).
+    pub test: String,
+    /// Welch's t (NaN otherwise).
+    pub statistic: f64,
+    /// Welch's degrees of freedom (NaN otherwise).
+    pub dof: f64,
+    /// Two-sided p of the difference from the default (NaN without a test).
+    pub p: f64,
+    /// Wall time of the protocol's ensembles (s).
+    pub wall_time_s: f64,
+}
+
+impl SensitivityRow {
+    /// Whether it differs from the default at [`SIGNIFICANT_P`].
+    pub fn differs(&self) -> bool {
+        self.p < SIGNIFICANT_P
+    }
+
+    fn fields(&self) -> Vec<String> {
+        let num = |x: f64| {
+            if x.is_finite() {
+                format!("{x:.6e}")
+            } else {
+                String::new()
+            }
+        };
+        vec![
+            self.protocol.clone(),
+            self.case.clone(),
+            self.quantity.clone(),
+            self.state.clone(),
+            self.members.to_string(),
+            self.count.map_or(String::new(), |c| c.to_string()),
+            num(self.mean),
+            num(self.sd),
+            self.test.clone(),
+            num(self.statistic),
+            num(self.dof),
+            num(self.p),
+            format!("{:.1}", self.wall_time_s),
+        ]
+    }
+
+    fn parse(f: &[String]) -> Option<SensitivityRow> {
+        let x = |i: usize| match f.get(i)?.as_str() {
+            "" => Some(f64::NAN),
+            s => s.parse::<f64>().ok(),
+        };
+        Some(SensitivityRow {
+            protocol: f.first()?.clone(),
+            case: f.get(1)?.clone(),
+            quantity: f.get(2)?.clone(),
+            state: f.get(3)?.clone(),
+            members: f.get(4)?.parse().ok()?,
+            count: f.get(5)?.parse().ok(),
+            mean: x(6)?,
+            sd: x(7)?,
+            test: f.get(8)?.clone(),
+            statistic: x(9)?,
+            dof: x(10)?,
+            p: x(11)?,
+            wall_time_s: x(12)?,
+        })
+    }
+}
+
+/// The rows of `data/perturbation_sensitivity.csv`; `None` when it is missing or of another
+/// layout.
+pub fn read_perturbation() -> Option<Vec<SensitivityRow>> {
+    let (header, rows) = read_rows(&output_path("data", PERTURBATION_FILE)).ok()?;
+    if header != PERTURBATION_HEADER {
+        return None;
+    }
+    rows.iter().map(|r| SensitivityRow::parse(r)).collect()
+}
+
+/// The members' values of every statistic of one protocol: `(case, quantity, values)` for
+/// means, `(case, quantity, flags)` for shares.
+struct Measured {
+    means: Vec<(&'static str, &'static str, Vec<f64>)>,
+    shares: Vec<(&'static str, &'static str, Vec<bool>)>,
+    seconds: f64,
+}
+
+fn measure(runs: &Runs) -> Result<Measured> {
+    let mut means = Vec::new();
+    let mut shares = Vec::new();
+    for case in CASES.list() {
+        let e = runs.steady(case.scene)?;
+        let of = |f: &dyn Fn(&crate::paper::cases::SteadyMember) -> f64| {
+            e.members.iter().map(f).collect::<Vec<f64>>()
+        };
+        means.push((case.scene, "max_penetration_m", of(&|m| m.max_penetration)));
+        means.push((
+            case.scene,
+            "pw_concordance",
+            of(&|m| m.concordance.pressure_wear),
+        ));
+        means.push((
+            case.scene,
+            "sw_concordance",
+            of(&|m| m.concordance.sliding_wear),
+        ));
+        let flags = |f: &dyn Fn(&crate::paper::cases::SteadyMember) -> bool| {
+            e.members.iter().map(f).collect::<Vec<bool>>()
+        };
+        shares.push((
+            case.scene,
+            "continuous_contact",
+            flags(&|m| m.motion.continuous()),
+        ));
+        shares.push((
+            case.scene,
+            "pw_dominant",
+            flags(&|m| m.concordance.dominant() == "P-w"),
+        ));
+    }
+    let wear = runs.wear(CASES.standard.scene)?;
+    means.push((
+        CASES.standard.scene,
+        "deepest_wear_m",
+        wear.members.iter().map(|m| m.max_depth()).collect(),
+    ));
+    Ok(Measured {
+        means,
+        shares,
+        seconds: runs.seconds,
+    })
+}
+
+/// The rows of one protocol against the default's measurement (`base`; `None` for the default
+/// itself).
+fn rows_of(
+    protocol: &Perturbation,
+    m: &Measured,
+    base: Option<&Measured>,
+    split_at: &[(&str, &str, Option<f64>)],
+) -> Vec<SensitivityRow> {
+    let row = |case: &str, quantity: &str, state: &str| SensitivityRow {
+        protocol: protocol.key(),
+        case: case.to_string(),
+        quantity: quantity.to_string(),
+        state: state.to_string(),
+        members: 0,
+        count: None,
+        mean: f64::NAN,
+        sd: f64::NAN,
+        test: String::new(),
+        statistic: f64::NAN,
+        dof: f64::NAN,
+        p: f64::NAN,
+        wall_time_s: m.seconds,
+    };
+    let mean_row =
+        |case: &str, quantity: &str, state: &str, d: Distribution, b: Option<Distribution>| {
+            let mut r = row(case, quantity, state);
+            (r.members, r.mean, r.sd) = (d.n, d.mean, d.sd);
+            if let Some(w) = b.and_then(|b| Welch::of(&d, &b)) {
+                (r.test, r.statistic, r.dof, r.p) = ("welch".into(), w.t, w.dof, w.p);
+            }
+            r
+        };
+    let share_row = |case: &str, quantity: &str, k: usize, n: usize, b: Option<(usize, usize)>| {
+        let mut r = row(case, quantity, "share");
+        (r.members, r.count, r.mean) = (n, Some(k), k as f64 / n.max(1) as f64);
+        if let Some((kb, nb)) = b {
+            (r.test, r.p) = ("fisher".into(), fisher_two_sided(k, n, kb, nb));
+        }
+        r
+    };
+    let mut rows = Vec::new();
+    for (i, (case, quantity, values)) in m.means.iter().enumerate() {
+        let base_values = base.map(|b| &b.means[i].2);
+        let pooled = |v: &[f64]| Distribution::of(v.iter().copied());
+        rows.push(mean_row(
+            case,
+            quantity,
+            "pooled",
+            pooled(values),
+            base_values.map(|v| pooled(v)),
+        ));
+        let Some(threshold) = split_at[i].2 else {
+            continue;
+        };
+        let part = |v: &[f64], low: bool| {
+            Distribution::of(v.iter().copied().filter(|x| (*x < threshold) == low))
+        };
+        for (state, low) in [("low", true), ("high", false)] {
+            rows.push(mean_row(
+                case,
+                quantity,
+                state,
+                part(values, low),
+                base_values.map(|v| part(v, low)),
+            ));
+        }
+        let low = |v: &[f64]| v.iter().filter(|x| **x < threshold).count();
+        rows.push(share_row(
+            case,
+            &format!("{quantity}.low_state"),
+            low(values),
+            values.len(),
+            base_values.map(|v| (low(v), v.len())),
+        ));
+    }
+    for (i, (case, quantity, flags)) in m.shares.iter().enumerate() {
+        let count = |f: &[bool]| f.iter().filter(|b| **b).count();
+        let b = base.map(|b| &b.shares[i].2);
+        rows.push(share_row(
+            case,
+            quantity,
+            count(flags),
+            flags.len(),
+            b.map(|f| (count(f), f.len())),
+        ));
+    }
+    rows
+}
+
+/// Runs the study ([`PROTOCOLS`], module documentation), writes `data/perturbation_sensitivity.csv`
+/// and returns its rows; `progress` counts members.
+pub fn perturbation_study(progress: &dyn Progress) -> Result<Vec<SensitivityRow>> {
+    let mut needs: Vec<Need> = CASES.list().map(|c| Need::Steady(c.scene)).to_vec();
+    needs.push(Need::Wear(CASES.standard.scene));
+    let measured = PROTOCOLS
+        .iter()
+        .map(|&perturbation| {
+            let ensemble = EnsembleSettings {
+                members: DEFAULT_MEMBERS,
+                seed: DEFAULT_SEED,
+                perturbation,
+            };
+            measure(&Runs::compute(&needs, ensemble, &|_| {}, progress)?)
+        })
+        .collect::<Result<Vec<Measured>>>()?;
+    let base = &measured[0];
+    // the default's states, as thresholds every protocol's members are assigned by
+    let split_at: Vec<(&str, &str, Option<f64>)> = base
+        .means
+        .iter()
+        .map(|(case, quantity, v)| {
+            let threshold = States::of(v)
+                .low_high()
+                .map(|(low, high)| 0.5 * (low.distribution.max + high.distribution.min));
+            (*case, *quantity, threshold)
+        })
+        .collect();
+    let rows: Vec<SensitivityRow> = PROTOCOLS
+        .iter()
+        .zip(&measured)
+        .enumerate()
+        .flat_map(|(i, (p, m))| rows_of(p, m, (i > 0).then_some(base), &split_at))
+        .collect();
+    write_rows(
+        &output_path("data", PERTURBATION_FILE),
+        &PERTURBATION_HEADER,
+        rows.iter().map(SensitivityRow::fields),
+    )?;
+    Ok(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_round_trip_through_their_fields() {
+        let r = SensitivityRow {
+            protocol: "axis_10nm".into(),
+            case: "standard".into(),
+            quantity: "deepest_wear_m.low_state".into(),
+            state: "share".into(),
+            members: 32,
+            count: Some(5),
+            mean: 5.0 / 32.0,
+            sd: f64::NAN,
+            test: "fisher".into(),
+            statistic: f64::NAN,
+            dof: f64::NAN,
+            p: 0.0123,
+            wall_time_s: 41.0,
+        };
+        let back = SensitivityRow::parse(&r.fields()).unwrap();
+        assert_eq!(back.count, Some(5));
+        assert_eq!(back.quantity, r.quantity);
+        assert!(back.sd.is_nan() && back.statistic.is_nan());
+        assert!((back.p - 0.0123).abs() < 1e-9 && !back.differs());
+        assert_eq!(PERTURBATION_HEADER.len(), r.fields().len());
+    }
+}
