@@ -118,7 +118,9 @@ fn a_lock_of_a_live_process_refuses_and_a_dead_ones_is_taken_over() {
 #[test]
 fn a_second_sweep_into_a_file_in_use_is_refused() {
     let dir = temp_dir("outputs", "two-sweeps");
-    let scene = short_standard(&dir, "scene.toml", 4, &[]);
+    // 20 rotations a case: the first sweep runs for about a second, long after the second
+    // has been refused.
+    let scene = short_standard(&dir, "scene.toml", 20, &[]);
     let out = dir.join("s.csv");
     let values = "driver.speed_rpm=-2000,-1500,-1000";
     let mut first = spawn(&["sweep", s(&scene), "--set", values, "--out", s(&out)]);
