@@ -101,9 +101,11 @@ class Scene:
     ) -> SweepResult:
         """Runs the cartesian product of the values of ``grid`` (dotted key -> values; the last
         key varies fastest, as in ``jointwear sweep``) in parallel, each case once or as an
-        ensemble of ``members``. Every case is validated before any runs (a bad value raises
-        :class:`jointwear.SceneError`); a case that fails while running has its message in the
-        ``error`` column and the others go on."""
+        ensemble of ``members``. Every value of every key is validated before any case runs
+        (a bad value raises :class:`jointwear.SceneError`), and so are the keys (one given
+        twice, also as an alias such as ``clearance.00.clearance_mm``, is refused) and the size
+        (at most 1 000 000 cases); cases are built as they run. A case that fails to build or
+        while running has its message in the ``error`` column and the others go on."""
         keys = list(grid)
         values = [list(grid[k]) for k in keys]
         cases = self._doc.sweep(keys, values, members, int(seed))

@@ -144,3 +144,15 @@ def test_a_member_run_is_its_ensemble_member_bit_for_bit():
     assert not np.array_equal(one.wear["rod-slider"], ens.wear["rod-slider"][1])
     with pytest.raises(jointwear.SceneError, match="member"):
         scene.run(member=10_000, seed=7)
+
+
+def test_a_grid_beyond_the_case_limit_or_with_a_key_twice_raises_scene_error(tmp_path):
+    scene = jointwear.Scene.load(short_file(tmp_path))
+    grid = {
+        "driver.speed_rpm": list(range(-2000, -999)),
+        "clearance.0.clearance_mm": [0.02 + 1e-5 * i for i in range(1000)],
+    }
+    with pytest.raises(jointwear.SceneError, match="1001 x 1000 = 1001000 cases"):
+        scene.sweep(grid)
+    with pytest.raises(jointwear.SceneError, match="each key once"):
+        scene.sweep({"clearance.0.clearance_mm": [0.1], "clearance.00.clearance_mm": [0.2]})

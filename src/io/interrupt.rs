@@ -1,7 +1,7 @@
 //! Interruption of the command line's runs without litter: temporary outputs are registered
 //! here while they are written, and SIGINT, SIGTERM or SIGHUP removes them, says what it
 //! removed and what stays (e.g. a sweep's finished rows), and exits with
-//! [`INTERRUPTED_EXIT_CODE`].
+//! [`INTERRUPTED_EXIT_CODE`]. The lock files of claimed outputs ([`claim`]) are released too.
 //!
 //! The handler holds the registry's lock until the process exits, so no temporary output can
 //! start after it has cleaned up. A writer that registered its file just before the signal but
@@ -16,12 +16,16 @@ pub const INTERRUPTED_EXIT_CODE: i32 = 130;
 
 struct Registry {
     temporaries: Vec<PathBuf>,
+    /// Lock files of claimed outputs ([`crate::io::lock`]), each with the folder its claim
+    /// created, if it did: released without a word, the folder removed only if left empty.
+    claims: Vec<(PathBuf, Option<PathBuf>)>,
     kept: Vec<String>,
     interrupted: bool,
 }
 
 static REGISTRY: Mutex<Registry> = Mutex::new(Registry {
     temporaries: Vec::new(),
+    claims: Vec::new(),
     kept: Vec::new(),
     interrupted: false,
 });
@@ -50,11 +54,28 @@ pub fn temporary(path: &Path) -> Option<Temporary> {
     })
 }
 
+/// Registers the lock file `lock` of a claim, and the folder `created` the claim created, to
+/// be released if the program is interrupted while the returned guard lives; `None` once the
+/// program is being interrupted.
+pub fn claim(lock: &Path, created: Option<&Path>) -> Option<Temporary> {
+    let mut r = registry();
+    if r.interrupted {
+        return None;
+    }
+    r.claims
+        .push((lock.to_path_buf(), created.map(Path::to_path_buf)));
+    Some(Temporary {
+        path: lock.to_path_buf(),
+    })
+}
+
 impl Drop for Temporary {
     fn drop(&mut self) {
         let mut r = registry();
         if let Some(i) = r.temporaries.iter().rposition(|p| *p == self.path) {
             r.temporaries.swap_remove(i);
+        } else if let Some(i) = r.claims.iter().rposition(|(p, _)| *p == self.path) {
+            r.claims.swap_remove(i);
         }
     }
 }
@@ -83,6 +104,13 @@ fn on_signal() {
         };
         if gone.is_ok() {
             removed.push(path.display().to_string());
+        }
+    }
+    for (lock, created) in &r.claims {
+        let _ = std::fs::remove_file(lock);
+        if let Some(dir) = created {
+            // Fails, as it should, unless the folder is empty.
+            let _ = std::fs::remove_dir(dir);
         }
     }
     let mut message = match removed.len() {

@@ -6,7 +6,8 @@
 //! is refused with an error naming them. A lock whose holder is no longer alive on this host
 //! (a process killed with SIGKILL cannot remove it) is stale: it is taken over, with a message.
 //! The lock is removed when its [`Lock`] drops, and by the interrupt handler
-//! ([`crate::io::interrupt`]) on SIGINT, SIGTERM or SIGHUP.
+//! ([`crate::io::interrupt`]) on SIGINT, SIGTERM or SIGHUP, with the folder the claim created
+//! if nothing was written into it.
 //!
 //! Whether a holder lives is told by `/proc/<pid>` on this host; a lock of another host (a
 //! shared file system) is never taken over, as its holder cannot be seen from here.
@@ -25,6 +26,8 @@ pub const FOLDER_LOCK: &str = ".jointwear.lock";
 #[derive(Debug)]
 pub struct Lock {
     path: PathBuf,
+    /// The folder the claim created, removed with the lock if nothing was written into it.
+    created: Option<PathBuf>,
     _registered: Option<interrupt::Temporary>,
 }
 
@@ -32,6 +35,10 @@ impl Drop for Lock {
     fn drop(&mut self) {
         // Best effort: a lock left behind is stale and taken over by the next writer.
         let _ = fs::remove_file(&self.path);
+        if let Some(dir) = &self.created {
+            // Fails, as it should, unless the folder is empty.
+            let _ = fs::remove_dir(dir);
+        }
     }
 }
 
@@ -45,11 +52,18 @@ impl Lock {
 /// Claims the output folder `dir` (creating it) for this process; `option` names the setting
 /// that chose it (e.g. `--out`) in the error of a folder another process is writing.
 pub fn claim_folder(option: &str, dir: &Path) -> Result<Lock> {
+    let created = (!dir.exists()).then(|| dir.to_path_buf());
     fs::create_dir_all(dir).map_err(|source| Error::Io {
         path: dir.to_path_buf(),
         source,
     })?;
-    claim(option, dir, &dir.join(FOLDER_LOCK))
+    let lock = claim(option, dir, &dir.join(FOLDER_LOCK), created.as_deref());
+    if lock.is_err() {
+        if let Some(dir) = &created {
+            let _ = fs::remove_dir(dir);
+        }
+    }
+    lock
 }
 
 /// Claims the output file `file` (e.g. a sweep's CSV) for this process through the lock file
@@ -65,7 +79,7 @@ pub fn claim_file(option: &str, file: &Path) -> Result<Lock> {
             source,
         })?;
     }
-    claim(option, file, &lock)
+    claim(option, file, &lock, None)
 }
 
 /// This host's name, as lock files record it.
@@ -119,7 +133,7 @@ fn describe(text: &str) -> String {
 
 /// Creates `lock` exclusively for this process, taking over a stale one; the output `target`
 /// and the `option` that chose it name a refusal.
-fn claim(option: &str, target: &Path, lock: &Path) -> Result<Lock> {
+fn claim(option: &str, target: &Path, lock: &Path, created: Option<&Path>) -> Result<Lock> {
     let io = |source| Error::Io {
         path: lock.to_path_buf(),
         source,
@@ -133,9 +147,10 @@ fn claim(option: &str, target: &Path, lock: &Path) -> Result<Lock> {
             .open(lock)
         {
             Ok(mut file) => {
-                let registered = interrupt::temporary(lock);
+                let registered = interrupt::claim(lock, created);
                 let lock = Lock {
                     path: lock.to_path_buf(),
+                    created: created.map(Path::to_path_buf),
                     _registered: registered,
                 };
                 file.write_all(text.as_bytes())
@@ -204,6 +219,10 @@ mod tests {
     fn a_second_claim_is_refused_naming_the_holder_and_a_stale_one_taken_over() {
         let dir = std::env::temp_dir().join(format!("jointwear-lock-{}", std::process::id()));
         let _ = fs::remove_dir_all(&dir);
+        // A folder the claim created goes with it, if left empty.
+        drop(claim_folder("--out", &dir).unwrap());
+        assert!(!dir.exists());
+        fs::create_dir_all(&dir).unwrap();
         let first = claim_folder("--out", &dir).unwrap();
         let held = fs::read_to_string(first.path()).unwrap();
         assert!(held.starts_with(&format!("pid={}\n", std::process::id())));

@@ -12,13 +12,15 @@ use crate::scene::{set_dotted, SceneFile};
 use crate::simulation::ensemble::{self, EnsembleSettings, MAX_MEMBERS};
 use crate::simulation::{simulate_with_progress, RunOutput, Scene};
 use crate::sweep::{
-    joint_statistics, summarize, Assignment, JointSummary, Outcome, Shard, Sweep, SCALARS,
+    joint_statistics, summarize, Assignment, CaseResult, JointSummary, Outcome, Shard, Sweep,
+    SCALARS,
 };
 use crate::Error;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
 use std::time::Duration;
 
 /// A scene document (TOML values, `extends` resolved) and the path that names it in messages.
@@ -236,7 +238,14 @@ impl Document {
                 })
                 .map_err(|e| self.error(e))?;
         }
-        let results = interruptible(py, |cancel| sweep.run(|_| {}, cancel))?;
+        let results = interruptible(py, |cancel| {
+            let results = Mutex::new(Vec::new());
+            let collect = |r| results.lock().unwrap_or_else(|e| e.into_inner()).push(r);
+            sweep.run(collect, cancel);
+            let mut results = results.into_inner().unwrap_or_else(|e| e.into_inner());
+            results.sort_unstable_by_key(|r: &CaseResult| r.case);
+            results
+        })?;
         let cases = PyList::empty(py);
         for r in &results {
             let d = PyDict::new(py);

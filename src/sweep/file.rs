@@ -244,6 +244,11 @@ impl Journal {
         self.table.append(row)
     }
 
+    /// The file.
+    pub fn path(&self) -> &Path {
+        self.table.path()
+    }
+
     /// Rewrites the file with `rows` in case order, atomically (the sweep finished).
     pub fn finish(self, id: &SweepId, header: &[String], rows: Vec<Vec<String>>) -> Result<()> {
         let path = self.table.path().to_path_buf();
@@ -257,14 +262,14 @@ pub struct JournaledSweep<'a> {
     sweep: &'a mut Sweep,
     id: SweepId,
     header: Vec<String>,
-    /// Rows of cases finished before (a resumed sweep).
-    kept: Vec<Vec<String>>,
+    /// Cases finished before (a resumed sweep).
+    finished: usize,
     journal: Journal,
 }
 
 impl<'a> JournaledSweep<'a> {
     /// Starts the file `out` of `sweep`; with `resume`, keeps the rows the file holds of the
-    /// same sweep and shard (an error if it holds another) and drops their cases from `sweep`.
+    /// same sweep and shard (an error if it holds another) and skips their cases in `sweep`.
     pub fn open(sweep: &'a mut Sweep, out: &Path, resume: bool) -> Result<JournaledSweep<'a>> {
         let id = sweep.id();
         let header = sweep.header();
@@ -273,14 +278,14 @@ impl<'a> JournaledSweep<'a> {
         } else {
             Vec::new()
         };
-        let finished: HashSet<usize> = kept.iter().filter_map(|r| r[0].parse().ok()).collect();
-        sweep.retain(|case| !finished.contains(&case));
+        // The rows were read as a sweep file: their cases are numbers of this shard.
+        sweep.skip(kept.iter().filter_map(|r| r[0].parse().ok()).collect());
         let journal = Journal::create(out, &id, &header, &kept)?;
         Ok(JournaledSweep {
             sweep,
             id,
             header,
-            kept,
+            finished: kept.len(),
             journal,
         })
     }
@@ -292,37 +297,41 @@ impl<'a> JournaledSweep<'a> {
 
     /// Cases already finished before this run.
     pub fn finished(&self) -> usize {
-        self.kept.len()
+        self.finished
     }
 
     /// Runs the remaining cases in parallel, appending each row as its case finishes and
-    /// telling `progress` the cases finished, then rewrites the file in case order. Returns the number of rows and
-    /// the cases that failed while running (an error in their last column). A row that
-    /// cannot be appended does not stop the sweep: the final rewrite holds it, and the first
-    /// such error is returned after it.
+    /// telling `progress` the cases finished, then rewrites the file in case order from the
+    /// rows it holds. Returns the number of rows and the cases that failed (an error in their
+    /// last column). A row that cannot be appended does not stop the sweep: the final rewrite
+    /// holds it, and the first such error is returned after it.
     pub fn run(self, progress: &dyn Progress) -> Result<(usize, Vec<usize>)> {
         let JournaledSweep {
             sweep,
             id,
             header,
-            kept,
             journal,
+            ..
         } = self;
         let cells = sweep.cells();
-        let append_error = Mutex::new(None);
+        // The first append error and the rows it could not append.
+        let unappended = Mutex::new((None, Vec::new()));
         let done = Counter::new(progress, sweep.len());
-        let results = sweep.run(
+        sweep.run(
             |r| {
-                if let Err(e) = journal.append(&r.record(cells)) {
-                    let mut first = append_error.lock().unwrap_or_else(|e| e.into_inner());
-                    first.get_or_insert(e);
+                let row = r.record(cells);
+                if let Err(e) = journal.append(&row) {
+                    let mut lost = unappended.lock().unwrap_or_else(|e| e.into_inner());
+                    lost.0.get_or_insert(e);
+                    lost.1.push(row);
                 }
                 done.finish_one();
             },
             progress,
         );
-        let mut rows = kept;
-        rows.extend(results.iter().map(|r| r.record(cells)));
+        let (append_error, lost) = unappended.into_inner().unwrap_or_else(|e| e.into_inner());
+        let mut rows = SweepFile::read(journal.path())?.rows;
+        rows.extend(lost);
         let mut failed: Vec<usize> = (rows.iter())
             .filter(|r| r.last().is_some_and(|e| !e.is_empty()))
             .filter_map(|r| r[0].parse().ok())
@@ -330,7 +339,7 @@ impl<'a> JournaledSweep<'a> {
         failed.sort_unstable();
         let count = rows.len();
         journal.finish(&id, &header, rows)?;
-        match append_error.into_inner().unwrap_or_else(|e| e.into_inner()) {
+        match append_error {
             Some(e) => Err(e),
             None => Ok((count, failed)),
         }

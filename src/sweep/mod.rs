@@ -7,8 +7,13 @@
 //!   `I/N` (1-based) runs the cases with `k mod N = I − 1`, a slice that depends only on the
 //!   assignments, so independent jobs of a batch array cover every case exactly once and
 //!   [`crate::sweep::file::merge`] puts their files back in case order.
-//! * Every case is built before any runs: a bad value stops the sweep as invalid input. A case
-//!   that fails while running gets its error in the `error` column; the others go on.
+//! * Keys are canonical (an array index as its number) and each key is given once; the case
+//!   count is at most [`MAX_CASES`].
+//! * Every value of every key is validated before any case runs (in the case that varies it
+//!   alone): a bad value stops the sweep as invalid input. Cases are built as they run, so a
+//!   large sweep starts at once in bounded memory; a case that fails to build (a combination
+//!   of valid values that is not) or while running gets its error in the `error` column; the
+//!   others go on.
 
 pub mod file;
 
@@ -21,10 +26,11 @@ use crate::scene::{set_dotted, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
 use crate::simulation::Scene;
 use crate::simulation::{simulate_with_progress, RunOutput};
-use crate::sweep::file::{fingerprint, salted, write_sweep_file};
+use crate::sweep::file::{fingerprint, salted};
 use crate::{Error, Result};
 use rayon::prelude::*;
-use std::path::Path;
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
 
 /// One `--set KEY=V1,V2,..` argument.
 #[derive(Clone, Debug, PartialEq)]
@@ -120,7 +126,7 @@ pub fn case_count(sets: &[Assignment]) -> Result<usize> {
         Some(n) if n <= MAX_CASES => Ok(n),
         _ => {
             let factors: Vec<String> = sets.iter().map(|a| a.values.len().to_string()).collect();
-            let product = count.map_or("more than 2^64".into(), |n| n.to_string());
+            let product = count.map_or("2^64 or more".into(), |n| n.to_string());
             Err(Error::invalid(
                 "--set",
                 format!("{} = {product} cases", factors.join(" x ")),
@@ -417,9 +423,10 @@ impl CaseResult {
     }
 }
 
-/// A sweep ready to run: the shard's cases, each built and validated.
+/// A sweep ready to run: its assignments checked, every value of every key validated, and
+/// the shard's cases built one at a time as they run.
 pub struct Sweep {
-    /// The `--set` assignments.
+    /// The `--set` assignments, keys canonical ([`canonical_sets`]).
     pub sets: Vec<Assignment>,
     /// Clearance joint names (identical in every case).
     pub joints: Vec<String>,
@@ -431,69 +438,74 @@ pub struct Sweep {
     pub total: usize,
     /// Run every case as an ensemble of this size and seed.
     pub ensemble: Option<EnsembleSettings>,
-    cases: Vec<(usize, Vec<String>, Scene)>,
+    doc: toml::Value,
+    path: PathBuf,
+    /// Cases of the shard not to run (a resumed sweep's finished ones).
+    skipped: HashSet<usize>,
 }
 
 impl Sweep {
-    /// Builds the cases of `shard`. Every case records at least its last rotation, which the
-    /// motion columns need.
+    /// The sweep of `shard` of the scene file at `path` varied by `sets` ([`Sweep::from_document`]).
     pub fn new(path: &Path, sets: Vec<Assignment>, shard: Shard) -> Result<Sweep> {
         Sweep::from_document(&SceneFile::read_document(path)?, path, sets, shard)
     }
 
-    /// Builds the cases of `shard` of a scene document (with `extends` resolved) instead of
-    /// a file, as [`Sweep::new`] does; `path` names it in messages.
+    /// The sweep of `shard` of a scene document (with `extends` resolved); `path` names it in
+    /// messages. Keys are made canonical and a key given twice refused ([`canonical_sets`]),
+    /// the case count bounded ([`case_count`]), and every value of every key validated in the
+    /// case that varies it alone (the other keys at their first value): a bad value stops the
+    /// sweep as invalid input before any case runs, in every shard alike. The product is not
+    /// built: each case is built when it runs ([`Sweep::run`]), and one whose combination of
+    /// values fails to build gets its error in the `error` column.
     pub fn from_document(
         doc: &toml::Value,
         path: &Path,
         sets: Vec<Assignment>,
         shard: Shard,
     ) -> Result<Sweep> {
+        let sets = canonical_sets(doc, sets)?;
         let total = case_count(&sets)?;
-        let mut cases = Vec::new();
-        let mut joints = None;
-        for case in (0..total).filter(|&k| shard.contains(k)) {
-            let values = case_values(&sets, case);
-            let in_this = |e| in_case(e, case, &sets, &values);
-            let mut scene = vary(doc, path, &sets, &values).map_err(in_this)?;
-            scene.run.record_rotations = scene.run.record_rotations.max(1);
-            scene.check_record_budget().map_err(in_this)?;
-            // A case whose loop cannot close is bad input: found before any case runs.
-            scene.mechanism.assemble(&scene.guess).map_err(in_this)?;
-            let names: Vec<String> = scene
-                .mechanism
-                .clearance_joints
-                .iter()
-                .map(|cj| cj.name.clone())
-                .collect();
-            if joints.get_or_insert_with(|| names.clone()) != &names {
-                return Err(Error::invalid(
-                    "--set",
-                    format!("case {case} ({})", values.join(", ")),
-                    "the same clearance joints in every case",
-                ));
-            }
-            cases.push((case, values.iter().map(|v| v.to_string()).collect(), scene));
-        }
-        // A shard without cases still writes the joint columns, which merging needs.
-        let joints = match joints {
-            Some(j) => j,
-            None => vary(doc, path, &sets, &case_values(&sets, 0))?
-                .mechanism
-                .clearance_joints
-                .iter()
-                .map(|cj| cj.name.clone())
-                .collect(),
-        };
-        Ok(Sweep {
+        let mut sweep = Sweep {
             fingerprint: fingerprint(doc, &sets),
             total,
             sets,
-            joints,
+            joints: Vec::new(),
             shard,
             ensemble: None,
-            cases,
-        })
+            doc: doc.clone(),
+            path: path.to_path_buf(),
+            skipped: HashSet::new(),
+        };
+        sweep.joints = joint_names(&sweep.build(0)?);
+        // Case k's value of key i is digit i of k in the mixed radix of the value counts.
+        let mut stride = 1;
+        for a in sweep.sets.iter().rev() {
+            for j in 1..a.values.len() {
+                sweep.build(j * stride)?;
+            }
+            stride *= a.values.len();
+        }
+        Ok(sweep)
+    }
+
+    /// Case `case` built and checked: at least its last rotation recorded (the motion columns
+    /// need it), within the record budget, its loop closed, the sweep's clearance joints.
+    fn build(&self, case: usize) -> Result<Scene> {
+        let values = case_values(&self.sets, case);
+        let in_this = |e| in_case(e, case, &self.sets, &values);
+        let mut scene = vary(&self.doc, &self.path, &self.sets, &values).map_err(in_this)?;
+        scene.run.record_rotations = scene.run.record_rotations.max(1);
+        scene.check_record_budget().map_err(in_this)?;
+        scene.mechanism.assemble(&scene.guess).map_err(in_this)?;
+        let names = joint_names(&scene);
+        if !self.joints.is_empty() && names != self.joints {
+            return Err(Error::invalid(
+                "--set",
+                format!("case {case} ({})", values.join(", ")),
+                "the same clearance joints in every case",
+            ));
+        }
+        Ok(scene)
     }
 
     /// Runs every case as an ensemble; a different sweep, so it has its own fingerprint.
@@ -518,52 +530,116 @@ impl Sweep {
         self.header().len() - self.sets.len() - 3
     }
 
-    /// Keeps only the cases `keep` accepts (a resumed sweep drops its finished ones).
-    pub fn retain(&mut self, keep: impl Fn(usize) -> bool) {
-        self.cases.retain(|(case, _, _)| keep(*case));
+    /// Skips the shard's cases in `finished` (a resumed sweep's).
+    pub fn skip(&mut self, finished: HashSet<usize>) {
+        self.skipped = finished;
+    }
+
+    /// Cases of the shard.
+    fn shard_cases(&self) -> usize {
+        shard_cases(self.total, self.shard)
     }
 
     /// Cases left to run.
     pub fn len(&self) -> usize {
-        self.cases.len()
+        let skipped = (self.skipped.iter()).filter(|&&k| k < self.total && self.shard.contains(k));
+        self.shard_cases() - skipped.count()
     }
 
     /// Whether no case is left to run.
     pub fn is_empty(&self) -> bool {
-        self.cases.is_empty()
+        self.len() == 0
     }
 
-    /// Runs the cases in parallel, calling `done` with each result as it finishes; results in
-    /// case order. Cases stop with [`Error::Cancelled`] when `cancel` asks them to (its counts
-    /// are not told).
-    pub fn run(&self, done: impl Fn(&CaseResult) + Sync, cancel: &dyn Progress) -> Vec<CaseResult> {
+    /// Runs the cases left in parallel, each built as it starts, calling `done` with each
+    /// result as it finishes (in no particular order). Memory does not grow with the number
+    /// of cases. Once `cancel` asks to stop, running cases stop with [`Error::Cancelled`] and
+    /// no other starts (its counts are not told).
+    pub fn run(&self, done: impl Fn(CaseResult) + Sync, cancel: &dyn Progress) {
         let cancel = Cancellation(cancel);
-        self.cases
-            .par_iter()
-            .map(|(case, values, scene)| {
-                let outcome = match &self.ensemble {
-                    None => simulate_with_progress(scene, &cancel)
-                        .map(|out| (Outcome::Run(summarize(scene, &out)), out.wall_time)),
-                    Some(e) => run_ensemble(scene, e, &cancel),
+        let (first, every) = (self.shard.index - 1, self.shard.count);
+        (0..self.shard_cases())
+            .into_par_iter()
+            .map(|i| first + i * every)
+            .filter(|case| !self.skipped.contains(case))
+            .for_each(|case| {
+                if cancel.cancelled() {
+                    return;
                 }
-                .map_err(|e| e.to_string());
-                let result = CaseResult {
-                    case: *case,
-                    values: values.clone(),
-                    outcome,
-                };
-                done(&result);
-                result
-            })
-            .collect()
+                let outcome = self.build(case).and_then(|scene| match &self.ensemble {
+                    None => simulate_with_progress(&scene, &cancel)
+                        .map(|out| (Outcome::Run(summarize(&scene, &out)), out.wall_time)),
+                    Some(e) => run_ensemble(&scene, e, &cancel),
+                });
+                let values = case_values(&self.sets, case);
+                done(CaseResult {
+                    case,
+                    values: values.iter().map(|v| v.to_string()).collect(),
+                    outcome: outcome.map_err(|e| e.to_string()),
+                });
+            });
     }
+}
 
-    /// Writes the results as this sweep's file ([`crate::sweep::file`]) in case order,
-    /// atomically.
-    pub fn write(&self, path: &Path, results: &[CaseResult]) -> Result<()> {
-        let rows = (results.iter()).map(|r| r.record(self.cells())).collect();
-        write_sweep_file(path, &self.id(), &self.header(), rows)
+/// The clearance joint names of `scene`.
+fn joint_names(scene: &Scene) -> Vec<String> {
+    (scene.mechanism.clearance_joints.iter())
+        .map(|cj| cj.name.clone())
+        .collect()
+}
+
+/// `sets` with every key in its canonical spelling: an array index as its number
+/// (`clearance.00.x` and `clearance.+0.x` are `clearance.0.x`), found by walking `doc` as
+/// [`set_dotted`] does; a key whose canonical spelling is given twice is refused, naming both
+/// spellings (the rows would be labelled with one value while the cases ran with the other).
+pub fn canonical_sets(doc: &toml::Value, sets: Vec<Assignment>) -> Result<Vec<Assignment>> {
+    let mut out: Vec<Assignment> = Vec::with_capacity(sets.len());
+    for a in sets {
+        let key = canonical_key(doc, &a.key);
+        if let Some(other) = out.iter().find(|b| b.key == key) {
+            return Err(Error::invalid(
+                "--set",
+                &key,
+                format!(
+                    "each key once: given twice (as `{}` and as `{}`)",
+                    other.values.join(","),
+                    a.values.join(",")
+                ),
+            ));
+        }
+        out.push(Assignment { key, ..a });
     }
+    Ok(out)
+}
+
+/// The canonical spelling of the dotted `key` into `doc` ([`canonical_sets`]); parts past
+/// where the document ends are kept as written (setting them fails with its own message).
+fn canonical_key(doc: &toml::Value, key: &str) -> String {
+    let mut node = Some(doc);
+    let parts: Vec<String> = key
+        .split('.')
+        .map(|part| match node {
+            Some(toml::Value::Array(items)) => match part.parse::<usize>() {
+                Ok(k) => {
+                    node = items.get(k);
+                    k.to_string()
+                }
+                Err(_) => {
+                    node = None;
+                    part.to_string()
+                }
+            },
+            Some(toml::Value::Table(table)) => {
+                node = table.get(part);
+                part.to_string()
+            }
+            _ => {
+                node = None;
+                part.to_string()
+            }
+        })
+        .collect();
+    parts.join(".")
 }
 
 /// An ensemble of one case: its joint statistics and wall time.
