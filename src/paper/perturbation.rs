@@ -172,7 +172,11 @@ fn measure(runs: &Runs) -> Result<Measured> {
         let of = |f: &dyn Fn(&crate::paper::cases::SteadyMember) -> f64| {
             e.members.iter().map(f).collect::<Vec<f64>>()
         };
-        means.push((case.scene, "max_penetration_m", of(&|m| m.max_penetration)));
+        means.push((
+            case.scene,
+            "max_penetration_recorded_m",
+            of(&|m| m.max_penetration),
+        ));
         means.push((
             case.scene,
             "pw_concordance",
