@@ -296,8 +296,18 @@ fn command_line_member_reproduces_its_ensemble_member_bit_for_bit() {
         serde_json::from_str(&std::fs::read_to_string(one.join("summary.json")).unwrap()).unwrap();
     let joint = &summary["joints"][0];
     for (key, column) in [
-        ("max_normal_force_n", "rod-slider.max_normal_force_n"),
-        ("max_penetration_m", "rod-slider.max_penetration_m"),
+        (
+            "max_normal_force_recorded_n",
+            "rod-slider.max_normal_force_recorded_n",
+        ),
+        (
+            "max_penetration_recorded_m",
+            "rod-slider.max_penetration_recorded_m",
+        ),
+        (
+            "max_penetration_whole_run_m",
+            "rod-slider.max_penetration_whole_run_m",
+        ),
     ] {
         let member: f64 = rows[2][col(column)].parse().unwrap();
         assert_eq!(
