@@ -196,7 +196,10 @@ impl Simulation {
             ("impact_velocities", c.impact_velocities.len()),
             ("gaps", c.gaps.len()),
             ("out.impacts", c.out.impacts.len()),
-            ("out.max_penetration_whole_run", c.out.max_penetration_whole_run.len()),
+            (
+                "out.max_penetration_whole_run",
+                c.out.max_penetration_whole_run.len(),
+            ),
         ];
         if let Some((field, len)) = per_joint.iter().find(|(_, len)| *len != joints) {
             return Err(misfit(

@@ -16,7 +16,7 @@ use crate::analysis::regions::{wear_regions, Region};
 use crate::analysis::statistics::{Band, Distribution};
 use crate::analysis::Motion;
 use crate::io::progress::{Cancellation, Progress};
-use crate::scene::{set_dotted, SceneFile};
+use crate::scene::{reversal_note, set_dotted, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
 use crate::simulation::Scene;
 use crate::simulation::{simulate_with_progress, RunOutput};
@@ -438,6 +438,13 @@ impl Sweep {
         shard: Shard,
     ) -> Result<Sweep> {
         let total = case_count(&sets)?;
+        for a in &sets {
+            for v in &a.values {
+                if let Some(note) = reversal_note(doc, &a.key, &parse_value(v)) {
+                    eprintln!("note: {note}");
+                }
+            }
+        }
         let mut cases = Vec::new();
         let mut joints = None;
         for case in (0..total).filter(|&k| shard.contains(k)) {
