@@ -201,11 +201,14 @@ def test_a_set_that_reverses_the_driver_is_noted(capfd):
     scene.set("driver.speed_rpm", -600)
     assert "reverses" not in capfd.readouterr().err
     scene.set("driver.speed_rpm", 600)
+    # against the scene as loaded (checked to fail when compared with the scene before this set)
     assert capfd.readouterr().err.startswith(
-        "note: driver.speed_rpm = 600 reverses the driver: the scene turns it at -600 r/min"
+        "note: driver.speed_rpm = 600 reverses the driver: the scene turns it at -2000 r/min"
     )
+    scene.set("driver.speed_rpm", -2000)
+    assert "reverses" not in capfd.readouterr().err
     # a sweep notes each reversing value once, before it runs
-    scene.set("driver.speed_rpm", -2000).sweep({"driver.speed_rpm": [-600, 500]})
+    scene.sweep({"driver.speed_rpm": [-600, 500]})
     err = capfd.readouterr().err
     assert err.count("reverses the driver") == 1
     assert "driver.speed_rpm = 500 reverses" in err

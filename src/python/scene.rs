@@ -29,6 +29,9 @@ pub struct Document {
     path: PathBuf,
     /// The keys given to `set`, which `set("run.rotations", n)` leaves as they are.
     set_keys: BTreeSet<String>,
+    /// The document as loaded or built, before any `set`: the sense of rotation that a `set`
+    /// reversing the driver is noted against.
+    loaded: toml::Value,
 }
 
 /// One ensemble member as the statistics take it: joint summaries and final wear.
@@ -53,6 +56,7 @@ impl Document {
     /// A document read as given, checked by building it (as the program does on loading).
     fn checked(doc: toml::Value, path: PathBuf) -> PyResult<Document> {
         let d = Document {
+            loaded: doc.clone(),
             doc,
             path,
             set_keys: BTreeSet::new(),
@@ -87,7 +91,7 @@ impl Document {
     /// the program's `--rotations` does (unless they were set), with a note on stderr.
     fn set(&mut self, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
         let value = to_toml(value, key)?;
-        let note = reversal_note(&self.doc, key, &value);
+        let note = reversal_note(&self.loaded, key, &value);
         let mut doc = self.doc.clone();
         set_dotted(&mut doc, key, value).map_err(|e| self.error(e))?;
         let mut file = SceneFile::from_document(doc.clone(), &self.path)
@@ -124,6 +128,7 @@ impl Document {
             doc: self.doc.clone(),
             path: self.path.clone(),
             set_keys: self.set_keys.clone(),
+            loaded: self.loaded.clone(),
         }
     }
 
