@@ -580,3 +580,40 @@ fn ensemble_outputs_are_documented() {
     }
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A `--set` that turns the driver the other way than the scene file (calibrated in its own
+/// sense) is noted on stderr, by `run` and by `sweep`; one in the file's sense is not. (Checked
+/// to fail with the note's sign test inverted.)
+#[test]
+fn a_set_that_reverses_the_driver_is_noted() {
+    let dir = temp_dir("reverse");
+    let scene = short_standard(&dir, 1);
+    let note =
+        "note: driver.speed_rpm = 600 reverses the driver: the scene turns it at -2000 r/min";
+    for (speed, noted) in [("600", true), ("-600", false)] {
+        let set = format!("driver.speed_rpm={speed}");
+        let out = dir.join(format!("run{speed}"));
+        let o = jointwear(&["run", s(&scene), "--set", &set, "--out", s(&out)]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_eq!(stderr(&o).contains(note), noted, "{}", stderr(&o));
+        assert_eq!(stderr(&o).contains("reverses"), noted, "{}", stderr(&o));
+    }
+    let out = dir.join("sweep.csv");
+    let o = jointwear(&[
+        "sweep",
+        s(&scene),
+        "--set",
+        "driver.speed_rpm=-600,600",
+        "--out",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        stderr(&o).matches("reverses the driver").count(),
+        1,
+        "{}",
+        stderr(&o)
+    );
+    assert!(stderr(&o).contains(note), "{}", stderr(&o));
+    fs::remove_dir_all(&dir).unwrap();
+}

@@ -3,13 +3,26 @@
 from __future__ import annotations
 
 import itertools
+import numbers
 import os
+from collections.abc import Iterable
 from typing import Any, Mapping, Optional, Sequence, Union
 
-from ._native import Document
+from ._native import Document, SceneError
 from ._results import Ensemble, Run, SweepResult
 
 PathLike = Union[str, "os.PathLike[str]"]
+
+
+def _count(name: str, value: Any, expected: str) -> int:
+    """``value`` as an int the native call takes (0 to 2**64 - 1, whose own range it then
+    checks), or TypeError/SceneError naming the argument: ``int(2.5)`` would silently run 2
+    members, and a negative count raised OverflowError."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an integer, got {value!r} ({type(value).__name__})")
+    if not 0 <= value < 2**64:
+        raise SceneError(f"invalid value for `{name}`: {value} (expected {expected})")
+    return int(value)
 
 
 class Scene:
@@ -46,8 +59,13 @@ class Scene:
         """Sets the value at a dotted ``key`` (``"clearance.0.clearance_mm"``,
         ``"driver.speed_rpm"``, ``"run.wear_snapshots"``) as the program's ``--set`` does, with
         Python values (bool, int, float, str, list, dict, numpy scalars). Returns the scene, so
-        calls chain. A key that does not exist raises :class:`jointwear.SceneError` now; a bad
-        value when the scene is next checked or run."""
+        calls chain. A key that the scene file cannot have, or a value of the wrong type,
+        raises :class:`jointwear.SceneError` now and leaves the scene as it was; a value out of
+        range raises when the scene is next checked or run. ``set("run.rotations", n)`` drops
+        the wear snapshots past ``n`` and cuts ``run.record_rotations`` to ``n``, as the
+        program's ``--rotations`` does, unless they were set on this scene (a note on stderr
+        says what it changed). A value that turns the driver the other way than the scene as
+        loaded (the shipped scenes are calibrated in their own sense) prints a note on stderr."""
         self._doc.set(key, value)
         return self
 
@@ -91,7 +109,9 @@ class Scene:
         by at most 10 nm in a seeded direction (``jointwear run --ensemble N --seed S``), and
         returns the :class:`Ensemble`: every member's results and their statistics. Single
         runs are chaotic; statistics over an ensemble are the project's results."""
-        return Ensemble(self._doc.ensemble(int(members), int(seed)))
+        members = _count("members", members, "a positive integer")
+        seed = _count("seed", seed, "an integer in [0, 2^64)")
+        return Ensemble(self._doc.ensemble(members, seed))
 
     def sweep(
         self,
@@ -107,8 +127,19 @@ class Scene:
         (at most 1 000 000 cases); cases are built as they run. A case that fails to build or
         while running has its message in the ``error`` column and the others go on."""
         keys = list(grid)
-        values = [list(grid[k]) for k in keys]
-        cases = self._doc.sweep(keys, values, members, int(seed))
+        values = []
+        for key in keys:
+            v = grid[key]
+            if isinstance(v, (str, bytes)) or not isinstance(v, Iterable):
+                raise TypeError(
+                    f"sweep values must be a sequence: {key!r} has {v!r}; "
+                    f"write [{v!r}] for a single value"
+                )
+            values.append(list(v))
+        if members is not None:
+            members = _count("members", members, "a positive integer")
+        seed = _count("seed", seed, "an integer in [0, 2^64)")
+        cases = self._doc.sweep(keys, values, members, seed)
         combos = list(itertools.product(*values))
         return SweepResult(keys, combos, cases, members)
 

@@ -75,9 +75,58 @@ def test_a_key_that_does_not_exist_is_a_scene_error():
     )
     with pytest.raises(jointwear.SceneError, match="expected a TOML value"):
         scene.set("run.rotations", None)
-    # an unknown key is refused when the scene is next checked
-    scene.set("run.rotatoins", 3)
-    with pytest.raises(jointwear.SceneError, match="unknown field `rotatoins`"):
+
+
+def test_a_misspelt_key_or_wrong_type_is_refused_at_set_and_changes_nothing():
+    scene = jointwear.Scene.load(STANDARD)
+    before = scene.to_dict()
+    misspelt = {
+        "run.rotatons": ("rotatons", 3),
+        "driver.sped_rpm": ("sped_rpm", -1000.0),
+        "clearance.0.clearence_mm": ("clearence_mm", 0.1),
+    }
+    for key, (field, value) in misspelt.items():
+        with pytest.raises(jointwear.SceneError, match=f"unknown field `{field}`") as e:
+            scene.set(key, value)
+        # the message says which call it came from
+        assert f'set("{key}"' in str(e.value)
+        assert scene.to_dict() == before, key
+    with pytest.raises(jointwear.SceneError, match="rotations"):
+        scene.set("run.rotations", "ten")
+    assert scene.to_dict() == before
+    # the scene is not left broken: a correct set after the refused ones works
+    assert scene.set("driver.speed_rpm", -1000.0).check()["period_s"] == pytest.approx(
+        0.06, rel=1e-12
+    )
+
+
+def _notes(stderr, prefix):
+    """The (key, value) pairs of the notes `note: <prefix> sets KEY = VALUE` in `stderr`."""
+    lead = f"note: {prefix} sets "
+    return sorted(
+        tuple(line[len(lead) :].split(" = ", 1)) for line in stderr.splitlines() if line.startswith(lead)
+    )
+
+
+def test_set_rotations_cuts_snapshots_and_recording_as_the_programs_rotations(
+    tmp_path, cli, capfd
+):
+    capfd.readouterr()
+    scene = jointwear.Scene.load(STANDARD).set("run.rotations", 1)
+    python = _notes(capfd.readouterr().err, 'set("run.rotations", 1)')
+    run = scene.to_dict()["run"]
+    # the file records 2 rotations and snapshots at 10..40; both are cut to one rotation
+    assert (run["record_rotations"], run["wear_snapshots"]) == (1, [])
+    assert scene.check()["rotations"] == 1
+    program = cli("run", STANDARD, "--rotations", "1", "--out", tmp_path / "out")
+    assert program.returncode == 0, program.stderr
+    cuts = _notes(program.stderr, "--rotations 1")
+    assert python == cuts == [("run.record_rotations", "1"), ("run.wear_snapshots", "[]")]
+    # a value set on this scene is the user's, as with --set: kept, then refused as too long
+    scene = jointwear.Scene.load(STANDARD).set("run.record_rotations", 2)
+    scene.set("run.rotations", 1)
+    assert scene.to_dict()["run"]["record_rotations"] == 2
+    with pytest.raises(jointwear.SceneError, match="record_rotations"):
         scene.check()
 
 
@@ -122,3 +171,44 @@ def test_a_failure_while_running_is_a_simulation_error_with_the_programs_message
         jointwear.Scene.load(path).run()
     assert isinstance(e.value, RuntimeError)
     assert program.stderr == f"error: {e.value}\n"
+
+
+def test_ensemble_and_sweep_arguments_are_checked_at_the_call():
+    scene = short(jointwear.Scene.load(STANDARD))
+    # 2.5 members used to run 2 members, -1 to raise OverflowError
+    for bad in (2.5, "3", True):
+        with pytest.raises(TypeError, match="members"):
+            scene.ensemble(members=bad)
+        with pytest.raises(TypeError, match="members"):
+            scene.sweep({"driver.speed_rpm": [-2000.0]}, members=bad)
+    # 0 is refused by the native call with the program's range (test_ensemble_sweep.py)
+    with pytest.raises(jointwear.SceneError, match=r"`members`: -1 \(expected a positive integer\)"):
+        scene.ensemble(members=-1)
+    with pytest.raises(jointwear.SceneError, match="`seed`: -1"):
+        scene.ensemble(members=2, seed=-1)
+    # a bare value (or a string, which would sweep its characters) is not a list of values
+    for bad in (1000, "1000"):
+        with pytest.raises(TypeError, match="sweep values must be a sequence") as e:
+            scene.sweep({"driver.speed_rpm": bad})
+        assert "'driver.speed_rpm'" in str(e.value)
+    # numpy integers are integers
+    assert scene.ensemble(members=np.int64(2)).members == 2
+
+
+def test_a_set_that_reverses_the_driver_is_noted(capfd):
+    scene = short(jointwear.Scene.load(STANDARD))
+    capfd.readouterr()
+    scene.set("driver.speed_rpm", -600)
+    assert "reverses" not in capfd.readouterr().err
+    scene.set("driver.speed_rpm", 600)
+    # against the scene as loaded (checked to fail when compared with the scene before this set)
+    assert capfd.readouterr().err.startswith(
+        "note: driver.speed_rpm = 600 reverses the driver: the scene turns it at -2000 r/min"
+    )
+    scene.set("driver.speed_rpm", -2000)
+    assert "reverses" not in capfd.readouterr().err
+    # a sweep notes each reversing value once, before it runs
+    scene.sweep({"driver.speed_rpm": [-600, 500]})
+    err = capfd.readouterr().err
+    assert err.count("reverses the driver") == 1
+    assert "driver.speed_rpm = 500 reverses" in err

@@ -8,7 +8,7 @@ use crate::analysis::statistics::{Distribution, VALUE_KEYS};
 use crate::analysis::Motion;
 use crate::io::progress::Progress;
 use crate::laws::wear::sector_angles_deg;
-use crate::scene::{set_dotted, SceneFile};
+use crate::scene::{reversal_note, set_dotted, SceneFile};
 use crate::simulation::ensemble::{self, EnsembleSettings, MAX_MEMBERS};
 use crate::simulation::{simulate_with_progress, RunOutput, Scene};
 use crate::sweep::{
@@ -18,6 +18,7 @@ use crate::sweep::{
 use crate::Error;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
+use std::collections::BTreeSet;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
@@ -28,6 +29,11 @@ use std::time::Duration;
 pub struct Document {
     doc: toml::Value,
     path: PathBuf,
+    /// The keys given to `set`, which `set("run.rotations", n)` leaves as they are.
+    set_keys: BTreeSet<String>,
+    /// The document as loaded or built, before any `set`: the sense of rotation that a `set`
+    /// reversing the driver is noted against.
+    loaded: toml::Value,
 }
 
 /// One ensemble member as the statistics take it: joint summaries and final wear.
@@ -51,7 +57,12 @@ impl Document {
 
     /// A document read as given, checked by building it (as the program does on loading).
     fn checked(doc: toml::Value, path: PathBuf) -> PyResult<Document> {
-        let d = Document { doc, path };
+        let d = Document {
+            loaded: doc.clone(),
+            doc,
+            path,
+            set_keys: BTreeSet::new(),
+        };
         d.scene()?;
         Ok(d)
     }
@@ -75,11 +86,31 @@ impl Document {
         Document::checked(doc, path)
     }
 
-    /// Sets the value at a dotted key, as the program's `--set` (`clearance.0.clearance_mm`);
-    /// the scene is validated when it is next checked or run.
+    /// Sets the value at a dotted key, as the program's `--set` (`clearance.0.clearance_mm`),
+    /// all or nothing: a key the scene file does not have, or a value of the wrong type, raises
+    /// and leaves the document as it was; values out of range are refused when the scene is
+    /// next checked or run. `run.rotations` cuts the wear snapshots and recorded rotations as
+    /// the program's `--rotations` does (unless they were set), with a note on stderr.
     fn set(&mut self, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
         let value = to_toml(value, key)?;
-        set_dotted(&mut self.doc, key, value).map_err(|e| self.error(e))
+        let note = reversal_note(&self.loaded, key, &value);
+        let mut doc = self.doc.clone();
+        set_dotted(&mut doc, key, value).map_err(|e| self.error(e))?;
+        let mut file = SceneFile::from_document(doc.clone(), &self.path)
+            .map_err(|e| self.error(e.in_context(&format!("with set({key:?}, …)"))))?;
+        if key == "run.rotations" {
+            let n = file.run.rotations;
+            for (cut, value) in file.run.cut_to(n, |k| self.set_keys.contains(k)) {
+                eprintln!("note: set(\"run.rotations\", {n}) sets {cut} = {value}");
+                set_dotted(&mut doc, &cut, value).map_err(|e| self.error(e))?;
+            }
+        }
+        if let Some(note) = note {
+            eprintln!("note: {note}");
+        }
+        self.doc = doc;
+        self.set_keys.insert(key.to_string());
+        Ok(())
     }
 
     /// The document as nested dicts and lists.
@@ -98,6 +129,8 @@ impl Document {
         Document {
             doc: self.doc.clone(),
             path: self.path.clone(),
+            set_keys: self.set_keys.clone(),
+            loaded: self.loaded.clone(),
         }
     }
 

@@ -161,6 +161,32 @@ pub fn set_dotted(doc: &mut toml::Value, key: &str, value: toml::Value) -> Resul
     Err(Error::invalid(key, "empty", "a dotted key"))
 }
 
+/// The driver's speed (r/min) in a scene document, where it is a number.
+fn driver_speed_rpm(doc: &toml::Value) -> Option<f64> {
+    match doc.get("driver")?.get("speed_rpm")? {
+        toml::Value::Float(x) => Some(*x),
+        toml::Value::Integer(n) => Some(*n as f64),
+        _ => None,
+    }
+}
+
+/// A note for the user when setting `value` at `key` of `doc` (as `--set` or Python's `set`)
+/// turns the driver the other way than `doc` does, or None. A scene calibrated in one sense of
+/// rotation wears elsewhere in the other (the standard scene's deepest wear moves from 185.5 to
+/// 175.5 deg), and a speed given without its sign is the likely cause.
+pub fn reversal_note(doc: &toml::Value, key: &str, value: &toml::Value) -> Option<String> {
+    let mut varied = doc.clone();
+    set_dotted(&mut varied, key, value.clone()).ok()?;
+    let (from, to) = (driver_speed_rpm(doc)?, driver_speed_rpm(&varied)?);
+    (from * to < 0.0).then(|| {
+        format!(
+            "{key} = {value} reverses the driver: the scene turns it at {from} r/min (positive \
+             is counter-clockwise), and the wear depends on the sense; give the speed the \
+             scene's sign to keep it"
+        )
+    })
+}
+
 impl SceneFile {
     /// Reads a scene file (resolving `extends`) without validating its values, so that it
     /// can be varied before [`SceneFile::build`].

@@ -17,7 +17,7 @@ mod build;
 mod layering;
 mod validation;
 
-pub use layering::{scene_path, set_dotted};
+pub use layering::{reversal_note, scene_path, set_dotted};
 pub use validation::{
     joint_file_part, Limit, BEARING_LENGTH_MM, BEARING_RADIUS_MM, COORDINATE_MM, GRAVITY_M_S2,
     INERTIA_KG_M2, MASS_KG, MAX_NAME_BYTES, MAX_SCENE_BYTES, MAX_TITLE_BYTES,
@@ -240,6 +240,37 @@ pub struct RunSpec {
 
 fn default_max_steps() -> u64 {
     20_000_000
+}
+
+impl RunSpec {
+    /// What shortening the run to `rotations` changes on the user's behalf, as the program's
+    /// `--rotations` and Python's `set("run.rotations", n)` do: the wear snapshots past it are
+    /// dropped and the recorded rotations cut to it, except a key (`run.wear_snapshots`,
+    /// `run.record_rotations`) for which `user_set` is true. Applies the cuts and returns each
+    /// changed key with its new value.
+    pub fn cut_to(
+        &mut self,
+        rotations: u32,
+        user_set: impl Fn(&str) -> bool,
+    ) -> Vec<(String, toml::Value)> {
+        let mut cuts = Vec::new();
+        if !user_set("run.wear_snapshots") && self.wear_snapshots.iter().any(|&s| s > rotations) {
+            self.wear_snapshots.retain(|&s| s <= rotations);
+            let kept = self.wear_snapshots.iter().map(|&s| i64::from(s).into());
+            cuts.push((
+                "run.wear_snapshots".to_string(),
+                toml::Value::Array(kept.collect()),
+            ));
+        }
+        if !user_set("run.record_rotations") && self.record_rotations > rotations {
+            self.record_rotations = rotations;
+            cuts.push((
+                "run.record_rotations".to_string(),
+                i64::from(rotations).into(),
+            ));
+        }
+        cuts
+    }
 }
 
 /// Steady state: the journal orbit repeats from one rotation to the next.

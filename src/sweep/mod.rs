@@ -22,7 +22,7 @@ use crate::analysis::states::States;
 use crate::analysis::statistics::{Band, Distribution};
 use crate::analysis::Motion;
 use crate::io::progress::{Cancellation, Progress};
-use crate::scene::{set_dotted, SceneFile};
+use crate::scene::{reversal_note, set_dotted, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
 use crate::simulation::Scene;
 use crate::simulation::{simulate_with_progress, RunOutput};
@@ -465,6 +465,13 @@ impl Sweep {
     ) -> Result<Sweep> {
         let sets = canonical_sets(doc, sets)?;
         let total = case_count(&sets)?;
+        for a in &sets {
+            for v in &a.values {
+                if let Some(note) = reversal_note(doc, &a.key, &parse_value(v)) {
+                    eprintln!("note: {note}");
+                }
+            }
+        }
         let mut sweep = Sweep {
             fingerprint: fingerprint(doc, &sets),
             total,

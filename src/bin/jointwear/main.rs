@@ -22,7 +22,7 @@ use clap::{Parser, Subcommand};
 use failure::{CliResult, Failure};
 use jointwear::io::interrupt;
 use jointwear::io::lock::{self, Lock};
-use jointwear::scene::{joint_file_part, set_dotted, SceneFile};
+use jointwear::scene::{joint_file_part, reversal_note, set_dotted, SceneFile};
 use jointwear::simulation::ensemble::{EnsembleSettings, DEFAULT_SEED, MAX_MEMBERS};
 use jointwear::simulation::Scene;
 use jointwear::sweep::file::fingerprint;
@@ -62,8 +62,8 @@ Examples:
   jointwear run data/scenes/standard.toml --rotations 10 --set clearance.0.clearance_mm=0.2
   jointwear run data/scenes/standard.toml --ensemble 16 --seed 1
   jointwear sweep data/scenes/standard.toml \\
-      --set clearance.0.clearance_mm=0.02,0.1,0.5 --set driver.speed_rpm=600,2000 --out sweep.csv
-  jointwear sweep data/scenes/standard.toml --set driver.speed_rpm=500,1000,1500,2000 \\
+      --set clearance.0.clearance_mm=0.02,0.1,0.5 --set driver.speed_rpm=-600,-2000 --out sweep.csv
+  jointwear sweep data/scenes/standard.toml --set driver.speed_rpm=-500,-1000,-1500,-2000 \\
       --shard 2/4 --out shard2.csv
   jointwear sweep-merge shard1.csv shard2.csv shard3.csv shard4.csv --out all.csv
   jointwear longlife data/scenes/standard.toml --rotations 1e6 --k-over-h 1e-15";
@@ -418,6 +418,11 @@ fn load_variant(
             e.in_context(&format!("with {}", from.join(", ")))
         }
     };
+    for a in &assignments {
+        if let Some(note) = reversal_note(&doc, &a.key, &parse_value(&a.values[0])) {
+            eprintln!("note: {note} (--set {}={})", a.key, a.values[0]);
+        }
+    }
     let mut varied = doc;
     for a in &assignments {
         set_dotted(&mut varied, &a.key, parse_value(&a.values[0]))
@@ -430,21 +435,12 @@ fn load_variant(
         .collect();
     let set = |key: &str| assignments.iter().any(|a| a.key == key);
     // What --rotations cut on the user's behalf, besides run.rotations itself.
-    let mut cuts = Vec::new();
-    if let Some(n) = rotations {
-        let run = &mut file.run;
-        if !set("run.wear_snapshots") && run.wear_snapshots.iter().any(|&s| s > n) {
-            run.wear_snapshots.retain(|&s| s <= n);
-            cuts.push((
-                "run.wear_snapshots".to_string(),
-                format!("{:?}", run.wear_snapshots),
-            ));
-        }
-        if !set("run.record_rotations") && run.record_rotations > n {
-            run.record_rotations = n;
-            cuts.push(("run.record_rotations".to_string(), n.to_string()));
-        }
-    }
+    let cuts: Vec<(String, String)> = match rotations {
+        Some(n) => (file.run.cut_to(n, set).into_iter())
+            .map(|(key, value)| (key, value.to_string()))
+            .collect(),
+        None => Vec::new(),
+    };
     let scene = file.build().map_err(|e| input(from_set(e)))?;
     if let Some(n) = rotations {
         run::print_cuts(&cuts, n);
