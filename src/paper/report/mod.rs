@@ -29,7 +29,8 @@ pub use verdict::{Claim, Verdict, MEMBER_MAJORITY};
 
 use crate::io::output::write_atomic;
 use crate::io::progress::Progress;
-use crate::paper::cases::Runs;
+use crate::paper::cases::{Runs, CASES};
+use crate::paper::figures::wear_profiles::mean_profile_regions;
 use crate::paper::figures::{all_needs, Figure, FIGURES};
 use crate::paper::format::seconds;
 use crate::paper::golden::Golden;
@@ -151,7 +152,11 @@ pub fn write(
         ],
         &rows,
     );
-    md.push_str(&why(studies.accuracy));
+    md.push_str(&why(
+        studies.accuracy,
+        &mean_profile_regions(runs.wear(CASES.standard.scene)?),
+        &golden.standard_wear,
+    ));
 
     table3::table3_section(&mut md, runs, golden)?;
     md.push_str(&ensembles::ensemble_section(runs)?);

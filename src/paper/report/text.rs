@@ -1,7 +1,10 @@
 //! The report's fixed prose around the measured numbers: why the verdicts come out as they
 //! do (it quotes the accuracy study), the errata found in the paper, and what is implemented.
 
+use crate::analysis::regions::Region;
+use crate::analysis::CONTINUOUS_CONTACT_FRACTION;
 use crate::paper::cases::{Case, CASES};
+use crate::paper::golden::{angle_distance, PeakClaim};
 use crate::paper::studies::accuracy::csv_number;
 use crate::paper::studies::{AccuracyDependence, Setting, Subject};
 
@@ -50,28 +53,62 @@ fn ode45_outcome(accuracy: &AccuracyDependence, case: Case) -> Option<String> {
     ))
 }
 
+/// Where this run's ensemble-mean standard profile has its three most prominent wear regions
+/// against the paper's angles (Fig. 5), as computed from the profile, so the sentence moves
+/// with the numbers.
+fn regions_sentence(regions: &[Region], paper: &PeakClaim) -> String {
+    let deg = |a: f64| format!("{a:.0}");
+    let mut top: Vec<&Region> = regions.iter().take(3).collect();
+    top.sort_by(|a, b| b.depth.total_cmp(&a.depth));
+    let Some((deepest, smaller)) = top.split_first() else {
+        return "This run's ensemble-mean standard profile has no wear region.".into();
+    };
+    let mut smaller: Vec<f64> = smaller.iter().map(|r| r.angle_deg).collect();
+    smaller.sort_by(f64::total_cmp);
+    let mut paper_smaller: Vec<f64> = paper
+        .peak_angles_deg
+        .iter()
+        .copied()
+        .filter(|&a| angle_distance(a, paper.largest_peak_deg) > 0.0)
+        .collect();
+    paper_smaller.sort_by(f64::total_cmp);
+    let list = |v: &[f64]| v.iter().map(|&a| deg(a)).collect::<Vec<_>>().join(" and ");
+    format!(
+        "In this run's ensemble-mean standard profile the deepest severe region lies at {} deg (paper {}) \
+         and the smaller ones at {} deg (paper {} deg); section 4 lists the regions of every calibration set tried.",
+        deg(deepest.angle_deg),
+        deg(paper.largest_peak_deg),
+        if smaller.is_empty() { "no other angle".into() } else { list(&smaller) },
+        list(&paper_smaller)
+    )
+}
+
 /// Why the verdicts come out as they do: the mechanisms behind the measured numbers.
-pub(super) fn why(accuracy: &AccuracyDependence) -> String {
+/// `regions` are those of this run's ensemble-mean standard profile, `paper` the angles the
+/// paper gives for them.
+pub(super) fn why(accuracy: &AccuracyDependence, regions: &[Region], paper: &PeakClaim) -> String {
     let loose = |case| ode45_outcome(accuracy, case).unwrap_or_else(|| "see section 5".into());
+    let regions = regions_sentence(regions, paper);
     format!(
         "**Why.** Friction is the dominant unknown of the lost Table 2 (section 4): with μ_d = 0.1 the tangential \
          force drags the journal round the bearing wall and the larger clearances never fly; with the calibrated \
          μ_d = 0.01 they fly and impact, penetration and acceleration grow with clearance and the wear evens out, as \
          the paper says (at 0.2 and 0.5 mm the members split between continuous contact and free flight and \
-         impact: coexisting steady states near the 0.9 contact-fraction threshold of the motion rule, section 2). What the converged model does not give is the paper's P-w dominance in the impact cases: \
+         impact: coexisting steady states near the {} contact-fraction threshold of the motion rule, section 2). What the converged model does not give is the paper's P-w dominance in the impact cases: \
          the sliding distance matches the wear rate better in every case. Section 5 finds where that dominance can \
          come from: integrated like an ode45 code at its default tolerances (rtol 1e-3), the same model gives, \
          over section 5's windows, at 0.2 mm {}; at 0.5 mm {}; and at 30 r/min, where the converged journal \
          rests on the bottom of the bearing in continuous contact, {}. Loose integration does not explain every \
          row (at 2000 r/min it turns the paper's continuous contact into \
          impacts), so we read Table 3's impact rows as at least partly a product of under-resolved contact \
-         dynamics. The smaller severe regions lie near 25 and 330 deg rather than 50 and 320 deg for most sets \
-         tried; the sets that bring them closer (μ_d = 0.1) lose the impact claims. Robust to every unknown tried: \
+         dynamics. {} Robust to every unknown tried: \
          severe regions with the deepest near 180 deg, their staircase growth, s-w dominance in continuous \
          contact, and wear at the bottom at low speed.\n",
+        CONTINUOUS_CONTACT_FRACTION,
         loose(CASES.clearance_0_2mm),
         loose(CASES.clearance_0_5mm),
         loose(CASES.speed_30rpm),
+        regions,
     )
 }
 
@@ -148,10 +185,66 @@ mod tests {
         }
     }
 
+    /// The paper's standard-case regions (Fig. 5).
+    fn paper() -> PeakClaim {
+        PeakClaim {
+            scene: CASES.standard.scene.into(),
+            peak_angles_deg: vec![50.0, 180.0, 320.0],
+            largest_peak_deg: 180.0,
+            angle_tolerance_deg: 10.0,
+            angle_tolerance_reason: String::new(),
+            deviation: None,
+        }
+    }
+
+    /// A region at `angle_deg` with depth `depth` (m), listed in prominence order by the caller.
+    fn region(angle_deg: f64, depth: f64) -> Region {
+        Region {
+            sector: 0,
+            angle_deg,
+            depth,
+            prominence: depth,
+            width_deg: 10.0,
+        }
+    }
+
+    #[test]
+    fn the_region_sentence_follows_the_computed_regions() {
+        // checked: the sentence as it was (fixed "near 25 and 330 deg") fails both cases
+        let text = why(
+            &study([false; 4]),
+            &[region(178.0, 3e-6), region(331.0, 1e-6), region(24.0, 2e-6)],
+            &paper(),
+        );
+        assert!(
+            text.contains(
+                "deepest severe region lies at 178 deg (paper 180) and the smaller ones at 24 and 331 deg \
+                 (paper 50 and 320 deg)"
+            ),
+            "{text}"
+        );
+        // moved data move the sentence; the fourth, least prominent region is not one of the three
+        let text = why(
+            &study([false; 4]),
+            &[
+                region(52.0, 1e-6),
+                region(183.0, 4e-6),
+                region(318.0, 2e-6),
+                region(100.0, 5e-6),
+            ],
+            &paper(),
+        );
+        assert!(
+            text.contains("lies at 183 deg (paper 180) and the smaller ones at 52 and 318 deg"),
+            "{text}"
+        );
+        assert!(!text.contains("25 and 330"), "{text}");
+    }
+
     #[test]
     fn the_why_paragraph_says_which_paper_values_loose_integration_misses() {
         // checked: the paragraph as it was (ranges only, beside the paper's values) fails this
-        let text = why(&study([false; 4]));
+        let text = why(&study([false; 4]), &[], &paper());
         assert!(
             text.contains(
                 "P-w 0.7843-0.8249, s-w 0.7506-0.7693: the paper's motion, dominance, s-w \
@@ -159,7 +252,7 @@ mod tests {
             ),
             "{text}"
         );
-        let text = why(&study([false, true, false, false]));
+        let text = why(&study([false, true, false, false]), &[], &paper());
         assert!(
             text.contains("the paper's motion, dominance, P-w, s-w all reproduced"),
             "{text}"
