@@ -29,7 +29,8 @@ pub use verdict::{Claim, Verdict, MEMBER_MAJORITY};
 
 use crate::io::output::write_atomic;
 use crate::io::progress::Progress;
-use crate::paper::cases::Runs;
+use crate::paper::cases::{Runs, SteadyEnsemble, CASES};
+use crate::paper::figures::wear_profiles::mean_profile_regions;
 use crate::paper::figures::{all_needs, Figure, FIGURES};
 use crate::paper::format::seconds;
 use crate::paper::golden::Golden;
@@ -40,7 +41,7 @@ use crate::{Error, Result};
 use markdown::{command_output, cpu_model, md_table};
 use std::fmt::Write as _;
 use std::path::Path;
-use text::{why, ERRATA, IMPLEMENTATION};
+use text::{why, Dominance, ERRATA, IMPLEMENTATION};
 
 /// A figure the report drew, with the lines its program prints.
 pub struct DrawnFigure {
@@ -151,7 +152,33 @@ pub fn write(
         ],
         &rows,
     );
-    md.push_str(&why(studies.accuracy));
+    let steady = runs.steady_cases()?;
+    let impact = [
+        &steady.clearance_0_2mm,
+        &steady.clearance_0_5mm,
+        &steady.speed_30rpm,
+    ];
+    let members = |e: &[&&SteadyEnsemble]| e.iter().map(|e| e.members.len()).sum::<usize>();
+    let dominance = Dominance {
+        impact_pw: (
+            impact.iter().map(|e| e.pressure_dominated()).sum(),
+            members(&impact),
+        ),
+        all_sw: (
+            steady
+                .list()
+                .iter()
+                .map(|e| e.members.len() - e.pressure_dominated())
+                .sum(),
+            members(&steady.list()),
+        ),
+    };
+    md.push_str(&why(
+        studies.accuracy,
+        &dominance,
+        &mean_profile_regions(runs.wear(CASES.standard.scene)?),
+        &golden.standard_wear,
+    ));
 
     table3::table3_section(&mut md, runs, golden)?;
     md.push_str(&ensembles::ensemble_section(runs)?);
