@@ -26,6 +26,18 @@ pub fn min_state_members(n: usize) -> usize {
     n.div_ceil(10).max(2)
 }
 
+/// Columns of a quantity's states in a CSV (`ensemble_summary.csv`, `data/table3.csv`): the
+/// state count, then the low and the high state's members, mean and sd ([`States::cells`]).
+pub const STATE_COLUMNS: [&str; 7] = [
+    "states",
+    "low_n",
+    "low_mean",
+    "low_sd",
+    "high_n",
+    "high_mean",
+    "high_sd",
+];
+
 /// One state of an ensemble.
 #[derive(Clone, Debug, PartialEq)]
 pub struct State {
@@ -117,6 +129,21 @@ impl States {
         }
     }
 
+    /// The [`STATE_COLUMNS`] cells: the state count, then the low and the high state's members,
+    /// mean and sd written by `number` (those six empty with one state).
+    pub fn cells(&self, number: impl Fn(f64) -> String) -> Vec<String> {
+        let mut cells = vec![self.states.len().to_string()];
+        match self.low_high() {
+            Some((low, high)) => {
+                for d in [&low.distribution, &high.distribution] {
+                    cells.extend([d.n.to_string(), number(d.mean), number(d.sd)]);
+                }
+            }
+            None => cells.extend(vec![String::new(); 6]),
+        }
+        cells
+    }
+
     /// The states as a person reads them: `one state` or `low 5/32 0.601 ± 0.004, high 27/32
     /// 0.681 ± 0.006` (values × `scale`, `digits` decimals).
     pub fn describe(&self, scale: f64, digits: usize) -> String {
@@ -173,6 +200,15 @@ mod tests {
         assert_eq!(
             s.describe(1.0, 3),
             "low 5/12 0.600 ± 0.007, high 7/12 0.680 ± 0.008"
+        );
+        let number = |x: f64| format!("{x:.2}");
+        assert_eq!(
+            s.cells(number),
+            ["2", "5", "0.60", "0.01", "7", "0.68", "0.01"]
+        );
+        assert_eq!(
+            States::of(&[1.0, 1.1, 0.9]).cells(number),
+            ["1", "", "", "", "", "", ""]
         );
     }
 

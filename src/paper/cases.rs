@@ -13,6 +13,7 @@
 
 use crate::analysis::concordance::{centred_cmf, Concordance};
 use crate::analysis::regions::{wear_regions, Region};
+use crate::analysis::states::States;
 use crate::analysis::statistics::{Band, Distribution};
 use crate::analysis::Motion;
 use crate::io::progress::{Counter, Progress};
@@ -276,6 +277,11 @@ impl SteadyEnsemble {
     /// Distribution of `f` over the members.
     pub fn stat(&self, f: impl Fn(&SteadyMember) -> f64) -> Distribution {
         Distribution::of(self.members.iter().map(f))
+    }
+
+    /// States of `f` over the members ([`States`]).
+    pub fn states(&self, f: impl Fn(&SteadyMember) -> f64) -> States {
+        States::of(&self.members.iter().map(f).collect::<Vec<f64>>())
     }
 
     /// Members in continuous contact.

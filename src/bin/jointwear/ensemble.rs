@@ -5,7 +5,7 @@
 use crate::failure::{CliResult, Failure};
 use crate::outputs::{conventions, write_summary, PROGRAM, SUMMARY_FILE};
 use crate::{claim_out, joint_file, load_variant};
-use jointwear::analysis::states::States;
+use jointwear::analysis::states::{States, STATE_COLUMNS};
 use jointwear::analysis::statistics::{Distribution, VALUE_KEYS};
 use jointwear::io::output::{number, number_or_empty, write_outputs, write_rows};
 use jointwear::io::plot::{render, Axes, Series, Shade, Style};
@@ -170,7 +170,7 @@ fn write_ensemble(
     let stats = joint_statistics(scene, members);
     let mut head = vec!["joint", "quantity", "n"];
     head.extend(VALUE_KEYS);
-    head.extend(STATE_KEYS);
+    head.extend(STATE_COLUMNS);
     let numbers = |d: &Distribution| d.values().map(number_or_empty);
     let mut rows = Vec::new();
     for j in &stats {
@@ -226,34 +226,12 @@ fn write_ensemble(
     Ok(stats)
 }
 
-/// Columns of a quantity's states in `ensemble_summary.csv` ([`States`]).
-const STATE_KEYS: [&str; 7] = [
-    "states",
-    "low_n",
-    "low_mean",
-    "low_sd",
-    "high_n",
-    "high_mean",
-    "high_sd",
-];
-
-/// The [`STATE_KEYS`] cells of a quantity: its state count, then the low and the high state's
-/// members, mean and sd (empty with one state); all empty for an angle (no states).
+/// The [`STATE_COLUMNS`] cells of a quantity; all empty for an angle (no states).
 fn state_cells(states: Option<&States>) -> Vec<String> {
-    let Some(s) = states else {
-        return vec![String::new(); STATE_KEYS.len()];
-    };
-    let mut cells = vec![s.states.len().to_string()];
-    for i in 0..2 {
-        match s.low_high().map(|(low, high)| [low, high][i]) {
-            Some(state) => {
-                let d = &state.distribution;
-                cells.extend([d.n.to_string(), number(d.mean), number(d.sd)]);
-            }
-            None => cells.extend([String::new(), String::new(), String::new()]),
-        }
-    }
-    cells
+    states.map_or_else(
+        || vec![String::new(); STATE_COLUMNS.len()],
+        |s| s.cells(number),
+    )
 }
 
 /// `summary.json` of `run --ensemble`: the ensemble and the distribution of every quantity.

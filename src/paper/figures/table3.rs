@@ -6,6 +6,7 @@
 //! (section 2 of `paper.md`) and `data/table3.csv` are both written from it.
 
 use super::output_path;
+use crate::analysis::states::{States, STATE_COLUMNS};
 use crate::analysis::statistics::Distribution;
 use crate::io::output::write_rows;
 use crate::paper::cases::{Case, PerCase, Runs, CASES};
@@ -33,7 +34,14 @@ pub struct Table3Row<'a> {
     pub continuous: usize,
     /// Members whose P-w concordance exceeds their s-w one.
     pub pressure_dominated: usize,
+    /// States ([`States`]) of CMF(P, w), CMF(s, w), the contact share and the contact onsets
+    /// per rotation, in the order of [`STATE_QUANTITIES`].
+    pub states: [States; 4],
 }
+
+/// The quantities of Table 3 whose members may split into states, as `data/table3.csv` names
+/// them: CMF(P, w), CMF(s, w), share of the recorded time in contact, contact onsets per rotation.
+pub const STATE_QUANTITIES: [&str; 4] = ["pw", "sw", "contact_fraction", "impacts_per_rotation"];
 
 impl Table3Row<'_> {
     /// Whether the paper's P-w lies within the members' 5-95 % band.
@@ -56,7 +64,14 @@ fn in_band(d: &Distribution, v: f64) -> bool {
 pub fn table3_rows<'a>(runs: &Runs, golden: &'a Golden) -> Result<PerCase<Table3Row<'a>>> {
     CASES.zip(&golden.table3).try_map(|&(case, paper)| {
         let e = runs.steady(case.scene)?;
+        let quantities: [fn(&crate::paper::cases::SteadyMember) -> f64; 4] = [
+            |m| m.concordance.pressure_wear,
+            |m| m.concordance.sliding_wear,
+            |m| m.motion.contact_fraction,
+            |m| m.motion.impacts_per_rotation,
+        ];
         Ok(Table3Row {
+            states: quantities.map(|f| e.states(f)),
             case: *case,
             paper,
             members: e.members.len(),
@@ -72,10 +87,11 @@ pub fn table3_rows<'a>(runs: &Runs, golden: &'a Golden) -> Result<PerCase<Table3
 
 /// Table 3: per case, mean ± sd over the members of the concordances and the motion measures,
 /// the members per motion mode and dominance, and whether the paper's values lie within the
-/// 5-95 % band; writes `data/table3.csv`.
+/// 5-95 % band, then per quantity of [`STATE_QUANTITIES`] its states (`pw_states`, `pw_low_n`,
+/// `pw_low_mean`, … as [`STATE_COLUMNS`]); writes `data/table3.csv`.
 pub fn table3(runs: &Runs) -> Result<Vec<String>> {
     let golden = Golden::load()?;
-    let header = [
+    let mut header: Vec<String> = [
         "clearance_mm",
         "speed_rpm",
         "members",
@@ -99,7 +115,12 @@ pub fn table3(runs: &Runs) -> Result<Vec<String>> {
         "contact_fraction_sd",
         "impacts_per_rotation_mean",
         "impacts_per_rotation_sd",
-    ];
+    ]
+    .map(String::from)
+    .to_vec();
+    for q in STATE_QUANTITIES {
+        header.extend(STATE_COLUMNS.map(|c| format!("{q}_{c}")));
+    }
     let mut rows = Vec::new();
     let mut lines = Vec::new();
     for row in table3_rows(runs, &golden)?.list() {
@@ -111,7 +132,7 @@ pub fn table3(runs: &Runs) -> Result<Vec<String>> {
         );
         let (pw, sw) = (&row.pw, &row.sw);
         let num = |x: f64| format!("{x:.4}");
-        rows.push(vec![
+        let mut cells = vec![
             c_mm.to_string(),
             rpm.to_string(),
             n.to_string(),
@@ -135,7 +156,11 @@ pub fn table3(runs: &Runs) -> Result<Vec<String>> {
             num(row.contact_fraction.sd),
             format!("{:.2}", row.impacts_per_rotation.mean),
             format!("{:.2}", row.impacts_per_rotation.sd),
-        ]);
+        ];
+        for s in &row.states {
+            cells.extend(s.cells(num));
+        }
+        rows.push(cells);
         lines.push(format!(
             "{c_mm} mm, {rpm} r/min: paper {} P-w {:.4} s-w {:.4} ({}) | ours: continuous contact in \
              {} of {n}, P-w {}, s-w {}, P-w dominant in {} of {n}",
@@ -148,6 +173,11 @@ pub fn table3(runs: &Runs) -> Result<Vec<String>> {
             sw.mean_sd(1.0, 4),
             row.pressure_dominated
         ));
+        for (q, s) in STATE_QUANTITIES.iter().zip(&row.states) {
+            if s.split() {
+                lines.push(format!("  {q} in two states: {}", s.describe(1.0, 4)));
+            }
+        }
     }
     write_rows(&output_path("data", "table3.csv"), &header, rows)?;
     Ok(lines)

@@ -10,6 +10,7 @@
 
 use super::{output_path, standard_panel, CasePanel, Varied};
 use crate::analysis::regions::{wear_regions, Region};
+use crate::analysis::states::States;
 use crate::analysis::statistics::Band;
 use crate::io::output::write_csv;
 use crate::io::plot::{render, render_polar, Axes, Series, Shade, Style};
@@ -26,8 +27,14 @@ fn wear_line(name: &str, e: &WearEnsemble) -> String {
         .take(3)
         .map(|p| format!("{:.1} deg ({:.3} µm)", p.angle_deg, p.depth * 1e6))
         .collect();
+    let states = deepest_wear_states(e);
+    let states = if states.split() {
+        format!(" (states: {} µm)", states.describe(1e6, 3))
+    } else {
+        String::new()
+    };
     format!(
-        "{name} ({n} members): after {} rotations max wear {} µm (5-95 %: {}), mean {} µm; \
+        "{name} ({n} members): after {} rotations max wear {} µm{states} (5-95 %: {}), mean {} µm; \
          regions of the mean profile at {}",
         e.scene.run.rotations,
         e.stat(|m| m.max_depth()).mean_sd(1e6, 3),
@@ -38,6 +45,41 @@ fn wear_line(name: &str, e: &WearEnsemble) -> String {
         e.stat(|m| m.mean_depth()).mean_sd(1e6, 3),
         mean_regions.join(", ")
     )
+}
+
+/// States ([`States`]) of the members' deepest final wear (m).
+pub fn deepest_wear_states(e: &WearEnsemble) -> States {
+    States::of(
+        &e.members
+            .iter()
+            .map(|m| m.max_depth())
+            .collect::<Vec<f64>>(),
+    )
+}
+
+/// Mean and 5-95 % band of the final profiles of each state of the deepest wear, when the
+/// members split into two ([`deepest_wear_states`]): tagged `<tag>_low` and `<tag>_high`.
+fn state_curves(e: &WearEnsemble, label: &str, tag: &str) -> Vec<BandCurve> {
+    let states = deepest_wear_states(e);
+    let Some((low, high)) = states.low_high() else {
+        return Vec::new();
+    };
+    [("low", low), ("high", high)]
+        .iter()
+        .map(|(which, s)| {
+            let band = Band::of(
+                s.members
+                    .iter()
+                    .map(|&i| e.members[i].final_wear.as_slice()),
+            );
+            BandCurve::new(
+                format!("{label}, {which}-wear state"),
+                format!("{tag}_{which}"),
+                &band,
+                1e6,
+            )
+        })
+        .collect()
 }
 
 /// Wear regions of the ensemble-mean final profile, most prominent first.
@@ -140,6 +182,7 @@ pub(crate) fn write_band_csv(
 fn profile_figure(runs: &Runs, name: &str, cases: &[CasePanel]) -> Result<Vec<String>> {
     let mut lines = Vec::new();
     let mut panels = Vec::new();
+    let mut state_columns = Vec::new();
     for CasePanel { case, key, title } in cases {
         let e = runs.wear(case.scene)?;
         lines.push(wear_line(&case.label(), e));
@@ -150,6 +193,9 @@ fn profile_figure(runs: &Runs, name: &str, cases: &[CasePanel]) -> Result<Vec<St
             })
             .collect();
         let n = e.members.len();
+        // per-state final profiles go to the CSV only: the figure draws the pooled bands
+        let last = e.scene.run.rotations;
+        state_columns.push((*key, state_curves(e, &case.label(), &format!("rot{last}"))));
         panels.push((*key, format!("{title}, mean of {n}, 5-95 % shaded"), curves));
     }
     let sectors = panels
@@ -168,7 +214,9 @@ fn profile_figure(runs: &Runs, name: &str, cases: &[CasePanel]) -> Result<Vec<St
     let tagged = cases.len() > 1;
     let columns: Vec<(String, &BandCurve)> = panels
         .iter()
-        .flat_map(|(key, _, curves)| {
+        .map(|(key, _, curves)| (key, curves))
+        .chain(state_columns.iter().map(|(key, curves)| (key, curves)))
+        .flat_map(|(key, curves)| {
             curves.iter().map(move |c| {
                 let tag = if tagged {
                     format!("case{key}_{}", c.tag)
@@ -204,6 +252,8 @@ pub fn fig14(runs: &Runs) -> Result<Vec<String>> {
 fn comparison_figure(runs: &Runs, name: &str, title: &str, varied: Varied) -> Result<Vec<String>> {
     let mut lines = Vec::new();
     let mut curves = Vec::new();
+    // per-state profiles go to the CSV only: the figure draws the pooled band
+    let mut state_columns = Vec::new();
     for case in varied.cases() {
         let e = runs.wear(case.scene)?;
         lines.push(wear_line(&case.label(), e));
@@ -214,6 +264,7 @@ fn comparison_figure(runs: &Runs, name: &str, title: &str, varied: Varied) -> Re
             spread.mean_sd(1.0, 2)
         ));
         let (label, tag) = (varied.label(&case), varied.tag(&case));
+        state_columns.extend(state_curves(e, &label, &tag));
         curves.push(BandCurve::new(label, tag, &e.band(), 1e6));
     }
     let angles = sector_angles_deg(curves[0].mean.len());
@@ -242,7 +293,11 @@ fn comparison_figure(runs: &Runs, name: &str, title: &str, varied: Varied) -> Re
         ));
     }
     render(&output_path("figures", &format!("{name}.png")), &[panel])?;
-    let columns: Vec<(String, &BandCurve)> = curves.iter().map(|c| (c.tag.clone(), c)).collect();
+    let columns: Vec<(String, &BandCurve)> = curves
+        .iter()
+        .chain(&state_columns)
+        .map(|c| (c.tag.clone(), c))
+        .collect();
     write_band_csv(name, "angle_deg", &angles, &columns, 1e-3)?;
     Ok(lines)
 }

@@ -5,7 +5,9 @@
 
 use super::{across, decreasing, increasing, within, Claims, Ensembles};
 use crate::paper::cases::SteadyMember;
+use crate::paper::cases::CASES;
 use crate::paper::figures::mean_profile_regions;
+use crate::paper::figures::wear_profiles::deepest_wear_states;
 use crate::paper::golden::Golden;
 
 /// Adds the claims of figures 8-11.
@@ -97,8 +99,14 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "although the contact force is much larger, the accumulated wear depth is not seriously affected by clearance",
         "max wear ratio 0.5 mm : 0.02 mm within [0.5, 2]",
         format!(
-            "max wear after 40 rotations {} µm at 0.02 / 0.2 / 0.5 mm",
-            across(&wcl, |e| e.stat(|m| m.max_depth()), 1e6, 3)
+            "max wear after 40 rotations {} µm at 0.02 / 0.2 / 0.5 mm{}",
+            across(&wcl, |e| e.stat(|m| m.max_depth()), 1e6, 3),
+            wcl.iter()
+                .zip(CASES.by_clearance())
+                .map(|(e, case)| (deepest_wear_states(e), case))
+                .filter(|(s, _)| s.split())
+                .map(|(s, case)| format!("; {}: {} µm", case.label(), s.describe(1e6, 3)))
+                .collect::<String>()
         ),
         &|m| {
             let r = m.wear.clearance_0_5mm.max_depth() / m.wear.standard.max_depth();
