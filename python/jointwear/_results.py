@@ -137,7 +137,10 @@ class Ensemble:
         motion_modes: joint -> list of each member's motion mode (None without a recording).
         statistics: joint -> name -> dict of ``n`` (finite values), ``mean``, ``sd``, ``min``,
             ``q05``, ``q25``, ``q50``, ``q75``, ``q95``, ``max`` (angles unwrapped around
-            their circular mean), as ``ensemble_summary.csv``.
+            their circular mean), and the states the members fall into (largest-gap rule):
+            ``states`` 1 or 2, and ``low_n``, ``low_mean``, ``low_sd``, ``high_n``,
+            ``high_mean``, ``high_sd`` (None with one state; all None for angles), as
+            ``ensemble_summary.csv``.
         angles_deg: joint -> sector centres (deg), for joints with wear.
         wear: joint -> array (member, sector) of final wear depths (m).
         snapshot_rotations: rotation counts of the wear snapshots.
@@ -156,7 +159,7 @@ class Ensemble:
         self.snapshot_rotations = np.asarray(raw["snapshot_rotations"], dtype=np.int64)
         self.joints: List[str] = [j["name"] for j in raw["joints"]]
         self.scalars: Dict[str, Dict[str, np.ndarray]] = {}
-        self.statistics: Dict[str, Dict[str, Dict[str, float]]] = {}
+        self.statistics: Dict[str, Dict[str, Dict[str, Optional[float]]]] = {}
         self.motion_modes: Dict[str, List[Optional[str]]] = {}
         self.angles_deg: Dict[str, np.ndarray] = {}
         self.wear: Dict[str, np.ndarray] = {}

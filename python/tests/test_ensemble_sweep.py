@@ -63,6 +63,38 @@ def test_an_ensemble_has_the_programs_statistics(tmp_path, cli):
             assert stats[key] == expected or (np.isnan(stats[key]) and np.isnan(expected)), (q, key)
 
 
+STATES = ("states", "low_n", "low_mean", "low_sd", "high_n", "high_mean", "high_sd")
+
+
+def test_an_ensemble_has_the_programs_states(tmp_path, cli):
+    # 12 members with seed 5: max_penetration_recorded_m and impacts_per_rotation split into
+    # two states, the force into one, so both branches are compared. Checked to fail when the
+    # low and high states are swapped in src/python/scene.rs.
+    path = short_file(tmp_path)
+    out = tmp_path / "out"
+    program = cli("run", path, "--ensemble", 12, "--seed", 5, "--out", out)
+    assert program.returncode == 0, program.stderr
+    ens = jointwear.Scene.load(path).ensemble(12, seed=5)
+    with open(out / "ensemble_summary.csv", newline="") as f:
+        summary = {r["quantity"]: r for r in csv.DictReader(f)}
+    counts = set()
+    for q, stats in ens.statistics["rod-slider"].items():
+        # the program writes an absent state as an empty cell and numbers that read back
+        # bit for bit, so equality is exact
+        expected = {k: (float(summary[q][k]) if summary[q][k] else None) for k in STATES}
+        assert {k: stats[k] for k in STATES} == expected, q
+        if q.endswith("_deg"):
+            assert stats["states"] is None, q
+            continue
+        counts.add(stats["states"])
+        if stats["states"] == 1:
+            assert all(stats[k] is None for k in STATES[1:]), q
+        else:
+            assert stats["low_n"] + stats["high_n"] == stats["n"], q
+            assert stats["low_mean"] < stats["high_mean"], q
+    assert counts == {1, 2}
+
+
 def test_a_bad_member_count_is_a_scene_error():
     # The argument's name, not the program's flag.
     with pytest.raises(jointwear.SceneError, match=r"`members`: 0 \(expected a member count in"):

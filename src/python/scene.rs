@@ -4,6 +4,7 @@
 
 use super::convert::{f64_bytes, from_toml, to_toml};
 use super::{to_py_err, SimulationError};
+use crate::analysis::states::{States, STATE_COLUMNS};
 use crate::analysis::statistics::{Distribution, VALUE_KEYS};
 use crate::analysis::Motion;
 use crate::io::progress::Progress;
@@ -193,7 +194,8 @@ impl Document {
 
     /// Runs `members` members of the scene (seeded initial offsets of at most 10 nm) in
     /// parallel with the GIL released; returns, per clearance joint, every member's scalar
-    /// results, final profile and snapshots, and their statistics.
+    /// results, final profile and snapshots, and their statistics with the states the members
+    /// fall into.
     fn ensemble<'py>(
         &self,
         py: Python<'py>,
@@ -413,6 +415,22 @@ fn run_dict<'py>(py: Python<'py>, scene: &Scene, out: &RunOutput) -> PyResult<Bo
     Ok(d)
 }
 
+/// The [`STATE_COLUMNS`] of a quantity into its statistics dict, as `ensemble_summary.csv`:
+/// the state count, then the low and the high state's members, mean and sd; `None` where the
+/// members fall into one state, and all `None` for an angle (no states).
+fn set_states(d: &Bound<'_, PyDict>, states: Option<&States>) -> PyResult<()> {
+    d.set_item(STATE_COLUMNS[0], states.map(|s| s.states.len()))?;
+    let split = states.and_then(States::low_high);
+    let (low, high) = (split.map(|(l, _)| l), split.map(|(_, h)| h));
+    for (keys, state) in STATE_COLUMNS[1..].chunks(3).zip([low, high]) {
+        let dist = state.map(|s| &s.distribution);
+        d.set_item(keys[0], dist.map(|d| d.n))?;
+        d.set_item(keys[1], dist.map(|d| d.mean))?;
+        d.set_item(keys[2], dist.map(|d| d.sd))?;
+    }
+    Ok(())
+}
+
 /// An ensemble's members and statistics as a dict (see [`Document::ensemble`]).
 fn ensemble_dict<'py>(
     py: Python<'py>,
@@ -449,6 +467,8 @@ fn ensemble_dict<'py>(
             for (key, x) in VALUE_KEYS.iter().zip(dist.values()) {
                 sd.set_item(key, x)?;
             }
+            let states = st.states.iter().find(|(n, _)| n == name).map(|(_, s)| s);
+            set_states(&sd, states)?;
             statistics.set_item(*name, sd)?;
         }
         j.set_item("scalars", scalars)?;
