@@ -96,9 +96,9 @@ fn offsets_keep_every_ideal_joint_closed_and_move_the_journal_by_nanometres() {
     }
 }
 
-#[test]
-fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
-    let dir = temp_dir("ensemble", "run");
+/// A two-rotation 0.5 mm clearance scene (one rotation recorded, no snapshots) in `dir`: short
+/// command-line ensembles.
+fn two_rotation_scene(dir: &std::path::Path) -> std::path::PathBuf {
     let file = dir.join("scene.toml");
     std::fs::write(
         &file,
@@ -109,6 +109,13 @@ fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
         ),
     )
     .unwrap();
+    file
+}
+
+#[test]
+fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
+    let dir = temp_dir("ensemble", "run");
+    let file = two_rotation_scene(&dir);
     let out = dir.join("out");
     let (f, o) = (file.to_str().unwrap(), out.to_str().unwrap());
     let r = jointwear(&["run", f, "--out", o, "--ensemble", "3", "--seed", "5"]);
@@ -254,16 +261,7 @@ fn protocols_perturb_what_they_say() {
 #[test]
 fn command_line_member_reproduces_its_ensemble_member_bit_for_bit() {
     let dir = temp_dir("ensemble", "member");
-    let file = dir.join("scene.toml");
-    std::fs::write(
-        &file,
-        format!(
-            "extends = {:?}\n[overrides]\n\"run.rotations\" = 2\n\"run.record_rotations\" = 1\n\
-             \"run.wear_snapshots\" = []\n",
-            scene_path("clearance_0.5mm").display().to_string()
-        ),
-    )
-    .unwrap();
+    let file = two_rotation_scene(&dir);
     let (ens, one) = (dir.join("ensemble"), dir.join("member"));
     let f = file.to_str().unwrap();
     let r = jointwear(&[
