@@ -309,6 +309,11 @@ pub struct WearEnsemble {
 }
 
 impl WearEnsemble {
+    /// States of `f` over the members ([`States`]).
+    pub fn states(&self, f: impl Fn(&WearMember) -> f64) -> States {
+        States::of(&self.members.iter().map(f).collect::<Vec<f64>>())
+    }
+
     /// Per-sector band of the final profiles.
     pub fn band(&self) -> Band {
         Band::of(self.members.iter().map(|m| m.final_wear.as_slice()))

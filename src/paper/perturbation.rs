@@ -12,17 +12,18 @@
 //!
 //! Members of different protocols are independent draws, so the tests are unpaired. Writes
 //! `data/perturbation_sensitivity.csv` ([`PERTURBATION_FILE`]); paper.md's section 2 reads it.
+//!
+//! [`DEFAULT_MEMBERS`]: crate::simulation::ensemble::DEFAULT_MEMBERS
+//! [`DEFAULT_SEED`]: crate::simulation::ensemble::DEFAULT_SEED
 
 use crate::analysis::significance::{fisher_two_sided, Welch};
 use crate::analysis::states::States;
 use crate::analysis::statistics::Distribution;
 use crate::io::output::{read_rows, write_rows};
 use crate::io::progress::Progress;
-use crate::paper::cases::{Need, Runs, CASES};
+use crate::paper::cases::{Need, Runs, SteadyMember, CASES};
 use crate::paper::figures::output_path;
-use crate::simulation::ensemble::{
-    EnsembleSettings, Perturbation, DEFAULT_MEMBERS, DEFAULT_SEED, OFFSET_RADIUS,
-};
+use crate::simulation::ensemble::{EnsembleSettings, Perturbation, OFFSET_RADIUS};
 use crate::Result;
 
 /// The protocols compared; the first is the default every other is measured against.
@@ -157,10 +158,10 @@ pub fn read_perturbation() -> Option<Vec<SensitivityRow>> {
 }
 
 /// The members' values of every statistic of one protocol: `(case, quantity, values)` for
-/// means, `(case, quantity, flags)` for shares.
+/// means, `(case, quantity, count, members)` for shares.
 struct Measured {
     means: Vec<(&'static str, &'static str, Vec<f64>)>,
-    shares: Vec<(&'static str, &'static str, Vec<bool>)>,
+    shares: Vec<(&'static str, &'static str, usize, usize)>,
     seconds: f64,
 }
 
@@ -169,9 +170,7 @@ fn measure(runs: &Runs) -> Result<Measured> {
     let mut shares = Vec::new();
     for case in CASES.list() {
         let e = runs.steady(case.scene)?;
-        let of = |f: &dyn Fn(&crate::paper::cases::SteadyMember) -> f64| {
-            e.members.iter().map(f).collect::<Vec<f64>>()
-        };
+        let of = |f: &dyn Fn(&SteadyMember) -> f64| e.members.iter().map(f).collect::<Vec<f64>>();
         means.push((
             case.scene,
             "max_penetration_recorded_m",
@@ -187,19 +186,9 @@ fn measure(runs: &Runs) -> Result<Measured> {
             "sw_concordance",
             of(&|m| m.concordance.sliding_wear),
         ));
-        let flags = |f: &dyn Fn(&crate::paper::cases::SteadyMember) -> bool| {
-            e.members.iter().map(f).collect::<Vec<bool>>()
-        };
-        shares.push((
-            case.scene,
-            "continuous_contact",
-            flags(&|m| m.motion.continuous()),
-        ));
-        shares.push((
-            case.scene,
-            "pw_dominant",
-            flags(&|m| m.concordance.dominant() == "P-w"),
-        ));
+        let n = e.members.len();
+        shares.push((case.scene, "continuous_contact", e.continuous(), n));
+        shares.push((case.scene, "pw_dominant", e.pressure_dominated(), n));
     }
     let wear = runs.wear(CASES.standard.scene)?;
     means.push((
@@ -289,16 +278,9 @@ fn rows_of(
             base_values.map(|v| (low(v), v.len())),
         ));
     }
-    for (i, (case, quantity, flags)) in m.shares.iter().enumerate() {
-        let count = |f: &[bool]| f.iter().filter(|b| **b).count();
-        let b = base.map(|b| &b.shares[i].2);
-        rows.push(share_row(
-            case,
-            quantity,
-            count(flags),
-            flags.len(),
-            b.map(|f| (count(f), f.len())),
-        ));
+    for (i, &(case, quantity, count, n)) in m.shares.iter().enumerate() {
+        let b = base.map(|b| (b.shares[i].2, b.shares[i].3));
+        rows.push(share_row(case, quantity, count, n, b));
     }
     rows
 }
@@ -312,9 +294,8 @@ pub fn perturbation_study(progress: &dyn Progress) -> Result<Vec<SensitivityRow>
         .iter()
         .map(|&perturbation| {
             let ensemble = EnsembleSettings {
-                members: DEFAULT_MEMBERS,
-                seed: DEFAULT_SEED,
                 perturbation,
+                ..EnsembleSettings::default()
             };
             measure(&Runs::compute(&needs, ensemble, &|_| {}, progress)?)
         })

@@ -286,9 +286,7 @@ pub fn member_mechanism(scene: &Scene, seed: u64, member: usize) -> Mechanism {
 /// The initial state of member `member` of `scene` under the default protocol: the ideal-joint
 /// configuration with every journal centre at its offset `e₀ = R(φ_J) d`.
 pub fn member_state(scene: &Scene, seed: u64, member: usize) -> Result<Vec<f64>> {
-    Ok(Perturbation::default()
-        .start(scene, &scene.run, seed, member)?
-        .1)
+    member_mechanism(scene, seed, member).assemble(&scene.guess)
 }
 
 /// The simulation of member `member` of an ensemble of `scene` run with `settings`, ready to

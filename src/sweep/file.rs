@@ -113,7 +113,7 @@ impl Sweep {
         SweepId {
             fingerprint: self.fingerprint.clone(),
             shard: self.shard,
-            cases: shard_cases(self.total, self.shard),
+            cases: self.shard_cases(),
             total: self.total,
         }
     }

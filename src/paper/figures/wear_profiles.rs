@@ -49,12 +49,7 @@ fn wear_line(name: &str, e: &WearEnsemble) -> String {
 
 /// States ([`States`]) of the members' deepest final wear (m).
 pub fn deepest_wear_states(e: &WearEnsemble) -> States {
-    States::of(
-        &e.members
-            .iter()
-            .map(|m| m.max_depth())
-            .collect::<Vec<f64>>(),
-    )
+    e.states(|m| m.max_depth())
 }
 
 /// Mean and 5-95 % band of the final profiles of each state of the deepest wear, when the
