@@ -107,11 +107,7 @@ fn on_signal() {
         }
     }
     for (lock, created) in &r.claims {
-        let _ = std::fs::remove_file(lock);
-        if let Some(dir) = created {
-            // Fails, as it should, unless the folder is empty.
-            let _ = std::fs::remove_dir(dir);
-        }
+        super::lock::release(lock, created.as_deref());
     }
     let mut message = match removed.len() {
         0 => "interrupted: no temporary outputs to remove".to_string(),

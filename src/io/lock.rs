@@ -33,12 +33,18 @@ pub struct Lock {
 
 impl Drop for Lock {
     fn drop(&mut self) {
-        // Best effort: a lock left behind is stale and taken over by the next writer.
-        let _ = fs::remove_file(&self.path);
-        if let Some(dir) = &self.created {
-            // Fails, as it should, unless the folder is empty.
-            let _ = fs::remove_dir(dir);
-        }
+        release(&self.path, self.created.as_deref());
+    }
+}
+
+/// Removes the lock file `lock` and the folder its claim `created`, if nothing was written
+/// into it: on drop and on an interrupt.
+pub(crate) fn release(lock: &Path, created: Option<&Path>) {
+    // Best effort: a lock left behind is stale and taken over by the next writer.
+    let _ = fs::remove_file(lock);
+    if let Some(dir) = created {
+        // Fails, as it should, unless the folder is empty.
+        let _ = fs::remove_dir(dir);
     }
 }
 
