@@ -38,31 +38,32 @@ fn add_force(force: &mut [f64], b: BodyIndex, s: Vector2<f64>, f: Vector2<f64>) 
 }
 
 impl Mechanism {
-    /// Generalised forces: gravity plus clearance-joint contact forces (eq. 11), with the body
-    /// rotations of the last [`Mechanism::constraints`] call.
+    /// Generalised forces into `force` (3 per body): gravity plus clearance-joint contact
+    /// forces (eq. 11), at absolute coordinates `(q, v)` with the bodies' `(sin, cos)` from `rot`;
+    /// each joint's penetration into `gaps` (one per clearance joint).
     /// Returns (normal-force power, friction power) into the system, or the clearance joint
     /// and penetration beyond [`MAX_PENETRATION_RATIO`] of its journal radius.
-    fn applied_forces(
+    pub(super) fn applied_forces(
         &self,
         state: &RunState,
-        ws: &mut Workspace,
         q: &[f64],
         v: &[f64],
+        rot: impl Fn(usize) -> (f64, f64) + Copy,
+        force: &mut [f64],
+        gaps: &mut [f64],
     ) -> std::result::Result<(f64, f64), (usize, f64)> {
-        let mut force = std::mem::take(&mut ws.force);
         for (i, b) in self.bodies.iter().enumerate() {
             force[3 * i] = b.mass * self.gravity.x;
             force[3 * i + 1] = b.mass * self.gravity.y;
             force[3 * i + 2] = 0.0;
         }
         let (mut p_normal, mut p_friction) = (0.0, 0.0);
-        let rot = &ws.rot;
-        for k in 0..self.clearance_joints.len() {
-            let (cs, sj, sb) = self.contact_geometry(state, k, q, v, |i| rot[i]);
+        for (k, gap) in gaps.iter_mut().enumerate() {
+            let (cs, sj, sb) = self.contact_geometry(state, k, q, v, rot);
             let cs = self.with_forces(state, k, cs);
             let cj = &self.clearance_joints[k];
+            *gap = cs.delta;
             if cs.delta > MAX_PENETRATION_RATIO * cj.r_journal {
-                ws.force = force;
                 return Err((k, cs.delta));
             }
             if cs.f_n == 0.0 {
@@ -70,27 +71,16 @@ impl Mechanism {
             }
             let (n, t) = (cs.n, perp(cs.n));
             let on_journal = -n * cs.f_n + t * cs.f_t;
-            add_force(
-                &mut force,
-                cj.journal.body,
-                sj + n * cj.r_journal,
-                on_journal,
-            );
-            add_force(
-                &mut force,
-                cj.bearing.body,
-                sb + n * cj.r_bearing,
-                -on_journal,
-            );
+            add_force(force, cj.journal.body, sj + n * cj.r_journal, on_journal);
+            add_force(force, cj.bearing.body, sb + n * cj.r_bearing, -on_journal);
             p_normal -= cs.f_n * cs.e_rate;
             p_friction += cs.f_t * cs.v_t;
         }
-        ws.force = force;
         Ok((p_normal, p_friction))
     }
 
     /// The error of clearance joint `k` penetrating `delta` beyond the contact laws at `t`.
-    fn overload(&self, t: f64, k: usize, delta: f64) -> Error {
+    pub(super) fn overload(&self, t: f64, k: usize, delta: f64) -> Error {
         let cj = &self.clearance_joints[k];
         Error::Integration {
             time: t,
@@ -161,9 +151,11 @@ impl Mechanism {
         let mut phi = std::mem::take(&mut ws.lambda);
         self.constraints(ws, t, q, v, Some(&mut phi));
         ws.lambda = phi;
-        let (p_normal, p_friction) = self
-            .applied_forces(state, ws, q, v)
-            .map_err(|(k, delta)| self.overload(t, k, delta))?;
+        let mut force = std::mem::take(&mut ws.force);
+        let rot = &ws.rot;
+        let powers = self.applied_forces(state, q, v, |i| rot[i], &mut force, &mut ws.gaps);
+        ws.force = force;
+        let (p_normal, p_friction) = powers.map_err(|(k, delta)| self.overload(t, k, delta))?;
         self.accelerations(ws, t, v, &mut dy[n..2 * n])?;
         dy[..n].copy_from_slice(v);
         if self.energy_accounting {

@@ -32,18 +32,29 @@
 //! integrator's state vector) and the *scratch* space of an evaluation ([`Workspace`]).
 //! Files: `kinematics` (clearance-joint geometry and forces), `constraints` (Φ, Φ_q, γ and
 //! the accelerations), `workspace` (layout of the solve and LDLᵀ), `dynamics` (the
-//! right-hand side), `assembly` (initial state), `energy`.
+//! right-hand side), `assembly` (initial state), `energy`, `tree` (joint coordinates).
+//!
+//! # What a run integrates ([`Formulation`])
+//!
+//! A mechanism whose ideal joints form a tree rooted at the ground (its loops close only
+//! through clearance joints, as in the slider-crank) is integrated in joint coordinates
+//! (`tree`): one coordinate per ideal-joint freedom, no constraints, no drift. Otherwise (a
+//! closed ideal loop, such as the four-bar's) the run integrates the absolute coordinates
+//! above. Everything outside the integrator's state (events, wear, recording, outputs) sees
+//! the absolute coordinates: [`Mechanism::absolute_state`] maps one to the other.
 
 mod assembly;
 mod constraints;
 mod dynamics;
 mod energy;
 mod kinematics;
+mod tree;
 mod workspace;
 
 pub use assembly::{Lock, SWEEP_RESOLUTION_DEG, SWEEP_STEP_DEG};
 pub use dynamics::{eigenvalues_by_modulus, JACOBIAN_STEP};
 pub use kinematics::ContactState;
+pub use tree::MAX_TREE_FREEDOMS;
 pub use workspace::Workspace;
 
 use crate::laws::contact::ContactLaw;
@@ -224,6 +235,40 @@ pub struct Mechanism {
     /// The layout of the constraint solve with buffers sized, derived once from the joints:
     /// the template of every run's [`Workspace`], never written to.
     layout: Workspace,
+    /// The ideal joints as a tree in joint coordinates, if they form one ([`Formulation`]).
+    tree: Option<tree::Tree>,
+}
+
+/// The coordinates a run integrates, chosen when the mechanism is built (module
+/// documentation, "What a run integrates").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Formulation {
+    /// Three absolute coordinates per body, the ideal joints as constraints with Baumgarte
+    /// stabilisation (eq. 10).
+    Absolute,
+    /// One coordinate per ideal-joint freedom of a tree-shaped linkage (at most
+    /// [`MAX_TREE_FREEDOMS`]), the driver prescribed.
+    JointCoordinates {
+        /// Ideal-joint freedoms (coordinates).
+        freedoms: usize,
+    },
+}
+
+impl std::fmt::Display for Formulation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Formulation::Absolute => write!(
+                f,
+                "absolute coordinates (3 per body), ideal joints as Baumgarte-stabilised \
+                 constraints"
+            ),
+            Formulation::JointCoordinates { freedoms } => write!(
+                f,
+                "joint coordinates ({freedoms} for the tree of ideal joints, the driver \
+                 prescribed)"
+            ),
+        }
+    }
 }
 
 impl Mechanism {
@@ -249,9 +294,11 @@ impl Mechanism {
             baumgarte,
             energy_accounting,
             layout: Workspace::default(),
+            tree: None,
         };
         // Laid out here, so that redundant joints are refused when the mechanism is built.
         m.layout = Workspace::new(&m)?;
+        m.tree = tree::Tree::of(&m);
         Ok(m)
     }
 
@@ -284,6 +331,64 @@ impl Mechanism {
             } else {
                 0
             }
+    }
+
+    /// The coordinates a run of this mechanism integrates.
+    pub fn formulation(&self) -> Formulation {
+        self.tree
+            .as_ref()
+            .map_or(Formulation::Absolute, |t| Formulation::JointCoordinates {
+                freedoms: t.freedoms(),
+            })
+    }
+
+    /// Length of the integrator's state in the [`Formulation`]: its coordinates and rates
+    /// (the first [`Mechanism::ode_controlled`] components, under error control), then the
+    /// energy quadratures if on.
+    pub fn ode_len(&self) -> usize {
+        self.state_len() - 2 * self.coordinates() + self.ode_controlled()
+    }
+
+    /// Coordinates and rates of the integrator's state.
+    pub fn ode_controlled(&self) -> usize {
+        2 * self
+            .tree
+            .as_ref()
+            .map_or(self.coordinates(), |t| t.freedoms())
+    }
+
+    /// The integrator's state (of [`Mechanism::ode_len`]) of an absolute state `y` (of
+    /// [`Mechanism::state_len`]) that satisfies the ideal joints.
+    pub fn ode_state(&self, y: &[f64]) -> Vec<f64> {
+        self.tree
+            .as_ref()
+            .map_or_else(|| y.to_vec(), |tree| tree.coordinates(self, y))
+    }
+
+    /// Writes the absolute state (of [`Mechanism::state_len`]) of the integrator's state `z`
+    /// at time `t` into `y`.
+    pub fn absolute_state(&self, t: f64, z: &[f64], y: &mut [f64]) {
+        match &self.tree {
+            Some(tree) => tree.absolute(self, t, z, y),
+            None => y.copy_from_slice(z),
+        }
+    }
+
+    /// The right-hand side of the integrator's state: [`Mechanism::rhs`], or Lagrange's
+    /// equations in joint coordinates (`ws` keeps only the penetrations,
+    /// [`Workspace::last_gaps`]).
+    pub fn ode_rhs(
+        &self,
+        state: &RunState,
+        ws: &mut Workspace,
+        t: f64,
+        z: &[f64],
+        dz: &mut [f64],
+    ) -> Result<()> {
+        match &self.tree {
+            Some(tree) => tree.rhs(self, state, t, z, dz, &mut ws.gaps),
+            None => self.rhs(state, ws, t, z, dz),
+        }
     }
 
     /// A fresh workspace for the right-hand side of this mechanism (a copy of the layout

@@ -74,7 +74,8 @@ impl Sink<'_> {
 /// The scratch space of the right-hand side: the layout of the constraint solve, derived once
 /// from the mechanism's joints, and every buffer sized once, so that an evaluation allocates
 /// nothing. One per run ([`Mechanism::workspace`]); it carries nothing from one evaluation to
-/// the next that changes a result.
+/// the next that changes a result, and keeps the penetrations of the last evaluation
+/// ([`Workspace::last_gaps`]).
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
     /// `(sin φ, cos φ)` of every body: one `sin_cos` per body and evaluation, not per point.
@@ -106,6 +107,8 @@ pub struct Workspace {
     pub(super) lambda: Vec<f64>,
     /// Φ_qᵀ λ, for the driver's torque.
     pub(super) reaction: Vec<f64>,
+    /// Penetration δ (m) of each clearance joint at the last evaluation.
+    pub(super) gaps: Vec<f64>,
 }
 
 /// One row of Φ_q: the three columns of each of (at most) two bodies, and the same columns
@@ -172,6 +175,13 @@ impl Row {
 }
 
 impl Workspace {
+    /// Penetration δ (m) of each clearance joint at the state of the last evaluation of the
+    /// right-hand side: after an accepted step, at its end (every method evaluates the
+    /// right-hand side there last), which is where a run tests for contact onsets.
+    pub fn last_gaps(&self) -> &[f64] {
+        &self.gaps
+    }
+
     /// Lays out the constraint solve of `m` (which equations are solved for one coordinate,
     /// the sparse rows of the others, the pairs of blocks that meet) and sizes every buffer.
     /// Errors when a joint constrains coordinates the others already fix (redundant joints).
@@ -207,6 +217,7 @@ impl Workspace {
             rows: vec![Row::default(); equations],
             gamma: vec![0.0; equations],
             reaction: vec![0.0; n],
+            gaps: vec![0.0; m.clearance_joints.len()],
             ..Default::default()
         };
         // The pattern at two unremarkable states: a column non-zero at either is non-zero,

@@ -13,24 +13,25 @@ pub struct Event {
 }
 
 impl Integrator {
-    /// The earliest change from negative to non-negative of the event functions `g(i, y)`,
+    /// The earliest change from negative to non-negative of the event functions `g(i, t, y)`,
     /// `i < g_prev.len()`, inside the last accepted step, located on its dense output to
     /// `1e-12·max(t, 1)`. `g_prev` holds their values at the step start and is updated to
-    /// the step end; `scratch` (the state's length) receives interpolated states.
+    /// their values at the step end, `g_end` (known to the caller from the right-hand side's
+    /// evaluation there); `scratch` (the state's length) receives interpolated states.
     pub fn earliest_event(
         &self,
         g_prev: &mut [f64],
-        mut g: impl FnMut(usize, &[f64]) -> f64,
+        g_end: &[f64],
+        mut g: impl FnMut(usize, f64, &[f64]) -> f64,
         scratch: &mut [f64],
     ) -> Option<Event> {
         let (ta, tb) = (self.t_prev(), self.t());
         let mut earliest: Option<Event> = None;
-        for (index, g_start) in g_prev.iter_mut().enumerate() {
-            let g_end = g(index, self.y());
+        for (index, (g_start, &g_end)) in g_prev.iter_mut().zip(g_end).enumerate() {
             if *g_start < 0.0 && g_end >= 0.0 {
                 let on_dense = |t| {
                     self.dense(t, scratch);
-                    g(index, scratch)
+                    g(index, t, scratch)
                 };
                 let t = locate_root(on_dense, ta, *g_start, tb, g_end, 1e-12 * tb.max(1.0));
                 if earliest.is_none_or(|e| t < e.t) {

@@ -182,6 +182,11 @@ pub struct IntegratorState {
 }
 
 impl IntegratorState {
+    /// The current time.
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+
     /// The state vector at the current time.
     pub fn y(&self) -> &[f64] {
         &self.y

@@ -537,14 +537,15 @@ fn integrator_locates_the_earliest_event_of_a_step() {
     let levels = [0.3, 0.2, 2.0];
     let mut g = [-0.3, -0.2, -2.0];
     let mut scratch = [0.0];
-    let event = int.earliest_event(&mut g, |i, y| y[0] - levels[i], &mut scratch);
+    let at_end: Vec<f64> = levels.iter().map(|l| int.y()[0] - l).collect();
+    let event = int.earliest_event(&mut g, &at_end, |i, _, y| y[0] - levels[i], &mut scratch);
     let event = event.expect("two events in the step");
     assert_eq!(event.index, 1);
     assert_relative_eq!(event.t, 0.2, epsilon = 1e-12);
     // The values move on to the step end, so the same crossings are not found again.
     assert_relative_eq!(g[0], 0.7, epsilon = 1e-12);
     assert!(int
-        .earliest_event(&mut g, |i, y| y[0] - levels[i], &mut scratch)
+        .earliest_event(&mut g, &at_end, |i, _, y| y[0] - levels[i], &mut scratch)
         .is_none());
 }
 

@@ -194,7 +194,7 @@ pub fn step_limit_study(standard: &SceneFile) -> Result<()> {
         }
         let (t, y) = (sim.time(), sim.y());
         let step = t - start;
-        let jacobian = scene.mechanism.rhs_jacobian(sim.state(), &mut ws, t, y)?;
+        let jacobian = scene.mechanism.rhs_jacobian(sim.state(), &mut ws, t, &y)?;
         // An eigenvalue with h|λ| < 1e-3 cannot bind: its fraction is at most about 1e-3 (the
         // smallest boundary in the left half-plane is about 1 for Dopri5, near the imaginary
         // axis), so its boundary is not searched.
@@ -210,7 +210,7 @@ pub fn step_limit_study(standard: &SceneFile) -> Result<()> {
         let (fraction, lambda, boundary) =
             binding.unwrap_or((f64::NAN, Complex::new(f64::NAN, f64::NAN), f64::NAN));
         let penetration = (0..scene.mechanism.clearance_joints.len())
-            .map(|k| scene.mechanism.penetration(sim.state(), k, y))
+            .map(|k| scene.mechanism.penetration(sim.state(), k, &y))
             .fold(f64::NEG_INFINITY, f64::max);
         let row = [
             t,

@@ -4,7 +4,6 @@
 
 use super::*;
 use crate::mechanism::{Mechanism, RunState, Workspace};
-use crate::ode::Integrator;
 use crate::Result;
 use serde::{Deserialize, Serialize};
 
@@ -64,7 +63,7 @@ impl Sampler {
         mechanism: &Mechanism,
         state: &RunState,
         ws: &mut Workspace,
-        integrator: &Integrator,
+        mut dense: impl FnMut(f64, &mut [f64]),
         ta: f64,
         tb: f64,
         rec: &mut Recording,
@@ -80,7 +79,7 @@ impl Sampler {
             if t < ta {
                 continue;
             }
-            integrator.dense(t, y);
+            dense(t, y);
             mechanism.rhs(state, ws, t, y, &mut self.dy)?;
             if rec.accelerations.is_empty() {
                 rec.positions = vec![Default::default(); mechanism.bodies().len()];
@@ -187,7 +186,7 @@ impl Settler {
         &mut self,
         mechanism: &Mechanism,
         state: &RunState,
-        integrator: &Integrator,
+        mut dense: impl FnMut(f64, &mut [f64]),
         ta: f64,
         tb: f64,
         y: &mut [f64],
@@ -200,7 +199,7 @@ impl Settler {
                 break;
             }
             if t >= ta {
-                integrator.dense(t, y);
+                dense(t, y);
                 for (k, orbit) in self.orbits[self.rotation % 2].iter_mut().enumerate() {
                     let e = mechanism
                         .contact_kinematics(state, k, &y[..n], &y[n..2 * n])

@@ -22,11 +22,11 @@ struct Dynamics<'a> {
 
 impl OdeSystem for Dynamics<'_> {
     fn dim(&self) -> usize {
-        self.mechanism.state_len()
+        self.mechanism.ode_len()
     }
 
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
-        self.mechanism.rhs(self.state, self.ws, t, y, dy)
+        self.mechanism.ode_rhs(self.state, self.ws, t, y, dy)
     }
 }
 
@@ -58,8 +58,12 @@ pub struct Simulation {
     /// Time and coordinates the run started (or resumed) from: where a failed run turns its
     /// ideal loop through a rotation to see whether the links lock ([`Simulation::at_lock`]).
     start: (f64, Vec<f64>),
+    /// Absolute states (of `Mechanism::state_len`) at an onset, a step's midpoint, anywhere.
     y_event: Vec<f64>,
     y_mid: Vec<f64>,
+    y_abs: Vec<f64>,
+    /// The integrator's state at an onset, or on the dense output.
+    z_event: Vec<f64>,
     wears: bool,
     rotation: u32,
     out: RunOutput,
@@ -71,22 +75,31 @@ impl Simulation {
     /// initial wear profiles and no contact.
     pub fn new(mechanism: Mechanism, settings: RunSettings, y0: &[f64]) -> Result<Simulation> {
         let state = mechanism.initial_state();
-        Simulation::with_state(mechanism, state, settings, y0)
+        let z0 = mechanism.ode_state(y0);
+        Simulation::with_state(mechanism, state, settings, 0.0, &z0)
     }
 
-    /// Starts a run from `y0` and the run state `state`.
+    /// Starts a run at time `t0` from the integrator's state `z0` and the run state `state`.
     fn with_state(
         mechanism: Mechanism,
         state: RunState,
         settings: RunSettings,
-        y0: &[f64],
+        t0: f64,
+        z0: &[f64],
     ) -> Result<Simulation> {
         let clock = std::time::Instant::now();
         let n = mechanism.coordinates();
         let joints = mechanism.clearance_joints.len();
         let period = TAU / mechanism.driver.omega.abs();
-        let dim = mechanism.state_len();
-        let mut integrator = Integrator::new(settings.method, dim, 2 * n, settings.tolerances);
+        let (dim, ode) = (mechanism.state_len(), mechanism.ode_len());
+        let mut y0 = vec![0.0; dim];
+        mechanism.absolute_state(t0, z0, &mut y0);
+        let mut integrator = Integrator::new(
+            settings.method,
+            ode,
+            mechanism.ode_controlled(),
+            settings.tolerances,
+        );
         let settler = settings.settle.map(|s| Settler::new(&mechanism, s, period));
         let end_rotation = settler.is_none().then_some(settings.rotations);
         // Wear history points do not cut steps (that would change the run they describe): a
@@ -99,9 +112,9 @@ impl Simulation {
         };
         let energy_start = settings
             .energy_accounting
-            .then(|| mechanical_energy(&mechanism, &state, y0));
+            .then(|| mechanical_energy(&mechanism, &state, &y0));
         let gaps = (0..joints)
-            .map(|k| mechanism.penetration(&state, k, y0))
+            .map(|k| mechanism.penetration(&state, k, &y0))
             .collect();
         let wears = mechanism.clearance_joints.iter().any(|c| c.wear.is_some());
         let mut ws = mechanism.workspace();
@@ -110,7 +123,7 @@ impl Simulation {
             state: &state,
             ws: &mut ws,
         };
-        integrator.reset(&mut sys, 0.0, y0)?;
+        integrator.reset(&mut sys, t0, z0)?;
         let mut sim = Simulation {
             mechanism,
             state,
@@ -125,9 +138,11 @@ impl Simulation {
             energy_start,
             crawl_mark: None,
             gaps,
-            start: (0.0, y0[..n].to_vec()),
+            start: (t0, y0[..n].to_vec()),
             y_event: vec![0.0; dim],
             y_mid: vec![0.0; dim],
+            y_abs: y0,
+            z_event: vec![0.0; ode],
             wears,
             rotation: 0,
             out: RunOutput {
@@ -240,15 +255,23 @@ impl Simulation {
             }
             joint.onset_velocity = *v;
         }
-        let y: Vec<f64> = c.integrator.y().to_vec();
-        if y.len() != mechanism.state_len() {
+        let z: Vec<f64> = c.integrator.y().to_vec();
+        if z.len() != mechanism.ode_len() {
             return Err(misfit(
                 "integrator.y",
-                format!("{} entries", y.len()),
-                format!("the state length of this scene ({})", mechanism.state_len()),
+                format!("{} entries", z.len()),
+                format!(
+                    "the state length of this scene ({}: {})",
+                    mechanism.ode_len(),
+                    mechanism.formulation()
+                ),
             ));
         }
-        let mut sim = Simulation::with_state(mechanism, state, scene.run.clone(), &y)?;
+        let t0 = c.integrator.t();
+        if !t0.is_finite() {
+            return Err(misfit("integrator.t", t0, "a finite time (s)".into()));
+        }
+        let mut sim = Simulation::with_state(mechanism, state, scene.run.clone(), t0, &z)?;
         sim.integrator
             .restore(c.integrator.clone())
             .map_err(|field| {
@@ -261,7 +284,6 @@ impl Simulation {
                 )
             })?;
         sim.validate(&c)?;
-        sim.start.0 = sim.integrator.t();
         sim.rotation = c.rotation;
         sim.end_rotation = c.end_rotation;
         sim.gaps = c.gaps;
@@ -547,9 +569,12 @@ impl Simulation {
         self.integrator.t()
     }
 
-    /// Coordinates and velocities (and energy integrals, when accounted) reached.
-    pub fn y(&self) -> &[f64] {
-        self.integrator.y()
+    /// Absolute coordinates and velocities (and energy integrals, when accounted) reached,
+    /// whatever the [`crate::mechanism::Formulation`] integrates.
+    pub fn y(&self) -> Vec<f64> {
+        let mut y = vec![0.0; self.mechanism.state_len()];
+        (self.mechanism).absolute_state(self.integrator.t(), self.integrator.y(), &mut y);
+        y
     }
 
     /// Runs the remaining rotations, telling `progress` the rotations done after each, or
@@ -573,21 +598,22 @@ impl Simulation {
             joint.wear.add_depths(inc, factor);
         }
         self.check_wear_depth()?;
-        let (t, y) = (self.integrator.t(), self.integrator.y().to_vec());
+        let (t, z) = (self.integrator.t(), self.integrator.y().to_vec());
+        (self.mechanism).absolute_state(t, &z, &mut self.y_abs);
         for (k, g) in self.gaps.iter_mut().enumerate() {
-            *g = self.mechanism.penetration(&self.state, k, &y);
+            *g = self.mechanism.penetration(&self.state, k, &self.y_abs);
         }
-        self.restart(t, &y)
+        self.restart(t, &z)
     }
 
-    /// Restarts the integrator at (t, y) after a discontinuity of the right-hand side.
-    fn restart(&mut self, t: f64, y: &[f64]) -> Result<()> {
+    /// Restarts the integrator at (t, z) after a discontinuity of the right-hand side.
+    fn restart(&mut self, t: f64, z: &[f64]) -> Result<()> {
         let mut sys = Dynamics {
             mechanism: &self.mechanism,
             state: &self.state,
             ws: &mut self.ws,
         };
-        self.integrator.reset(&mut sys, t, y)
+        self.integrator.reset(&mut sys, t, z)
     }
 
     /// Integrates one driver rotation: accepted steps up to the rotation's end, each followed
@@ -795,19 +821,29 @@ impl Simulation {
             }
             self.crawl_mark = Some(tb);
         }
-        let (mechanism, integrator, y_event) =
-            (&self.mechanism, &self.integrator, &mut self.y_event);
+        let (mechanism, integrator) = (&self.mechanism, &self.integrator);
+        let (y_event, y_abs, z_event) = (&mut self.y_event, &mut self.y_abs, &mut self.z_event);
         // 1. Contact onsets: the earliest gap sign change from free flight to contact.
         let state = &self.state;
+        // The gaps at the step end are the last evaluation's.
         let onset = integrator.earliest_event(
             &mut self.gaps,
-            |k, y| mechanism.penetration(state, k, y),
-            y_event,
+            self.ws.last_gaps(),
+            |k, t, z| {
+                mechanism.absolute_state(t, z, y_abs);
+                mechanism.penetration(state, k, y_abs)
+            },
+            z_event,
         );
         let t_stop = onset.map_or(tb, |e| e.t);
+        // The absolute state on the step's dense output.
+        let mut dense = |t: f64, y: &mut [f64]| {
+            integrator.dense(t, z_event);
+            mechanism.absolute_state(t, z_event, y);
+        };
         // 2. Wear at the interval midpoint, 3. samples, both over [ta, t_stop].
         if self.wears {
-            integrator.dense(0.5 * (ta + t_stop), &mut self.y_mid);
+            dense(0.5 * (ta + t_stop), &mut self.y_mid);
             let y_mid = &self.y_mid[..2 * n];
             if let Some((k, deepest)) = add_wear(mechanism, &mut self.state, y_mid, t_stop - ta) {
                 return Err(self.wear_limit_error(k, deepest));
@@ -819,7 +855,7 @@ impl Simulation {
                 mechanism,
                 state,
                 &mut self.ws,
-                integrator,
+                &mut dense,
                 ta,
                 t_stop,
                 &mut self.out.recording,
@@ -827,10 +863,10 @@ impl Simulation {
             )?;
         }
         if let Some(s) = self.settler.as_mut() {
-            s.sample(mechanism, state, integrator, ta, t_stop, y_event);
+            s.sample(mechanism, state, &mut dense, ta, t_stop, y_event);
         }
         if let Some(Event { index: k, t }) = onset {
-            integrator.dense(t, y_event);
+            dense(t, y_event);
             let cs = mechanism.contact_kinematics(state, k, &y_event[..n], &y_event[n..2 * n]);
             self.state.joints[k].onset_velocity = cs.delta_dot;
             self.out.impacts[k] += 1;
@@ -842,9 +878,9 @@ impl Simulation {
                 };
             }
             self.integrator.record_event();
-            let y = std::mem::take(&mut self.y_event);
-            let restarted = self.restart(t, &y);
-            self.y_event = y;
+            let z = std::mem::take(&mut self.z_event);
+            let restarted = self.restart(t, &z);
+            self.z_event = z;
             restarted?;
         }
         for (m, g) in self
@@ -871,7 +907,7 @@ impl Simulation {
     /// The outputs of the run so far.
     pub fn finish(mut self) -> RunOutput {
         let n = self.mechanism.coordinates();
-        let y = self.integrator.y().to_vec();
+        let y = self.y();
         if let Some(start) = self.energy_start {
             let end = mechanical_energy(&self.mechanism, &self.state, &y);
             self.out.energy = Some(EnergyAccount {

@@ -88,6 +88,7 @@ pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
         "degrees of freedom: {dof} (2 per clearance joint; {} with the clearance joints ideal)",
         dof - 2 * m.clearance_joints.len() as i64
     );
+    println!("integrated in {}", m.formulation());
     let (q, far) = print_assembly(path, &scene)?;
     let lock = m
         .check_rotation(0.0, &q)
