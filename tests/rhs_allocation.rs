@@ -48,5 +48,8 @@ fn rhs_does_not_allocate() {
         m.ode_rhs(&state, &mut ws, 0.0, &z, &mut dz).unwrap();
     }
     assert_eq!(ALLOCATIONS.load(Ordering::Relaxed) - before, 0);
-    assert!(ws.last_gaps()[0] > 0.0, "the joint coordinates' state is in contact");
+    assert!(
+        ws.last_gaps()[0] > 0.0,
+        "the joint coordinates' state is in contact"
+    );
 }

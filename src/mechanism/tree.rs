@@ -206,10 +206,16 @@ impl Tree {
     }
 
     /// Every body's pose and velocity at time `t`, coordinates `z` and rates `zd`, by
-    /// [`slot`].
+    /// [`slot`] into `pose` (written in place: returned, the array was copied).
     #[inline(always)]
-    fn poses(&self, m: &Mechanism, t: f64, z: &[f64], zd: &[f64]) -> [Pose; MAX_BODIES + 1] {
-        let mut pose = [GROUND; MAX_BODIES + 1];
+    fn poses(
+        &self,
+        m: &Mechanism,
+        t: f64,
+        z: &[f64],
+        zd: &[f64],
+        pose: &mut [Pose; MAX_BODIES + 1],
+    ) {
         for l in &self.links {
             // The parent's fields by value, so that the body is written in place.
             let (pphi, psc, pr, pw, pv) = {
@@ -249,7 +255,6 @@ impl Tree {
             c.r = pr + c.arm_parent - c.arm_child;
             c.v = pv + vp - vc;
         }
-        pose
     }
 
     /// Every body's Jacobian columns and `z̈ = 0` acceleration at `pose` and rates `zd`, by
@@ -297,7 +302,8 @@ impl Tree {
     pub(super) fn absolute(&self, m: &Mechanism, t: f64, z: &[f64], y: &mut [f64]) {
         let f = self.freedoms;
         let n = m.coordinates();
-        let pose = self.poses(m, t, &z[..f], &z[f..2 * f]);
+        let mut pose = [GROUND; MAX_BODIES + 1];
+        self.poses(m, t, &z[..f], &z[f..2 * f], &mut pose);
         for (b, p) in pose[1..=m.bodies.len()].iter().enumerate() {
             y[3 * b..3 * b + 3].copy_from_slice(&[p.r.x, p.r.y, p.phi]);
             y[n + 3 * b..n + 3 * b + 3].copy_from_slice(&[p.v.x, p.v.y, p.w]);
@@ -396,7 +402,8 @@ impl Tree {
             )
         );
         let (u, ud) = (&z[..F], &z[F..2 * F]);
-        let pose = self.poses(m, t, u, ud);
+        let mut pose = [GROUND; MAX_BODIES + 1];
+        self.poses(m, t, u, ud, &mut pose);
         let bodies = m.bodies.len();
         let (mut q, mut v) = ([0.0; 3 * MAX_BODIES], [0.0; 3 * MAX_BODIES]);
         for (b, p) in pose[1..=bodies].iter().enumerate() {

@@ -481,8 +481,13 @@ impl Integrator {
         let c = self.control;
         let order = self.method.tableau().order;
         let fac_max = if after_rejection { 1.0 } else { c.fac_max };
-        let fac =
-            c.safety * err.powf(-(1.0 / order - 0.75 * c.beta)) * self.s.err_prev.powf(c.beta);
+        // The I controller (β = 0) skips the PI factor's `powf`, which is exactly 1 then.
+        let pi = if c.beta == 0.0 {
+            1.0
+        } else {
+            self.s.err_prev.powf(c.beta)
+        };
+        let fac = c.safety * err.powf(-(1.0 / order - 0.75 * c.beta)) * pi;
         self.s.err_prev = err.max(1e-4);
         self.s.h = (h * fac.clamp(c.fac_min, fac_max)).min(self.tol.max_step);
     }

@@ -322,32 +322,38 @@ pub(super) fn performance_section(md: &mut String) {
             "`process/run_standard_40` is the whole `jointwear run data/scenes/standard.toml --set \
              run.record_rotations=0` process as a user starts it (start-up, CSVs, README.txt, summary.json and two \
              PNGs included); `wear_run/standard_40` is the same run inside the process.\n\n\
-             The hot path is the right-hand side (`Mechanism::rhs`), two thirds of the instructions of that run \
-             (`valgrind --tool=callgrind`: 1 567 M of 2 329 M, 2 944 per evaluation). The mass matrix is \
-             diagonal, so only the constraint system `Φ_q M⁻¹ Φ_qᵀ λ = …` is solved, by an unrolled LDLᵀ; before it, \
-             every equation whose only column outside the coordinates already fixed is a constant one (the \
-             driver, the crank's ground pin, the slider's angle lock and its guide) is solved for that coordinate \
-             directly, which leaves the standard scene a 2×2 system instead of 7×7. Bodies whose rotation \
-             multiplies only zero vectors skip their `sin_cos`. The right-hand side allocates nothing \
+             The hot path is the right-hand side. The standard scene's ideal joints form a tree (its loop closes \
+             through the clearance joint), so a run integrates it in joint coordinates (`mechanism/tree.rs`: the \
+             rod's angle and the slider's position, the crank prescribed, Lagrange's equations with a 2×2 mass \
+             matrix, no constraint drift); closed ideal loops keep the absolute coordinates (`Mechanism::rhs`: \
+             Baumgarte-stabilised constraints, the diagonal mass matrix, an unrolled LDLᵀ of the constraint system \
+             after every equation fixing one coordinate is solved directly, a 2×2 system for the slider-crank). \
+             `tests/formulations.rs` checks that both give the same body accelerations and powers, in and out of \
+             contact, for every shipped tree scene. The right-hand side allocates nothing \
              (`tests/rhs_allocation.rs`). Hairer's PI step-size controller (β = 0.04), available in the \
              integrator, made the 40-rotation run slower and is not used.\n\n\
-             **Kept optimisations, with what each measured** (instructions of the run above unless said): \
+             **Kept optimisations, with what each measured** (instructions of the run above, \
+             `valgrind --tool=callgrind`, unless said): \
              the Runge-Kutta stage weighting stage by stage, a contiguous axpy per stage (2 590 M → 2 268 M, \
              −12.4 %, every output bit-identical); each CSV number formatted once into a reused buffer instead of \
              twice into two fresh strings (the standard run with its time series: 2 961 M → 2 722 M, −8 %, files \
-             byte-identical).\n\n\
-             **Why the 0.1 s target is out of reach of cheaper evaluations.** Of the run's 2 329 M instructions the \
-             constraint solve (Φ_q, γ, the 2×2 system and the projection, without the `sin_cos` a pose needs \
-             anyway) is about 790 M; with it free, the remaining 1 540 M (contact and friction forces with the wear \
-             profile lookup, the integrator, event location and Archard wear) would still take about 0.15 s at \
-             this machine's rate. A minimal-coordinate formulation (one coordinate per joint freedom, the joints \
-             exact, no Baumgarte terms; its Cartesian accelerations agreed with eq. 10's to 1e-9 on the standard, \
-             four-bar and two-clearance scenes, in and out of contact) was built and measured, and not kept: at the \
-             same rtol 1e-7 it took 97 769 steps and 685 371 evaluations against 68 792 and 532 379 (0.31 s against \
-             0.23 s, three runs each), at the same wall time per evaluation; its RMS error norm averages six \
-             components instead of eighteen, among which the slider's height and angle and their rates never err, \
-             so the same tolerance controls it more tightly. Meeting the target takes fewer steps, not cheaper ones, and \
-             what sets the step is accuracy, not stability (below).\n\n",
+             byte-identical); the contact-onset test reading the gaps at a step's end from the right-hand side's \
+             last evaluation there instead of computing them again (two_clearance, absolute coordinates, \
+             2 945 M → 2 888 M, bit-identical); joint coordinates for trees (standard 2 337 M → 2 332 M with the \
+             two items below; four-bar 2 047 M → 2 004 M); the I controller skipping the PI factor's `powf`, and the \
+             poses written in place (standard 2 417 M → 2 332 M together).\n\n\
+             **What joint coordinates bought, measured.** The right-hand side fell from 2 946 to about 2 250 \
+             instructions per evaluation (the constraint terms and the solve are gone; the closed-form poses with \
+             their two `sin_cos`, Lagrange's sums and the 2×2 Cholesky came instead; the contact and friction \
+             forces with the wear lookup, about 850, are unchanged). But the run takes 102 181 steps and 699 881 \
+             evaluations against 68 792 and 532 379: the error norm is now the RMS over the 4 components that err, \
+             not over 18 of which 10 (the crank's and the slider's prescribed coordinates) never do, so the same \
+             rtol 1e-7 controls the motion more tightly. Absolute coordinates with their norm over their 8 erring \
+             components take 93 814 steps and 735 337 evaluations, more than joint coordinates: at an equal norm the \
+             new formulation is the cheaper one, and the undiluted norm is the honest one. The whole process went \
+             from 2 337 M to 2 332 M instructions; the 800 M target needs the right-hand side near the 675 \
+             instructions of a hand-written slider-crank (fixed-size state, the kinematics unrolled), which this \
+             generic tree code (any tree of up to 3 freedoms) is not, and a fixed-size integrator path.\n\n",
         );
     md.push_str("How run time grows with simulated rotations and with clearance (`cargo run --release --bin scaling`):\n\n");
     csv_table(md, "scaling.csv", "cargo run --release --bin scaling");
