@@ -314,3 +314,63 @@ fn a_million_case_sweep_starts_at_once_in_bounded_memory() {
     eprintln!("peak memory with the first rows written: {peak_kb} kB");
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The files a folder's manifest lists, each checked to exist and be non-empty.
+fn complete_files(folder: &Path) -> Vec<String> {
+    let manifest = fs::read_to_string(folder.join("jointwear-manifest.txt"))
+        .unwrap_or_else(|e| panic!("{}: no manifest: {e}", folder.display()));
+    let files: Vec<String> = (manifest.lines())
+        .filter(|l| !l.starts_with('#'))
+        .map(str::to_owned)
+        .collect();
+    for f in &files {
+        let len = fs::metadata(folder.join(f)).map_or(0, |m| m.len());
+        assert!(len > 0, "{}: {f} missing or empty", folder.display());
+    }
+    files
+}
+
+/// Fails when the default folders are one (`out/<stem>`, as before issue 23; checked with that
+/// program): the ensemble's write removed the run's timeseries.csv.
+#[test]
+fn run_ensemble_and_longlife_keep_their_own_default_folders() {
+    let dir = temp_dir("outputs", "default-folders");
+    short_standard(&dir, "scene.toml", 2, &[]);
+    let in_dir = |args: &[&str]| {
+        let o = Command::new(env!("CARGO_BIN_EXE_jointwear"))
+            .args(args)
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    };
+    in_dir(&["run", "scene.toml"]);
+    in_dir(&["run", "scene.toml", "--ensemble", "2"]);
+    in_dir(&[
+        "longlife",
+        "scene.toml",
+        "--rotations",
+        "6",
+        "--settle",
+        "1",
+    ]);
+    let out = dir.join("out").join("scene");
+    let mut kinds: Vec<String> = (fs::read_dir(&out).unwrap())
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    kinds.sort();
+    assert_eq!(kinds, ["ensemble", "longlife", "run"]);
+    for (kind, file) in [
+        ("run", "timeseries.csv"),
+        ("ensemble", "ensemble_members.csv"),
+        ("longlife", "longlife_growth.csv"),
+    ] {
+        let files = complete_files(&out.join(kind));
+        assert!(files.iter().any(|f| f == file), "{kind}: {files:?}");
+        assert!(
+            files.iter().any(|f| f == "summary.json"),
+            "{kind}: {files:?}"
+        );
+    }
+    fs::remove_dir_all(&dir).unwrap();
+}

@@ -26,7 +26,7 @@ pub fn animate(path: &Path, out: Option<PathBuf>, rotations: u32, frames: usize)
         let e = Error::invalid("--frames", frames, expected);
         return Err(Failure::input(path, e));
     }
-    let variant = load_variant(path, &[], Some(rotations), out)?;
+    let variant = load_variant(path, &[], Some(rotations), ("animate", out))?;
     let (mut scene, dir) = (variant.scene, variant.dir);
     // The animation starts where `check` draws the mechanism: settling would only add
     // rotations nobody sees, and wear snapshots are not drawn.

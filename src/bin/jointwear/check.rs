@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
     let file = SceneFile::read(path).map_err(|e| Failure::input(path, e))?;
     let scene = file.build().map_err(|e| Failure::from(path, e))?;
-    let dir = checked_out_dir(path, out)?;
+    let dir = checked_out_dir(path, "check", out)?;
     let m = &scene.mechanism;
     println!("{}: {}", path.display(), scene.title);
     println!("bodies:");

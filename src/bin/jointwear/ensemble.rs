@@ -46,7 +46,7 @@ pub fn run_ensemble(
 ) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
     checked(path, &settings)?;
-    let variant = load_variant(path, sets, rotations, out)?;
+    let variant = load_variant(path, sets, rotations, ("ensemble", out))?;
     let (scene, dir) = (&variant.scene, &variant.dir);
     let _claim = claim_out(path, dir)?;
     let clock = std::time::Instant::now();

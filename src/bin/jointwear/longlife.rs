@@ -43,7 +43,7 @@ pub fn longlife(
         }
     }
     let scene = file.build().map_err(bad)?;
-    let dir = checked_out_dir(path, out)?;
+    let dir = checked_out_dir(path, "longlife", out)?;
     let _claim = claim_out(path, &dir)?;
     let target = rotations as u64;
     let settings = LongLifeSettings {

@@ -83,7 +83,8 @@ enum Command {
     #[command(group(clap::ArgGroup::new("perturbed").args(["ensemble", "member"]).multiple(true)))]
     Run {
         scene: PathBuf,
-        /// Output directory [default: out/<scene stem>]
+        /// Output directory [default: out/<scene stem>/run; with --ensemble
+        /// out/<scene stem>/ensemble; with --member K out/<scene stem>/member-K]
         #[arg(long)]
         out: Option<PathBuf>,
         /// Change one value of the scene: KEY is a dotted path into the scene file (as for
@@ -123,7 +124,7 @@ enum Command {
     /// The picture is <out>/mechanism_<scene stem>.png; it names the branch the loop closed on.
     Check {
         scene: PathBuf,
-        /// Output directory [default: out/<scene stem>]
+        /// Output directory [default: out/<scene stem>/check]
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -133,7 +134,7 @@ enum Command {
     /// magnifies the first clearance joint's journal centre in its clearance circle.
     Animate {
         scene: PathBuf,
-        /// Output directory [default: out/<scene stem>]
+        /// Output directory [default: out/<scene stem>/animate]
         #[arg(long)]
         out: Option<PathBuf>,
         /// Rotations to simulate and draw
@@ -204,7 +205,7 @@ enum Command {
         /// rotations it took [default: each joint's radial clearance: the clearance doubled]
         #[arg(long, value_name = "DEPTH_MM")]
         until: Option<f64>,
-        /// Output directory [default: out/<scene stem>]
+        /// Output directory [default: out/<scene stem>/longlife]
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -324,9 +325,17 @@ fn main() -> ExitCode {
     }
 }
 
-/// `out/<scene stem>` unless given.
-fn out_dir(scene: &Path, out: Option<PathBuf>) -> PathBuf {
-    out.unwrap_or_else(|| Path::new("out").join(scene_stem(scene)))
+/// `out/<scene stem>/<kind>` unless given: one default folder per kind of output (`run`,
+/// `ensemble`, `member-<K>`, `longlife`, `animate`, `check`), so that no command replaces
+/// another's results ([`jointwear::io::output::write_outputs`] removes the files of the
+/// previous write into a folder).
+fn out_dir(scene: &Path, kind: &str, out: Option<PathBuf>) -> PathBuf {
+    out.unwrap_or_else(|| scene_out(scene).join(kind))
+}
+
+/// `out/<scene stem>`: the default folders of a scene's outputs, and its sweep files, are in it.
+fn scene_out(scene: &Path) -> PathBuf {
+    Path::new("out").join(scene_stem(scene))
 }
 
 /// The scene file's name without its extension (`standard` for `data/scenes/standard.toml`).
@@ -339,8 +348,8 @@ fn scene_stem(scene: &Path) -> String {
 }
 
 /// [`out_dir`], refused (exit 2, as `--out`) if it cannot hold a run's outputs.
-fn checked_out_dir(scene: &Path, out: Option<PathBuf>) -> CliResult<PathBuf> {
-    let dir = out_dir(scene, out);
+fn checked_out_dir(scene: &Path, kind: &str, out: Option<PathBuf>) -> CliResult<PathBuf> {
+    let dir = out_dir(scene, kind, out);
     jointwear::io::output::check_output_dir("--out", &dir).map_err(|e| Failure::from(scene, e))?;
     Ok(dir)
 }
@@ -378,13 +387,13 @@ pub struct Variant {
 /// then cuts the wear snapshots past it and the recorded rotations to it, unless they were
 /// set. Validated as a scene file is, and every error is bad input (exit code 2): a bad key or
 /// value names the key, the value, the valid range and the `--set` it came from. The changes
-/// made on the user's behalf are printed ([`run::print_cuts`]). `out` is checked as the
-/// output folder.
+/// made on the user's behalf are printed ([`run::print_cuts`]). `out` (default: the folder of
+/// `kind`, [`out_dir`]) is checked as the output folder.
 fn load_variant(
     path: &Path,
     sets: &[String],
     rotations: Option<u32>,
-    out: Option<PathBuf>,
+    (kind, out): (&str, Option<PathBuf>),
 ) -> CliResult<Variant> {
     let input = |e| Failure::input(path, e);
     let mut assignments = Vec::new();
@@ -454,7 +463,7 @@ fn load_variant(
         scene,
         changes,
         fingerprint,
-        dir: checked_out_dir(path, out)?,
+        dir: checked_out_dir(path, kind, out)?,
         command,
     })
 }

@@ -77,7 +77,10 @@ pub fn run(
             ));
         }
     }
-    let mut variant = load_variant(path, sets, rotations, out)?;
+    let kind = member
+        .as_ref()
+        .map_or("run".into(), |(_, k)| format!("member-{k}"));
+    let mut variant = load_variant(path, sets, rotations, (&kind, out))?;
     if let Some((ensemble, k)) = &member {
         variant.command = format!("{} --member {k} --seed {}", variant.command, ensemble.seed);
     }
