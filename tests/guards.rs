@@ -212,6 +212,29 @@ fn a_loop_that_cannot_close_is_bad_input_naming_its_joints_in_check_run_and_swee
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// The revolute a clearance joint replaces, left beside it, is named with what to do rather than
+/// reported as dependent constraints at assembly (which it was; the check would fail against
+/// that message).
+#[test]
+fn a_revolute_left_beside_its_clearance_joint_is_named_to_be_removed() {
+    let dir = temp_dir("guards", "replaced");
+    let scene = dir.join("both.toml");
+    let left = "[[translational]]";
+    let both = "[[revolute]]\na = \"slider.C\"\nb = \"rod.B\"\n\n[[translational]]";
+    fs::write(&scene, scene_with("standard", &[(left, both)])).unwrap();
+    let out = dir.join("out");
+    assert_fails(
+        &jointwear(&["check", s(&scene), "--out", s(&out)]),
+        2,
+        &[
+            "`revolute[2]`: slider.C - rod.B",
+            "clearance joint `rod-slider`",
+            "remove this [[revolute]]",
+        ],
+    );
+    fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn a_bad_value_of_a_sweep_names_its_case_and_assignments() {
     let dir = temp_dir("guards", "sweep_case");

@@ -123,6 +123,7 @@ impl SceneFile {
             .enumerate()
             .map(|(i, c)| self.clearance_joint(i, c))
             .collect::<Result<Vec<_>>>()?;
+        self.check_replaced_revolutes(&revolutes, &clearance_joints)?;
         let run = self.run.build()?;
         let mechanism = Mechanism::new(
             bodies,
@@ -151,6 +152,35 @@ impl SceneFile {
         scene.check_record_budget()?;
         scene.check_step_budget()?;
         Ok(scene)
+    }
+
+    /// Refuses a `[[revolute]]` left at the pin of a `[[clearance]]` joint (the same two body
+    /// points, in either order): the clearance joint replaces it, and left in, it holds the
+    /// journal centred, which the assembly only reports as dependent constraints.
+    fn check_replaced_revolutes(
+        &self,
+        revolutes: &[Revolute],
+        clearance_joints: &[ClearanceJoint],
+    ) -> Result<()> {
+        for (i, cj) in clearance_joints.iter().enumerate() {
+            let pin = |r: &Revolute| {
+                (r.a == cj.journal && r.b == cj.bearing) || (r.a == cj.bearing && r.b == cj.journal)
+            };
+            if let Some(k) = revolutes.iter().position(pin) {
+                let (r, c) = (&self.revolute[k], &self.clearance[i]);
+                return Err(Error::invalid(
+                    format!("revolute[{k}]"),
+                    format!("{} - {}", r.a, r.b),
+                    format!(
+                        "no ideal revolute at the pin of clearance joint `{}` (clearance[{i}], \
+                         journal {} in bearing {}): the clearance joint replaces that revolute, \
+                         so remove this [[revolute]] from the scene",
+                        cj.name, c.journal, c.bearing
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Checks the lengths of the title and of every name ([`MAX_TITLE_BYTES`],
