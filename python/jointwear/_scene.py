@@ -7,7 +7,7 @@ import numbers
 import os
 import time
 from collections.abc import Iterable
-from concurrent.futures import Executor
+from concurrent.futures import Executor, Future
 from typing import Any, List, Mapping, Optional, Sequence, Tuple, Union
 
 from ._native import Document, SceneError
@@ -133,7 +133,7 @@ class Scene:
         started = time.perf_counter()
         state = self._doc.state()
         tasks = [executor.submit(_member, state, k, members, seed) for k in range(members)]
-        payloads = [task.result() for task in tasks]
+        payloads = _gather(tasks)
         wall = time.perf_counter() - started
         return Ensemble(self._doc.ensemble_of(members, seed, payloads, wall))
 
@@ -178,7 +178,7 @@ class Scene:
             tasks = [
                 executor.submit(_case, state, keys, values, k, members, seed) for k in range(total)
             ]
-            cases = [task.result() for task in tasks]
+            cases = _gather(tasks)
         combos = list(itertools.product(*values))
         return SweepResult(keys, combos, cases, members)
 
@@ -193,6 +193,18 @@ def _check_executor(executor: Any) -> None:
             f"executor must be a concurrent.futures.Executor, got {executor!r} "
             f"({type(executor).__name__})"
         )
+
+
+def _gather(tasks: List[Future]) -> List[Any]:
+    """The results of ``tasks`` in order. On the first failure (or Ctrl-C) the tasks not yet
+    started are cancelled, so that a failed ensemble does not go on running, and the error is
+    raised."""
+    try:
+        return [task.result() for task in tasks]
+    except BaseException:
+        for task in tasks:
+            task.cancel()
+        raise
 
 
 State = Tuple[str, str, List[Tuple[str, str, bool]]]
