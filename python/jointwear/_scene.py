@@ -207,10 +207,11 @@ def _gather(tasks: List[Future]) -> List[Any]:
         raise
 
 
-State = Tuple[str, str, List[Tuple[str, str, bool]]]
+# `Document.state()`: the path, the document as loaded (TOML) and the changes set on it.
+State = Tuple[PathLike, str, List[Tuple[str, str, bool]]]
 
 
-def _restore(path: str, loaded: str, changes: List[Tuple[str, str, bool]]) -> Scene:
+def _restore(path: PathLike, loaded: str, changes: List[Tuple[str, str, bool]]) -> Scene:
     """The scene of ``Document.state()``: how a pickled :class:`Scene` is rebuilt."""
     return Scene(Document.from_state(path, loaded, changes))
 

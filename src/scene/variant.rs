@@ -42,7 +42,8 @@ pub type Change = (String, String, bool);
 #[derive(Clone, Debug, PartialEq)]
 struct Asked {
     key: String,
-    /// The value as written (the command line's text, or the TOML of a Python value).
+    /// The value as written (the command line's text, or the TOML of a Python value), one
+    /// value as the slice [`fingerprint`] takes.
     text: [String; 1],
     /// A change of `run.rotations` that cuts the snapshots and recorded rotations
     /// (`--rotations`, Python's `set`), not a plain `--set`.
