@@ -21,7 +21,7 @@ pub mod statistics;
 pub const CONTINUOUS_CONTACT_FRACTION: f64 = 0.9;
 
 /// Journal motion over the recorded rotations.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Motion {
     /// Fraction of recorded samples in contact (δ ≥ 0).
     pub contact_fraction: f64,

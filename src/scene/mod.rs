@@ -16,12 +16,13 @@
 mod build;
 mod layering;
 mod validation;
+pub mod variant;
 
 pub use layering::{reversal_note, scene_path, set_dotted};
 pub use validation::{
-    joint_file_part, Limit, BEARING_LENGTH_MM, BEARING_RADIUS_MM, COORDINATE_MM, GRAVITY_M_S2,
-    INERTIA_KG_M2, MASS_KG, MAX_NAME_BYTES, MAX_SCENE_BYTES, MAX_TITLE_BYTES,
-    MIN_HERTZ_CLEARANCE_RATIO, RECORD_BUDGET_BYTES, YOUNGS_MODULUS_GPA,
+    Limit, BEARING_LENGTH_MM, BEARING_RADIUS_MM, COORDINATE_MM, GRAVITY_M_S2, INERTIA_KG_M2,
+    MASS_KG, MAX_NAME_BYTES, MAX_SCENE_BYTES, MAX_TITLE_BYTES, MIN_HERTZ_CLEARANCE_RATIO,
+    RECORD_BUDGET_BYTES, YOUNGS_MODULUS_GPA,
 };
 
 use crate::laws::contact::NormalForceModel;

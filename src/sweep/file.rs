@@ -89,14 +89,10 @@ impl SweepId {
     }
 }
 
-/// Fingerprint of a sweep: the scene document (`extends` resolved) and the assignments.
+/// Fingerprint of a sweep: the scene document (`extends` resolved) and the assignments
+/// ([`crate::scene::variant::fingerprint`]).
 pub fn fingerprint(doc: &toml::Value, sets: &[Assignment]) -> String {
-    let mut text = doc.to_string();
-    for a in sets {
-        // Unit separators: no key or value can run into the next.
-        text.push_str(&format!("\u{1f}{}={}", a.key, a.values.join("\u{1e}")));
-    }
-    format!("{:016x}", fnv1a(text.as_bytes()))
+    crate::scene::variant::fingerprint(doc, sets.iter().map(|a| (a.key.as_str(), &a.values[..])))
 }
 
 /// A fingerprint combined with more of a sweep's definition (e.g. its ensemble size).

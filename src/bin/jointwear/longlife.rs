@@ -2,15 +2,14 @@
 //! rotation count or a wear limit; its growth and profile CSVs, figures and summary.
 
 use crate::failure::{CliResult, Failure};
-use crate::joint_file;
-use crate::outputs::{
-    body_name, conventions, write_profiles, write_summary, PROGRAM, SUMMARY_FILE,
-};
 use crate::{checked_out_dir, claim_out};
 use jointwear::io::output::{write_csv, write_outputs};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::progress_bar;
 use jointwear::scene::SceneFile;
+use jointwear::simulation::folder::{
+    body_name, conventions, joint_file, write_profiles, write_summary, PROGRAM, SUMMARY_FILE,
+};
 use jointwear::simulation::longlife::{predict, LongLife, LongLifeSettings};
 use jointwear::simulation::Scene;
 use jointwear::Error;

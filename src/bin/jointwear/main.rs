@@ -6,15 +6,14 @@
 //! This file owns the command line (arguments, help, dispatch) and the output naming shared by
 //! the subcommands; each subcommand lives in its own module: [`run`] (one run), [`ensemble`]
 //! (`run --ensemble`), [`check`], [`animate`], [`sweep`] (`sweep` and `sweep-merge`) and [`longlife`];
-//! [`outputs`] holds the output pieces they share; [`failure`] turns errors into messages and
-//! exit codes.
+//! their output folders are written by [`jointwear::simulation::folder`]; [`failure`] turns
+//! errors into messages and exit codes.
 
 mod animate;
 mod check;
 mod ensemble;
 mod failure;
 mod longlife;
-mod outputs;
 mod run;
 mod sweep;
 
@@ -22,11 +21,11 @@ use clap::{Parser, Subcommand};
 use failure::{CliResult, Failure};
 use jointwear::io::interrupt;
 use jointwear::io::lock::{self, Lock};
-use jointwear::scene::{joint_file_part, reversal_note, set_dotted, SceneFile};
+use jointwear::scene::reversal_note;
+use jointwear::scene::variant::{parse_value, Variant};
 use jointwear::simulation::ensemble::{EnsembleSettings, DEFAULT_SEED, MAX_MEMBERS};
 use jointwear::simulation::Scene;
-use jointwear::sweep::file::fingerprint;
-use jointwear::sweep::{parse_value, Assignment};
+use jointwear::sweep::Assignment;
 use jointwear::Error;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -360,41 +359,30 @@ fn claim_out(scene: &Path, dir: &Path) -> CliResult<Lock> {
     lock::claim_folder("--out", dir).map_err(|e| Failure::from(scene, e))
 }
 
-/// The file `<stem>_<joint>.csv` of a per-joint output, the joint's name made safe for a file
-/// name ([`joint_file_part`]; a scene whose joints would share a file is refused at load).
-fn joint_file(stem: &str, joint: &str) -> String {
-    format!("{stem}_{}.csv", joint_file_part(joint))
-}
-
 /// A scene as `run` simulates it: the file with its `--set` values and `--rotations`.
-pub struct Variant {
+pub struct Loaded {
     /// The built scene.
     pub scene: Scene,
-    /// The changes to the file, in the order applied: the `--set` values, then `--rotations`
-    /// as `run.rotations` (and the snapshots and recorded rotations it cut).
-    pub changes: Vec<(String, String)>,
-    /// The fingerprint of the scene file and its `--set`/`--rotations` changes: a checkpoint
-    /// belongs to this variant only.
-    pub fingerprint: String,
+    /// The scene file and its changes: the `--set` values, then `--rotations` (and the
+    /// snapshots and recorded rotations it cut); its fingerprint is a checkpoint's.
+    pub variant: Variant,
     /// The output folder, checked ([`checked_out_dir`]).
     pub dir: PathBuf,
-    /// `jointwear run SCENE` with its `--set` and `--rotations` arguments, for the outputs.
-    pub command: String,
 }
 
-/// The scene file at `path` with `sets` (`KEY=VALUE`, one value each) assigned through the
-/// dotted-key setter of `sweep` ([`set_dotted`]), then `rotations` as `run.rotations`; it
-/// then cuts the wear snapshots past it and the recorded rotations to it, unless they were
-/// set. Validated as a scene file is, and every error is bad input (exit code 2): a bad key or
-/// value names the key, the value, the valid range and the `--set` it came from. The changes
-/// made on the user's behalf are printed ([`run::print_cuts`]). `out` (default: the folder of
-/// `kind`, [`out_dir`]) is checked as the output folder.
+/// The scene file at `path` with `sets` (`KEY=VALUE`, one value each) assigned by dotted key,
+/// then `rotations` as `run.rotations`, which cuts the wear snapshots past it and the recorded
+/// rotations to it unless they were set ([`Variant::set`]). Validated as a scene file is, and
+/// every error is bad input (exit code 2): a bad key or value names the key, the value, the
+/// valid range and the `--set` it came from. The changes made on the user's behalf are printed
+/// ([`run::print_cuts`]). `out` (default: the folder of `kind`, [`out_dir`]) is checked as the
+/// output folder.
 fn load_variant(
     path: &Path,
     sets: &[String],
     rotations: Option<u32>,
     (kind, out): (&str, Option<PathBuf>),
-) -> CliResult<Variant> {
+) -> CliResult<Loaded> {
     let input = |e| Failure::input(path, e);
     let mut assignments = Vec::new();
     for arg in sets {
@@ -408,15 +396,8 @@ fn load_variant(
         }
         assignments.push(a);
     }
-    if let Some(n) = rotations {
-        assignments.push(Assignment {
-            key: "run.rotations".into(),
-            values: vec![n.to_string()],
-        });
-    }
-    let doc = SceneFile::read_document(path).map_err(input)?;
-    let fingerprint = fingerprint(&doc, &assignments);
-    // The arguments that changed the file, for messages and the command line.
+    let mut variant = Variant::read(path).map_err(input)?;
+    // The arguments that changed the file, for messages.
     let from: Vec<String> = (sets.iter().map(|s| format!("--set {s}")))
         .chain(rotations.map(|n| format!("--rotations {n}")))
         .collect();
@@ -428,42 +409,24 @@ fn load_variant(
         }
     };
     for a in &assignments {
-        if let Some(note) = reversal_note(&doc, &a.key, &parse_value(&a.values[0])) {
+        let value = parse_value(&a.values[0]);
+        if let Some(note) = reversal_note(variant.loaded(), &a.key, &value) {
             eprintln!("note: {note} (--set {}={})", a.key, a.values[0]);
         }
+        (variant.set(&a.key, value, &a.values[0], false)).map_err(|e| input(from_set(e)))?;
     }
-    let mut varied = doc;
-    for a in &assignments {
-        set_dotted(&mut varied, &a.key, parse_value(&a.values[0]))
+    let mut cuts = Vec::new();
+    if let Some(n) = rotations {
+        cuts = (variant.set("run.rotations", n.into(), &n.to_string(), true))
             .map_err(|e| input(from_set(e)))?;
     }
-    let mut file = SceneFile::from_document(varied, path).map_err(|e| input(from_set(e)))?;
-    let mut changes: Vec<(String, String)> = assignments
-        .iter()
-        .map(|a| (a.key.clone(), a.values[0].clone()))
-        .collect();
-    let set = |key: &str| assignments.iter().any(|a| a.key == key);
-    // What --rotations cut on the user's behalf, besides run.rotations itself.
-    let cuts: Vec<(String, String)> = match rotations {
-        Some(n) => (file.run.cut_to(n, set).into_iter())
-            .map(|(key, value)| (key, value.to_string()))
-            .collect(),
-        None => Vec::new(),
-    };
-    let scene = file.build().map_err(|e| input(from_set(e)))?;
+    let scene = variant.build().map_err(|e| input(from_set(e)))?;
     if let Some(n) = rotations {
         run::print_cuts(&cuts, n);
     }
-    changes.extend(cuts);
-    let command = std::iter::once(format!("jointwear run {}", path.display()))
-        .chain(from)
-        .collect::<Vec<_>>()
-        .join(" ");
-    Ok(Variant {
+    Ok(Loaded {
         scene,
-        changes,
-        fingerprint,
+        variant,
         dir: checked_out_dir(path, kind, out)?,
-        command,
     })
 }
