@@ -113,6 +113,42 @@ fn a_lock_of_a_live_process_refuses_and_a_dead_ones_is_taken_over() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Fails on today's code: `check` and `animate` wrote their pictures into a folder another
+/// process held, and left no claim of their own.
+#[test]
+fn check_and_animate_claim_their_folder_as_run_does() {
+    let dir = temp_dir("outputs", "pictures");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let out = dir.join("out");
+    fs::create_dir_all(&out).unwrap();
+    let lock = out.join(".jointwear.lock");
+    // This test's own process: alive.
+    let me = format!(
+        "pid={}\nhost={}\ncommand=jointwear run other\n",
+        std::process::id(),
+        host()
+    );
+    let commands = [
+        vec!["check", s(&scene), "--out", s(&out)],
+        vec!["animate", s(&scene), "--out", s(&out), "--frames", "2"],
+    ];
+    fs::write(&lock, &me).unwrap();
+    for args in &commands {
+        let o = jointwear(args);
+        assert_fails(&o, 2, &["`jointwear run other`", "remove the lock file"]);
+    }
+    assert_eq!(fs::read_dir(&out).unwrap().count(), 1, "only the lock");
+    fs::remove_file(&lock).unwrap();
+    for args in &commands {
+        let o = jointwear(args);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    assert!(out.join("mechanism_scene.png").exists());
+    assert!(out.join("mechanism_scene.gif").exists());
+    assert!(!lock.exists(), "released on exit");
+    fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Fails on today's code: both sweeps printed "wrote … (6 cases)" and exited 0, the file held
 /// the one that finished last.
 #[test]

@@ -93,6 +93,7 @@ impl Mechanism {
             .first_open(&mut ws, t0, &q, -step, held)
             .map_or(from, |(t, _)| t);
         Ok(Some(Lock {
+            start: self.driver_angle(t0),
             from: self.driver_angle(from),
             to: self.driver_angle(to),
             t_from: from - t0,
@@ -298,6 +299,8 @@ pub const SWEEP_RESOLUTION_DEG: f64 = 1e-3;
 /// ([`Mechanism::check_rotation`]): the driver cannot turn through these angles.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Lock {
+    /// Driver angle (deg, [0, 360)) at the start of the sweep.
+    pub start: f64,
     /// Driver angle (deg, [0, 360)) where the loop, turned in the driver's direction from the
     /// start, last closes.
     pub from: f64,
@@ -315,18 +318,29 @@ pub struct Lock {
 }
 
 impl Lock {
-    /// What the lock means, for messages: the range of angles and the open joints.
+    /// What the sweep found, for messages: how far the loop closes each way from the start
+    /// (it fails within [`SWEEP_RESOLUTION_DEG`] past each end), the angles the driver cannot
+    /// turn through, and the open joints. Only the ends are found: between them the loop may
+    /// close in another assembly (a four-bar whose coupler and rocker reach the crank pin only
+    /// at middle distances closes on two separate ranges of crank angle), which the driver,
+    /// turning continuously, still cannot reach.
     pub fn describe(&self) -> String {
+        let (ahead, back) = if self.counter_clockwise {
+            ("counter-clockwise", "clockwise")
+        } else {
+            ("clockwise", "counter-clockwise")
+        };
         format!(
-            "the ideal loop (clearance joints centred) cannot close from {:.1} to {:.1} deg of \
-             driver angle (turning {}): past {:.1} deg it stays open at {}",
+            "turned from its start at {:.1} deg in steps of {SWEEP_STEP_DEG} deg, the ideal loop \
+             (clearance joints centred) closes {ahead} as far as {:.3} deg and {back} as far \
+             as {:.3} deg, and fails to close within {SWEEP_RESOLUTION_DEG} deg past each: the \
+             driver cannot turn from {:.1} to {:.1} deg of driver angle (turning {ahead}); past \
+             {:.3} deg the loop stays open at {}",
+            self.start,
             self.from,
             self.to,
-            if self.counter_clockwise {
-                "counter-clockwise"
-            } else {
-                "clockwise"
-            },
+            self.from,
+            self.to,
             self.from,
             self.joints.join(", ")
         )

@@ -720,13 +720,12 @@ impl Simulation {
         }
     }
 
-    /// The error of a run that advanced only `advanced` (s) over the [`CRAWL_WINDOW`] steps
-    /// up to `t` and at that pace needs `needed` more; the cause it names depends on the mean
-    /// step against the largest ([`CHATTER_STEP_RATIO`]).
-    fn crawl_error(&self, t: f64, advanced: f64, needed: f64) -> Error {
-        let mean = advanced / CRAWL_WINDOW as f64;
+    /// What a mean step of `mean` (s) over a [`CRAWL_WINDOW`] points to as the cause of a run
+    /// too slow for its step limit, by the mean step against the largest
+    /// ([`CHATTER_STEP_RATIO`]).
+    fn slowness_cause(&self, mean: f64) -> String {
         let (field, largest) = self.settings.largest_step();
-        let cause = if mean < CHATTER_STEP_RATIO * largest {
+        if mean < CHATTER_STEP_RATIO * largest {
             "a force that switches at zero velocity, such as pure Coulomb friction in sticking \
              contact (the modified law of eq. 4 regularises it), or a contact far stiffer than \
              the integrator can follow"
@@ -740,15 +739,53 @@ impl Simulation {
                 self.period / mean,
                 self.period
             )
-        };
+        }
+    }
+
+    /// The error of a run that advanced only `advanced` (s) over the [`CRAWL_WINDOW`] steps
+    /// up to `t` and at that pace needs `needed` more.
+    fn crawl_error(&self, t: f64, advanced: f64, needed: f64) -> Error {
+        let mean = advanced / CRAWL_WINDOW as f64;
         Error::Integration {
             time: t,
             cause: format!(
                 "the run crawls: its last {CRAWL_WINDOW} steps advanced {advanced:.3e} s (mean \
                  step {mean:.1e} s), under {} % of a driver period, and at that pace it needs \
-                 about {needed:.0e} more steps, beyond run.max_steps = {}: {cause}",
+                 about {needed:.0e} more steps, beyond run.max_steps = {}: {}",
                 100.0 * CRAWL_FRACTION,
-                self.settings.max_steps
+                self.settings.max_steps,
+                self.slowness_cause(mean)
+            ),
+        }
+    }
+
+    /// The error of a run that reached `run.max_steps` at `t`: its pace over the last full
+    /// [`CRAWL_WINDOW`] (the run's mean step before one), the steps it still needed at that
+    /// pace and, where a full window tells it, the cause. A run that never crawled under
+    /// [`CRAWL_FRACTION`] of a period per window gets here (0.1 r/min: 4.3 % per window, 2.3e7
+    /// steps for 10 rotations).
+    fn step_limit_error(&self, t: f64, steps: u64) -> Error {
+        // The mark is at the last multiple of the window before `steps`: at `steps` itself
+        // the limit is checked before the mark moves.
+        let (window, advanced) = match self.crawl_mark {
+            Some(mark) => ((steps - 1) % CRAWL_WINDOW + 1, t - mark),
+            None => (steps, t),
+        };
+        let mean = advanced / window as f64;
+        let cause = if window == CRAWL_WINDOW {
+            format!(": {}", self.slowness_cause(mean))
+        } else {
+            String::new()
+        };
+        Error::Integration {
+            time: t,
+            cause: format!(
+                "step limit of {} steps reached in driver rotation {}: its last {window} steps \
+                 advanced {advanced:.3e} s (mean step {mean:.1e} s), and at that pace it needed \
+                 about {:.0e} more steps{cause}",
+                self.settings.max_steps,
+                self.rotation + 1,
+                self.remaining_time(t) / mean
             ),
         }
     }
@@ -782,10 +819,7 @@ impl Simulation {
         let (ta, tb) = (self.integrator.t_prev(), self.integrator.t());
         let steps = self.integrator.stats().steps;
         if steps >= self.settings.max_steps {
-            return Err(Error::Integration {
-                time: tb,
-                cause: format!("step limit of {} steps reached", self.settings.max_steps),
-            });
+            return Err(self.step_limit_error(tb, steps));
         }
         if steps.is_multiple_of(CRAWL_WINDOW) {
             if let Some(mark) = self.crawl_mark {

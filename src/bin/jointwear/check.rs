@@ -4,7 +4,7 @@
 //! draws the assembled pose (`mechanism_<scene>.png`).
 
 use crate::failure::{CliResult, Failure};
-use crate::{checked_out_dir, scene_stem};
+use crate::{checked_out_dir, claim_out, scene_stem};
 use jointwear::io::plot::render_mechanism;
 use jointwear::mechanism::SWEEP_STEP_DEG;
 use jointwear::scene::SceneFile;
@@ -14,12 +14,14 @@ use std::path::{Path, PathBuf};
 
 /// `check`: reads and builds the scene at `path`, prints its bodies, joints, driver, run
 /// settings, degrees of freedom and assembled pose, draws the pose into `out`
-/// ([`checked_out_dir`]), and fails (bad input) if the driver cannot turn a whole rotation
+/// ([`checked_out_dir`], claimed while `check` runs: [`claim_out`]), and fails (bad input) if the driver cannot turn a whole rotation
 /// ([`jointwear::mechanism::Mechanism::check_rotation`]).
 pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
     let file = SceneFile::read(path).map_err(|e| Failure::input(path, e))?;
     let scene = file.build().map_err(|e| Failure::from(path, e))?;
     let dir = checked_out_dir(path, "check", out)?;
+    // Another check of the same scene may draw into this folder: claimed as runs claim theirs.
+    let _claim = claim_out(path, &dir)?;
     let m = &scene.mechanism;
     println!("{}: {}", path.display(), scene.title);
     println!("bodies:");
