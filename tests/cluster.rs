@@ -341,21 +341,31 @@ fn readme_job_array_on_slurm_merges_into_the_one_machine_sweep() {
         ],
     );
     fs::write(dir.join("sweep.sbatch"), &script).unwrap();
-    cluster.bash(&readme_block("sbatch --wait sweep.sbatch"));
-    for task in 1..=3 {
-        let shard = fs::read_to_string(dir.join(format!("shards/shard-{task}.csv"))).unwrap();
+    let submit_and_merge = readme_block("sbatch --wait sweep.sbatch");
+    cluster.bash(&submit_and_merge);
+    let shards = || -> Vec<String> {
+        (1..=3)
+            .map(|task| fs::read_to_string(dir.join(format!("shards/shard-{task}.csv"))).unwrap())
+            .collect()
+    };
+    let first = shards();
+    for (task, shard) in (1..).zip(&first) {
         assert!(
             shard.starts_with("# jointwear sweep fingerprint="),
             "{shard}"
         );
         assert!(shard.contains(&format!(" shard={task}/3 ")), "{shard}");
     }
+    // Submitted again (as after a time limit), the array's --resume runs no case twice: the
+    // shards keep their rows, wall times included (without --resume every case runs again).
+    cluster.bash(&submit_and_merge);
+    assert_eq!(shards(), first);
     // The same sweep on this machine: README's command without its shard.
     let command = script[script.find("jointwear sweep").unwrap()..].replace("\\\n", " ");
     let one_machine = replaced(
         command,
         &[(
-            "--shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT --out shards/shard-$SLURM_ARRAY_TASK_ID.csv",
+            "--shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT --resume --out shards/shard-$SLURM_ARRAY_TASK_ID.csv",
             "--out whole.csv",
         )],
     );
