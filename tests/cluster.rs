@@ -11,15 +11,14 @@ mod common;
 
 use common::*;
 use std::fs;
-use std::io::Write;
+use std::io::{Read, Write};
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::Duration;
 
 /// The programs the cluster needs.
-const PROGRAMS: [&str; 8] = [
-    "mungekey",
+const PROGRAMS: [&str; 7] = [
     "munged",
     "slurmctld",
     "slurmd",
@@ -77,13 +76,14 @@ impl Cluster {
     fn start(dir: &Path) -> Cluster {
         // munged refuses a socket folder that others cannot traverse or may write to.
         fs::set_permissions(dir, fs::Permissions::from_mode(0o755)).unwrap();
+        // munged's key: random bytes only its owner may read (what `mungekey --create` writes).
         let key = dir.join("munge.key");
-        let o = Command::new(program("mungekey").unwrap())
-            .arg("--create")
-            .arg(format!("--keyfile={}", key.display()))
-            .output()
+        let mut random = vec![0u8; 1024];
+        fs::File::open("/dev/urandom")
+            .and_then(|mut f| f.read_exact(&mut random))
             .unwrap();
-        assert!(o.status.success(), "mungekey: {}", stderr(&o));
+        fs::write(&key, random).unwrap();
+        fs::set_permissions(&key, fs::Permissions::from_mode(0o400)).unwrap();
         for d in ["state", "spool"] {
             fs::create_dir(dir.join(d)).unwrap();
         }
@@ -341,21 +341,31 @@ fn readme_job_array_on_slurm_merges_into_the_one_machine_sweep() {
         ],
     );
     fs::write(dir.join("sweep.sbatch"), &script).unwrap();
-    cluster.bash(&readme_block("sbatch --wait sweep.sbatch"));
-    for task in 1..=3 {
-        let shard = fs::read_to_string(dir.join(format!("shards/shard-{task}.csv"))).unwrap();
+    let submit_and_merge = readme_block("sbatch --wait sweep.sbatch");
+    cluster.bash(&submit_and_merge);
+    let shards = || -> Vec<String> {
+        (1..=3)
+            .map(|task| fs::read_to_string(dir.join(format!("shards/shard-{task}.csv"))).unwrap())
+            .collect()
+    };
+    let first = shards();
+    for (task, shard) in (1..).zip(&first) {
         assert!(
             shard.starts_with("# jointwear sweep fingerprint="),
             "{shard}"
         );
         assert!(shard.contains(&format!(" shard={task}/3 ")), "{shard}");
     }
+    // Submitted again (as after a time limit), the array's --resume runs no case twice: the
+    // shards keep their rows, wall times included (without --resume every case runs again).
+    cluster.bash(&submit_and_merge);
+    assert_eq!(shards(), first);
     // The same sweep on this machine: README's command without its shard.
     let command = script[script.find("jointwear sweep").unwrap()..].replace("\\\n", " ");
     let one_machine = replaced(
         command,
         &[(
-            "--shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT --out shards/shard-$SLURM_ARRAY_TASK_ID.csv",
+            "--shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT --resume --out shards/shard-$SLURM_ARRAY_TASK_ID.csv",
             "--out whole.csv",
         )],
     );

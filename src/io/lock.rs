@@ -296,7 +296,7 @@ mod tests {
         fs::create_dir_all(&dir).unwrap();
         let gone = format!("pid=4194305\nhost={}\ncommand=x\n", host());
         // Checked to fail: the former takeover (move the lock aside, put back one that was not
-        // the stale one) left two holders in 6 of 2000 such rounds; 500 rounds (about 5 s)
+        // the stale one) left two holders in 6 of 2000 such rounds; 500 rounds (about 10 s)
         // catch that with a probability of 78 %.
         for round in 0..500 {
             fs::write(dir.join(FOLDER_LOCK), &gone).unwrap();

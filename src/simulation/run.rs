@@ -721,22 +721,31 @@ impl Simulation {
     }
 
     /// What a mean step of `mean` (s) over a [`CRAWL_WINDOW`] points to as the cause of a run
-    /// too slow for its step limit, by the mean step against the largest
-    /// ([`CHATTER_STEP_RATIO`]).
+    /// too slow for its step limit: by the mean step against the largest
+    /// ([`CHATTER_STEP_RATIO`]) a switching force, else a driver whose period takes more than
+    /// a window of steps (a crawling run's takes over a hundred), else a run simply longer
+    /// than its limit.
     fn slowness_cause(&self, mean: f64) -> String {
         let (field, largest) = self.settings.largest_step();
+        let per_period = self.period / mean;
         if mean < CHATTER_STEP_RATIO * largest {
             "a force that switches at zero velocity, such as pure Coulomb friction in sticking \
              contact (the modified law of eq. 4 regularises it), or a contact far stiffer than \
              the integrator can follow"
                 .to_string()
-        } else {
+        } else if per_period > CRAWL_WINDOW as f64 {
             format!(
                 "the driver turns too slowly for the time scale of the dynamics: steps of \
-                 {mean:.1e} s (what the contacts allow; {field} = {largest:e} s) make {:.1e} \
-                 steps per driver period of {:.4e} s; simulate fewer rotations, drive faster \
-                 or raise run.max_steps",
-                self.period / mean,
+                 {mean:.1e} s (what the contacts allow; {field} = {largest:e} s) make \
+                 {per_period:.1e} steps per driver period of {:.4e} s; simulate fewer \
+                 rotations, drive faster or raise run.max_steps",
+                self.period
+            )
+        } else {
+            format!(
+                "the run is longer than its step limit: steps of {mean:.1e} s make \
+                 {per_period:.1e} steps per driver period of {:.4e} s; simulate fewer \
+                 rotations or raise run.max_steps",
                 self.period
             )
         }
