@@ -96,6 +96,14 @@ fn check_describes_the_scene() {
         "driver: crank at 1000 r/min",
         "degrees of freedom: 2",
         "20 rotations",
+        // the scene's words and values, as its file writes them (was Rust's `Modified { .. }`,
+        // `HertzLine`, `Dopri5`)
+        "contact = { model = \"hybrid\", exponent = 1.5, grazing_velocity_m_s = 0.001, \
+         restitution = 0.8 }",
+        "friction = { model = \"modified\", mu_d = 0.08, mu_s = 0.12, v_d = 0.001, v_s = 0.0001 }",
+        "wear = { k_over_h_per_pa = 1e-12, length_mm = 12, pressure = \"hertz-line\", \
+         sectors = 360 }",
+        "method \"dopri5\"",
     ] {
         assert!(text.contains(needle), "lacks {needle}: {text}");
     }
@@ -417,8 +425,14 @@ fn run_set_rotations_and_wear_snapshots() {
         summary["settings"]["wear_snapshots"],
         serde_json::json!([1, 3, 4])
     );
+    // Echoed as given, to the last digit (was 9.99999999999994e-5 here and
+    // 1.9999999999999185e-5 for the file's 0.02 mm below; driver -1999.9999999999998).
     let c = summary["joints"][0]["radial_clearance_m"].as_f64().unwrap();
-    assert!((c - 1e-4).abs() < 1e-12, "clearance {c}");
+    assert_eq!(c, 1e-4);
+    assert_eq!(
+        summary["settings"]["driver_speed_rpm"].as_f64(),
+        Some(-2000.0)
+    );
     let changes = summary["scene"]["changes"].to_string();
     assert!(changes.contains("clearance.0.clearance_mm") && changes.contains("0.1"));
     let (header, columns) = read_csv(&out.join("wear_snapshots_rod-slider.csv")).unwrap();
@@ -441,7 +455,7 @@ fn run_set_rotations_and_wear_snapshots() {
     assert!(o.status.success(), "{}", stderr(&o));
     let summary = json(&plain.join("summary.json"));
     let c = summary["joints"][0]["radial_clearance_m"].as_f64().unwrap();
-    assert!((c - 2e-5).abs() < 1e-12, "clearance {c}");
+    assert_eq!(c, 2e-5);
     assert_eq!(summary["counts"]["rotations_simulated"], 1);
     // --rotations shorter than the scene's snapshots drops those past it, and says so (only
     // that: a --set run.rotations it overrides is no change of its own to report).

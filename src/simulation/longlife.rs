@@ -30,6 +30,7 @@
 //! block jump, which changes the gap discontinuously, restarts the integrator. So the settling
 //! rotations are bit-identical to a plain run of that many rotations.
 
+use crate::io::format::quantity;
 use crate::io::progress::Progress;
 use crate::simulation::Scene;
 use crate::simulation::{wear_limit, RunSettings, Simulation, MAX_WEAR_RATIO};
@@ -92,7 +93,7 @@ pub struct LongLife {
     pub snapshots: Vec<Stage>,
     /// Rotations actually simulated.
     pub simulated: u64,
-    /// Radial clearance of each joint (m).
+    /// Radial clearance of each joint as the scene gives it (m).
     pub clearances: Vec<f64>,
     /// The wear-depth limit of each joint (m).
     pub limits: Vec<f64>,
@@ -131,10 +132,11 @@ pub fn predict(
     }
     let mechanism = scene.mechanism.clone();
     let y0 = mechanism.assemble(&scene.guess)?;
+    // as the scene gives them: the default limit and the clearance reported beside the wear
     let clearances: Vec<f64> = mechanism
         .clearance_joints
         .iter()
-        .map(|cj| cj.clearance())
+        .map(|cj| cj.given_clearance)
         .collect();
     // The caller decides when to stop, so the run's own length is only a bound.
     let plain = RunSettings {
@@ -154,10 +156,11 @@ pub fn predict(
         if !(l > 0.0 && l <= most) {
             return Err(Error::invalid(
                 "--until",
-                format!("{l:e} m for joint `{}`", cj.name),
+                format!("{} for joint `{}`", quantity(l * 1e3, "mm"), cj.name),
                 format!(
-                    "a wear depth in (0, {most:e}] m: the wear model holds to {:.0} % of the \
+                    "a wear depth in (0, {}]: the wear model holds to {:.0} % of the \
                      bearing radius (the default, the radial clearance, needs c > 0)",
+                    quantity(most * 1e3, "mm"),
                     100.0 * MAX_WEAR_RATIO
                 ),
             ));
