@@ -1,6 +1,6 @@
 //! The `jointwear` program end to end: outputs, exit codes, error messages, sweeps and shards.
 
-use jointwear::io::output::{number, read_csv};
+use jointwear::io::output::{number, read_csv, read_rows};
 use jointwear::scene::scene_path;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -277,6 +277,35 @@ fn longlife_writes_profiles_and_growth() {
         ]
     );
     assert_eq!(*columns[0].last().unwrap(), 2e5);
+    // counts as integers: the snapshot at 40 000 rotations was written 4e4
+    let text = fs::read_to_string(out.join("longlife_growth.csv")).unwrap();
+    let counts: Vec<&str> = text
+        .lines()
+        .skip(1)
+        .map(|l| &l[..l.find(',').unwrap()])
+        .collect();
+    assert!(counts.contains(&"40000"), "{counts:?}");
+    assert!(
+        counts.iter().all(|c| c.parse::<u64>().is_ok()),
+        "{counts:?}"
+    );
+    // what each block was extrapolated from, and what the printout says of it
+    let (header, blocks) = read_rows(&out.join("longlife_blocks.csv")).unwrap();
+    assert_eq!(
+        header[..3],
+        [
+            "sampled_rotations",
+            "rotations",
+            "rod-slider.wear_rate_m_per_rotation"
+        ]
+    );
+    assert_eq!(blocks.len(), columns[0].len() - 1);
+    assert!(
+        stdout(&o).contains("extrapolated: the other")
+            && stdout(&o).contains("within the validated regime throughout"),
+        "{}",
+        stdout(&o)
+    );
     let (header, _) = read_csv(&out.join("longlife_profiles_rod-slider.csv")).unwrap();
     assert_eq!(
         header,
@@ -297,6 +326,7 @@ fn longlife_writes_profiles_and_growth() {
     for file in [
         "longlife_growth.csv",
         "longlife_profiles_rod-slider.csv",
+        "longlife_blocks.csv",
         "summary.json",
     ] {
         assert!(readme.contains(file), "README.txt lacks {file}");
@@ -310,6 +340,8 @@ fn longlife_writes_profiles_and_growth() {
         joint["effective_clearance_m"].as_f64().unwrap(),
         *columns[2].last().unwrap()
     );
+    assert_eq!(joint["validated_until_rotations"], serde_json::Value::Null);
+    assert!(joint["changes"].is_array());
     fs::remove_dir_all(&dir).unwrap();
 }
 
