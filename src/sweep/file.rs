@@ -171,7 +171,7 @@ impl SweepFile {
                 parse_error(
                     path,
                     format!(
-                        "not a sweep file: the name of its last column is not \
+                        "not a sweep file: the name of its header's last column is not \
                      `{PREFIX}fingerprint=… shard=I/N cases=K total=T`"
                     ),
                 )
