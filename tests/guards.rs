@@ -161,6 +161,13 @@ fn check_assembles_and_prints_the_pose_of_every_body() {
     ] {
         assert!(text.contains(line), "lacks `{line}`: {text}");
     }
+    // A rocker guessed seven turns on assembles seven turns on, printed wrapped (was 2619.990).
+    let turns = ("angle_deg = 100.0", "angle_deg = 2620.0");
+    fs::write(&scene, scene_with("fourbar", &[turns])).unwrap();
+    let text = stdout(&jointwear(&["check", s(&scene), "--out", s(&out)]));
+    let line = "  rocker       x    93.9286 mm, y    34.4694 mm, angle    99.990 deg";
+    assert!(text.contains(line), "lacks `{line}`: {text}");
+    assert!(!text.contains("note:"), "{text}");
     fs::remove_dir_all(&dir).unwrap();
 }
 

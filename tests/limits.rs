@@ -208,9 +208,9 @@ fn a_penetration_beyond_twenty_clearances_stops_the_run_naming_it() {
         &cause,
         &[
             "clearance joint `rod-slider` penetrates",
-            "x its radial clearance of 2.000e-5 m",
+            "x its radial clearance of 0.02 mm",
             "at driver angle",
-            "beyond the contact laws' limit of 4.000e-4 m (20 clearances",
+            "beyond the contact laws' limit of 0.4 mm (20 clearances",
             "a speed or load far beyond what the joint carries",
         ],
     );

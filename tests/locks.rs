@@ -43,7 +43,7 @@ fn a_rod_shorter_than_the_crank_stops_at_the_clearance_joint_it_pulls_apart() {
     // named beside it.
     for needle in [
         "clearance joint `rod-slider` penetrates",
-        "beyond the contact laws' limit of 4.000e-4 m (20 clearances",
+        "beyond the contact laws' limit of 0.4 mm (20 clearances",
         "at driver angle 336.3 deg",
         "links that cannot reach",
         "the driver cannot turn from 336.4 to 23.6 deg of driver angle (turning clockwise)",
@@ -101,8 +101,8 @@ fn a_fourbar_whose_links_cannot_close_names_the_open_joints() {
     }
     // Least squares spreads the gap over the joints of the loop next to the rocker.
     for joint in [
-        "revolute[2] (ground-rocker) by 6.958e-2",
-        "clearance joint `coupler-rocker` (coupler-rocker, held ideal) by 6.958e-2",
+        "revolute[2] (ground-rocker) by 69.58 mm",
+        "clearance joint `coupler-rocker` (coupler-rocker, held ideal) by 69.58 mm",
     ] {
         assert!(msg.contains(joint), "lacks `{joint}`: {msg}");
     }

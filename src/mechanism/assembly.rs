@@ -5,6 +5,7 @@
 
 use super::workspace::{Dependent, Solved, Workspace};
 use super::{BodyIndex, BodyPoint, ClearanceJoint, Mechanism, Revolute};
+use crate::io::format::quantity;
 use crate::{Error, Result};
 
 impl Mechanism {
@@ -188,13 +189,12 @@ impl Mechanism {
         let list: Vec<String> = self
             .largest_residuals(ws, phi, held)
             .iter()
-            .map(|(j, r)| format!("{j} by {r:.3e}"))
+            .map(|(j, r)| format!("{j} by {r}"))
             .collect();
         Error::invalid(
             "joints (assembly)",
             format!(
-                "the loop cannot close: after {iterations} Newton iterations it stays open at {} \
-                 (constraint residual, m or rad)",
+                "the loop cannot close: after {iterations} Newton iterations it stays open at {}",
                 list.join(", ")
             ),
             "links whose lengths can close every loop at the driver's initial angle, and a \
@@ -203,25 +203,43 @@ impl Mechanism {
     }
 
     /// The joints whose residual in `phi` is of the order of the largest (where the loop
-    /// breaks), largest first, with their residual.
+    /// breaks), largest first, with their residual in the scene's units (mm, deg).
     fn largest_residuals(
         &self,
         ws: &Workspace,
         phi: &[f64],
         held: &[ClearanceJoint],
-    ) -> Vec<(String, f64)> {
+    ) -> Vec<(String, String)> {
         let mut order: Vec<usize> = (0..phi.len()).collect();
         order.sort_by(|&a, &b| phi[b].abs().total_cmp(&phi[a].abs()));
         let largest = order.first().map_or(0.0, |&i| phi[i].abs());
-        let mut joints: Vec<(String, f64)> = Vec::new();
+        let mut joints: Vec<(String, String)> = Vec::new();
         let near_largest = |i: &&usize| phi[**i].abs() >= 0.1 * largest || phi[**i].is_nan();
         for &i in order.iter().take_while(near_largest) {
-            let joint = self.equation_joint(ws.vector_equation(i), held);
+            let e = ws.vector_equation(i);
+            let joint = self.equation_joint(e, held);
             if !joints.iter().any(|(j, _)| *j == joint) {
-                joints.push((joint, phi[i].abs()));
+                let r = phi[i].abs();
+                let residual = if self.angle_equation(e) {
+                    quantity(r.to_degrees(), "deg")
+                } else {
+                    quantity(r * 1e3, "mm")
+                };
+                joints.push((joint, residual));
             }
         }
         joints
+    }
+
+    /// Whether constraint equation `e` (ordered as in [`Self::equation_joint`]) holds an angle
+    /// (rad) rather than a length (m): a translational joint's first, and the driver's.
+    fn angle_equation(&self, e: usize) -> bool {
+        let (r, t) = (self.revolutes.len(), self.translationals.len());
+        match e / 2 {
+            i if i < r => false,
+            i if i < r + t => e.is_multiple_of(2),
+            _ => true,
+        }
     }
 
     /// Name of body `b` as the scene writes it (`ground` for the ground).

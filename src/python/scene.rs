@@ -220,7 +220,7 @@ impl Document {
         for cj in &m.clearance_joints {
             let j = PyDict::new(py);
             j.set_item("name", &cj.name)?;
-            j.set_item("clearance_m", cj.clearance())?;
+            j.set_item("clearance_m", cj.given_clearance)?;
             j.set_item("bearing_radius_m", cj.r_bearing)?;
             let sectors = cj.wear.is_some().then(|| cj.initial_profile.depths().len());
             j.set_item("sectors", sectors)?;

@@ -3,6 +3,7 @@
 
 use super::validation::*;
 use super::*;
+use crate::io::format::shift_decimal;
 use crate::laws::contact::{compound_modulus, ContactLaw, NormalForceModel};
 use crate::laws::wear::{PressureModel, WearLaw, WearProfile};
 use crate::mechanism::{
@@ -114,6 +115,7 @@ impl SceneFile {
         let driver = Driver {
             body: driver_body,
             omega: speed * std::f64::consts::TAU / 60.0,
+            speed_rpm: speed,
             angle0: check("driver.angle_deg", self.driver.angle_deg, -360.0, 360.0)?.to_radians(),
         };
         guess[3 * driver_body + 2] = driver.angle0;
@@ -374,6 +376,7 @@ impl SceneFile {
             bearing,
             r_journal,
             r_bearing,
+            given_clearance: shift_decimal(c.clearance_mm, -3),
             contact,
             friction: c.friction,
             wear,

@@ -28,8 +28,40 @@ pub use validation::{
 use crate::laws::contact::NormalForceModel;
 use crate::laws::friction::FrictionModel;
 use crate::laws::wear::PressureModel;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+
+/// `value` (a law, a method, a table of a scene file) as a scene file writes it: its TOML
+/// value, an inline table with its `model` key first, each number as
+/// [`crate::io::format::exact`] writes it: `{ model = "modified", mu_d = 0.01, mu_s = 0.015,
+/// v_d = 0.001, v_s = 0.0001 }`, `"dopri5"`. What `check` prints, so that a person reads the
+/// scene's own words.
+pub fn spelling(value: &impl Serialize) -> String {
+    match toml::Value::try_from(value) {
+        Ok(v) => toml_text(&v),
+        Err(e) => format!("<{e}>"),
+    }
+}
+
+/// [`spelling`] of a TOML value.
+fn toml_text(v: &toml::Value) -> String {
+    use toml::Value;
+    let list = |items: Vec<String>| items.join(", ");
+    match v {
+        Value::Float(x) => crate::io::format::exact(*x),
+        Value::Integer(i) => i.to_string(),
+        Value::String(s) => Value::String(s.clone()).to_string(),
+        Value::Boolean(b) => b.to_string(),
+        Value::Datetime(d) => d.to_string(),
+        Value::Array(a) => format!("[{}]", list(a.iter().map(toml_text).collect())),
+        Value::Table(t) => {
+            let mut keys: Vec<&String> = t.keys().collect();
+            keys.sort_by_key(|k| *k != "model");
+            let pairs = keys.iter().map(|k| format!("{k} = {}", toml_text(&t[*k])));
+            format!("{{ {} }}", list(pairs.collect()))
+        }
+    }
+}
 
 /// A scene file as written (engineering units).
 #[derive(Clone, Debug, Deserialize)]
@@ -159,7 +191,7 @@ pub struct ClearanceSpec {
 }
 
 /// The normal contact law of a clearance joint (eq. 1-3).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
     /// Which law: the paper's hybrid law or one of the classical ones.
@@ -173,7 +205,7 @@ pub struct ContactSpec {
 }
 
 /// Archard wear of a clearance joint's bearing (eq. 5-9).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct WearSpec {
     /// Archard coefficient over hardness k/H (1/Pa), [0, 1e-6].
@@ -187,7 +219,7 @@ pub struct WearSpec {
 }
 
 /// Integration method of a scene.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum MethodSpec {
     /// Dormand-Prince 5(4), adaptive (the default).

@@ -4,6 +4,7 @@
 use super::checkpoint::Checkpoint;
 use super::record::{Sampler, Settler};
 use super::*;
+use crate::io::format::quantity;
 use crate::io::progress::Progress;
 use crate::mechanism::{
     Mechanism, RunState, Workspace, MAX_PENETRATION_CLEARANCES, MAX_PENETRATION_RATIO,
@@ -673,17 +674,18 @@ impl Simulation {
         Error::Integration {
             time: t,
             cause: format!(
-                "clearance joint `{}` penetrates {delta:.3e} m ({:.1} x its radial clearance of \
-                 {:.3e} m) at driver angle {:.1} deg, beyond the contact laws' limit of \
-                 {:.3e} m ({} clearances, at least {} % and at most {} % of the journal \
+                "clearance joint `{}` penetrates {} ({:.1} x its radial clearance of {}) at \
+                 driver angle {:.1} deg, beyond the contact laws' limit of {} ({} \
+                 clearances, at least {} % and at most {} % of the journal \
                  radius): the contact would cover the whole half of the bore; likely cause: a \
                  speed or load far beyond what the joint carries, a material far too soft, or \
                  links that cannot reach (the linkage pulls the joint apart)",
                 cj.name,
+                quantity(delta * 1e3, "mm"),
                 delta / cj.clearance(),
-                cj.clearance(),
+                quantity(cj.given_clearance * 1e3, "mm"),
                 self.mechanism.driver_angle(t),
-                cj.penetration_limit(),
+                quantity(cj.penetration_limit() * 1e3, "mm"),
                 MAX_PENETRATION_CLEARANCES,
                 100.0 * MIN_PENETRATION_LIMIT_RATIO,
                 100.0 * MAX_PENETRATION_RATIO,
@@ -708,14 +710,15 @@ impl Simulation {
         Error::Integration {
             time: self.integrator.t(),
             cause: format!(
-                "wear of clearance joint `{}` is {deepest:.3e} m deep in driver rotation {}, \
-                 beyond the wear model's limit of {:.0} % of its bearing radius ({:.3e} m): \
+                "wear of clearance joint `{}` is {} deep in driver rotation {}, beyond the \
+                 wear model's limit of {:.0} % of its bearing radius ({}): \
                  k/H far too large (a unit error?) or a life far past the bearing's; \
                  `jointwear longlife --until` stops at a stated depth",
                 cj.name,
+                quantity(deepest * 1e3, "mm"),
                 self.rotation + 1,
                 100.0 * MAX_WEAR_RATIO,
-                wear_limit(cj)
+                quantity(wear_limit(cj) * 1e3, "mm")
             ),
         }
     }

@@ -3,6 +3,7 @@
 
 use crate::failure::{CliResult, Failure};
 use crate::{claim_out, load_variant};
+use jointwear::io::format::{self as people, quantity, Reading};
 use jointwear::io::progress::progress_bar;
 use jointwear::simulation::ensemble::{self, EnsembleSettings};
 use jointwear::simulation::folder::ensemble::{write_ensemble, Member};
@@ -55,27 +56,34 @@ pub fn run_ensemble(
         write_ensemble(dir, &origin, scene, &settings, (&members, &walls), wall).map_err(bad)?;
     println!("{}", scene.title);
     println!(
-        "  {} members (seed {}) of {} rotations in {wall:.2} s wall time",
-        settings.members, settings.seed, scene.run.rotations
+        "  {} members (seed {}) of {} rotations in {} of wall time",
+        settings.members,
+        settings.seed,
+        scene.run.rotations,
+        quantity(wall, "s")
     );
     for j in &stats {
         println!("  joint {} (mean ± sd, [5 %, 95 %]):", j.name);
         for (name, d) in &j.scalars {
+            let r = Reading::of(name);
             if d.n == 0 {
-                println!("    {name:22} not recorded (run.record_rotations = 0)");
+                println!("    {:36} not recorded (run.record_rotations = 0)", r.label);
             } else if name == &"continuous_contact" {
                 let k = (d.mean * d.n as f64).round();
                 println!("    continuous contact in {k} of {} members", d.n);
             } else {
                 println!(
-                    "    {name:22} {:.6e} ± {:.2e}  [{:.6e}, {:.6e}]",
-                    d.mean, d.sd, d.quantiles[0], d.quantiles[4]
+                    "    {:36} {}  [{}, {}]",
+                    r.label,
+                    r.mean_sd(d.mean, d.sd),
+                    people::number(d.quantiles[0] * r.scale),
+                    people::number(d.quantiles[4] * r.scale)
                 );
                 let states = j.states.iter().find(|(n, _)| n == name);
                 if let Some((low, high)) = states.and_then(|(_, s)| s.low_high()) {
                     let part = |s: &jointwear::analysis::states::State| {
                         let x = &s.distribution;
-                        format!("{} of {}: {:.6e} ± {:.2e}", x.n, d.n, x.mean, x.sd)
+                        format!("{} of {}: {}", x.n, d.n, r.mean_sd(x.mean, x.sd))
                     };
                     println!("      two states: low {}, high {}", part(low), part(high));
                 }

@@ -5,6 +5,7 @@
 use crate::ensemble::checked;
 use crate::failure::{CliResult, Failure};
 use crate::{claim_out, load_variant};
+use jointwear::io::format::{number, quantity};
 use jointwear::io::interrupt;
 use jointwear::io::progress::{progress_bar, Progress};
 use jointwear::simulation::checkpoint::{read_checkpoint, write_checkpoint, CHECKPOINT_FILE};
@@ -187,33 +188,43 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
     let s = &out.stats;
     println!("{}", scene.title);
     println!(
-        "  {} rotations in {:.2} s wall time: {} steps, {} rejected, {} evaluations, {} contact onsets",
-        scene.run.rotations, out.wall_time, s.steps, s.rejected, s.evaluations, s.events
+        "  {} rotations in {} of wall time: {} steps, {} rejected, {} evaluations, {} contact \
+         onsets",
+        scene.run.rotations,
+        quantity(out.wall_time, "s"),
+        s.steps,
+        s.rejected,
+        s.evaluations,
+        s.events
     );
     if let Some(e) = out.energy {
-        println!("  energy balance residual {:.2e}", e.residual());
+        println!(
+            "  energy balance residual {} (relative)",
+            number(e.residual())
+        );
     }
     for j in joints {
         println!("  joint {}:", j.name);
         match (j.max_normal_force_recorded, j.max_penetration_recorded) {
             (Some(f), Some(p)) => println!(
-                "    max normal force {f:.2} N, max penetration {:.3} µm (recorded rotations)",
-                p * 1e6
+                "    max normal force {}, max penetration {} (recorded rotations)",
+                quantity(f, "N"),
+                quantity(p * 1e6, "µm")
             ),
             _ => println!(
                 "    max normal force and penetration not recorded (run.record_rotations = 0)"
             ),
         }
         println!(
-            "    max penetration {:.3} µm over the whole run (start-up transient included)",
-            j.max_penetration_whole_run * 1e6
+            "    max penetration {} over the whole run (start-up transient included)",
+            quantity(j.max_penetration_whole_run * 1e6, "µm")
         );
         if let Some(m) = j.motion {
             println!(
-                "    motion: {} ({:.0} % in contact, {:.1} impacts per rotation)",
+                "    motion: {} ({} in contact, {} impacts per rotation)",
                 m.mode(),
-                100.0 * m.contact_fraction,
-                m.impacts_per_rotation
+                quantity(100.0 * m.contact_fraction, "%"),
+                number(m.impacts_per_rotation)
             );
         } else {
             println!("    motion: not classified (run.record_rotations = 0)");
@@ -227,11 +238,11 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
         }
         for p in &j.regions[..shown] {
             println!(
-                "    wear region at {:6.1} deg: depth {:.4} µm, prominence {:.4} µm, width {:.0} deg",
-                p.angle_deg,
-                p.depth * 1e6,
-                p.prominence * 1e6,
-                p.width_deg
+                "    wear region at {}: depth {}, prominence {}, width {}",
+                quantity(p.angle_deg, "deg"),
+                quantity(p.depth * 1e6, "µm"),
+                quantity(p.prominence * 1e6, "µm"),
+                quantity(p.width_deg, "deg")
             );
         }
     }

@@ -192,7 +192,7 @@ pub fn conventions(command: &str, m: &Mechanism, title: &str) -> String {
             body_name(m, cj.journal.body),
             body_name(m, cj.bearing.body),
             body_name(m, cj.bearing.body),
-            crate::io::output::number(cj.clearance()),
+            crate::io::output::number(cj.given_clearance),
             if cj.wear.is_some() {
                 ""
             } else {

@@ -282,7 +282,7 @@ impl RunSummary {
                 baumgarte_per_s: run.baumgarte,
                 max_steps: run.max_steps,
                 driver_body: body_name(m, Some(m.driver.body)).to_string(),
-                driver_speed_rpm: m.driver.omega * 60.0 / std::f64::consts::TAU,
+                driver_speed_rpm: m.driver.speed_rpm,
                 driver_period_s: out.period,
             },
             counts: Counts {
@@ -307,7 +307,7 @@ impl RunSummary {
                     name: j.name.clone(),
                     journal_body: body_name(m, cj.journal.body).to_string(),
                     bearing_body: body_name(m, cj.bearing.body).to_string(),
-                    radial_clearance_m: cj.clearance(),
+                    radial_clearance_m: cj.given_clearance,
                     max_normal_force_recorded_n: j.max_normal_force_recorded,
                     max_penetration_recorded_m: j.max_penetration_recorded,
                     max_penetration_whole_run_m: j.max_penetration_whole_run,
