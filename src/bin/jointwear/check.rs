@@ -7,7 +7,7 @@ use crate::failure::{CliResult, Failure};
 use crate::{checked_out_dir, scene_stem};
 use jointwear::io::plot::render_mechanism;
 use jointwear::mechanism::SWEEP_STEP_DEG;
-use jointwear::scene::SceneFile;
+use jointwear::scene::{ContactSpec, SceneFile};
 use jointwear::simulation::picture::pose_picture;
 use jointwear::simulation::Scene;
 use std::path::{Path, PathBuf};
@@ -59,10 +59,10 @@ pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
             c.journal_material,
             c.bearing_material
         );
-        let k = &c.contact;
         println!(
-            "    contact {:?}, restitution {}, exponent {}; friction {:?}",
-            k.model, k.restitution, k.exponent, c.friction
+            "    contact {}; friction {:?}",
+            contact_line(&c.contact),
+            c.friction
         );
         match &c.wear {
             Some(w) => println!(
@@ -114,6 +114,29 @@ pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
         Some(lock) => Err(Failure::from(path, lock.error())),
         None => Ok(()),
     }
+}
+
+/// The contact law as the scene spells it, the two laws a `model` stands for, and its
+/// parameters, e.g. `model = "hybrid" (stiffness "hybrid", dissipation "zhiying-qishao"),
+/// restitution 0.9, exponent 1.5`.
+fn contact_line(k: &ContactSpec) -> String {
+    let mut line = k.spelling();
+    if let Some(m) = k.model {
+        let (s, d) = m.laws();
+        line += &format!(
+            " (stiffness \"{}\", dissipation \"{}\")",
+            s.name(),
+            d.name()
+        );
+    }
+    line += &format!(", restitution {}", k.restitution);
+    if let Some(n) = k.exponent {
+        line += &format!(", exponent {n}");
+    }
+    if let Some(l) = k.length_mm {
+        line += &format!(", length {l} mm");
+    }
+    line
 }
 
 /// A body assembled far from its guessed angle: its name and turn from the guess (deg).
