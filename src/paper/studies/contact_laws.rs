@@ -88,7 +88,7 @@ pub struct Impact {
     pub max_force: f64,
     /// From entry to exit (s).
     pub contact_time: f64,
-    /// Penetration (m) and force (N) through the impact, about [`LOOP_SAMPLES`] points; empty
+    /// Penetration (m) and force (N) through the impact, about 400 points; empty
     /// unless asked for.
     pub path: (Vec<f64>, Vec<f64>),
 }
