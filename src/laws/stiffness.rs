@@ -150,8 +150,7 @@ pub fn elastic_foundation_force(e_star: f64, delta_r: f64, delta: f64) -> f64 {
 /// Force (N) of the logarithmic law δ = u (ln(4ΔR/u) + k), u = F/(π L E*), at penetration
 /// `delta` (m), with `pi_l_e` = π L E* (N/m); linear beyond δ_c = 8ΔR e^(k−2) (module doc).
 /// Bracketed Newton on the rising, concave δ(u): a Newton step that leaves the bracket is
-/// replaced by bisection; stops when the step is below 1e-15 of u (at most 100 iterations;
-/// measured: 4-6 from the starting guess below).
+/// replaced by bisection; stops when the step is below 1e-15 of u (at most 100 iterations).
 pub fn log_law_force(k: f64, pi_l_e: f64, delta_r: f64, delta: f64) -> f64 {
     if delta <= 0.0 {
         return 0.0;
