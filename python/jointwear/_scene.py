@@ -99,7 +99,9 @@ class Scene:
         ``jointwear check`` does (a loop that cannot close at some driver angle is a
         :class:`SceneError` naming the angles and the joints). Returns its
         ``title``, ``bodies``, clearance ``joints`` (``name``, ``clearance_m``,
-        ``bearing_radius_m``, ``sectors`` or None without wear), ``dof``, ``period_s`` (of the
+        ``bearing_radius_m``, ``sectors`` or None without wear, and the contact law's
+        ``stiffness`` and ``dissipation`` in the scene spelling, e.g. ``"hybrid"`` and
+        ``"zhiying-qishao"`` for ``model = "hybrid"``), ``dof``, ``period_s`` (of the
         driver) and ``rotations``."""
         return self._doc.check()
 

@@ -224,6 +224,8 @@ impl Document {
             j.set_item("bearing_radius_m", cj.r_bearing)?;
             let sectors = cj.wear.is_some().then(|| cj.initial_profile.depths().len());
             j.set_item("sectors", sectors)?;
+            j.set_item("stiffness", cj.contact.stiffness_law().name())?;
+            j.set_item("dissipation", cj.contact.dissipation_law().name())?;
             joints.append(j)?;
         }
         d.set_item("joints", joints)?;

@@ -25,7 +25,7 @@ pub use validation::{
     RECORD_BUDGET_BYTES, YOUNGS_MODULUS_GPA,
 };
 
-use crate::laws::contact::NormalForceModel;
+use crate::laws::contact::{DissipationLaw, NormalForceModel, StiffnessLaw};
 use crate::laws::friction::FrictionModel;
 use crate::laws::wear::PressureModel;
 use serde::{Deserialize, Serialize};
@@ -190,18 +190,46 @@ pub struct ClearanceSpec {
     pub wear: Option<WearSpec>,
 }
 
-/// The normal contact law of a clearance joint (eq. 1-3).
+/// The normal contact law of a clearance joint (eq. 1-3): either `model` (the paper's two
+/// laws by name) or `stiffness` and `dissipation` (any of the catalogue's elastic laws with any
+/// of its hysteresis-damping laws, [`crate::laws::stiffness`], [`crate::laws::dissipation`]).
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
-    /// Which law: the paper's hybrid law or one of the classical ones.
-    pub model: NormalForceModel,
+    /// The paper's law (`"hybrid"`) or Lankarani-Nikravesh (`"lankarani-nikravesh"`).
+    pub model: Option<NormalForceModel>,
+    /// Elastic force-penetration law, instead of `model`.
+    pub stiffness: Option<StiffnessLaw>,
+    /// Hysteresis-damping law, instead of `model`.
+    pub dissipation: Option<DissipationLaw>,
     /// Coefficient of restitution c_e, (0, 1].
     pub restitution: f64,
-    /// Exponent n, [1, 3]; the paper uses 1.5.
-    pub exponent: f64,
+    /// Exponent n, [1, 3], of the power laws (`hybrid`, `hertz`); the paper uses 1.5. The
+    /// other elastic laws have their own shape and take none.
+    pub exponent: Option<f64>,
+    /// Bearing length L (mm) for the elastic laws written per length (`liu`, `johnson`,
+    /// `radzimovsky`, `esdu-78035`, `pereira`); absent: `wear.length_mm`.
+    pub length_mm: Option<f64>,
     /// Floor of the captured impact velocity (m/s), (0, 10].
     pub grazing_velocity_m_s: f64,
+}
+
+impl ContactSpec {
+    /// The laws as the scene spells them, e.g. `model = "hybrid"` or
+    /// `stiffness = "johnson", dissipation = "flores"`.
+    pub fn spelling(&self) -> String {
+        let mut parts = Vec::new();
+        if let Some(m) = self.model {
+            parts.push(format!("model = \"{}\"", m.name()));
+        }
+        if let Some(s) = self.stiffness {
+            parts.push(format!("stiffness = \"{}\"", s.name()));
+        }
+        if let Some(d) = self.dissipation {
+            parts.push(format!("dissipation = \"{}\"", d.name()));
+        }
+        parts.join(", ")
+    }
 }
 
 /// Archard wear of a clearance joint's bearing (eq. 5-9).

@@ -8,7 +8,7 @@ use crate::{checked_out_dir, claim_out, scene_stem};
 use jointwear::io::format::{exact as given, turn_deg};
 use jointwear::io::plot::render_mechanism;
 use jointwear::mechanism::SWEEP_STEP_DEG;
-use jointwear::scene::{spelling, SceneFile};
+use jointwear::scene::{spelling, ContactSpec, SceneFile};
 use jointwear::simulation::picture::pose_picture;
 use jointwear::simulation::Scene;
 use std::path::{Path, PathBuf};
@@ -67,7 +67,11 @@ pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
             c.journal_material,
             c.bearing_material
         );
-        println!("    contact = {}", spelling(&c.contact));
+        println!(
+            "    contact = {}{}",
+            spelling(&c.contact),
+            model_laws(&c.contact)
+        );
         println!("    friction = {}", spelling(&c.friction));
         match &c.wear {
             Some(w) => println!("    wear = {}", spelling(w)),
@@ -116,6 +120,19 @@ pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
         Some(lock) => Err(Failure::from(path, lock.error())),
         None => Ok(()),
     }
+}
+
+/// The two catalogue laws a contact `model` stands for, e.g. ` (stiffness "hybrid",
+/// dissipation "zhiying-qishao")`; empty for a scene that names its laws itself.
+fn model_laws(k: &ContactSpec) -> String {
+    k.model.map_or_else(String::new, |m| {
+        let (s, d) = m.laws();
+        format!(
+            " (stiffness \"{}\", dissipation \"{}\")",
+            s.name(),
+            d.name()
+        )
+    })
 }
 
 /// A body assembled far from its guessed angle: its name and turn from the guess (deg).

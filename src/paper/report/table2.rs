@@ -54,7 +54,11 @@ pub(super) fn table2_section() -> String {
                 ],
                 vec![
                     "restitution c_e, exponent n".into(),
-                    format!("{}, {}", c.contact.restitution, c.contact.exponent),
+                    format!(
+                        "{}, {}",
+                        c.contact.restitution,
+                        c.contact.exponent.map_or("none".into(), |n| n.to_string())
+                    ),
                     "notes (medium-high)".into(),
                 ],
                 vec![
