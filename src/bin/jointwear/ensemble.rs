@@ -4,14 +4,14 @@
 
 use crate::failure::{CliResult, Failure};
 use crate::outputs::{conventions, write_summary, PROGRAM, SUMMARY_FILE};
-use crate::{claim_out, joint_file, load_variant};
+use crate::{claim_out, joint_file, load_variant, perturbation_arg};
 use jointwear::analysis::states::{States, STATE_COLUMNS};
 use jointwear::analysis::statistics::{Distribution, VALUE_KEYS};
 use jointwear::io::output::{number, number_or_empty, write_outputs, write_rows};
 use jointwear::io::plot::{render, Axes, Series, Shade, Style};
 use jointwear::io::progress::progress_bar;
 use jointwear::laws::wear::sector_angles_deg;
-use jointwear::simulation::ensemble::{self, member_offsets, EnsembleSettings};
+use jointwear::simulation::ensemble::{self, EnsembleSettings};
 use jointwear::simulation::Scene;
 use jointwear::sweep::{
     header, joint_statistics, summarize, CaseResult, JointStatistics, JointSummary, Outcome,
@@ -61,8 +61,11 @@ pub fn run_ensemble(
     let (members, walls): (Vec<Member>, Vec<f64>) = members.map_err(bad)?.into_iter().unzip();
     let wall = clock.elapsed().as_secs_f64();
     let title = format!(
-        "{} --ensemble {} --seed {}",
-        variant.command, settings.members, settings.seed
+        "{} --ensemble {} --seed {}{}",
+        variant.command,
+        settings.members,
+        settings.seed,
+        perturbation_arg(&settings.perturbation)
     );
     let stats = write_outputs(dir, &title, || {
         let stats = write_ensemble(scene, &settings, &members, &walls, dir)?;
@@ -74,6 +77,7 @@ pub fn run_ensemble(
             changes: variant.changes.clone(),
             members: settings.members,
             seed: settings.seed,
+            perturbation: settings.perturbation.key(),
             rotations: scene.run.rotations,
             record_rotations: scene.run.record_rotations,
             wall_time_s: wall,
@@ -89,7 +93,7 @@ pub fn run_ensemble(
                 })
                 .collect(),
         };
-        write_summary(dir, &summary, &readme(&title, scene, &stats))?;
+        write_summary(dir, &summary, &readme(&title, scene, &settings, &stats))?;
         Ok(stats)
     })
     .map_err(bad)?;
@@ -97,6 +101,11 @@ pub fn run_ensemble(
     println!(
         "  {} members (seed {}) of {} rotations in {wall:.2} s wall time",
         settings.members, settings.seed, scene.run.rotations
+    );
+    println!(
+        "  perturbation {}: {}",
+        settings.perturbation.key(),
+        settings.perturbation.describe()
     );
     for j in &stats {
         println!("  joint {} (mean ± sd, [5 %, 95 %]):", j.name);
@@ -154,7 +163,10 @@ fn write_ensemble(
         .enumerate()
         .map(|(i, ((summary, _), secs))| {
             let mut row = vec![i.to_string()];
-            for d in member_offsets(settings.seed, i, joints.len()) {
+            for d in settings
+                .perturbation
+                .offsets(settings.seed, i, joints.len())
+            {
                 row.extend([number(d.x), number(d.y)]);
             }
             let record = CaseResult {
@@ -245,6 +257,8 @@ struct EnsembleSummary {
     changes: Vec<(String, String)>,
     members: usize,
     seed: u64,
+    /// The protocol's key (`disc_10nm`, `--perturbation`).
+    perturbation: String,
     rotations: u32,
     record_rotations: u32,
     /// Wall-clock time of all members, in parallel (s).
@@ -275,7 +289,12 @@ impl Serialize for DistributionSummary {
 }
 
 /// `README.txt` of an ensemble's folder: the conventions, then every file it wrote.
-fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
+fn readme(
+    title: &str,
+    scene: &Scene,
+    settings: &EnsembleSettings,
+    stats: &[JointStatistics],
+) -> String {
     let m = &scene.mechanism;
     let mut text = conventions(title, m, &scene.title);
     let worn: Vec<String> = stats
@@ -283,16 +302,16 @@ fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
         .filter(|j| j.wear.is_some())
         .map(|j| joint_file("ensemble_wear", &j.name))
         .collect();
-    text.push_str(
+    text.push_str(&format!(
         "\nFILES\n\
-         Every member is the scene run from the journal of each clearance joint displaced by at \
-         most 10 nm in a seeded random direction; statistics are over the members. Quantiles \
+         Every member is the scene run with the perturbation {} ({}) drawn from the seed and \
+         the member number; statistics are over the members. Quantiles \
          qNN are type-7 sample quantiles; sd is the sample standard deviation. Angles \
          (_deg) are unwrapped around their circular mean before the statistics.\n\
          ensemble_members.csv: one row per member.\n\
          \x20 member                               0-based member number\n\
          \x20 J.offset_body_x_m, J.offset_body_y_m  initial journal offset, in the frame of the \
-         journal's body (m)\n\
+         journal's body (m); zero where the protocol starts the journal centred\n\
          \x20 J.max_normal_force_recorded_n        largest normal force of the recorded \
          rotations (N); empty when none were recorded\n\
          \x20 J.max_penetration_recorded_m         largest penetration of the recorded \
@@ -316,7 +335,9 @@ fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
          within-state sds; none for angles): states (1 or 2), and with two low_n, low_mean, \
          low_sd, high_n, high_mean, high_sd. Where a quantity has two states, its pooled mean \
          depends on the share in each, and that share on how members are perturbed.\n",
-    );
+        settings.perturbation.key(),
+        settings.perturbation.describe()
+    ));
     if !worn.is_empty() {
         text.push_str(&format!(
             "{}: per sector of the final wear profiles: angle_deg (sector centre, bearing \
@@ -328,7 +349,8 @@ fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
     }
     text.push_str(&format!(
         "{SUMMARY_FILE}: the ensemble as JSON: program, scene, title, fingerprint, changes \
-         (--set and --rotations as [key, value]), members, seed, rotations, record_rotations, \
+         (--set and --rotations as [key, value]), members, seed, perturbation, rotations, \
+         record_rotations, \
          wall_time_s, and per joint every quantity's n, mean, sd, min, q05 ... q95, max \
          (null where no value exists).\n"
     ));

@@ -8,7 +8,7 @@ use crate::outputs::{
     body_name, conventions, timeseries_columns, write_profiles, write_summary, PROGRAM,
     SUMMARY_FILE,
 };
-use crate::{claim_out, joint_file, load_variant};
+use crate::{claim_out, joint_file, load_variant, perturbation_arg};
 use jointwear::analysis::regions::{MIN_PROMINENCE_OF_HEIGHT, MIN_RELATIVE_PROMINENCE};
 use jointwear::io::interrupt;
 use jointwear::io::output::{write_csv, write_outputs};
@@ -79,7 +79,12 @@ pub fn run(
     }
     let mut variant = load_variant(path, sets, rotations, out)?;
     if let Some((ensemble, k)) = &member {
-        variant.command = format!("{} --member {k} --seed {}", variant.command, ensemble.seed);
+        variant.command = format!(
+            "{} --member {k} --seed {}{}",
+            variant.command,
+            ensemble.seed,
+            perturbation_arg(&ensemble.perturbation)
+        );
     }
     let (scene, dir, fingerprint) = (&variant.scene, &variant.dir, &variant.fingerprint);
     let _claim = claim_out(path, dir)?;
