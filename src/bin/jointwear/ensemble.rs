@@ -3,7 +3,7 @@
 //! it prints.
 
 use crate::failure::{CliResult, Failure};
-use crate::outputs::{conventions, write_summary, PROGRAM, SUMMARY_FILE};
+use crate::outputs::{conventions, wear_panel, write_summary, PROGRAM, SUMMARY_FILE};
 use crate::{claim_out, joint_file, load_variant, perturbation_arg};
 use jointwear::analysis::states::{States, STATE_COLUMNS};
 use jointwear::analysis::statistics::{Distribution, VALUE_KEYS};
@@ -196,7 +196,8 @@ fn write_ensemble(
     }
     write_rows(&dir.join("ensemble_summary.csv"), &head, rows)?;
     let mut series = Vec::new();
-    for j in &stats {
+    // one per clearance joint, in the mechanism's order
+    for (k, j) in stats.iter().enumerate() {
         let Some(band) = &j.wear else { continue };
         let angles = sector_angles_deg(band.sectors.len());
         let mut head = vec!["angle_deg".to_string()];
@@ -210,30 +211,27 @@ fn write_ensemble(
         write_rows(&dir.join(file), &head, rows)?;
         let um = |v: Vec<f64>| v.iter().map(|x| x * 1e6).collect::<Vec<f64>>();
         let (mean, lo, hi) = (um(band.mean()), um(band.quantile(0)), um(band.quantile(4)));
-        series.push((j.name.clone(), angles, mean, lo, hi));
+        series.push((k, angles, mean, lo, hi));
     }
     if !series.is_empty() {
-        let axes = Axes {
-            x_range: Some((0.0, 360.0)),
-            shades: series
-                .iter()
-                .enumerate()
-                .map(|(i, (_, _, _, lo, hi))| Shade { series: i, lo, hi })
-                .collect(),
-            ..Axes::new(
-                format!(
-                    "Wear after {} rotations: mean of {} members, 5-95 % shaded",
-                    scene.run.rotations, settings.members
-                ),
-                "bearing angle (deg)",
-                "wear depth (µm)",
-                series
-                    .iter()
-                    .map(|(n, a, mean, _, _)| Series::new(n, a, mean, Style::Line))
-                    .collect(),
-            )
-        };
-        render(&dir.join("wear.png"), &[axes])?;
+        let title = format!(
+            "wear after {} rotations, mean of {} members, 5-95 % shaded",
+            scene.run.rotations, settings.members
+        );
+        // one panel per joint: their angles are in different bearings' frames
+        let panels: Vec<Axes> = series
+            .iter()
+            .map(|(k, a, mean, lo, hi)| Axes {
+                shades: vec![Shade { series: 0, lo, hi }],
+                ..wear_panel(
+                    m,
+                    *k,
+                    &title,
+                    vec![Series::new("mean wear depth", a, mean, Style::Line)],
+                )
+            })
+            .collect();
+        render(&dir.join("wear.png"), &panels)?;
     }
     Ok(stats)
 }

@@ -69,7 +69,7 @@ pub fn write_profiles(
                 (*n, d[k].iter().map(|x| x * 1e6).collect())
             })
             .collect();
-        profiles.push((name, angles, um));
+        profiles.push((k, angles, um));
     }
     let shown = if drawn.len() < snapshots.len() {
         format!(" ({} of {} snapshots)", drawn.len(), snapshots.len())
@@ -78,16 +78,12 @@ pub fn write_profiles(
     };
     let panels: Vec<Axes> = profiles
         .iter()
-        .map(|(name, angles, um)| Axes {
-            x_range: Some((0.0, 360.0)),
-            ..Axes::new(
-                format!("{name}: bearing wear profile{shown}"),
-                "bearing angle (deg, counter-clockwise from the bearing's +x)",
-                "wear depth (µm)",
-                um.iter()
-                    .map(|(n, d)| Series::new(format!("{n} rotations"), angles, d, Style::Line))
-                    .collect(),
-            )
+        .map(|(k, angles, um)| {
+            let series = um
+                .iter()
+                .map(|(n, d)| Series::new(format!("{n} rotations"), angles, d, Style::Line))
+                .collect();
+            wear_panel(m, *k, &format!("bearing wear profile{shown}"), series)
         })
         .collect();
     if !panels.is_empty() {
@@ -114,6 +110,23 @@ fn drawn_profiles(count: usize) -> Vec<usize> {
 /// The name of body `b` of `m` (`ground` for the ground).
 pub fn body_name(m: &Mechanism, b: BodyIndex) -> &str {
     b.map_or("ground", |i| m.bodies()[i].name.as_str())
+}
+
+/// A panel of clearance joint `k`'s wear profiles `series` (µm) over the angle of its
+/// bearing's frame, titled by the joint: each joint is drawn in a panel of its own, since two
+/// joints' angles are measured in different bodies' frames.
+pub fn wear_panel<'a>(m: &Mechanism, k: usize, title: &str, series: Vec<Series<'a>>) -> Axes<'a> {
+    let cj = &m.clearance_joints[k];
+    let body = body_name(m, cj.bearing.body);
+    Axes {
+        x_range: Some((0.0, 360.0)),
+        ..Axes::new(
+            format!("{}: {title}", cj.name),
+            format!("bearing angle (deg, counter-clockwise from {body}'s +x)"),
+            "wear depth (µm)",
+            series,
+        )
+    }
 }
 
 /// The opening of every `README.txt`: what wrote the folder, then the conventions shared by
