@@ -62,6 +62,11 @@ pub fn run_ensemble(
         scene.run.rotations,
         quantity(wall, "s")
     );
+    println!(
+        "  perturbation {}: {}",
+        settings.perturbation.key(),
+        settings.perturbation.describe()
+    );
     for j in &stats {
         println!("  joint {} (mean ± sd, [5 %, 95 %]):", j.name);
         for (name, d) in &j.scalars {

@@ -23,7 +23,7 @@ use jointwear::io::interrupt;
 use jointwear::io::lock::{self, Lock};
 use jointwear::scene::reversal_note;
 use jointwear::scene::variant::{parse_value, Variant};
-use jointwear::simulation::ensemble::{EnsembleSettings, DEFAULT_SEED, MAX_MEMBERS};
+use jointwear::simulation::ensemble::{EnsembleSettings, Perturbation, DEFAULT_SEED, MAX_MEMBERS};
 use jointwear::simulation::Scene;
 use jointwear::sweep::Assignment;
 use jointwear::Error;
@@ -49,9 +49,10 @@ sd, min, quantiles and max of every scalar result), ensemble_wear_<joint>.csv (t
 per-sector band of the final wear profiles), wear.png (mean profile, 5-95 % band shaded), \
 summary.json and README.txt.
 
-With --member K (and the --seed S of the ensemble, default 1): member K (0-based) of \
-`--ensemble N --seed S` as one run, bit for bit the member the ensemble ran, with all of a \
-run's outputs; with --ensemble N too, K must be below N.";
+With --member K (and the --seed S and --perturbation P of the ensemble, default 1 and \
+disc_10nm): member K (0-based) of `--ensemble N --seed S --perturbation P` as one run, bit for \
+bit the member the ensemble ran (or the perturbation study ran under protocol P), with all of \
+a run's outputs; with --ensemble N too, K must be below N.";
 
 const EXAMPLES: &str = "\
 Examples:
@@ -60,6 +61,7 @@ Examples:
   jointwear run data/scenes/standard.toml --out out/standard
   jointwear run data/scenes/standard.toml --rotations 10 --set clearance.0.clearance_mm=0.2
   jointwear run data/scenes/standard.toml --ensemble 16 --seed 1
+  jointwear run data/scenes/standard.toml --member 3 --seed 1 --perturbation axis_10nm
   jointwear sweep data/scenes/standard.toml \\
       --set clearance.0.clearance_mm=0.02,0.1,0.5 --set driver.speed_rpm=-600,-2000 --out sweep.csv
   jointwear sweep data/scenes/standard.toml --set driver.speed_rpm=-500,-1000,-1500,-2000 \\
@@ -95,7 +97,8 @@ enum Command {
         #[arg(long, value_name = "N")]
         rotations: Option<u32>,
         /// Run N members, each from an initial journal offset of at most 10 nm in a seeded
-        /// random direction, and report statistics over them instead of one trajectory
+        /// random direction (or perturbed as --perturbation says), and report statistics over
+        /// them instead of one trajectory
         #[arg(long, value_name = "N")]
         ensemble: Option<usize>,
         /// Seed of the ensemble's initial offsets
@@ -105,6 +108,14 @@ enum Command {
         /// output of a run (K below --ensemble N when that is given too)
         #[arg(long, value_name = "K")]
         member: Option<usize>,
+        /// How the members differ: disc_<R>nm (initial journal offsets uniform over a disc,
+        /// the default), axis_<R>nm (along the journal body's x axis), velocity_<V>um_s (the
+        /// journal centred, its initial velocity perturbed) or tolerance_<S> (the journal
+        /// centred, the tolerances jittered by a factor in [1 − S, 1 + S]): the protocols of
+        /// the perturbation study by their names there
+        #[arg(long, value_name = "PROTOCOL", default_value_t = Perturbation::default(),
+              value_parser = parse_perturbation, requires = "perturbed")]
+        perturbation: Perturbation,
         /// Save the run's whole state to <out>/checkpoint.json every K rotations (removed when
         /// the run completes)
         #[arg(long, value_name = "K", conflicts_with = "perturbed")]
@@ -224,13 +235,14 @@ fn main() -> ExitCode {
             ensemble,
             seed,
             member: Some(member),
+            perturbation,
             discard_checkpoint,
             ..
         } => {
             let of = EnsembleSettings {
                 members: ensemble.unwrap_or(MAX_MEMBERS),
                 seed,
-                ..EnsembleSettings::default()
+                perturbation,
             };
             run::run(
                 &scene,
@@ -268,6 +280,7 @@ fn main() -> ExitCode {
             rotations,
             ensemble: Some(members),
             seed,
+            perturbation,
             ..
         } => ensemble::run_ensemble(
             &scene,
@@ -277,7 +290,7 @@ fn main() -> ExitCode {
             EnsembleSettings {
                 members,
                 seed,
-                ..EnsembleSettings::default()
+                perturbation,
             },
         ),
         Command::Check { scene, out } => check::check(&scene, out),
@@ -322,6 +335,12 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(f) => f.report(),
     }
+}
+
+/// `--perturbation`'s value ([`Perturbation::from_key`]); clap reports a bad one with exit
+/// code 2, naming the flag.
+fn parse_perturbation(key: &str) -> Result<Perturbation, String> {
+    Perturbation::from_key(key).map_err(|e| e.to_string())
 }
 
 /// `out/<scene stem>/<kind>` unless given: one default folder per kind of output (`run`,

@@ -2,13 +2,16 @@
 //! members fall into) and per-sector wear bands as CSVs, the band plot, `summary.json` and
 //! `README.txt` ([`write_ensemble`]).
 
-use super::{conventions, joint_file, write_summary, Origin, PROGRAM, SUMMARY_FILE};
+use super::{
+    conventions, joint_file, perturbation_arg, wear_panel, write_summary, Origin, PROGRAM,
+    SUMMARY_FILE,
+};
 use crate::analysis::states::{States, STATE_COLUMNS};
 use crate::analysis::statistics::{Distribution, VALUE_KEYS};
 use crate::io::output::{number, number_or_empty, write_outputs, write_rows};
 use crate::io::plot::{render, Axes, Series, Shade, Style};
 use crate::laws::wear::sector_angles_deg;
-use crate::simulation::ensemble::{member_offsets, EnsembleSettings};
+use crate::simulation::ensemble::EnsembleSettings;
 use crate::simulation::summary::{joint_statistics, JointStatistics, JointSummary, JOINT_COLUMNS};
 use crate::simulation::Scene;
 use crate::Result;
@@ -32,8 +35,11 @@ pub fn write_ensemble(
     wall: f64,
 ) -> Result<Vec<JointStatistics>> {
     let title = format!(
-        "{} --ensemble {} --seed {}",
-        origin.command, settings.members, settings.seed
+        "{} --ensemble {} --seed {}{}",
+        origin.command,
+        settings.members,
+        settings.seed,
+        perturbation_arg(&settings.perturbation)
     );
     write_outputs(dir, &title, || {
         let stats = write_files(scene, settings, members, walls, dir)?;
@@ -45,6 +51,7 @@ pub fn write_ensemble(
             changes: origin.changes.clone(),
             members: settings.members,
             seed: settings.seed,
+            perturbation: settings.perturbation.key(),
             rotations: scene.run.rotations,
             record_rotations: scene.run.record_rotations,
             wall_time_s: wall,
@@ -60,7 +67,7 @@ pub fn write_ensemble(
                 })
                 .collect(),
         };
-        write_summary(dir, &summary, &readme(&title, scene, &stats))?;
+        write_summary(dir, &summary, &readme(&title, scene, settings, &stats))?;
         Ok(stats)
     })
 }
@@ -93,7 +100,10 @@ fn write_files(
         .enumerate()
         .map(|(i, ((summary, _), secs))| {
             let mut row = vec![i.to_string()];
-            for d in member_offsets(settings.seed, i, joints.len()) {
+            for d in settings
+                .perturbation
+                .offsets(settings.seed, i, joints.len())
+            {
                 row.extend([number(d.x), number(d.y)]);
             }
             row.extend(summary.iter().flat_map(JointSummary::cells));
@@ -118,7 +128,8 @@ fn write_files(
     }
     write_rows(&dir.join("ensemble_summary.csv"), &head, rows)?;
     let mut series = Vec::new();
-    for j in &stats {
+    // one per clearance joint, in the mechanism's order
+    for (k, j) in stats.iter().enumerate() {
         let Some(band) = &j.wear else { continue };
         let angles = sector_angles_deg(band.sectors.len());
         let mut head = vec!["angle_deg".to_string()];
@@ -132,30 +143,28 @@ fn write_files(
         write_rows(&dir.join(file), &head, rows)?;
         let um = |v: Vec<f64>| v.iter().map(|x| x * 1e6).collect::<Vec<f64>>();
         let (mean, lo, hi) = (um(band.mean()), um(band.quantile(0)), um(band.quantile(4)));
-        series.push((j.name.clone(), angles, mean, lo, hi));
+        series.push((k, angles, mean, lo, hi));
     }
     if !series.is_empty() {
-        let axes = Axes {
-            x_range: Some((0.0, 360.0)),
-            shades: series
-                .iter()
-                .enumerate()
-                .map(|(i, (_, _, _, lo, hi))| Shade { series: i, lo, hi })
-                .collect(),
-            ..Axes::new(
-                format!(
-                    "Wear after {} rotations: mean of {} members, 5-95 % shaded",
-                    scene.run.rotations, settings.members
-                ),
-                "bearing angle (deg)",
-                "wear depth (µm)",
-                series
-                    .iter()
-                    .map(|(n, a, mean, _, _)| Series::new(n, a, mean, Style::Line))
-                    .collect(),
-            )
-        };
-        render(&dir.join("wear.png"), &[axes])?;
+        let title = format!(
+            "wear after {} rotations, mean of {} members, 5-95 % shaded",
+            scene.run.rotations, settings.members
+        );
+        // one panel per joint: their angles are in different bearings' frames
+        let m = &scene.mechanism;
+        let panels: Vec<Axes> = series
+            .iter()
+            .map(|(k, a, mean, lo, hi)| Axes {
+                shades: vec![Shade { series: 0, lo, hi }],
+                ..wear_panel(
+                    m,
+                    *k,
+                    &title,
+                    vec![Series::new("mean wear depth", a, mean, Style::Line)],
+                )
+            })
+            .collect();
+        render(&dir.join("wear.png"), &panels)?;
     }
     Ok(stats)
 }
@@ -179,6 +188,8 @@ struct EnsembleSummary {
     changes: Vec<(String, String)>,
     members: usize,
     seed: u64,
+    /// The protocol's key (`disc_10nm`, `--perturbation`).
+    perturbation: String,
     rotations: u32,
     record_rotations: u32,
     /// Wall-clock time of all members, in parallel (s).
@@ -209,7 +220,12 @@ impl Serialize for DistributionSummary {
 }
 
 /// `README.txt` of an ensemble's folder: the conventions, then every file it wrote.
-fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
+fn readme(
+    title: &str,
+    scene: &Scene,
+    settings: &EnsembleSettings,
+    stats: &[JointStatistics],
+) -> String {
     let m = &scene.mechanism;
     let mut text = conventions(title, m, &scene.title);
     let worn: Vec<String> = stats
@@ -217,16 +233,16 @@ fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
         .filter(|j| j.wear.is_some())
         .map(|j| joint_file("ensemble_wear", &j.name))
         .collect();
-    text.push_str(
+    text.push_str(&format!(
         "\nFILES\n\
-         Every member is the scene run from the journal of each clearance joint displaced by at \
-         most 10 nm in a seeded random direction; statistics are over the members. Quantiles \
+         Every member is the scene run with the perturbation {} ({}) drawn from the seed and \
+         the member number; statistics are over the members. Quantiles \
          qNN are type-7 sample quantiles; sd is the sample standard deviation. Angles \
          (_deg) are unwrapped around their circular mean before the statistics.\n\
          ensemble_members.csv: one row per member.\n\
          \x20 member                               0-based member number\n\
          \x20 J.offset_body_x_m, J.offset_body_y_m  initial journal offset, in the frame of the \
-         journal's body (m)\n\
+         journal's body (m); zero where the protocol starts the journal centred\n\
          \x20 J.max_normal_force_recorded_n        largest normal force of the recorded \
          rotations (N); empty when none were recorded\n\
          \x20 J.max_penetration_recorded_m         largest penetration of the recorded \
@@ -250,7 +266,9 @@ fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
          within-state sds; none for angles): states (1 or 2), and with two low_n, low_mean, \
          low_sd, high_n, high_mean, high_sd. Where a quantity has two states, its pooled mean \
          depends on the share in each, and that share on how members are perturbed.\n",
-    );
+        settings.perturbation.key(),
+        settings.perturbation.describe()
+    ));
     if !worn.is_empty() {
         text.push_str(&format!(
             "{}: per sector of the final wear profiles: angle_deg (sector centre, bearing \
@@ -262,7 +280,8 @@ fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
     }
     text.push_str(&format!(
         "{SUMMARY_FILE}: the ensemble as JSON: program, scene, title, fingerprint, changes \
-         (--set and --rotations as [key, value]), members, seed, rotations, record_rotations, \
+         (--set and --rotations as [key, value]), members, seed, perturbation, rotations, \
+         record_rotations, \
          wall_time_s, and per joint every quantity's n, mean, sd, min, q05 ... q95, max \
          (null where no value exists).\n"
     ));

@@ -17,6 +17,7 @@ use crate::io::output::{write_csv, write_json, write_text};
 use crate::io::plot::{render, Axes, Series, Style};
 use crate::laws::wear::sector_angles_deg;
 use crate::mechanism::{BodyIndex, Mechanism};
+use crate::simulation::ensemble::Perturbation;
 use crate::Result;
 use serde::Serialize;
 use std::path::Path;
@@ -110,7 +111,7 @@ pub fn write_profiles(
                 (*n, d[k].iter().map(|x| x * 1e6).collect())
             })
             .collect();
-        profiles.push((name, angles, um));
+        profiles.push((k, angles, um));
     }
     let shown = if drawn.len() < snapshots.len() {
         format!(" ({} of {} snapshots)", drawn.len(), snapshots.len())
@@ -119,16 +120,12 @@ pub fn write_profiles(
     };
     let panels: Vec<Axes> = profiles
         .iter()
-        .map(|(name, angles, um)| Axes {
-            x_range: Some((0.0, 360.0)),
-            ..Axes::new(
-                format!("{name}: bearing wear profile{shown}"),
-                "bearing angle (deg, counter-clockwise from the bearing's +x)",
-                "wear depth (µm)",
-                um.iter()
-                    .map(|(n, d)| Series::new(format!("{n} rotations"), angles, d, Style::Line))
-                    .collect(),
-            )
+        .map(|(k, angles, um)| {
+            let series = um
+                .iter()
+                .map(|(n, d)| Series::new(format!("{n} rotations"), angles, d, Style::Line))
+                .collect();
+            wear_panel(m, *k, &format!("bearing wear profile{shown}"), series)
         })
         .collect();
     if !panels.is_empty() {
@@ -155,6 +152,33 @@ fn drawn_profiles(count: usize) -> Vec<usize> {
 /// The name of body `b` of `m` (`ground` for the ground).
 pub fn body_name(m: &Mechanism, b: BodyIndex) -> &str {
     b.map_or("ground", |i| m.bodies()[i].name.as_str())
+}
+
+/// The arguments that name an ensemble's perturbation protocol on a command line: none for
+/// the default.
+pub fn perturbation_arg(p: &Perturbation) -> String {
+    if *p == Perturbation::default() {
+        String::new()
+    } else {
+        format!(" --perturbation {}", p.key())
+    }
+}
+
+/// A panel of clearance joint `k`'s wear profiles `series` (µm) over the angle of its
+/// bearing's frame, titled by the joint: each joint is drawn in a panel of its own, since two
+/// joints' angles are measured in different bodies' frames.
+pub fn wear_panel<'a>(m: &Mechanism, k: usize, title: &str, series: Vec<Series<'a>>) -> Axes<'a> {
+    let cj = &m.clearance_joints[k];
+    let body = body_name(m, cj.bearing.body);
+    Axes {
+        x_range: Some((0.0, 360.0)),
+        ..Axes::new(
+            format!("{}: {title}", cj.name),
+            format!("bearing angle (deg, counter-clockwise from {body}'s +x)"),
+            "wear depth (µm)",
+            series,
+        )
+    }
 }
 
 /// The opening of every `README.txt`: what wrote the folder, then the conventions shared by

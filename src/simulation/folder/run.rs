@@ -2,8 +2,8 @@
 //! plots, `summary.json` and `README.txt` ([`write_run`]).
 
 use super::{
-    body_name, conventions, joint_file, timeseries_columns, write_profiles, write_summary, Origin,
-    PROGRAM, SUMMARY_FILE,
+    body_name, conventions, joint_file, perturbation_arg, timeseries_columns, wear_panel,
+    write_profiles, write_summary, Origin, PROGRAM, SUMMARY_FILE,
 };
 use crate::analysis::regions::{MIN_PROMINENCE_OF_HEIGHT, MIN_RELATIVE_PROMINENCE};
 use crate::io::output::{write_csv, write_outputs};
@@ -31,7 +31,11 @@ pub fn write_run(
     let mut summary = RunSummary::new(origin, scene, out, &joints);
     let mut title = origin.command.clone();
     if let Some((e, k)) = member {
-        title.push_str(&format!(" --member {k} --seed {}", e.seed));
+        title.push_str(&format!(
+            " --member {k} --seed {}{}",
+            e.seed,
+            perturbation_arg(&e.perturbation)
+        ));
         summary.ensemble_member = Some(EnsembleMember {
             member: k,
             seed: e.seed,
@@ -83,20 +87,15 @@ fn write_files(scene: &Scene, out: &RunOutput, dir: &Path) -> Result<()> {
         .collect();
     write_profiles(dir, "wear_snapshots", "wear_evolution.png", m, &snapshots)?;
     if !worn.is_empty() {
-        let series = worn
+        let title = format!("wear after {} rotations", scene.run.rotations);
+        let panels: Vec<Axes> = worn
             .iter()
-            .map(|(k, a, um)| Series::new(&m.clearance_joints[*k].name, a, um, Style::Line))
+            .map(|(k, a, um)| {
+                let series = vec![Series::new("wear depth", a, um, Style::Line)];
+                wear_panel(m, *k, &title, series)
+            })
             .collect();
-        let axes = Axes {
-            x_range: Some((0.0, 360.0)),
-            ..Axes::new(
-                format!("Wear after {} rotations", scene.run.rotations),
-                "bearing angle (deg)",
-                "wear depth (µm)",
-                series,
-            )
-        };
-        render(&dir.join("wear.png"), &[axes])?;
+        render(&dir.join("wear.png"), &panels)?;
     }
     if rec.time.is_empty() {
         return Ok(());
@@ -124,19 +123,26 @@ fn write_files(scene: &Scene, out: &RunOutput, dir: &Path) -> Result<()> {
         .collect();
     if !panels.is_empty() {
         render(&dir.join("trajectory.png"), &panels)?;
-        let series = m
+        // one panel per joint, titled by it
+        let panels: Vec<Axes> = m
             .clearance_joints
             .iter()
             .zip(&rec.joints)
-            .map(|(cj, t)| Series::new(&cj.name, &rec.time, &t.normal_force, Style::Line))
+            .map(|(cj, t)| {
+                Axes::new(
+                    format!("{}: contact normal force, recorded rotations", cj.name),
+                    "time (s)",
+                    "normal force (N)",
+                    vec![Series::new(
+                        "normal force",
+                        &rec.time,
+                        &t.normal_force,
+                        Style::Line,
+                    )],
+                )
+            })
             .collect();
-        let axes = Axes::new(
-            "Contact normal force",
-            "time (s)",
-            "normal force (N)",
-            series,
-        );
-        render(&dir.join("normal_force.png"), &[axes])?;
+        render(&dir.join("normal_force.png"), &panels)?;
     }
     Ok(())
 }
