@@ -7,7 +7,7 @@ mod common;
 
 use common::*;
 use std::fs;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
@@ -38,6 +38,20 @@ fn wait_for(path: &Path, child: &mut Child) {
         std::thread::sleep(Duration::from_millis(10));
     }
     panic!("{} never appeared", path.display());
+}
+
+/// The folder lock of `out` (created) held by this test's own process, which is alive: its
+/// path and text.
+fn live_lock(out: &Path) -> (PathBuf, String) {
+    fs::create_dir_all(out).unwrap();
+    let lock = out.join(".jointwear.lock");
+    let me = format!(
+        "pid={}\nhost={}\ncommand=jointwear run other\n",
+        std::process::id(),
+        host()
+    );
+    fs::write(&lock, &me).unwrap();
+    (lock, me)
 }
 
 fn host() -> String {
@@ -84,15 +98,7 @@ fn a_lock_of_a_live_process_refuses_and_a_dead_ones_is_taken_over() {
     let dir = temp_dir("outputs", "stale");
     let scene = short_standard(&dir, "scene.toml", 1, &[]);
     let out = dir.join("out");
-    fs::create_dir_all(&out).unwrap();
-    let lock = out.join(".jointwear.lock");
-    // This test's own process: alive.
-    let me = format!(
-        "pid={}\nhost={}\ncommand=jointwear run other\n",
-        std::process::id(),
-        host()
-    );
-    fs::write(&lock, &me).unwrap();
+    let (lock, me) = live_lock(&out);
     let o = jointwear(&["run", s(&scene), "--out", s(&out)]);
     assert_fails(&o, 2, &["`jointwear run other`", "remove the lock file"]);
     assert!(!out.join("timeseries.csv").exists());
@@ -120,19 +126,11 @@ fn check_and_animate_claim_their_folder_as_run_does() {
     let dir = temp_dir("outputs", "pictures");
     let scene = short_standard(&dir, "scene.toml", 1, &[]);
     let out = dir.join("out");
-    fs::create_dir_all(&out).unwrap();
-    let lock = out.join(".jointwear.lock");
-    // This test's own process: alive.
-    let me = format!(
-        "pid={}\nhost={}\ncommand=jointwear run other\n",
-        std::process::id(),
-        host()
-    );
+    let (lock, _) = live_lock(&out);
     let commands = [
         vec!["check", s(&scene), "--out", s(&out)],
         vec!["animate", s(&scene), "--out", s(&out), "--frames", "2"],
     ];
-    fs::write(&lock, &me).unwrap();
     for args in &commands {
         let o = jointwear(args);
         assert_fails(&o, 2, &["`jointwear run other`", "remove the lock file"]);

@@ -1,4 +1,5 @@
-//! Numbers for people: what the programs print on the terminal and the figures' text. A
+//! Numbers for people on the terminal: what the programs print (the figures' text and
+//! `paper.md` use `jointwear::paper::format`, with grouped counts and ×10ⁿ). A
 //! printed number has 3-4 significant digits and its unit, ordinary magnitudes without
 //! e-notation, counts as integers and angles wrapped. Files keep full precision instead
 //! ([`crate::io::output::number`]), and values a person gave (a scene's) are echoed with that.

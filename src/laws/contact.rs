@@ -250,6 +250,17 @@ mod tests {
 
     const E_STAR: f64 = 207e9 / (2.0 * (1.0 - 0.09));
 
+    /// The standard journal in its bearing (R = 10 mm, c = 0.02 mm), steel on steel, of
+    /// bearing length `length` (m).
+    fn standard_joint(length: f64) -> JointElasticity {
+        JointElasticity {
+            e_star: E_STAR,
+            r_bearing: 10e-3,
+            r_journal: 9.98e-3,
+            length,
+        }
+    }
+
     fn hybrid(ce: f64) -> ContactLaw {
         ContactLaw::new(
             NormalForceModel::Hybrid,
@@ -366,12 +377,7 @@ mod tests {
     fn any_stiffness_with_any_dissipation() {
         // Johnson's elastic force times (1 + χ δ̇/δ̇⁻) with Flores' χ at c_e = 0.5:
         // χ = 8 · 0.5 / (5 · 0.5) = 1.6; δ̇/δ̇⁻ = 0.25 gives the factor 1.4.
-        let joint = JointElasticity {
-            e_star: E_STAR,
-            r_bearing: 10e-3,
-            r_journal: 9.98e-3,
-            length: 0.02,
-        };
+        let joint = standard_joint(0.02);
         let law = ContactLaw::from_laws(
             StiffnessLaw::Johnson,
             DissipationLaw::Flores,
@@ -396,12 +402,7 @@ mod tests {
     #[test]
     fn the_paper_names_stand_for_their_two_laws() {
         let named = hybrid(0.7);
-        let joint = JointElasticity {
-            e_star: E_STAR,
-            r_bearing: 10e-3,
-            r_journal: 9.98e-3,
-            length: 0.0,
-        };
+        let joint = standard_joint(0.0);
         let explicit = ContactLaw::from_laws(
             StiffnessLaw::Hybrid,
             DissipationLaw::ZhiyingQishao,

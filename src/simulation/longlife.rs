@@ -215,27 +215,30 @@ pub fn predict(
     // joint's sample (its wear rate left to the caller).
     let simulate = |sim: &mut Simulation, rotations: u32| -> Result<(Vec<Vec<f64>>, Vec<Sample>)> {
         let before = depths(sim);
-        let gaps = |sim: &Simulation| -> Vec<f64> {
-            (0..sim.mechanism().clearance_joints.len())
-                .map(|k| sim.mechanism().penetration(sim.state(), k, sim.y()))
-                .collect()
+        // the gaps before and after each step, in two buffers reused over the steps
+        let gaps = |sim: &Simulation, out: &mut [f64]| {
+            for (k, g) in out.iter_mut().enumerate() {
+                *g = sim.mechanism().penetration(sim.state(), k, sim.y());
+            }
         };
         let (start, end) = (sim.time(), sim.rotations_done() + rotations);
-        let mut gap = gaps(sim);
-        let mut contact = vec![0.0; gap.len()];
-        let mut onsets = vec![0u64; gap.len()];
+        let joints = sim.mechanism().clearance_joints.len();
+        let (mut gap, mut now) = (vec![0.0; joints], vec![0.0; joints]);
+        gaps(sim, &mut gap);
+        let mut contact = vec![0.0; joints];
+        let mut onsets = vec![0u64; joints];
         // step by step as advance_rotation does, to see the contact at every step
         while sim.rotations_done() < end && !sim.is_finished() {
             let t = sim.time();
             sim.advance_step()?;
-            let now = gaps(sim);
-            for k in 0..now.len() {
+            gaps(sim, &mut now);
+            for k in 0..joints {
                 if now[k] >= 0.0 {
                     contact[k] += sim.time() - t;
                     onsets[k] += u64::from(gap[k] < 0.0);
                 }
             }
-            gap = now;
+            std::mem::swap(&mut gap, &mut now);
         }
         let elapsed = (sim.time() - start).max(f64::MIN_POSITIVE);
         let samples = contact

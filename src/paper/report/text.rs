@@ -410,10 +410,15 @@ mod tests {
 
     /// No P-w dominance anywhere: 0 of 30 impact-case members, s-w in all 50.
     fn none() -> Dominance {
+        counted((0, 30), (50, 50))
+    }
+
+    /// Both continuous cases' members all large, `impact_pw` and `all_sw` as counted.
+    fn counted(impact_pw: (usize, usize), all_sw: (usize, usize)) -> Dominance {
         Dominance {
             continuous_big: [(32, 32), (32, 32)],
-            impact_pw: (0, 30),
-            all_sw: (50, 50),
+            impact_pw,
+            all_sw,
         }
     }
 
@@ -425,18 +430,10 @@ mod tests {
         assert!(text.contains("does not give"), "{text}");
         assert!(text.contains("0 of their 30 members"), "{text}");
         assert!(text.contains("50 of the 50 members"), "{text}");
-        let some = dominance_sentence(&Dominance {
-            continuous_big: [(32, 32), (32, 32)],
-            impact_pw: (4, 30),
-            all_sw: (46, 50),
-        });
+        let some = dominance_sentence(&counted((4, 30), (46, 50)));
         assert!(some.contains("only partly gives"), "{some}");
         assert!(some.contains("46 of the 50 members"), "{some}");
-        let all = dominance_sentence(&Dominance {
-            continuous_big: [(32, 32), (32, 32)],
-            impact_pw: (27, 30),
-            all_sw: (23, 50),
-        });
+        let all = dominance_sentence(&counted((27, 30), (23, 50)));
         assert!(all.contains("model gives the paper's"), "{all}");
     }
 
