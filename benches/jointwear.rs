@@ -45,7 +45,7 @@ fn contact_force(c: &mut Criterion) {
         ("lankarani-nikravesh", NormalForceModel::LankaraniNikravesh),
     ] {
         let mut f = standard();
-        f.clearance[0].contact.model = model;
+        f.clearance[0].contact.model = Some(model);
         let scene = build(&f);
         let cj = &scene.mechanism.clearance_joints[0];
         let (law, dr) = (cj.contact, cj.r_bearing - cj.r_journal);

@@ -1,6 +1,6 @@
 //! The `jointwear` program end to end: outputs, exit codes, error messages, sweeps and shards.
 
-use jointwear::io::output::{number, read_csv};
+use jointwear::io::output::{number, read_csv, read_rows};
 use jointwear::scene::scene_path;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -96,6 +96,14 @@ fn check_describes_the_scene() {
         "driver: crank at 1000 r/min",
         "degrees of freedom: 2",
         "20 rotations",
+        // the scene's words and values, as its file writes them (was Rust's `Modified { .. }`,
+        // `HertzLine`, `Dopri5`)
+        "contact = { model = \"hybrid\", exponent = 1.5, grazing_velocity_m_s = 0.001, \
+         restitution = 0.8 }",
+        "friction = { model = \"modified\", mu_d = 0.08, mu_s = 0.12, v_d = 0.001, v_s = 0.0001 }",
+        "wear = { k_over_h_per_pa = 1e-12, length_mm = 12, pressure = \"hertz-line\", \
+         sectors = 360 }",
+        "method \"dopri5\"",
     ] {
         assert!(text.contains(needle), "lacks {needle}: {text}");
     }
@@ -189,10 +197,8 @@ fn shards_merge_into_the_whole_sweep() {
 
     let rows = |p: &Path| -> Vec<Vec<String>> {
         // The first line names the sweep, as a comment.
-        let mut r = csv::ReaderBuilder::new()
-            .comment(Some(b'#'))
-            .from_path(p)
-            .unwrap();
+        // plain CSV: no comment lines to skip
+        let mut r = csv::ReaderBuilder::new().from_path(p).unwrap();
         let mut v = vec![r.headers().unwrap().iter().map(str::to_owned).collect()];
         v.extend(
             r.records()
@@ -208,11 +214,11 @@ fn shards_merge_into_the_whole_sweep() {
         ["case", "clearance.0.clearance_mm", "driver.speed_rpm"]
     );
     for (a, b) in w[1..].iter().zip(&m[1..]) {
-        // identical cases up to the wall time
+        // identical cases up to the wall time (before `error` and the sweep's id column)
         let strip = |r: &[String]| {
             let mut r = r.to_vec();
             let n = r.len();
-            r.remove(n - 2);
+            r.remove(n - 3);
             r
         };
         assert_eq!(strip(a), strip(b));
@@ -269,6 +275,35 @@ fn longlife_writes_profiles_and_growth() {
         ]
     );
     assert_eq!(*columns[0].last().unwrap(), 2e5);
+    // counts as integers: the snapshot at 40 000 rotations was written 4e4
+    let text = fs::read_to_string(out.join("longlife_growth.csv")).unwrap();
+    let counts: Vec<&str> = text
+        .lines()
+        .skip(1)
+        .map(|l| &l[..l.find(',').unwrap()])
+        .collect();
+    assert!(counts.contains(&"40000"), "{counts:?}");
+    assert!(
+        counts.iter().all(|c| c.parse::<u64>().is_ok()),
+        "{counts:?}"
+    );
+    // what each block was extrapolated from, and what the printout says of it
+    let (header, blocks) = read_rows(&out.join("longlife_blocks.csv")).unwrap();
+    assert_eq!(
+        header[..3],
+        [
+            "sampled_rotations",
+            "rotations",
+            "rod-slider.wear_rate_m_per_rotation"
+        ]
+    );
+    assert_eq!(blocks.len(), columns[0].len() - 1);
+    assert!(
+        stdout(&o).contains("extrapolated: the other")
+            && stdout(&o).contains("within the validated regime throughout"),
+        "{}",
+        stdout(&o)
+    );
     let (header, _) = read_csv(&out.join("longlife_profiles_rod-slider.csv")).unwrap();
     assert_eq!(
         header,
@@ -289,6 +324,7 @@ fn longlife_writes_profiles_and_growth() {
     for file in [
         "longlife_growth.csv",
         "longlife_profiles_rod-slider.csv",
+        "longlife_blocks.csv",
         "summary.json",
     ] {
         assert!(readme.contains(file), "README.txt lacks {file}");
@@ -302,6 +338,8 @@ fn longlife_writes_profiles_and_growth() {
         joint["effective_clearance_m"].as_f64().unwrap(),
         *columns[2].last().unwrap()
     );
+    assert_eq!(joint["validated_until_rotations"], serde_json::Value::Null);
+    assert!(joint["changes"].is_array());
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -417,8 +455,14 @@ fn run_set_rotations_and_wear_snapshots() {
         summary["settings"]["wear_snapshots"],
         serde_json::json!([1, 3, 4])
     );
+    // Echoed as given, to the last digit (was 9.99999999999994e-5 here and
+    // 1.9999999999999185e-5 for the file's 0.02 mm below; driver -1999.9999999999998).
     let c = summary["joints"][0]["radial_clearance_m"].as_f64().unwrap();
-    assert!((c - 1e-4).abs() < 1e-12, "clearance {c}");
+    assert_eq!(c, 1e-4);
+    assert_eq!(
+        summary["settings"]["driver_speed_rpm"].as_f64(),
+        Some(-2000.0)
+    );
     let changes = summary["scene"]["changes"].to_string();
     assert!(changes.contains("clearance.0.clearance_mm") && changes.contains("0.1"));
     let (header, columns) = read_csv(&out.join("wear_snapshots_rod-slider.csv")).unwrap();
@@ -441,7 +485,7 @@ fn run_set_rotations_and_wear_snapshots() {
     assert!(o.status.success(), "{}", stderr(&o));
     let summary = json(&plain.join("summary.json"));
     let c = summary["joints"][0]["radial_clearance_m"].as_f64().unwrap();
-    assert!((c - 2e-5).abs() < 1e-12, "clearance {c}");
+    assert_eq!(c, 2e-5);
     assert_eq!(summary["counts"]["rotations_simulated"], 1);
     // --rotations shorter than the scene's snapshots drops those past it, and says so (only
     // that: a --set run.rotations it overrides is no change of its own to report).

@@ -5,6 +5,7 @@ mod common;
 
 use common::{jointwear, s, short_standard, stderr, stdout, temp_dir};
 use jointwear::analysis::regions::{MIN_PROMINENCE_OF_HEIGHT, MIN_RELATIVE_PROMINENCE};
+use jointwear::io::format::{quantity, Reading};
 use jointwear::io::output::read_csv;
 use jointwear::scene::scene_path;
 use std::fs;
@@ -46,7 +47,7 @@ fn run_prints_the_most_prominent_distinct_wear_regions() {
     let printed: Vec<f64> = regions[..3].iter().map(|r| field(r, "angle_deg")).collect();
     for a in &printed {
         assert!(
-            text.contains(&format!("wear region at {a:6.1} deg")),
+            text.contains(&format!("wear region at {}", quantity(*a, "deg"))),
             "{text}"
         );
     }
@@ -94,14 +95,14 @@ fn maxima_are_taken_over_the_window_they_name() {
     let whole = value("max_penetration_whole_run_m");
     assert!(whole > value("max_penetration_recorded_m"), "{joint}");
     let printed = format!(
-        "max normal force {:.2} N, max penetration {:.3} µm (recorded rotations)",
-        value("max_normal_force_recorded_n"),
-        value("max_penetration_recorded_m") * 1e6
+        "max normal force {}, max penetration {} (recorded rotations)",
+        quantity(value("max_normal_force_recorded_n"), "N"),
+        quantity(value("max_penetration_recorded_m") * 1e6, "µm")
     );
     assert!(text.contains(&printed), "{text}");
     let transient = format!(
-        "max penetration {:.3} µm over the whole run (start-up transient included)",
-        whole * 1e6
+        "max penetration {} over the whole run (start-up transient included)",
+        quantity(whole * 1e6, "µm")
     );
     assert!(text.contains(&transient), "{text}");
     fs::remove_dir_all(&dir).unwrap();
@@ -134,9 +135,10 @@ fn an_empty_window_is_not_recorded_never_nan() {
         "contact_fraction",
         "continuous_contact",
     ] {
+        let label = Reading::of(name).label;
         assert!(
             text.lines()
-                .any(|l| l.contains(name) && l.contains("not recorded")),
+                .any(|l| l.contains(&label) && l.contains("not recorded")),
             "{name}: {text}"
         );
     }

@@ -7,8 +7,12 @@
 //! - Against the paper (`data/golden/paper.toml`): where no deviation is declared, the paper's
 //!   value lies within tolerance of the ensemble mean; where one is declared, it does not, so a
 //!   declared deviation is a real one.
+//!
+//! The file runs minutes (about 6 on 2 cores): each of the first two tests computes two
+//! ensembles of every golden case. Each computation says on stderr when it starts and how far it
+//! got, seen with `cargo test --release --test golden -- --nocapture`.
 
-use jointwear::io::progress::Silent;
+use jointwear::io::progress::Progress;
 use jointwear::laws::friction::FrictionModel;
 use jointwear::paper::cases::{case_of_scene, Runs, CASES};
 use jointwear::paper::golden::{
@@ -18,19 +22,43 @@ use jointwear::paper::golden::{
 use jointwear::scene::SceneFile;
 use jointwear::simulation::ensemble::EnsembleSettings;
 
-fn runs(seed: u64, modify: &(dyn Fn(&mut SceneFile) + Sync)) -> Runs {
+/// Tells stderr how far the member runs of one computation got, every tenth of them: `what`
+/// names the computation.
+struct Told<'a> {
+    what: &'a str,
+}
+
+impl Progress for Told<'_> {
+    fn observe(&self, done: u64, total: Option<u64>) {
+        let Some(total) = total else { return };
+        if done * 10 / total != done.saturating_sub(1) * 10 / total {
+            eprintln!("golden, {}: {done} of {total} member runs done", self.what);
+        }
+    }
+}
+
+/// The golden ensembles for `seed`, the case scenes varied by `modify` (`what` says how, for
+/// the progress lines).
+fn runs(seed: u64, what: &str, modify: &(dyn Fn(&mut SceneFile) + Sync)) -> Runs {
     let recorded = EnsembleGolden::load().unwrap();
     let ensemble = EnsembleSettings {
         members: recorded.members,
         seed,
         ..EnsembleSettings::default()
     };
-    Runs::compute(&GOLDEN_NEEDS, ensemble, modify, &Silent).unwrap()
+    let what = format!("seed {seed}, {what}");
+    eprintln!(
+        "golden, {what}: {} ensembles of {} members start (the four such \
+         computations of this file take about 6 min on 2 cores)",
+        GOLDEN_NEEDS.len(),
+        ensemble.members
+    );
+    Runs::compute(&GOLDEN_NEEDS, ensemble, modify, &Told { what: &what }).unwrap()
 }
 
-fn violations(seed: u64, modify: &(dyn Fn(&mut SceneFile) + Sync)) -> Vec<Violation> {
+fn violations(seed: u64, what: &str, modify: &(dyn Fn(&mut SceneFile) + Sync)) -> Vec<Violation> {
     let golden = Golden::load().unwrap();
-    let measured = measure(&runs(seed, modify), &golden).unwrap();
+    let measured = measure(&runs(seed, what, modify), &golden).unwrap();
     compare(&measured, &EnsembleGolden::load().unwrap())
 }
 
@@ -38,20 +66,20 @@ fn violations(seed: u64, modify: &(dyn Fn(&mut SceneFile) + Sync)) -> Vec<Violat
 fn recorded_statistics_hold_for_the_recording_seed_and_another() {
     let seed = EnsembleGolden::load().unwrap().seed;
     for s in [seed, seed + 1] {
-        let v = violations(s, &|_| {});
+        let v = violations(s, "the scenes as recorded", &|_| {});
         assert!(v.is_empty(), "seed {s}: {v:#?}");
     }
 }
 
 #[test]
 fn a_change_of_physics_breaks_them() {
-    let restitution = violations(1, &|f| {
+    let restitution = violations(1, "restitution 0.8", &|f| {
         for c in &mut f.clearance {
             c.contact.restitution = 0.8;
         }
     });
     assert!(!restitution.is_empty(), "restitution 0.8 went unnoticed");
-    let friction = violations(1, &|f| {
+    let friction = violations(1, "mu_d 0.03", &|f| {
         for c in &mut f.clearance {
             if let FrictionModel::Modified { mu_s, mu_d, .. } = &mut c.friction {
                 *mu_s *= 3.0;

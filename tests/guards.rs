@@ -161,6 +161,13 @@ fn check_assembles_and_prints_the_pose_of_every_body() {
     ] {
         assert!(text.contains(line), "lacks `{line}`: {text}");
     }
+    // A rocker guessed seven turns on assembles seven turns on, printed wrapped (was 2619.990).
+    let turns = ("angle_deg = 100.0", "angle_deg = 2620.0");
+    fs::write(&scene, scene_with("fourbar", &[turns])).unwrap();
+    let text = stdout(&jointwear(&["check", s(&scene), "--out", s(&out)]));
+    let line = "  rocker       x    93.9286 mm, y    34.4694 mm, angle    99.990 deg";
+    assert!(text.contains(line), "lacks `{line}`: {text}");
+    assert!(!text.contains("note:"), "{text}");
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -209,6 +216,29 @@ fn a_loop_that_cannot_close_is_bad_input_naming_its_joints_in_check_run_and_swee
         ],
     );
     assert!(!csv.exists());
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The revolute a clearance joint replaces, left beside it, is named with what to do rather than
+/// reported as dependent constraints at assembly (which it was; the check would fail against
+/// that message).
+#[test]
+fn a_revolute_left_beside_its_clearance_joint_is_named_to_be_removed() {
+    let dir = temp_dir("guards", "replaced");
+    let scene = dir.join("both.toml");
+    let left = "[[translational]]";
+    let both = "[[revolute]]\na = \"slider.C\"\nb = \"rod.B\"\n\n[[translational]]";
+    fs::write(&scene, scene_with("standard", &[(left, both)])).unwrap();
+    let out = dir.join("out");
+    assert_fails(
+        &jointwear(&["check", s(&scene), "--out", s(&out)]),
+        2,
+        &[
+            "`revolute[2]`: slider.C - rod.B",
+            "clearance joint `rod-slider`",
+            "remove this [[revolute]]",
+        ],
+    );
     fs::remove_dir_all(&dir).unwrap();
 }
 

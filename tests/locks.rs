@@ -43,10 +43,10 @@ fn a_rod_shorter_than_the_crank_stops_at_the_clearance_joint_it_pulls_apart() {
     // named beside it.
     for needle in [
         "clearance joint `rod-slider` penetrates",
-        "beyond the contact laws' limit of 4.000e-4 m (20 clearances",
+        "beyond the contact laws' limit of 0.4 mm (20 clearances",
         "at driver angle 336.3 deg",
         "links that cannot reach",
-        "cannot close from 336.4 to 23.6 deg of driver angle (turning clockwise)",
+        "the driver cannot turn from 336.4 to 23.6 deg of driver angle (turning clockwise)",
         "revolute[1] (crank-rod)",
     ] {
         assert!(cause.contains(needle), "lacks `{needle}`: {cause}");
@@ -101,8 +101,8 @@ fn a_fourbar_whose_links_cannot_close_names_the_open_joints() {
     }
     // Least squares spreads the gap over the joints of the loop next to the rocker.
     for joint in [
-        "revolute[2] (ground-rocker) by 6.958e-2",
-        "clearance joint `coupler-rocker` (coupler-rocker, held ideal) by 6.958e-2",
+        "revolute[2] (ground-rocker) by 69.58 mm",
+        "clearance joint `coupler-rocker` (coupler-rocker, held ideal) by 69.58 mm",
     ] {
         assert!(msg.contains(joint), "lacks `{joint}`: {msg}");
     }
@@ -140,18 +140,21 @@ fn one_driver_rotation_finds_where_a_fourbar_cannot_close() {
     // Before, `check` assembled only at t = 0 and passed this scene. Fails if the sweep turns
     // against the driver (it would stop at 279.6 deg first).
     let lock = rotation_lock(&locked_fourbar().build().unwrap()).expect("the four-bar locks");
-    // Tolerance: the sweep's resolution (1e-3 deg) plus Newton's slower convergence at the
-    // limit position, where the loop's Jacobian becomes singular.
-    approx::assert_abs_diff_eq!(
-        lock.from,
-        (1.0f64 / 6.0).acos().to_degrees(),
-        epsilon = 1e-2
-    );
-    approx::assert_abs_diff_eq!(lock.to, 360.0 - lock.from, epsilon = 1e-2);
+    // The loop closes while the crank pin is at most 120 mm from the rocker pivot: up to
+    // acos(1/6) = 80.4059 deg each way (an exact scan). Tolerance: the sweep's resolution
+    // (1e-3 deg) plus Newton's slower convergence at the limit position, where the loop's
+    // Jacobian becomes singular (found: 80.405 and 279.595 deg, within 1e-3 deg).
+    let limit = (1.0f64 / 6.0).acos().to_degrees();
+    approx::assert_abs_diff_eq!(lock.from, limit, epsilon = 2e-3);
+    approx::assert_abs_diff_eq!(lock.to, 360.0 - limit, epsilon = 2e-3);
     let text = lock.error().to_string();
     for needle in [
         "`joints (one driver rotation)`",
-        "cannot close from 80.4 to 279.6 deg of driver angle (turning counter-clockwise)",
+        "the driver cannot turn from 80.4 to 279.6 deg of driver angle (turning counter-clockwise)",
+        // What the sweep found, and how finely: no claim about the angles it never reached.
+        "from its start at 0.0 deg in steps of 1 deg",
+        "closes counter-clockwise as far as 80.405 deg and clockwise as far as 279.595 deg, \
+         and fails to close within 0.001 deg past each",
         "clearance joint `coupler-rocker`",
         "revolute[2] (ground-rocker)",
     ] {
@@ -167,6 +170,62 @@ fn one_driver_rotation_finds_where_a_fourbar_cannot_close() {
     }
 }
 
+/// The four-bar with ground 100, crank 40, coupler 20 and rocker 90 mm, assembled at crank
+/// angle 60 deg or, `mirrored` about the ground line, at 300 deg. Coupler and rocker reach the
+/// crank pin only between 70 and 110 mm from the rocker pivot: at crank angles from
+/// acos(0.8375) = 33.123 to acos(-0.0625) = 93.583 deg and their mirror, 266.417 to 326.877
+/// deg, two ranges no turning driver joins.
+fn two_range_fourbar(mirrored: bool) -> SceneFile {
+    let mut f = SceneFile::read(scene_path("fourbar")).unwrap();
+    let sign = if mirrored { -1.0 } else { 1.0 };
+    let points = |a: &str, b: &str, half: f64| {
+        [(a.to_string(), [-half, 0.0]), (b.to_string(), [half, 0.0])].into()
+    };
+    let [crank, coupler, rocker] = &mut f.bodies[..] else {
+        panic!("the four-bar has three bodies")
+    };
+    // Pin A at (20, 34.64) mm, pin B at (27.42, 53.21) mm.
+    (crank.points_mm, crank.position_mm) = (points("O", "A", 20.0), [10.0, sign * 17.32]);
+    let start = if mirrored { 300.0 } else { 60.0 };
+    crank.angle_deg = start;
+    (coupler.points_mm, coupler.position_mm) = (points("A", "B", 10.0), [23.71, sign * 43.93]);
+    coupler.angle_deg = sign * 68.2;
+    (rocker.points_mm, rocker.position_mm) = (points("D", "B", 45.0), [63.71, sign * 26.61]);
+    rocker.angle_deg = sign * 143.8;
+    f.driver.angle_deg = start;
+    f
+}
+
+#[test]
+fn the_lock_message_claims_only_the_ends_the_sweep_found() {
+    // Before: "cannot close from 93.6 to 33.1 deg of driver angle", although the loop closes
+    // from 266.4 to 326.9 deg, which the sweep from 60 deg never reached; the message now
+    // gives the ends found and says the driver cannot turn between them (the former message
+    // fails the needles below).
+    let lock =
+        |mirrored| rotation_lock(&two_range_fourbar(mirrored).build().unwrap()).expect("it locks");
+    let (near, far) = (
+        0.8375f64.acos().to_degrees(),
+        (-0.0625f64).acos().to_degrees(),
+    );
+    let (from_60, from_300) = (lock(false), lock(true));
+    // Tolerance: as for the four-bar above, the resolution and Newton at the limit position.
+    approx::assert_abs_diff_eq!(from_60.from, far, epsilon = 2e-3);
+    approx::assert_abs_diff_eq!(from_60.to, near, epsilon = 2e-3);
+    // Inside the range the driver cannot turn through from 60 deg, the loop closes.
+    approx::assert_abs_diff_eq!(from_300.from, 360.0 - near, epsilon = 2e-3);
+    approx::assert_abs_diff_eq!(from_300.to, 360.0 - far, epsilon = 2e-3);
+    let text = from_60.describe();
+    for needle in [
+        "turned from its start at 60.0 deg in steps of 1 deg",
+        "closes counter-clockwise as far as 93.58",
+        "and clockwise as far as 33.12",
+        "the driver cannot turn from 93.6 to 33.1 deg of driver angle (turning counter-clockwise)",
+    ] {
+        assert!(text.contains(needle), "lacks `{needle}`: {text}");
+    }
+}
+
 #[test]
 fn a_run_into_the_lock_of_its_loop_names_it() {
     // Before: it failed after about 2 s blaming friction or a stiff contact, with no driver
@@ -175,7 +234,7 @@ fn a_run_into_the_lock_of_its_loop_names_it() {
     f.run.max_steps = 300_000;
     let (time, cause) = run_failure(&f);
     assert!(
-        cause.contains("cannot close from 80.4 to 279.6 deg of driver angle"),
+        cause.contains("the driver cannot turn from 80.4 to 279.6 deg of driver angle"),
         "{cause}"
     );
     // 1000 r/min: 80.4 deg at 13.4 ms; the clearance lets the crank go a little further.

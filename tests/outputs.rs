@@ -7,7 +7,7 @@ mod common;
 
 use common::*;
 use std::fs;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
@@ -38,6 +38,20 @@ fn wait_for(path: &Path, child: &mut Child) {
         std::thread::sleep(Duration::from_millis(10));
     }
     panic!("{} never appeared", path.display());
+}
+
+/// The folder lock of `out` (created) held by this test's own process, which is alive: its
+/// path and text.
+fn live_lock(out: &Path) -> (PathBuf, String) {
+    fs::create_dir_all(out).unwrap();
+    let lock = out.join(".jointwear.lock");
+    let me = format!(
+        "pid={}\nhost={}\ncommand=jointwear run other\n",
+        std::process::id(),
+        host()
+    );
+    fs::write(&lock, &me).unwrap();
+    (lock, me)
 }
 
 fn host() -> String {
@@ -84,15 +98,7 @@ fn a_lock_of_a_live_process_refuses_and_a_dead_ones_is_taken_over() {
     let dir = temp_dir("outputs", "stale");
     let scene = short_standard(&dir, "scene.toml", 1, &[]);
     let out = dir.join("out");
-    fs::create_dir_all(&out).unwrap();
-    let lock = out.join(".jointwear.lock");
-    // This test's own process: alive.
-    let me = format!(
-        "pid={}\nhost={}\ncommand=jointwear run other\n",
-        std::process::id(),
-        host()
-    );
-    fs::write(&lock, &me).unwrap();
+    let (lock, me) = live_lock(&out);
     let o = jointwear(&["run", s(&scene), "--out", s(&out)]);
     assert_fails(&o, 2, &["`jointwear run other`", "remove the lock file"]);
     assert!(!out.join("timeseries.csv").exists());
@@ -110,6 +116,34 @@ fn a_lock_of_a_live_process_refuses_and_a_dead_ones_is_taken_over() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("taking over"), "{}", stderr(&o));
     assert!(!lock.exists());
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Fails on today's code: `check` and `animate` wrote their pictures into a folder another
+/// process held, and left no claim of their own.
+#[test]
+fn check_and_animate_claim_their_folder_as_run_does() {
+    let dir = temp_dir("outputs", "pictures");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let out = dir.join("out");
+    let (lock, _) = live_lock(&out);
+    let commands = [
+        vec!["check", s(&scene), "--out", s(&out)],
+        vec!["animate", s(&scene), "--out", s(&out), "--frames", "2"],
+    ];
+    for args in &commands {
+        let o = jointwear(args);
+        assert_fails(&o, 2, &["`jointwear run other`", "remove the lock file"]);
+    }
+    assert_eq!(fs::read_dir(&out).unwrap().count(), 1, "only the lock");
+    fs::remove_file(&lock).unwrap();
+    for args in &commands {
+        let o = jointwear(args);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    assert!(out.join("mechanism_scene.png").exists());
+    assert!(out.join("mechanism_scene.gif").exists());
+    assert!(!lock.exists(), "released on exit");
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -222,7 +256,7 @@ fn a_sweep_key_given_twice_or_by_an_alias_is_refused() {
     let o = sweep(&["clearance.+00.clearance_mm=0.1"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = fs::read_to_string(&out).unwrap();
-    assert!(text.contains("\ncase,clearance.0.clearance_mm,"), "{text}");
+    assert!(text.starts_with("case,clearance.0.clearance_mm,"), "{text}");
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -312,5 +346,65 @@ fn a_million_case_sweep_starts_at_once_in_bounded_memory() {
     );
     assert!(peak_kb < 300_000, "peak memory {peak_kb} kB");
     eprintln!("peak memory with the first rows written: {peak_kb} kB");
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The files a folder's manifest lists, each checked to exist and be non-empty.
+fn complete_files(folder: &Path) -> Vec<String> {
+    let manifest = fs::read_to_string(folder.join("jointwear-manifest.txt"))
+        .unwrap_or_else(|e| panic!("{}: no manifest: {e}", folder.display()));
+    let files: Vec<String> = (manifest.lines())
+        .filter(|l| !l.starts_with('#'))
+        .map(str::to_owned)
+        .collect();
+    for f in &files {
+        let len = fs::metadata(folder.join(f)).map_or(0, |m| m.len());
+        assert!(len > 0, "{}: {f} missing or empty", folder.display());
+    }
+    files
+}
+
+/// Fails when the default folders are one (`out/<stem>`, as before issue 23; checked with that
+/// program): the ensemble's write removed the run's timeseries.csv.
+#[test]
+fn run_ensemble_and_longlife_keep_their_own_default_folders() {
+    let dir = temp_dir("outputs", "default-folders");
+    short_standard(&dir, "scene.toml", 2, &[]);
+    let in_dir = |args: &[&str]| {
+        let o = Command::new(env!("CARGO_BIN_EXE_jointwear"))
+            .args(args)
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    };
+    in_dir(&["run", "scene.toml"]);
+    in_dir(&["run", "scene.toml", "--ensemble", "2"]);
+    in_dir(&[
+        "longlife",
+        "scene.toml",
+        "--rotations",
+        "6",
+        "--settle",
+        "1",
+    ]);
+    let out = dir.join("out").join("scene");
+    let mut kinds: Vec<String> = (fs::read_dir(&out).unwrap())
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    kinds.sort();
+    assert_eq!(kinds, ["ensemble", "longlife", "run"]);
+    for (kind, file) in [
+        ("run", "timeseries.csv"),
+        ("ensemble", "ensemble_members.csv"),
+        ("longlife", "longlife_growth.csv"),
+    ] {
+        let files = complete_files(&out.join(kind));
+        assert!(files.iter().any(|f| f == file), "{kind}: {files:?}");
+        assert!(
+            files.iter().any(|f| f == "summary.json"),
+            "{kind}: {files:?}"
+        );
+    }
     fs::remove_dir_all(&dir).unwrap();
 }

@@ -5,7 +5,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use jointwear::io::output::{read_csv, write_atomic, write_csv};
-use jointwear::io::plot::{render, render_polar, Axes, Series, Style};
+use jointwear::io::plot::{render, render_column, render_polar, Axes, Series, Style};
 use jointwear::Error;
 
 /// A fresh, empty directory per test.
@@ -198,8 +198,23 @@ fn polar_profile() {
         ),
     ];
     let path = dir.join("polar.png");
-    render_polar(&path, "Bearing profile", &theta, &profiles, r_ref, 200.0).unwrap();
+    let scale = [(0.004, "4 µm".to_owned()), (0.008, "8 µm".to_owned())];
+    render_polar(
+        &path,
+        "Bearing profile",
+        &theta,
+        &profiles,
+        (r_ref, 200.0),
+        &scale,
+    )
+    .unwrap();
     assert_png(&path, 1200, 800);
+    // a column of three panels is one panel wide
+    let x = [0.0, 1.0, 2.0];
+    let panel = |t: &str| Axes::new(t, "x", "y", vec![Series::new("a", &x, &x, Style::Line)]);
+    let path = dir.join("column.png");
+    render_column(&path, &[panel("a"), panel("b"), panel("c")]).unwrap();
+    assert_png(&path, 1200, 2400);
 }
 
 #[test]
@@ -259,8 +274,8 @@ fn bad_input_is_an_error_and_writes_nothing() {
         "p",
         &x,
         &[("a".into(), vec![1.0; 3], Style::Line)],
-        1.0,
-        10.0,
+        (1.0, 10.0),
+        &[],
     ));
     assert_only(&dir, &[]);
 }

@@ -174,7 +174,8 @@ fn collect(v: &Value, at: String, out: &mut Vec<String>) {
     }
 }
 
-/// The three-line file of a 2-case sweep's shard 1 of 2 with `id` as its numbers.
+/// The lines of a 2-case sweep's file: its header (the sweep named by the last column's
+/// name), then a row per case.
 fn shard_file(dir: &Path) -> (String, Vec<String>) {
     let scene = short_standard(dir, "scene.toml", 1, &[]);
     let out = dir.join("whole.csv");
@@ -196,12 +197,14 @@ fn shard_file(dir: &Path) -> (String, Vec<String>) {
 fn edited_sweep_files_are_refused_before_any_number_read_is_used() {
     let dir = temp_dir("state", "sweep");
     let (scene, lines) = shard_file(&dir);
-    let fingerprint = lines[0].split_whitespace().nth(3).unwrap().to_string();
-    let id = |rest: &str| format!("# jointwear sweep {fingerprint} {rest}");
+    // The header's last column names the sweep: `jointwear sweep fingerprint=… shard=…`.
+    let (columns, genuine) = lines[0].rsplit_once(',').unwrap();
+    let fingerprint = genuine.split_whitespace().nth(2).unwrap().to_string();
+    let id = |rest: &str| format!("jointwear sweep {fingerprint} {rest}");
     let edited = dir.join("edited.csv");
     let merged = dir.join("merged.csv");
     let write = |first: &str, rows: &[&String]| {
-        let mut text = format!("{first}\n{}\n", lines[1]);
+        let mut text = format!("{columns},{first}\n");
         for r in rows {
             text.push_str(r);
             text.push('\n');
@@ -213,7 +216,7 @@ fn edited_sweep_files_are_refused_before_any_number_read_is_used() {
     for count in ["18446744073709551615", "4000000000"] {
         write(
             &id(&format!("shard=1/{count} cases=1 total=2")),
-            &[&lines[2]],
+            &[&lines[1]],
         );
         assert_fails(&merge(), 2, &[&format!("no shard 2/{count}")]);
     }
@@ -228,14 +231,14 @@ fn edited_sweep_files_are_refused_before_any_number_read_is_used() {
             "at most 1000000 cases",
         ),
     ] {
-        write(&id(bad), &[&lines[2], &lines[3]]);
+        write(&id(bad), &[&lines[1], &lines[2]]);
         assert_fails(&merge(), 2, &[s(&edited), why]);
     }
     // A case outside the sweep, or twice, in merge and in --resume.
-    let outside = lines[3].replacen("1,", "7,", 1);
-    let twice = lines[2].clone();
+    let outside = lines[2].replacen("1,", "7,", 1);
+    let twice = lines[1].clone();
     for row in [&outside, &twice] {
-        write(&lines[0], &[&lines[2], row]);
+        write(genuine, &[&lines[1], row]);
         assert_fails(&merge(), 2, &["is not a case of shard 1/1"]);
         let resumed = jointwear(&[
             "sweep",
@@ -249,7 +252,7 @@ fn edited_sweep_files_are_refused_before_any_number_read_is_used() {
         assert_fails(&resumed, 2, &["is not a case of shard 1/1"]);
     }
     // A row deleted: partial.
-    write(&lines[0], &[&lines[2]]);
+    write(genuine, &[&lines[1]]);
     assert_fails(&merge(), 2, &["1 of its 2 cases", "--allow-partial"]);
     let file = SweepFile::read(&edited).unwrap();
     assert_eq!((file.rows.len(), file.id.cases), (1, 2));

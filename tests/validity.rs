@@ -1,7 +1,7 @@
 //! Validity limits of the scene values: what the models cannot describe is refused when the
 //! scene is built, naming the field, the value, the limit and the likely cause.
 
-use jointwear::laws::contact::NormalForceModel;
+use jointwear::laws::contact::{DissipationLaw, NormalForceModel, StiffnessLaw};
 use jointwear::laws::wear::PressureModel;
 use jointwear::scene::{scene_path, MethodSpec, SceneFile};
 
@@ -134,7 +134,7 @@ fn hertz_laws_are_refused_at_tiny_clearances_and_elastic_foundation_wears_at_zer
         }
         // Without wear the Lankarani-Nikravesh force law is refused for the same reason.
         f.clearance[0].wear = None;
-        f.clearance[0].contact.model = NormalForceModel::LankaraniNikravesh;
+        f.clearance[0].contact.model = Some(NormalForceModel::LankaraniNikravesh);
         let msg = refused(&f);
         assert!(
             msg.contains("contact.model") && msg.contains("model = \"hybrid\""),
@@ -178,6 +178,100 @@ fn a_step_too_small_to_finish_within_the_step_limit_is_refused() {
     let msg = refused(&f);
     assert!(
         msg.contains("`run.fixed_step_s`: 1e-9 s") && msg.contains("1.200e9 steps"),
+        "{msg}"
+    );
+}
+
+/// The standard scene with `stiffness` and `dissipation` in place of `model` (no exponent).
+fn catalogue(stiffness: StiffnessLaw, dissipation: DissipationLaw) -> SceneFile {
+    let mut f = standard();
+    let k = &mut f.clearance[0].contact;
+    (k.model, k.exponent) = (None, None);
+    (k.stiffness, k.dissipation) = (Some(stiffness), Some(dissipation));
+    f
+}
+
+#[test]
+fn contact_catalogue_spelling_is_checked() {
+    // Johnson with Flores builds, its length taken from wear.length_mm (20 mm).
+    let f = catalogue(StiffnessLaw::Johnson, DissipationLaw::Flores);
+    let law = f.build().unwrap().mechanism.clearance_joints[0].contact;
+    assert_eq!(
+        (law.stiffness_law(), law.dissipation_law()),
+        (StiffnessLaw::Johnson, DissipationLaw::Flores)
+    );
+    type Modify = fn(&mut SceneFile);
+    let cases: [(&str, Modify, &[&str]); 7] = [
+        (
+            "model and laws",
+            |f| f.clearance[0].contact.model = Some(NormalForceModel::Hybrid),
+            &["`clearance[0].contact`", "either model", "not both"],
+        ),
+        (
+            "stiffness alone",
+            |f| f.clearance[0].contact.dissipation = None,
+            &[
+                "`clearance[0].contact.dissipation`: missing",
+                "both stiffness and",
+            ],
+        ),
+        (
+            "exponent of a law without one",
+            |f| f.clearance[0].contact.exponent = Some(1.5),
+            &[
+                "`clearance[0].contact.exponent`: 1.5",
+                "\"johnson\" has its own shape",
+            ],
+        ),
+        (
+            "no length",
+            |f| f.clearance[0].wear = None,
+            &[
+                "`clearance[0].contact.length_mm`: missing",
+                "per bearing length",
+            ],
+        ),
+        (
+            "two lengths",
+            |f| f.clearance[0].contact.length_mm = Some(10.0),
+            &[
+                "`clearance[0].contact.length_mm`: 10",
+                "wear.length_mm (20)",
+            ],
+        ),
+        (
+            "Pereira's fitted range",
+            |f| {
+                f.clearance[0].contact.stiffness = Some(StiffnessLaw::Pereira);
+                f.clearance[0].clearance_mm = 0.002;
+            },
+            &[
+                "`clearance[0].clearance_mm`: 0.002",
+                "[0.005, 10] mm",
+                "pereira",
+            ],
+        ),
+        (
+            "a logarithmic law at a tiny clearance",
+            |f| {
+                f.clearance[0].clearance_mm = 9e-4;
+                f.clearance[0].wear.as_mut().unwrap().pressure = PressureModel::ElasticFoundation;
+            },
+            &["contact.stiffness", "stiffness = \"hybrid\" or \"liu\""],
+        ),
+    ];
+    for (what, modify, needles) in cases {
+        let mut f = catalogue(StiffnessLaw::Johnson, DissipationLaw::Flores);
+        modify(&mut f);
+        let msg = refused(&f);
+        for n in needles {
+            assert!(msg.contains(n), "{what}: lacks `{n}`: {msg}");
+        }
+    }
+    // The power laws need their exponent.
+    let msg = refused(&catalogue(StiffnessLaw::Hertz, DissipationLaw::HuGuo));
+    assert!(
+        msg.contains("`clearance[0].contact.exponent`: missing"),
         "{msg}"
     );
 }

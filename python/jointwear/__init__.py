@@ -12,6 +12,10 @@ where pandas is installed.
 >>> run = scene.run()                       # the GIL is released while it runs
 >>> run.wear["rod-slider"].max()            # deepest wear of the final profile (m)
 
+``run.save(dir)`` and ``ensemble.save(dir)`` write the folder ``jointwear run --out dir`` writes;
+``scene.ensemble(..., executor=pool)`` and ``scene.sweep(..., executor=pool)`` spread the members
+or cases over any ``concurrent.futures.Executor`` with bit for bit the same results.
+
 Bad input raises :class:`SceneError` (a ``ValueError``) and a failure while running
 :class:`SimulationError` (a ``RuntimeError``), with the message the ``jointwear`` program
 prints for the same input.

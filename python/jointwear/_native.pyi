@@ -1,7 +1,7 @@
 """Type stubs of the native module (src/python/): the scene document and the exceptions."""
 
 from os import PathLike
-from typing import Any, Dict, List, Optional, Sequence
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 __version__: str
 
@@ -24,8 +24,18 @@ class Document:
     def path(self) -> str: ...
     def copy(self) -> Document: ...
     def check(self) -> Dict[str, Any]: ...
+    def state(self) -> Tuple[PathLike[str], str, List[Tuple[str, str, bool]]]: ...
+    @staticmethod
+    def from_state(
+        path: str | PathLike[str], loaded: str, asked: List[Tuple[str, str, bool]]
+    ) -> Document: ...
     def run(self, member: Optional[int], seed: int) -> Dict[str, Any]: ...
     def ensemble(self, members: int, seed: int) -> Dict[str, Any]: ...
+    def check_ensemble(self, members: int, seed: int) -> None: ...
+    def member(self, member: int, members: int, seed: int) -> str: ...
+    def ensemble_of(
+        self, members: int, seed: int, payloads: List[str], wall: float
+    ) -> Dict[str, Any]: ...
     def sweep(
         self,
         keys: List[str],
@@ -33,3 +43,23 @@ class Document:
         members: Optional[int] = None,
         seed: int = 1,
     ) -> List[Dict[str, Any]]: ...
+    def check_sweep(
+        self,
+        keys: List[str],
+        values: List[Sequence[Any]],
+        members: Optional[int] = None,
+        seed: int = 1,
+    ) -> int: ...
+    def sweep_case(
+        self,
+        keys: List[str],
+        values: List[Sequence[Any]],
+        case: int,
+        members: Optional[int] = None,
+        seed: int = 1,
+    ) -> Dict[str, Any]: ...
+
+class Folder:
+    """A run or an ensemble held to be saved as the program saves it."""
+
+    def save(self, dir: str | PathLike[str]) -> None: ...

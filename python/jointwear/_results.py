@@ -3,9 +3,12 @@ installed."""
 
 from __future__ import annotations
 
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+import os
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
+
+PathLike = Union[str, "os.PathLike[str]"]
 
 
 def _array(data: bytes) -> np.ndarray:
@@ -85,6 +88,16 @@ class Run:
         self.stats: Dict[str, int] = raw["stats"]
         self.energy: Optional[Dict[str, float]] = raw["energy"]
         self.settling: Optional[Dict[str, Any]] = raw["settling"]
+        self._folder = raw["folder"]
+
+    def save(self, directory: PathLike) -> None:
+        """Writes the run's folder into ``directory`` as ``jointwear run`` writes its ``--out``
+        folder, file for file and byte for byte (``timeseries.csv``, wear profiles and
+        snapshots, figures, ``summary.json``, ``README.txt``, the manifest) but the wall time
+        in ``summary.json``; its README and manifest name the command line that runs the same
+        scene (``set("run.rotations", n)`` as ``--rotations n``). Raises
+        :class:`jointwear.SceneError` if another process is writing into ``directory``."""
+        self._folder.save(os.fspath(directory))
 
     def to_pandas(self, table: str = "timeseries"):
         """A pandas DataFrame of ``table``: ``"timeseries"`` (one column per series),
@@ -180,6 +193,14 @@ class Ensemble:
                     n, len(self.snapshot_rotations), sectors
                 )
                 self.band[name] = {k: _array(b) for k, b in j["band"].items()}
+        self._folder = raw["folder"]
+
+    def save(self, directory: PathLike) -> None:
+        """Writes the ensemble's folder into ``directory`` as ``jointwear run --ensemble N
+        --seed S`` writes its ``--out`` folder, byte for byte but the wall times (in
+        ``summary.json`` and the ``wall_time_s`` column of ``ensemble_members.csv``); see
+        :meth:`Run.save`."""
+        self._folder.save(os.fspath(directory))
 
     def mean_snapshot(self, joint: str, rotation: int) -> np.ndarray:
         """The mean over the members of the wear profile (m) of ``joint`` after ``rotation``

@@ -5,8 +5,10 @@ from __future__ import annotations
 import itertools
 import numbers
 import os
+import time
 from collections.abc import Iterable
-from typing import Any, Mapping, Optional, Sequence, Union
+from concurrent.futures import Executor, Future
+from typing import Any, List, Mapping, Optional, Sequence, Tuple, Union
 
 from ._native import Document, SceneError
 from ._results import Ensemble, Run, SweepResult
@@ -36,6 +38,11 @@ class Scene:
 
     def __init__(self, document: Document) -> None:
         self._doc = document
+
+    def __reduce__(self):
+        # Pickled as text (the document as loaded and the changes set on it), so that an
+        # executor's worker process gets an identical scene.
+        return (_restore, self._doc.state())
 
     @classmethod
     def load(cls, path: PathLike) -> "Scene":
@@ -92,7 +99,9 @@ class Scene:
         ``jointwear check`` does (a loop that cannot close at some driver angle is a
         :class:`SceneError` naming the angles and the joints). Returns its
         ``title``, ``bodies``, clearance ``joints`` (``name``, ``clearance_m``,
-        ``bearing_radius_m``, ``sectors`` or None without wear), ``dof``, ``period_s`` (of the
+        ``bearing_radius_m``, ``sectors`` or None without wear, and the contact law's
+        ``stiffness`` and ``dissipation`` in the scene spelling, e.g. ``"hybrid"`` and
+        ``"zhiying-qishao"`` for ``model = "hybrid"``), ``dof``, ``period_s`` (of the
         driver) and ``rotations``."""
         return self._doc.check()
 
@@ -104,20 +113,38 @@ class Scene:
         ensemble raises :class:`jointwear.SceneError`."""
         return Run(self._doc.run(None if member is None else int(member), int(seed)))
 
-    def ensemble(self, members: int = 32, seed: int = 1) -> Ensemble:
+    def ensemble(
+        self, members: int = 32, seed: int = 1, executor: Optional[Executor] = None
+    ) -> Ensemble:
         """Runs ``members`` copies of the scene in parallel, each with every journal displaced
         by at most 10 nm in a seeded direction (``jointwear run --ensemble N --seed S``), and
         returns the :class:`Ensemble`: every member's results and their statistics. Single
-        runs are chaotic; statistics over an ensemble are the project's results."""
+        runs are chaotic; statistics over an ensemble are the project's results.
+
+        ``executor``: any :class:`concurrent.futures.Executor` (a process pool, a
+        ``dask.distributed`` client's ``get_executor()``, a Ray pool's executor) runs one task
+        per member instead of this process's threads; each task gets the scene as text and the
+        member's number, and the results are bit for bit those without it (but the wall
+        times). A member that fails raises its error here."""
         members = _count("members", members, "a positive integer")
         seed = _count("seed", seed, "an integer in [0, 2^64)")
-        return Ensemble(self._doc.ensemble(members, seed))
+        if executor is None:
+            return Ensemble(self._doc.ensemble(members, seed))
+        _check_executor(executor)
+        self._doc.check_ensemble(members, seed)
+        started = time.perf_counter()
+        state = self._doc.state()
+        tasks = [executor.submit(_member, state, k, members, seed) for k in range(members)]
+        payloads = _gather(tasks)
+        wall = time.perf_counter() - started
+        return Ensemble(self._doc.ensemble_of(members, seed, payloads, wall))
 
     def sweep(
         self,
         grid: Mapping[str, Sequence[Any]],
         members: Optional[int] = None,
         seed: int = 1,
+        executor: Optional[Executor] = None,
     ) -> SweepResult:
         """Runs the cartesian product of the values of ``grid`` (dotted key -> values; the last
         key varies fastest, as in ``jointwear sweep``) in parallel, each case once or as an
@@ -125,7 +152,12 @@ class Scene:
         (a bad value raises :class:`jointwear.SceneError`), and so are the keys (one given
         twice, also as an alias such as ``clearance.00.clearance_mm``, is refused) and the size
         (at most 1 000 000 cases); cases are built as they run. A case that fails to build or
-        while running has its message in the ``error`` column and the others go on."""
+        while running has its message in the ``error`` column and the others go on.
+
+        ``executor``: any :class:`concurrent.futures.Executor` runs one task per case instead
+        of this process's threads (see :meth:`ensemble`); every value is validated here before
+        any task is submitted, and the results are bit for bit those without it (but the wall
+        times)."""
         keys = list(grid)
         values = []
         for key in keys:
@@ -139,9 +171,65 @@ class Scene:
         if members is not None:
             members = _count("members", members, "a positive integer")
         seed = _count("seed", seed, "an integer in [0, 2^64)")
-        cases = self._doc.sweep(keys, values, members, seed)
+        if executor is None:
+            cases = self._doc.sweep(keys, values, members, seed)
+        else:
+            _check_executor(executor)
+            total = self._doc.check_sweep(keys, values, members, seed)
+            state = self._doc.state()
+            tasks = [
+                executor.submit(_case, state, keys, values, k, members, seed) for k in range(total)
+            ]
+            cases = _gather(tasks)
         combos = list(itertools.product(*values))
         return SweepResult(keys, combos, cases, members)
 
     def __repr__(self) -> str:
         return f"Scene({self.title!r}, path={self.path!r})"
+
+
+def _check_executor(executor: Any) -> None:
+    """TypeError naming the argument unless ``executor`` has ``submit`` (an Executor)."""
+    if not callable(getattr(executor, "submit", None)):
+        raise TypeError(
+            f"executor must be a concurrent.futures.Executor, got {executor!r} "
+            f"({type(executor).__name__})"
+        )
+
+
+def _gather(tasks: List[Future]) -> List[Any]:
+    """The results of ``tasks`` in order. On the first failure (or Ctrl-C) the tasks not yet
+    started are cancelled, so that a failed ensemble does not go on running, and the error is
+    raised."""
+    try:
+        return [task.result() for task in tasks]
+    except BaseException:
+        for task in tasks:
+            task.cancel()
+        raise
+
+
+# `Document.state()`: the path, the document as loaded (TOML) and the changes set on it.
+State = Tuple[PathLike, str, List[Tuple[str, str, bool]]]
+
+
+def _restore(path: PathLike, loaded: str, changes: List[Tuple[str, str, bool]]) -> Scene:
+    """The scene of ``Document.state()``: how a pickled :class:`Scene` is rebuilt."""
+    return Scene(Document.from_state(path, loaded, changes))
+
+
+def _member(state: State, member: int, members: int, seed: int) -> str:
+    """An executor's task: member ``member`` of an ensemble, as JSON for ``ensemble_of``."""
+    return Document.from_state(*state).member(member, members, seed)
+
+
+def _case(
+    state: State,
+    keys: List[str],
+    values: List[List[Any]],
+    case: int,
+    members: Optional[int],
+    seed: int,
+) -> dict:
+    """An executor's task: case ``case`` of a sweep, as ``Document.sweep`` gives it."""
+    return Document.from_state(*state).sweep_case(keys, values, case, members, seed)

@@ -84,5 +84,5 @@ def test_check_names_where_a_fourbar_cannot_close():
     # assembled at crank angle 0 with the pin B at (35, 29.58) mm
     scene.set("bodies.1.position_mm", [37.5, 14.79]).set("bodies.1.angle_deg", 99.6)
     scene.set("bodies.2.position_mm", [77.5, 14.79]).set("bodies.2.angle_deg", 160.8)
-    with pytest.raises(jointwear.SceneError, match="cannot close from 80.4 to 279.6 deg"):
+    with pytest.raises(jointwear.SceneError, match="cannot turn from 80.4 to 279.6 deg"):
         scene.check()

@@ -1,5 +1,6 @@
 //! Analysis of simulated results: wear regions on the circular profile, motion mode of the
-//! journal, and cycle-to-cycle steady state; over ensembles, [`statistics`], the [`states`]
+//! journal, and cycle-to-cycle steady state; along a long life, the [`life`] changes; over
+//! ensembles, [`statistics`], the [`states`]
 //! members fall into, and [`significance`] tests of two ensembles' difference.
 //!
 //! * **Wear regions** ([`regions`]): the humps of the circular wear profile by topographic
@@ -12,6 +13,7 @@
 //!   uses [`Motion::continuous`] / [`Motion::mode`], never a threshold of its own.
 
 pub mod concordance;
+pub mod life;
 pub mod regions;
 pub mod significance;
 pub mod states;
@@ -21,7 +23,7 @@ pub mod statistics;
 pub const CONTINUOUS_CONTACT_FRACTION: f64 = 0.9;
 
 /// Journal motion over the recorded rotations.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Motion {
     /// Fraction of recorded samples in contact (δ ≥ 0).
     pub contact_fraction: f64,

@@ -15,7 +15,7 @@
 //! prominent first, so the first is always the deepest sector.
 
 /// A wear region on the bearing.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Region {
     /// Index of the region's deepest sector.
     pub sector: usize,

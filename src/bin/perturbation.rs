@@ -2,11 +2,17 @@
 //! perturbed (see `jointwear::paper::perturbation`): writes `data/perturbation_sensitivity.csv`.
 use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
+use jointwear::paper::golden::Golden;
 use jointwear::paper::perturbation::perturbation_study;
+use jointwear::paper::report::claim_tallies;
 
 fn main() {
     let bar = progress_bar(0, "ensemble members");
-    let rows = exit_on_error(perturbation_study(&bar));
+    let golden = exit_on_error(Golden::load());
+    let rows = exit_on_error(perturbation_study(
+        &|runs| claim_tallies(runs, &golden),
+        &bar,
+    ));
     bar.finish_and_clear();
     for r in rows.iter().filter(|r| r.differs()) {
         println!(

@@ -36,15 +36,6 @@ fn unique_tag(tag: &str) -> String {
     format!("{tag}-{}-{n}", std::process::id())
 }
 
-/// A hidden sibling of `path` with a name of its own (`dir/.name.tag-<pid>-<n>`).
-pub(crate) fn unique_sibling(path: &Path, tag: &str) -> PathBuf {
-    let mut name = OsString::from(".");
-    name.push(path.file_name().unwrap_or(path.as_os_str()));
-    name.push(".");
-    name.push(unique_tag(tag));
-    path.with_file_name(name)
-}
-
 /// Hidden temporary sibling of `path`, unique to this process and call, that keeps the
 /// extension (`dir/.name.tmp-<pid>-<n>.png` for `dir/name.png`), so writers that pick the
 /// format from the extension still work and two processes never write the same temporary.

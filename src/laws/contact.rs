@@ -1,4 +1,6 @@
-//! Normal contact force of a clearance revolute joint (paper eq. 1-3).
+//! Normal contact force of a clearance revolute joint (paper eq. 1-3), and its catalogue of
+//! laws: an elastic law ([`super::stiffness`]) times a hysteresis-damping law
+//! ([`super::dissipation`]), any with any.
 //!
 //! ```text
 //! F_n = K δ^n + D δ̇   (δ ≥ 0),   F_n = 0   (δ < 0)                          (1)
@@ -8,11 +10,14 @@
 //! `K` is exactly dF/dδ of the improved elastic-foundation law
 //! `F_EF = (π/2) E* δ sqrt(δ / (2(ΔR + δ)))` ([`elastic_foundation_force`]); the hybrid law
 //! keeps the Lankarani-Nikravesh exponent n = 1.5, so it is not dimensionally consistent and
-//! is only meaningful in SI units (as the paper uses it).
+//! is only meaningful in SI units (as the paper uses it). Eq. 3 is the hysteresis damping of
+//! Zhiying & Qishao (2006): `F_n = K δ^n (1 + χ δ̇/δ̇⁻)`, `χ = 3(1 − c_e²) e^{2(1 − c_e)}/4`.
 //!
-//! The alternative [`NormalForceModel::LankaraniNikravesh`] is the classical Hertz law for
-//! internal cylinders, `K = (4/3) E* sqrt(R*)`, `R* = R_i R_j / ΔR`, with damping
-//! `D = 3K(1 − c_e²) δ^n / (4 δ̇⁻)`.
+//! In general `F_n = F_e(δ, ΔR) (1 + χ(c_e) δ̇/δ̇⁻)` with `F_e` one of [`StiffnessLaw`] and
+//! `χ` one of [`DissipationLaw`]. The scene's `model = "hybrid"` is stiffness `hybrid` with
+//! dissipation `zhiying-qishao`; `model = "lankarani-nikravesh"` is the classical Hertz law
+//! for internal cylinders, `K = (4/3) E* sqrt(R*)`, `R* = R_i R_j / ΔR`, with
+//! `χ = 3(1 − c_e²)/4`. Both compute exactly the floating-point operations they always did.
 //!
 //! Compound modulus: `1/E* = (1 − ν_i²)/E_i + (1 − ν_j²)/E_j` (so two equal steels give
 //! `E* = E / (2(1 − ν²))`).
@@ -22,10 +27,13 @@
 //! total force is clamped at zero because a contact cannot pull (no adhesion). The floor's
 //! effect on the results is measured in the calibration study, not assumed.
 
+pub use super::dissipation::DissipationLaw;
+pub use super::stiffness::{elastic_foundation_force, StiffnessLaw};
+use super::stiffness::{log_law_force, pereira_force};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-/// Which normal force law a clearance joint uses.
+/// The two laws of the paper's scenes by one name (`contact.model`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum NormalForceModel {
@@ -35,31 +43,68 @@ pub enum NormalForceModel {
     LankaraniNikravesh,
 }
 
+impl NormalForceModel {
+    /// The scene spelling, e.g. `"hybrid"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            NormalForceModel::Hybrid => "hybrid",
+            NormalForceModel::LankaraniNikravesh => "lankarani-nikravesh",
+        }
+    }
+
+    /// The stiffness and dissipation laws the name stands for.
+    pub fn laws(self) -> (StiffnessLaw, DissipationLaw) {
+        match self {
+            NormalForceModel::Hybrid => (StiffnessLaw::Hybrid, DissipationLaw::ZhiyingQishao),
+            NormalForceModel::LankaraniNikravesh => {
+                (StiffnessLaw::Hertz, DissipationLaw::LankaraniNikravesh)
+            }
+        }
+    }
+}
+
 /// Compound elastic modulus E* (Pa) of two bodies, `1/E* = Σ (1 − ν²)/E`.
 pub fn compound_modulus(e_i: f64, nu_i: f64, e_j: f64, nu_j: f64) -> f64 {
     1.0 / ((1.0 - nu_i * nu_i) / e_i + (1.0 - nu_j * nu_j) / e_j)
 }
 
-/// Improved elastic-foundation force (N) whose derivative is eq. 2's K.
-pub fn elastic_foundation_force(e_star: f64, delta_r: f64, delta: f64) -> f64 {
-    0.5 * PI * e_star * delta * (delta / (2.0 * (delta_r + delta))).sqrt()
+/// What the elastic laws need of a joint, in SI.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointElasticity {
+    /// Compound modulus E* (Pa).
+    pub e_star: f64,
+    /// Unworn bearing radius R_i (m).
+    pub r_bearing: f64,
+    /// Journal radius R_j (m).
+    pub r_journal: f64,
+    /// Bearing length L (m), used by the laws written per length
+    /// ([`StiffnessLaw::needs_length`]); the others ignore it.
+    pub length: f64,
 }
 
 /// A normal force law with its constants resolved once (the hot path only multiplies).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactLaw {
-    model: NormalForceModel,
+    stiffness: StiffnessLaw,
+    dissipation: DissipationLaw,
     e_star: f64,
     exponent: f64,
-    /// `3(1 − c_e²)/4`, times `e^{2(1 − c_e)}` for the hybrid law.
+    /// Hysteresis factor χ of the dissipation law at the scene's c_e.
     damping_factor: f64,
     /// Lankarani-Nikravesh stiffness (N/m^n) for the unworn radii.
     k_ln: f64,
+    /// Bearing length L (m).
+    length: f64,
+    /// π L E* (N/m) of the logarithmic laws.
+    pi_l_e: f64,
+    /// k of the logarithmic law δ = u (ln(4ΔR/u) + k); 0 for the other laws.
+    log_k: f64,
     grazing_velocity: f64,
 }
 
 impl ContactLaw {
-    /// `e_star` Pa, radii m, `restitution` in (0, 1], `grazing_velocity` m/s (> 0).
+    /// One of the paper scenes' two laws. `e_star` Pa, radii m, `restitution` in (0, 1],
+    /// `grazing_velocity` m/s (> 0).
     pub fn new(
         model: NormalForceModel,
         e_star: f64,
@@ -69,40 +114,88 @@ impl ContactLaw {
         restitution: f64,
         grazing_velocity: f64,
     ) -> Self {
-        let ce = restitution;
-        let base = 0.75 * (1.0 - ce * ce);
-        let damping_factor = match model {
-            NormalForceModel::Hybrid => base * (2.0 * (1.0 - ce)).exp(),
-            NormalForceModel::LankaraniNikravesh => base,
+        let (stiffness, dissipation) = model.laws();
+        let joint = JointElasticity {
+            e_star,
+            r_bearing,
+            r_journal,
+            length: 0.0,
         };
+        Self::from_laws(
+            stiffness,
+            dissipation,
+            &joint,
+            exponent,
+            restitution,
+            grazing_velocity,
+        )
+    }
+
+    /// Any stiffness law with any dissipation law; `exponent` is used by the power laws only
+    /// ([`StiffnessLaw::uses_exponent`]), `restitution` in (0, 1], `grazing_velocity` m/s.
+    pub fn from_laws(
+        stiffness: StiffnessLaw,
+        dissipation: DissipationLaw,
+        joint: &JointElasticity,
+        exponent: f64,
+        restitution: f64,
+        grazing_velocity: f64,
+    ) -> Self {
+        let (e_star, r_bearing, r_journal) = (joint.e_star, joint.r_bearing, joint.r_journal);
         let r_star = r_bearing * r_journal / (r_bearing - r_journal);
         ContactLaw {
-            model,
+            stiffness,
+            dissipation,
             e_star,
             exponent,
-            damping_factor,
+            damping_factor: dissipation.hysteresis_factor(restitution),
             k_ln: 4.0 / 3.0 * e_star * r_star.sqrt(),
+            length: joint.length,
+            pi_l_e: PI * joint.length * e_star,
+            log_k: stiffness.log_constant().unwrap_or(0.0),
             grazing_velocity,
         }
     }
 
-    /// Stiffness K (N/m^n) at penetration `delta` (m) for radial clearance `delta_r` (m).
+    /// The elastic law.
+    pub fn stiffness_law(&self) -> StiffnessLaw {
+        self.stiffness
+    }
+
+    /// The dissipation law.
+    pub fn dissipation_law(&self) -> DissipationLaw {
+        self.dissipation
+    }
+
+    /// Stiffness K (N/m^n) of the power laws at penetration `delta` (m) for radial clearance
+    /// `delta_r` (m): eq. 2 for `hybrid`, the constant Lankarani-Nikravesh K for `hertz`.
     #[inline]
-    pub fn stiffness(&self, delta: f64, delta_r: f64) -> f64 {
-        match self.model {
-            NormalForceModel::Hybrid => {
+    fn power_law_stiffness(&self, delta: f64, delta_r: f64) -> f64 {
+        match self.stiffness {
+            StiffnessLaw::Hybrid => {
                 let a = 3.0 * delta_r + 2.0 * delta;
                 let b = delta_r + delta;
                 0.125 * PI * self.e_star * (2.0 * delta * a * a / (b * b * b)).sqrt()
             }
-            NormalForceModel::LankaraniNikravesh => self.k_ln,
+            _ => self.k_ln,
         }
     }
 
-    /// Elastic part K δ^n (N).
+    /// Elastic part F_e (N) at penetration `delta` ≥ 0 (m) and local clearance `delta_r` (m).
     #[inline]
     pub fn elastic_force(&self, delta: f64, delta_r: f64) -> f64 {
-        self.stiffness(delta, delta_r) * self.power(delta)
+        match self.stiffness {
+            StiffnessLaw::Hybrid | StiffnessLaw::Hertz => {
+                self.power_law_stiffness(delta, delta_r) * self.power(delta)
+            }
+            StiffnessLaw::Liu => {
+                self.length * elastic_foundation_force(self.e_star, delta_r, delta)
+            }
+            StiffnessLaw::Johnson | StiffnessLaw::Radzimovsky | StiffnessLaw::Esdu78035 => {
+                log_law_force(self.log_k, self.pi_l_e, delta_r, delta)
+            }
+            StiffnessLaw::Pereira => pereira_force(self.e_star, self.length, delta_r, delta),
+        }
     }
 
     /// Normal force (N) at penetration `delta` ≥ 0, its rate `delta_dot` (m/s) and the normal
@@ -116,7 +209,6 @@ impl ContactLaw {
         let f = self.elastic_force(delta, delta_r) * (1.0 + self.damping_factor * delta_dot / v0);
         f.max(0.0)
     }
-
     /// `δ^n` with a fast path for the usual n = 1.5.
     #[inline]
     fn power(&self, delta: f64) -> f64 {
@@ -127,7 +219,7 @@ impl ContactLaw {
         }
     }
 
-    /// Elastic energy (J) stored at penetration `delta`: ∫₀^δ K(x) x^n dx, by 8-point
+    /// Elastic energy (J) stored at penetration `delta`: ∫₀^δ F_e(x) dx, by 8-point
     /// Gauss-Legendre on the substitution x = δ s² (smooth integrand); used by energy checks.
     pub fn elastic_energy(&self, delta: f64, delta_r: f64) -> f64 {
         if delta <= 0.0 {
@@ -158,6 +250,17 @@ mod tests {
 
     const E_STAR: f64 = 207e9 / (2.0 * (1.0 - 0.09));
 
+    /// The standard journal in its bearing (R = 10 mm, c = 0.02 mm), steel on steel, of
+    /// bearing length `length` (m).
+    fn standard_joint(length: f64) -> JointElasticity {
+        JointElasticity {
+            e_star: E_STAR,
+            r_bearing: 10e-3,
+            r_journal: 9.98e-3,
+            length,
+        }
+    }
+
     fn hybrid(ce: f64) -> ContactLaw {
         ContactLaw::new(
             NormalForceModel::Hybrid,
@@ -179,7 +282,11 @@ mod tests {
                 let numeric = (elastic_foundation_force(E_STAR, dr, delta + h)
                     - elastic_foundation_force(E_STAR, dr, delta - h))
                     / (2.0 * h);
-                assert_relative_eq!(law.stiffness(delta, dr), numeric, max_relative = 1e-8);
+                assert_relative_eq!(
+                    law.power_law_stiffness(delta, dr),
+                    numeric,
+                    max_relative = 1e-8
+                );
             }
         }
     }
@@ -264,5 +371,54 @@ mod tests {
         let de =
             (hy.elastic_energy(delta + h, 2e-5) - hy.elastic_energy(delta - h, 2e-5)) / (2.0 * h);
         assert_relative_eq!(de, hy.elastic_force(delta, 2e-5), max_relative = 1e-6);
+    }
+
+    #[test]
+    fn any_stiffness_with_any_dissipation() {
+        // Johnson's elastic force times (1 + χ δ̇/δ̇⁻) with Flores' χ at c_e = 0.5:
+        // χ = 8 · 0.5 / (5 · 0.5) = 1.6; δ̇/δ̇⁻ = 0.25 gives the factor 1.4.
+        let joint = standard_joint(0.02);
+        let law = ContactLaw::from_laws(
+            StiffnessLaw::Johnson,
+            DissipationLaw::Flores,
+            &joint,
+            1.5,
+            0.5,
+            1e-4,
+        );
+        let elastic = law.elastic_force(1e-6, 2e-5);
+        assert_relative_eq!(
+            elastic,
+            log_law_force(-1.0, PI * 0.02 * E_STAR, 2e-5, 1e-6),
+            max_relative = 1e-15
+        );
+        assert_relative_eq!(
+            law.force(1e-6, 0.25, 1.0, 2e-5),
+            1.4 * elastic,
+            max_relative = 1e-14
+        );
+    }
+
+    #[test]
+    fn the_paper_names_stand_for_their_two_laws() {
+        let named = hybrid(0.7);
+        let joint = standard_joint(0.0);
+        let explicit = ContactLaw::from_laws(
+            StiffnessLaw::Hybrid,
+            DissipationLaw::ZhiyingQishao,
+            &joint,
+            1.5,
+            0.7,
+            1e-4,
+        );
+        assert_eq!(named, explicit);
+        // Eq. 3 written out: bit for bit the same force.
+        let (d, dd, v0, dr) = (1e-6, 0.05, 0.1, 2e-5);
+        let k = named.power_law_stiffness(d, dr);
+        let eq3 = 0.75 * (1.0 - 0.7 * 0.7) * (2.0 * (1.0 - 0.7_f64)).exp();
+        assert_eq!(
+            named.force(d, dd, v0, dr),
+            k * (d * d.sqrt()) * (1.0 + eq3 * dd / v0)
+        );
     }
 }

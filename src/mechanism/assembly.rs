@@ -5,6 +5,7 @@
 
 use super::workspace::{Dependent, Solved, Workspace};
 use super::{BodyIndex, BodyPoint, ClearanceJoint, Mechanism, Revolute};
+use crate::io::format::quantity;
 use crate::{Error, Result};
 
 impl Mechanism {
@@ -93,6 +94,7 @@ impl Mechanism {
             .first_open(&mut ws, t0, &q, -step, held)
             .map_or(from, |(t, _)| t);
         Ok(Some(Lock {
+            start: self.driver_angle(t0),
             from: self.driver_angle(from),
             to: self.driver_angle(to),
             t_from: from - t0,
@@ -187,13 +189,12 @@ impl Mechanism {
         let list: Vec<String> = self
             .largest_residuals(ws, phi, held)
             .iter()
-            .map(|(j, r)| format!("{j} by {r:.3e}"))
+            .map(|(j, r)| format!("{j} by {r}"))
             .collect();
         Error::invalid(
             "joints (assembly)",
             format!(
-                "the loop cannot close: after {iterations} Newton iterations it stays open at {} \
-                 (constraint residual, m or rad)",
+                "the loop cannot close: after {iterations} Newton iterations it stays open at {}",
                 list.join(", ")
             ),
             "links whose lengths can close every loop at the driver's initial angle, and a \
@@ -202,25 +203,43 @@ impl Mechanism {
     }
 
     /// The joints whose residual in `phi` is of the order of the largest (where the loop
-    /// breaks), largest first, with their residual.
+    /// breaks), largest first, with their residual in the scene's units (mm, deg).
     fn largest_residuals(
         &self,
         ws: &Workspace,
         phi: &[f64],
         held: &[ClearanceJoint],
-    ) -> Vec<(String, f64)> {
+    ) -> Vec<(String, String)> {
         let mut order: Vec<usize> = (0..phi.len()).collect();
         order.sort_by(|&a, &b| phi[b].abs().total_cmp(&phi[a].abs()));
         let largest = order.first().map_or(0.0, |&i| phi[i].abs());
-        let mut joints: Vec<(String, f64)> = Vec::new();
+        let mut joints: Vec<(String, String)> = Vec::new();
         let near_largest = |i: &&usize| phi[**i].abs() >= 0.1 * largest || phi[**i].is_nan();
         for &i in order.iter().take_while(near_largest) {
-            let joint = self.equation_joint(ws.vector_equation(i), held);
+            let e = ws.vector_equation(i);
+            let joint = self.equation_joint(e, held);
             if !joints.iter().any(|(j, _)| *j == joint) {
-                joints.push((joint, phi[i].abs()));
+                let r = phi[i].abs();
+                let residual = if self.angle_equation(e) {
+                    quantity(r.to_degrees(), "deg")
+                } else {
+                    quantity(r * 1e3, "mm")
+                };
+                joints.push((joint, residual));
             }
         }
         joints
+    }
+
+    /// Whether constraint equation `e` (ordered as in [`Self::equation_joint`]) holds an angle
+    /// (rad) rather than a length (m): a translational joint's first, and the driver's.
+    fn angle_equation(&self, e: usize) -> bool {
+        let (r, t) = (self.revolutes.len(), self.translationals.len());
+        match e / 2 {
+            i if i < r => false,
+            i if i < r + t => e.is_multiple_of(2),
+            _ => true,
+        }
     }
 
     /// Name of body `b` as the scene writes it (`ground` for the ground).
@@ -298,6 +317,8 @@ pub const SWEEP_RESOLUTION_DEG: f64 = 1e-3;
 /// ([`Mechanism::check_rotation`]): the driver cannot turn through these angles.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Lock {
+    /// Driver angle (deg, [0, 360)) at the start of the sweep.
+    pub start: f64,
     /// Driver angle (deg, [0, 360)) where the loop, turned in the driver's direction from the
     /// start, last closes.
     pub from: f64,
@@ -315,18 +336,29 @@ pub struct Lock {
 }
 
 impl Lock {
-    /// What the lock means, for messages: the range of angles and the open joints.
+    /// What the sweep found, for messages: how far the loop closes each way from the start
+    /// (it fails within [`SWEEP_RESOLUTION_DEG`] past each end), the angles the driver cannot
+    /// turn through, and the open joints. Only the ends are found: between them the loop may
+    /// close in another assembly (a four-bar whose coupler and rocker reach the crank pin only
+    /// at middle distances closes on two separate ranges of crank angle), which the driver,
+    /// turning continuously, still cannot reach.
     pub fn describe(&self) -> String {
+        let (ahead, back) = if self.counter_clockwise {
+            ("counter-clockwise", "clockwise")
+        } else {
+            ("clockwise", "counter-clockwise")
+        };
         format!(
-            "the ideal loop (clearance joints centred) cannot close from {:.1} to {:.1} deg of \
-             driver angle (turning {}): past {:.1} deg it stays open at {}",
+            "turned from its start at {:.1} deg in steps of {SWEEP_STEP_DEG} deg, the ideal loop \
+             (clearance joints centred) closes {ahead} as far as {:.3} deg and {back} as far \
+             as {:.3} deg, and fails to close within {SWEEP_RESOLUTION_DEG} deg past each: the \
+             driver cannot turn from {:.1} to {:.1} deg of driver angle (turning {ahead}); past \
+             {:.3} deg the loop stays open at {}",
+            self.start,
             self.from,
             self.to,
-            if self.counter_clockwise {
-                "counter-clockwise"
-            } else {
-                "clockwise"
-            },
+            self.from,
+            self.to,
             self.from,
             self.joints.join(", ")
         )

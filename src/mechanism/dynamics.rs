@@ -5,6 +5,7 @@
 use super::kinematics::perp;
 use super::workspace::Workspace;
 use super::{BodyIndex, Mechanism, RunState, MAX_PENETRATION_RATIO};
+use crate::io::format::quantity;
 use crate::{Error, Result};
 use nalgebra::{Complex, DMatrix, Schur, Vector2};
 
@@ -85,17 +86,18 @@ impl Mechanism {
         Error::Integration {
             time: t,
             cause: format!(
-                "clearance joint `{}` (journal on {}, bearing on {}) penetrates {delta:.3e} m at \
-                 driver angle {}, beyond {} % of its journal radius ({:.3e} m) where the \
+                "clearance joint `{}` (journal on {}, bearing on {}) penetrates {} at driver \
+                 angle {}, beyond {} % of its journal radius ({}) where the \
                  small-strain contact laws hold: the linkage forces the joint apart (links \
                  that cannot reach at this angle lock the mechanism) or a material is far too \
                  soft",
                 cj.name,
                 self.body_name(cj.journal.body),
                 self.body_name(cj.bearing.body),
+                quantity(delta * 1e3, "mm"),
                 self.driver_angle_text(t),
                 100.0 * MAX_PENETRATION_RATIO,
-                MAX_PENETRATION_RATIO * cj.r_journal
+                quantity(MAX_PENETRATION_RATIO * cj.r_journal * 1e3, "mm")
             ),
         }
     }

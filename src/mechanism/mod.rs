@@ -116,6 +116,9 @@ pub struct Driver {
     pub body: usize,
     /// Angular speed ω (rad/s), positive counter-clockwise.
     pub omega: f64,
+    /// The speed as the scene gives it (r/min, signed): what reports echo, since ω converted
+    /// back reads -1999.9999999999998 for -2000.
+    pub speed_rpm: f64,
     /// Angle at t = 0 (rad).
     pub angle0: f64,
 }
@@ -133,6 +136,10 @@ pub struct ClearanceJoint {
     pub r_journal: f64,
     /// Unworn bearing radius R_i (m).
     pub r_bearing: f64,
+    /// The radial clearance as the scene gives it, in m ([`crate::io::format::shift_decimal`]:
+    /// 0.02 mm reads 2e-5 m): what reports echo. The model's is R_i − R_j
+    /// ([`ClearanceJoint::clearance`]), 1.9999999999999185e-5 m for that joint.
+    pub given_clearance: f64,
     /// Normal contact law (eq. 1-3).
     pub contact: ContactLaw,
     /// Friction law (eq. 4).

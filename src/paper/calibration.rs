@@ -16,7 +16,8 @@
 //!         + concordance_rms/0.03 + low_speed_error/10°
 //! ```
 //! (lower is better: one unit is one missed qualitative claim, 10° of angle or 0.03 of
-//! concordance, the tolerances the golden tests aim at). The sweep is a full factorial over
+//! concordance, the tolerances the golden tests aim at; the weights are [`SCORE_ANGLE_DEG`],
+//! [`SCORE_DEEPEST_MISPLACED`] and [`SCORE_CONCORDANCE`]). The sweep is a full factorial over
 //! the sense of rotation, friction level, friction switch velocities and pressure model, plus
 //! one-at-a-time variations of the grazing floor, k/H, bearing length and sector count around
 //! the shipped scene.
@@ -41,6 +42,16 @@ use crate::paper::golden::{angle_distance, Golden};
 use crate::scene::SceneFile;
 use crate::Result;
 use rayon::prelude::*;
+
+/// Angle error worth one unit of score (deg): the golden tests' angle tolerance.
+pub const SCORE_ANGLE_DEG: f64 = 10.0;
+
+/// Concordance error worth one unit of score: the golden tests' concordance tolerance.
+pub const SCORE_CONCORDANCE: f64 = 0.03;
+
+/// Score of a deepest region away from 180 deg: the paper's leading claim of section 6.1,
+/// worth three missed qualitative claims.
+pub const SCORE_DEEPEST_MISPLACED: f64 = 3.0;
 
 /// One candidate set of the low-confidence parameters (SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -190,12 +201,16 @@ pub fn evaluate(p: &Params, golden: &Golden) -> Result<Metrics> {
     })?;
     let concordance_rms = (sq / (2.0 * rows.list().len() as f64)).sqrt();
     let low_speed_error = angle_distance(low_speed_angle, golden.low_speed_wear.largest_peak_deg);
-    let score = region_error_deg / 10.0
-        + if largest_at_180 { 0.0 } else { 3.0 }
+    let score = region_error_deg / SCORE_ANGLE_DEG
+        + if largest_at_180 {
+            0.0
+        } else {
+            SCORE_DEEPEST_MISPLACED
+        }
         + (5 - modes_matched) as f64
         + (5 - dominance_matched) as f64
-        + concordance_rms / 0.03
-        + low_speed_error / 10.0;
+        + concordance_rms / SCORE_CONCORDANCE
+        + low_speed_error / SCORE_ANGLE_DEG;
     Ok(Metrics {
         region_angles,
         region_error_deg,

@@ -2,6 +2,7 @@
 //! digits without trailing zeros, counts with thousands grouped, durations with a sensible
 //! precision. (Data files keep full precision; these are for text a person reads.)
 
+pub use crate::io::format::sig_n;
 use crate::io::plot::superscript;
 use crate::laws::friction::FrictionModel;
 use crate::laws::wear::PressureModel;
@@ -9,20 +10,6 @@ use crate::laws::wear::PressureModel;
 /// `v` with three significant digits and no trailing zeros: 20, 0.5, 0.000123, 1230000.
 pub fn sig(v: f64) -> String {
     sig_n(v, 3)
-}
-
-/// `v` with `digits` significant digits (at least 1) and no trailing zeros after the point.
-pub fn sig_n(v: f64, digits: i32) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return v.to_string();
-    }
-    let decimals = (digits.max(1) - 1 - v.abs().log10().floor() as i32).max(0) as usize;
-    let s = format!("{v:.decimals$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_owned()
-    } else {
-        s
-    }
 }
 
 /// A count with its thousands grouped by thin spaces from five digits on (SI style): 1692,

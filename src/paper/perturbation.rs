@@ -8,7 +8,10 @@
 //!   protocols' members are assigned by the default's gap midpoint, so a state means the same
 //!   under every protocol), each against the default by Welch's t test;
 //! * a share (the low state's; the members in continuous contact; those whose P-w concordance
-//!   dominates) against the default by Fisher's exact test.
+//!   dominates) against the default by Fisher's exact test;
+//! * every claim of the report, checked in each member as the report checks it: the members
+//!   with each verdict ([`ClaimTally`]), so the report can say which verdicts another protocol
+//!   changes. The ensembles are those of the report's figures (`figures::all_needs`).
 //!
 //! Members of different protocols are independent draws, so the tests are unpaired. Writes
 //! `data/perturbation_sensitivity.csv` ([`PERTURBATION_FILE`]); paper.md's section 2 reads it.
@@ -21,8 +24,9 @@ use crate::analysis::states::States;
 use crate::analysis::statistics::Distribution;
 use crate::io::output::{read_rows, write_rows};
 use crate::io::progress::Progress;
-use crate::paper::cases::{Need, Runs, SteadyMember, CASES};
-use crate::paper::figures::output_path;
+use crate::paper::cases::{Runs, SteadyMember, CASES};
+use crate::paper::figures::{all_needs, output_path};
+
 use crate::simulation::ensemble::{EnsembleSettings, Perturbation, OFFSET_RADIUS};
 use crate::Result;
 
@@ -35,6 +39,25 @@ pub const PROTOCOLS: [Perturbation; 6] = [
     Perturbation::Velocity(10e-6),
     Perturbation::Tolerance(1e-3),
 ];
+
+/// The `case` of the rows that hold a claim's verdicts ([`ClaimTally`]: `quantity` the claim's
+/// id, `state` a verdict's label, `count` its members with that verdict).
+pub const CLAIMS_CASE: &str = "claims";
+
+/// A claim of the report checked in every member of one protocol's ensembles.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClaimTally {
+    /// What identifies the claim (`crate::paper::report::Claim::id`).
+    pub id: String,
+    /// `(verdict label, members with it)` of every verdict.
+    pub counts: Vec<(&'static str, usize)>,
+    /// Members checked.
+    pub members: usize,
+}
+
+/// What checks the report's claims in a protocol's ensembles (`paper::report::claim_tallies`,
+/// passed in by the study's program so that this module does not depend on the report).
+pub type ClaimCheck<'a> = &'a dyn Fn(&Runs) -> Result<Vec<ClaimTally>>;
 
 /// File of the study under `data/`.
 pub const PERTURBATION_FILE: &str = "perturbation_sensitivity.csv";
@@ -162,10 +185,12 @@ pub fn read_perturbation() -> Option<Vec<SensitivityRow>> {
 struct Measured {
     means: Vec<(&'static str, &'static str, Vec<f64>)>,
     shares: Vec<(&'static str, &'static str, usize, usize)>,
+    /// Every claim of the report checked in these members.
+    claims: Vec<ClaimTally>,
     seconds: f64,
 }
 
-fn measure(runs: &Runs) -> Result<Measured> {
+fn measure(runs: &Runs, check: ClaimCheck) -> Result<Measured> {
     let mut means = Vec::new();
     let mut shares = Vec::new();
     for case in CASES.list() {
@@ -196,9 +221,11 @@ fn measure(runs: &Runs) -> Result<Measured> {
         "deepest_wear_m",
         wear.members.iter().map(|m| m.max_depth()).collect(),
     ));
+    let claims = check(runs)?;
     Ok(Measured {
         means,
         shares,
+        claims,
         seconds: runs.seconds,
     })
 }
@@ -282,14 +309,26 @@ fn rows_of(
         let b = base.map(|b| (b.shares[i].2, b.shares[i].3));
         rows.push(share_row(case, quantity, count, n, b));
     }
+    for (i, claim) in m.claims.iter().enumerate() {
+        for (k, &(verdict, count)) in claim.counts.iter().enumerate() {
+            let b = base.map(|b| (b.claims[i].counts[k].1, b.claims[i].members));
+            let mut r = share_row(CLAIMS_CASE, &claim.id, count, claim.members, b);
+            r.state = verdict.into();
+            rows.push(r);
+        }
+    }
     rows
 }
 
-/// Runs the study ([`PROTOCOLS`], module documentation), writes `data/perturbation_sensitivity.csv`
-/// and returns its rows; `progress` counts members.
-pub fn perturbation_study(progress: &dyn Progress) -> Result<Vec<SensitivityRow>> {
-    let mut needs: Vec<Need> = CASES.list().map(|c| Need::Steady(c.scene)).to_vec();
-    needs.push(Need::Wear(CASES.standard.scene));
+/// Runs the study ([`PROTOCOLS`], module documentation), checks the report's claims in each
+/// protocol's members with `check`, writes `data/perturbation_sensitivity.csv` and returns its
+/// rows; `progress` counts members.
+pub fn perturbation_study(
+    check: ClaimCheck,
+    progress: &dyn Progress,
+) -> Result<Vec<SensitivityRow>> {
+    // every ensemble the report's figures and claims read, so every claim can be checked
+    let needs = all_needs();
     let measured = PROTOCOLS
         .iter()
         .map(|&perturbation| {
@@ -297,7 +336,7 @@ pub fn perturbation_study(progress: &dyn Progress) -> Result<Vec<SensitivityRow>
                 perturbation,
                 ..EnsembleSettings::default()
             };
-            measure(&Runs::compute(&needs, ensemble, &|_| {}, progress)?)
+            measure(&Runs::compute(&needs, ensemble, &|_| {}, progress)?, check)
         })
         .collect::<Result<Vec<Measured>>>()?;
     let base = &measured[0];

@@ -64,11 +64,12 @@ pub fn to_py_err(path: &Path, e: Error, input: bool) -> PyErr {
     }
 }
 
-/// The native module `jointwear._native`: the [`scene::Document`] class and the two
-/// exceptions.
+/// The native module `jointwear._native`: the [`scene::Document`] and [`scene::Folder`]
+/// classes and the two exceptions.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::Document>()?;
+    m.add_class::<scene::Folder>()?;
     m.add("SceneError", m.py().get_type::<SceneError>())?;
     m.add("SimulationError", m.py().get_type::<SimulationError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

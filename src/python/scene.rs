@@ -7,65 +7,124 @@ use super::{to_py_err, SimulationError};
 use crate::analysis::states::{States, STATE_COLUMNS};
 use crate::analysis::statistics::{Distribution, VALUE_KEYS};
 use crate::analysis::Motion;
+use crate::io::lock::claim_folder;
+use crate::io::output::check_output_dir;
 use crate::io::progress::Progress;
 use crate::laws::wear::sector_angles_deg;
-use crate::scene::{reversal_note, set_dotted, SceneFile};
+use crate::scene::variant::{Change, Variant};
+use crate::scene::{reversal_note, SceneFile};
 use crate::simulation::ensemble::{self, EnsembleSettings, MAX_MEMBERS};
+use crate::simulation::folder::ensemble::{write_ensemble, Member};
+use crate::simulation::folder::run::write_run;
+use crate::simulation::folder::Origin;
+use crate::simulation::summary::{joint_statistics, summarize, JointSummary, SCALARS};
 use crate::simulation::{simulate_with_progress, RunOutput, Scene};
-use crate::sweep::{
-    joint_statistics, summarize, Assignment, CaseResult, JointSummary, Outcome, Shard, Sweep,
-    SCALARS,
-};
+use crate::sweep::{Assignment, CaseResult, Outcome, Shard, Sweep};
 use crate::Error;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use std::collections::BTreeSet;
+use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::Duration;
 
-/// A scene document (TOML values, `extends` resolved) and the path that names it in messages.
+/// A scene document (TOML values, `extends` resolved) and the changes made to it by `set`, as
+/// the program's `--set` and `--rotations` make them ([`Variant`]).
 #[pyclass(module = "jointwear._native")]
 pub struct Document {
-    doc: toml::Value,
-    path: PathBuf,
-    /// The keys given to `set`, which `set("run.rotations", n)` leaves as they are.
-    set_keys: BTreeSet<String>,
-    /// The document as loaded or built, before any `set`: the sense of rotation that a `set`
-    /// reversing the driver is noted against.
-    loaded: toml::Value,
+    variant: Variant,
 }
-
-/// One ensemble member as the statistics take it: joint summaries and final wear.
-type Member = (Vec<JointSummary>, Vec<Vec<f64>>);
 
 /// The wear profiles of one member's snapshots: per snapshot, per joint, per sector.
 type Snapshots = Vec<Vec<Vec<f64>>>;
 
+/// One ensemble member as a worker of a Python executor hands it back ([`Document::member`]):
+/// JSON with every `f64` written so that it reads back identical.
+#[derive(Serialize, Deserialize)]
+struct MemberPayload {
+    joints: Vec<JointSummary>,
+    final_wear: Vec<Vec<f64>>,
+    snapshots: Snapshots,
+    wall_time_s: f64,
+}
+
 impl Document {
     /// The validated scene in SI units; errors as the program reports a scene's.
     fn scene(&self) -> PyResult<Scene> {
-        SceneFile::from_document(self.doc.clone(), &self.path)
-            .and_then(|f| f.build())
-            .map_err(|e| self.error(e))
+        self.variant.build().map_err(|e| self.error(e))
     }
 
     /// The Python exception of an error about this scene.
     fn error(&self, e: Error) -> PyErr {
-        to_py_err(&self.path, e, true)
+        to_py_err(self.variant.path(), e, true)
     }
 
-    /// A document read as given, checked by building it (as the program does on loading).
-    fn checked(doc: toml::Value, path: PathBuf) -> PyResult<Document> {
-        let d = Document {
-            loaded: doc.clone(),
-            doc,
-            path,
-            set_keys: BTreeSet::new(),
-        };
+    /// A variant read as given, checked by building it (as the program does on loading).
+    fn checked(variant: Variant) -> PyResult<Document> {
+        let d = Document { variant };
         d.scene()?;
         Ok(d)
+    }
+
+    /// The ensemble settings of `members` and `seed`, checked.
+    fn ensemble_settings(&self, members: usize, seed: u64) -> PyResult<EnsembleSettings> {
+        let settings = EnsembleSettings {
+            members,
+            seed,
+            ..EnsembleSettings::default()
+        };
+        settings.validate().map_err(|e| self.error(e))?;
+        Ok(settings)
+    }
+
+    /// The sweep of `values[i]` at `keys[i]`, each case once or as an ensemble of `members`,
+    /// every value validated.
+    fn make_sweep(
+        &self,
+        keys: &[String],
+        values: &[Vec<Bound<'_, PyAny>>],
+        members: Option<usize>,
+        seed: u64,
+    ) -> PyResult<Sweep> {
+        if keys.len() != values.len() {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "{} keys but {} lists of values",
+                keys.len(),
+                values.len()
+            )));
+        }
+        let mut sets = Vec::new();
+        for (key, vs) in keys.iter().zip(values) {
+            if vs.is_empty() {
+                return Err(self.error(Error::invalid(
+                    key.as_str(),
+                    "[]",
+                    "at least one value to sweep",
+                )));
+            }
+            let texts = vs
+                .iter()
+                .map(|v| to_toml(v, key).map(|t| t.to_string()))
+                .collect::<PyResult<Vec<_>>>()?;
+            sets.push(Assignment {
+                key: key.clone(),
+                values: texts,
+            });
+        }
+        let doc = self.variant.document();
+        let mut sweep = Sweep::from_document(doc, self.variant.path(), sets, Shard::ALL)
+            .map_err(|e| self.error(e))?;
+        if let Some(members) = members {
+            sweep = sweep
+                .with_ensemble(EnsembleSettings {
+                    members,
+                    seed,
+                    ..EnsembleSettings::default()
+                })
+                .map_err(|e| self.error(e))?;
+        }
+        Ok(sweep)
     }
 }
 
@@ -74,8 +133,8 @@ impl Document {
     /// Reads the scene file at `path` (resolving `extends` and `[overrides]`) and validates it.
     #[staticmethod]
     fn load(path: PathBuf) -> PyResult<Document> {
-        let doc = SceneFile::read_document(&path).map_err(|e| to_py_err(&path, e, true))?;
-        Document::checked(doc, path)
+        let variant = Variant::read(&path).map_err(|e| to_py_err(&path, e, true))?;
+        Document::checked(variant)
     }
 
     /// A scene from a dict of the keys of a scene file; `path` names it in messages and a
@@ -84,7 +143,22 @@ impl Document {
     fn from_dict(table: &Bound<'_, PyDict>, path: PathBuf) -> PyResult<Document> {
         let doc = to_toml(table.as_any(), "")?;
         let doc = SceneFile::resolve_document(doc, &path).map_err(|e| to_py_err(&path, e, true))?;
-        Document::checked(doc, path)
+        Document::checked(Variant::new(doc, &path))
+    }
+
+    /// The document as text ([`Variant::state`]): `(path, document as loaded, changes)`, which
+    /// [`Document::from_state`] makes an identical document of, in another process.
+    fn state(&self) -> PyResult<(PathBuf, String, Vec<Change>)> {
+        let (loaded, asked) = self.variant.state().map_err(|e| self.error(e))?;
+        Ok((self.variant.path().to_path_buf(), loaded, asked))
+    }
+
+    /// The document of [`Document::state`].
+    #[staticmethod]
+    fn from_state(path: PathBuf, loaded: &str, asked: Vec<Change>) -> PyResult<Document> {
+        let variant =
+            Variant::restore(&path, loaded, &asked).map_err(|e| to_py_err(&path, e, true))?;
+        Ok(Document { variant })
     }
 
     /// Sets the value at a dotted key, as the program's `--set` (`clearance.0.clearance_mm`),
@@ -94,44 +168,37 @@ impl Document {
     /// the program's `--rotations` does (unless they were set), with a note on stderr.
     fn set(&mut self, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
         let value = to_toml(value, key)?;
-        let note = reversal_note(&self.loaded, key, &value);
-        let mut doc = self.doc.clone();
-        set_dotted(&mut doc, key, value).map_err(|e| self.error(e))?;
-        let mut file = SceneFile::from_document(doc.clone(), &self.path)
-            .map_err(|e| self.error(e.in_context(&format!("with set({key:?}, …)"))))?;
-        if key == "run.rotations" {
-            let n = file.run.rotations;
-            for (cut, value) in file.run.cut_to(n, |k| self.set_keys.contains(k)) {
-                eprintln!("note: set(\"run.rotations\", {n}) sets {cut} = {value}");
-                set_dotted(&mut doc, &cut, value).map_err(|e| self.error(e))?;
-            }
+        let text = value.to_string();
+        let note = reversal_note(self.variant.loaded(), key, &value);
+        let cuts = (self.variant.set(key, value, &text, true)).map_err(|e| match e {
+            // The scene reader's message names a field, not the call it came from.
+            Error::Parse { .. } => self.error(e.in_context(&format!("with set({key:?}, …)"))),
+            e => self.error(e),
+        })?;
+        for (cut, value) in cuts {
+            eprintln!("note: set(\"run.rotations\", {text}) sets {cut} = {value}");
         }
         if let Some(note) = note {
             eprintln!("note: {note}");
         }
-        self.doc = doc;
-        self.set_keys.insert(key.to_string());
         Ok(())
     }
 
     /// The document as nested dicts and lists.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        from_toml(py, &self.doc)
+        from_toml(py, self.variant.document())
     }
 
     /// The path that names the scene in messages.
     #[getter]
     fn path(&self) -> PathBuf {
-        self.path.clone()
+        self.variant.path().to_path_buf()
     }
 
     /// An independent copy.
     fn copy(&self) -> Document {
         Document {
-            doc: self.doc.clone(),
-            path: self.path.clone(),
-            set_keys: self.set_keys.clone(),
-            loaded: self.loaded.clone(),
+            variant: self.variant.clone(),
         }
     }
 
@@ -153,10 +220,12 @@ impl Document {
         for cj in &m.clearance_joints {
             let j = PyDict::new(py);
             j.set_item("name", &cj.name)?;
-            j.set_item("clearance_m", cj.clearance())?;
+            j.set_item("clearance_m", cj.given_clearance)?;
             j.set_item("bearing_radius_m", cj.r_bearing)?;
             let sectors = cj.wear.is_some().then(|| cj.initial_profile.depths().len());
             j.set_item("sectors", sectors)?;
+            j.set_item("stiffness", cj.contact.stiffness_law().name())?;
+            j.set_item("dissipation", cj.contact.dissipation_law().name())?;
             joints.append(j)?;
         }
         d.set_item("joints", joints)?;
@@ -169,8 +238,8 @@ impl Document {
     /// Simulates the scene with the GIL released, or with `member`, member `member` of the
     /// ensemble of `seed` (`jointwear run --member K --seed S`); returns the time series (the
     /// columns of `jointwear run`'s `timeseries.csv`, then every body's position), the final
-    /// wear profile and summary of every clearance joint, the wear snapshots and the run's
-    /// counters.
+    /// wear profile and summary of every clearance joint, the wear snapshots, the run's
+    /// counters and, as `folder`, the [`Folder`] that saves it as the program does.
     #[pyo3(signature = (member=None, seed=1))]
     fn run<'py>(
         &self,
@@ -189,45 +258,87 @@ impl Document {
             None => simulate_with_progress(&scene, cancel),
         })?;
         let out = out.map_err(|e| self.error(e))?;
-        run_dict(py, &scene, &out)
+        let d = run_dict(py, &scene, &out)?;
+        let folder = Folder(Kept::Run {
+            origin: self.variant.origin(),
+            member: member.map(|k| (of, k)),
+            scene,
+            out: Box::new(out),
+        });
+        d.set_item("folder", folder)?;
+        Ok(d)
     }
 
     /// Runs `members` members of the scene (seeded initial offsets of at most 10 nm) in
     /// parallel with the GIL released; returns, per clearance joint, every member's scalar
     /// results, final profile and snapshots, and their statistics with the states the members
-    /// fall into.
+    /// fall into (see [`Document::ensemble_of`]).
     fn ensemble<'py>(
         &self,
         py: Python<'py>,
         members: usize,
         seed: u64,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let settings = EnsembleSettings {
-            members,
-            seed,
-            ..EnsembleSettings::default()
-        };
-        settings.validate().map_err(|e| self.error(e))?;
+        let settings = self.ensemble_settings(members, seed)?;
         let scene = self.scene()?;
         let clock = std::time::Instant::now();
-        let keep = |_, o: RunOutput| {
-            let summary = summarize(&scene, &o);
-            let snaps = o.wear_snapshots.into_iter().map(|s| s.depths).collect();
-            ((summary, o.final_wear), snaps)
-        };
+        let keep = |_, o: RunOutput| payload(&scene, o);
         let kept = interruptible(py, |cancel| ensemble::run(&scene, &settings, keep, cancel))?;
-        let (kept, snaps): (Vec<Member>, Vec<Snapshots>) =
-            kept.map_err(|e| self.error(e))?.into_iter().unzip();
+        let kept = kept.map_err(|e| self.error(e))?;
         let wall = clock.elapsed().as_secs_f64();
-        ensemble_dict(py, &scene, &settings, (&kept, &snaps), wall)
+        self.ensemble_result(py, scene, settings, kept, wall)
+    }
+
+    /// Checks an ensemble of `members` and `seed` of this scene as [`Document::ensemble`]
+    /// does, without running it: before an executor's workers run its members.
+    fn check_ensemble(&self, members: usize, seed: u64) -> PyResult<()> {
+        self.ensemble_settings(members, seed)?;
+        self.scene().map(drop)
+    }
+
+    /// Runs member `member` of the ensemble of `members` and `seed` with the GIL released
+    /// (what [`Document::ensemble`] runs for it, bit for bit), for a worker of an executor:
+    /// returns it as JSON for [`Document::ensemble_of`].
+    fn member(&self, py: Python<'_>, member: usize, members: usize, seed: u64) -> PyResult<String> {
+        let settings = self.ensemble_settings(members, seed)?;
+        let scene = self.scene()?;
+        let out = interruptible(py, |cancel| {
+            ensemble::run_member(&scene, &scene.run, &settings, member, cancel)
+        })?;
+        let out = out.map_err(|e| self.error(e))?;
+        serde_json::to_string(&payload(&scene, out))
+            .map_err(|e| SimulationError::new_err(format!("member {member}: {e}")))
+    }
+
+    /// The ensemble of `members` and `seed` of the members `payloads` ([`Document::member`], in
+    /// member order) that took `wall` seconds: the dict of [`Document::ensemble`].
+    fn ensemble_of<'py>(
+        &self,
+        py: Python<'py>,
+        members: usize,
+        seed: u64,
+        payloads: Vec<String>,
+        wall: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let settings = self.ensemble_settings(members, seed)?;
+        if payloads.len() != members {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "{} members' results for an ensemble of {members}",
+                payloads.len()
+            )));
+        }
+        let kept = (payloads.iter())
+            .map(|p| serde_json::from_str(p))
+            .collect::<Result<Vec<MemberPayload>, _>>()
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(format!("a member: {e}")))?;
+        self.ensemble_result(py, self.scene()?, settings, kept, wall)
     }
 
     /// Runs the cartesian product of `values[i]` at `keys[i]` (the last key varying fastest,
     /// as `jointwear sweep`), each case once or as an ensemble of `members`, in parallel with
     /// the GIL released; every case is validated before any runs. Returns one dict per case:
     /// `case`, `error` (None, or the message of a case that failed while running, as in the
-    /// program's sweep file),
-    /// `wall_time_s` and the columns of the program's sweep file.
+    /// program's sweep file), `wall_time_s` and the columns of the program's sweep file.
     #[pyo3(signature = (keys, values, members=None, seed=1))]
     fn sweep<'py>(
         &self,
@@ -237,42 +348,7 @@ impl Document {
         members: Option<usize>,
         seed: u64,
     ) -> PyResult<Bound<'py, PyList>> {
-        if keys.len() != values.len() {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "{} keys but {} lists of values",
-                keys.len(),
-                values.len()
-            )));
-        }
-        let mut sets = Vec::new();
-        for (key, vs) in keys.iter().zip(&values) {
-            if vs.is_empty() {
-                return Err(self.error(Error::invalid(
-                    key.as_str(),
-                    "[]",
-                    "at least one value to sweep",
-                )));
-            }
-            let texts = vs
-                .iter()
-                .map(|v| to_toml(v, key).map(|t| t.to_string()))
-                .collect::<PyResult<Vec<_>>>()?;
-            sets.push(Assignment {
-                key: key.clone(),
-                values: texts,
-            });
-        }
-        let mut sweep = Sweep::from_document(&self.doc, &self.path, sets, Shard::ALL)
-            .map_err(|e| self.error(e))?;
-        if let Some(members) = members {
-            sweep = sweep
-                .with_ensemble(EnsembleSettings {
-                    members,
-                    seed,
-                    ..EnsembleSettings::default()
-                })
-                .map_err(|e| self.error(e))?;
-        }
+        let sweep = self.make_sweep(&keys, &values, members, seed)?;
         let results = interruptible(py, |cancel| {
             let results = Mutex::new(Vec::new());
             let collect = |r| results.lock().unwrap_or_else(|e| e.into_inner()).push(r);
@@ -283,19 +359,162 @@ impl Document {
         })?;
         let cases = PyList::empty(py);
         for r in &results {
-            let d = PyDict::new(py);
-            d.set_item("case", r.case)?;
-            match &r.outcome {
-                Err(message) => d.set_item("error", message)?,
-                Ok((outcome, wall)) => {
-                    d.set_item("error", py.None())?;
-                    d.set_item("wall_time_s", wall)?;
-                    sweep_columns(&d, outcome)?;
-                }
-            }
-            cases.append(d)?;
+            cases.append(case_dict(py, r)?)?;
         }
         Ok(cases)
+    }
+
+    /// Checks the sweep of [`Document::sweep`] without running it and returns its case count:
+    /// before an executor's workers run its cases.
+    #[pyo3(signature = (keys, values, members=None, seed=1))]
+    fn check_sweep<'py>(
+        &self,
+        keys: Vec<String>,
+        values: Vec<Vec<Bound<'py, PyAny>>>,
+        members: Option<usize>,
+        seed: u64,
+    ) -> PyResult<usize> {
+        Ok(self.make_sweep(&keys, &values, members, seed)?.total)
+    }
+
+    /// Runs case `case` of the sweep of [`Document::sweep`] with the GIL released, for a
+    /// worker of an executor: the dict [`Document::sweep`] returns for it.
+    #[pyo3(signature = (keys, values, case, members=None, seed=1))]
+    fn sweep_case<'py>(
+        &self,
+        py: Python<'py>,
+        keys: Vec<String>,
+        values: Vec<Vec<Bound<'py, PyAny>>>,
+        case: usize,
+        members: Option<usize>,
+        seed: u64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let sweep = self.make_sweep(&keys, &values, members, seed)?;
+        if case >= sweep.total {
+            let expected = format!("a case in [0, {})", sweep.total);
+            return Err(self.error(Error::invalid("case", case, expected)));
+        }
+        let result = interruptible(py, |cancel| sweep.run_case(case, cancel))?;
+        case_dict(py, &result)
+    }
+}
+
+impl Document {
+    /// The dict of an ensemble of `scene` with `settings` whose members `kept` took `wall`
+    /// seconds, with the [`Folder`] that saves it.
+    fn ensemble_result<'py>(
+        &self,
+        py: Python<'py>,
+        scene: Scene,
+        settings: EnsembleSettings,
+        kept: Vec<MemberPayload>,
+        wall: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let mut members = Vec::with_capacity(kept.len());
+        let (mut walls, mut snapshots) = (Vec::new(), Vec::new());
+        for p in kept {
+            members.push((p.joints, p.final_wear));
+            walls.push(p.wall_time_s);
+            snapshots.push(p.snapshots);
+        }
+        let d = ensemble_dict(py, &scene, &settings, (&members, &snapshots), wall)?;
+        let folder = Folder(Kept::Ensemble {
+            origin: self.variant.origin(),
+            scene,
+            settings,
+            members,
+            walls,
+            wall,
+        });
+        d.set_item("folder", folder)?;
+        Ok(d)
+    }
+}
+
+/// What a member keeps of its run for an ensemble: its summaries, final wear, snapshots and
+/// wall time.
+fn payload(scene: &Scene, out: RunOutput) -> MemberPayload {
+    MemberPayload {
+        joints: summarize(scene, &out),
+        snapshots: out.wear_snapshots.into_iter().map(|s| s.depths).collect(),
+        final_wear: out.final_wear,
+        wall_time_s: out.wall_time,
+    }
+}
+
+/// One case of a sweep as a dict: `case`, `error`, and with no error `wall_time_s` and the
+/// columns of the program's sweep file.
+fn case_dict<'py>(py: Python<'py>, r: &CaseResult) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("case", r.case)?;
+    match &r.outcome {
+        Err(message) => d.set_item("error", message)?,
+        Ok((outcome, wall)) => {
+            d.set_item("error", py.None())?;
+            d.set_item("wall_time_s", wall)?;
+            sweep_columns(&d, outcome)?;
+        }
+    }
+    Ok(d)
+}
+
+/// A run or an ensemble that Python holds, to be saved as the `jointwear` program saves it
+/// ([`crate::simulation::folder`]): `Run.save` and `Ensemble.save`.
+#[pyclass(module = "jointwear._native")]
+pub struct Folder(Kept);
+
+/// What a [`Folder`] holds.
+enum Kept {
+    /// One run, with the ensemble member it is.
+    Run {
+        origin: Origin,
+        scene: Scene,
+        out: Box<RunOutput>,
+        member: Option<(EnsembleSettings, usize)>,
+    },
+    /// An ensemble: its members in order, their wall times and the ensemble's (s).
+    Ensemble {
+        origin: Origin,
+        scene: Scene,
+        settings: EnsembleSettings,
+        members: Vec<Member>,
+        walls: Vec<f64>,
+        wall: f64,
+    },
+}
+
+#[pymethods]
+impl Folder {
+    /// Writes the folder `dir` as `jointwear run … --out dir` does (with `--ensemble N --seed
+    /// S` or `--member K --seed S` as the results are), claimed against other writers while
+    /// it is written; the files of an earlier write into it are replaced.
+    fn save(&self, py: Python<'_>, dir: PathBuf) -> PyResult<()> {
+        let (origin, scene) = match &self.0 {
+            Kept::Run { origin, scene, .. } | Kept::Ensemble { origin, scene, .. } => {
+                (origin, scene)
+            }
+        };
+        let path = PathBuf::from(&origin.path);
+        let written = py.detach(|| {
+            check_output_dir("dir", &dir)?;
+            let _claim = claim_folder("dir", &dir)?;
+            match &self.0 {
+                Kept::Run { out, member, .. } => {
+                    let member = member.as_ref().map(|(e, k)| (e, *k));
+                    write_run(&dir, origin, scene, out, member).map(drop)
+                }
+                Kept::Ensemble {
+                    settings,
+                    members,
+                    walls,
+                    wall,
+                    ..
+                } => {
+                    write_ensemble(&dir, origin, scene, settings, (members, walls), *wall).map(drop)
+                }
+            }
+        });
+        written.map_err(|e| to_py_err(&path, e, false))
     }
 }
 

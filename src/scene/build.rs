@@ -3,7 +3,11 @@
 
 use super::validation::*;
 use super::*;
-use crate::laws::contact::{compound_modulus, ContactLaw, NormalForceModel};
+use crate::io::format::shift_decimal;
+use crate::laws::contact::{
+    compound_modulus, ContactLaw, DissipationLaw, JointElasticity, StiffnessLaw,
+};
+use crate::laws::stiffness::PEREIRA_CLEARANCE_MM;
 use crate::laws::wear::{PressureModel, WearLaw, WearProfile};
 use crate::mechanism::{
     Body, BodyIndex, BodyPoint, ClearanceJoint, Driver, Mechanism, Revolute, Translational,
@@ -114,6 +118,7 @@ impl SceneFile {
         let driver = Driver {
             body: driver_body,
             omega: speed * std::f64::consts::TAU / 60.0,
+            speed_rpm: speed,
             angle0: check("driver.angle_deg", self.driver.angle_deg, -360.0, 360.0)?.to_radians(),
         };
         guess[3 * driver_body + 2] = driver.angle0;
@@ -123,6 +128,7 @@ impl SceneFile {
             .enumerate()
             .map(|(i, c)| self.clearance_joint(i, c))
             .collect::<Result<Vec<_>>>()?;
+        self.check_replaced_revolutes(&revolutes, &clearance_joints)?;
         let run = self.run.build()?;
         let mechanism = Mechanism::new(
             bodies,
@@ -151,6 +157,35 @@ impl SceneFile {
         scene.check_record_budget()?;
         scene.check_step_budget()?;
         Ok(scene)
+    }
+
+    /// Refuses a `[[revolute]]` left at the pin of a `[[clearance]]` joint (the same two body
+    /// points, in either order): the clearance joint replaces it, and left in, it holds the
+    /// journal centred, which the assembly only reports as dependent constraints.
+    fn check_replaced_revolutes(
+        &self,
+        revolutes: &[Revolute],
+        clearance_joints: &[ClearanceJoint],
+    ) -> Result<()> {
+        for (i, cj) in clearance_joints.iter().enumerate() {
+            let pin = |r: &Revolute| {
+                (r.a == cj.journal && r.b == cj.bearing) || (r.a == cj.bearing && r.b == cj.journal)
+            };
+            if let Some(k) = revolutes.iter().position(pin) {
+                let (r, c) = (&self.revolute[k], &self.clearance[i]);
+                return Err(Error::invalid(
+                    format!("revolute[{k}]"),
+                    format!("{} - {}", r.a, r.b),
+                    format!(
+                        "no ideal revolute at the pin of clearance joint `{}` (clearance[{i}], \
+                         journal {} in bearing {}): the clearance joint replaces that revolute, \
+                         so remove this [[revolute]] from the scene",
+                        cj.name, c.journal, c.bearing
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Checks the lengths of the title and of every name ([`MAX_TITLE_BYTES`],
@@ -267,12 +302,33 @@ impl SceneFile {
         let (eb, nb) = self.material(&f("bearing_material"), &c.bearing_material)?;
         let e_star = compound_modulus(eb, nb, ej, nj);
         let k = &c.contact;
-        let contact = ContactLaw::new(
-            k.model,
+        let (stiffness, dissipation) = contact_laws(&f, k)?;
+        let exponent = contact_exponent(&f, k, stiffness)?;
+        let length = contact_length(&f, c, stiffness)?;
+        if stiffness == StiffnessLaw::Pereira {
+            let (lo, hi) = PEREIRA_CLEARANCE_MM;
+            if !(lo..=hi).contains(&c.clearance_mm) {
+                return Err(Error::invalid(
+                    f("clearance_mm"),
+                    c.clearance_mm,
+                    format!(
+                        "a clearance in [{lo}, {hi}] mm with stiffness = \"pereira\": the \
+                         range its exponent was fitted over (Pereira et al. 2011)"
+                    ),
+                ));
+            }
+        }
+        let joint = JointElasticity {
             e_star,
             r_bearing,
             r_journal,
-            check(&f("contact.exponent"), k.exponent, 1.0, 3.0)?,
+            length,
+        };
+        let contact = ContactLaw::from_laws(
+            stiffness,
+            dissipation,
+            &joint,
+            exponent,
             check_open(&f("contact.restitution"), k.restitution, 0.0, 1.0)?,
             check_open(
                 &f("contact.grazing_velocity_m_s"),
@@ -282,13 +338,21 @@ impl SceneFile {
             )?,
         );
         validate_friction(&f("friction"), &c.friction)?;
-        let hertz = [
+        let (contact_key, contact_instead) = if k.model.is_some() {
             (
-                k.model == NormalForceModel::LankaraniNikravesh,
                 "contact.model",
                 "model = \"hybrid\" (the paper's law, whose elastic-foundation stiffness \
                  holds down to zero clearance)",
-            ),
+            )
+        } else {
+            (
+                "contact.stiffness",
+                "stiffness = \"hybrid\" or \"liu\" (elastic-foundation laws, which hold down \
+                 to zero clearance)",
+            )
+        };
+        let hertz = [
+            (stiffness.hertz_based(), contact_key, contact_instead),
             (
                 c.wear
                     .as_ref()
@@ -344,6 +408,7 @@ impl SceneFile {
             bearing,
             r_journal,
             r_bearing,
+            given_clearance: shift_decimal(c.clearance_mm, -3),
             contact,
             friction: c.friction,
             wear,
@@ -467,5 +532,93 @@ impl SteadyStateSpec {
             )?,
             max_rotations,
         })
+    }
+}
+
+/// The stiffness and dissipation laws of `contact`: its `model`, or its `stiffness` and
+/// `dissipation` (one way or the other, not both).
+fn contact_laws(
+    f: &dyn Fn(&str) -> String,
+    k: &ContactSpec,
+) -> Result<(StiffnessLaw, DissipationLaw)> {
+    let either = "either model = \"hybrid\" or \"lankarani-nikravesh\", or both stiffness and \
+                  dissipation (README: \"Picking a contact law\")";
+    match (k.model, k.stiffness, k.dissipation) {
+        (Some(m), None, None) => Ok(m.laws()),
+        (None, Some(s), Some(d)) => Ok((s, d)),
+        (Some(_), _, _) => Err(Error::invalid(
+            f("contact"),
+            k.spelling(),
+            format!("{either}; not both"),
+        )),
+        (None, None, _) => Err(Error::invalid(f("contact.stiffness"), "missing", either)),
+        (None, Some(_), None) => Err(Error::invalid(f("contact.dissipation"), "missing", either)),
+    }
+}
+
+/// The exponent n of a power law (required, [1, 3]); the other laws take none (1.5 is kept,
+/// unused).
+fn contact_exponent(f: &dyn Fn(&str) -> String, k: &ContactSpec, s: StiffnessLaw) -> Result<f64> {
+    let field = f("contact.exponent");
+    match (s.uses_exponent(), k.exponent) {
+        (true, Some(n)) => check(&field, n, 1.0, 3.0),
+        (true, None) => Err(Error::invalid(
+            field,
+            "missing",
+            format!("a number in [1, 3]: stiffness \"{}\" is K δ^n", s.name()),
+        )),
+        (false, Some(n)) => Err(Error::invalid(
+            field,
+            number(n),
+            format!(
+                "no exponent: stiffness \"{}\" has its own shape, not K δ^n (remove it)",
+                s.name()
+            ),
+        )),
+        (false, None) => Ok(1.5),
+    }
+}
+
+/// The bearing length (m) of a law written per length: `contact.length_mm`, else
+/// `wear.length_mm`; two different lengths of one joint are an error. Other laws take none (0).
+fn contact_length(f: &dyn Fn(&str) -> String, c: &ClearanceSpec, s: StiffnessLaw) -> Result<f64> {
+    let field = f("contact.length_mm");
+    let wear = c.wear.as_ref().map(|w| w.length_mm);
+    if !s.needs_length() {
+        return match c.contact.length_mm {
+            Some(l) => Err(Error::invalid(
+                field,
+                number(l),
+                format!(
+                    "no length: stiffness \"{}\" is not written per bearing length (remove it)",
+                    s.name()
+                ),
+            )),
+            None => Ok(0.0),
+        };
+    }
+    match (c.contact.length_mm, wear) {
+        (Some(l), Some(w)) if l != w => Err(Error::invalid(
+            field,
+            number(l),
+            format!(
+                "the bearing length of wear.length_mm ({}) or no contact.length_mm: one joint \
+                 has one length",
+                number(w)
+            ),
+        )),
+        (Some(l), _) => Ok(within(&field, l, &BEARING_LENGTH_MM)? * MM),
+        (None, Some(w)) => Ok(within(&f("wear.length_mm"), w, &BEARING_LENGTH_MM)? * MM),
+        (None, None) => Err(Error::invalid(
+            field,
+            "missing",
+            format!(
+                "a bearing length in [{}, {}] mm: stiffness \"{}\" is a force per bearing length \
+                 (or give the joint a wear model with its length_mm)",
+                BEARING_LENGTH_MM.lo,
+                BEARING_LENGTH_MM.hi,
+                s.name()
+            ),
+        )),
     }
 }

@@ -16,19 +16,52 @@
 mod build;
 mod layering;
 mod validation;
+pub mod variant;
 
 pub use layering::{reversal_note, scene_path, set_dotted};
 pub use validation::{
-    joint_file_part, Limit, BEARING_LENGTH_MM, BEARING_RADIUS_MM, COORDINATE_MM, GRAVITY_M_S2,
-    INERTIA_KG_M2, MASS_KG, MAX_NAME_BYTES, MAX_SCENE_BYTES, MAX_TITLE_BYTES,
-    MIN_HERTZ_CLEARANCE_RATIO, RECORD_BUDGET_BYTES, YOUNGS_MODULUS_GPA,
+    Limit, BEARING_LENGTH_MM, BEARING_RADIUS_MM, COORDINATE_MM, GRAVITY_M_S2, INERTIA_KG_M2,
+    MASS_KG, MAX_NAME_BYTES, MAX_SCENE_BYTES, MAX_TITLE_BYTES, MIN_HERTZ_CLEARANCE_RATIO,
+    RECORD_BUDGET_BYTES, YOUNGS_MODULUS_GPA,
 };
 
-use crate::laws::contact::NormalForceModel;
+use crate::laws::contact::{DissipationLaw, NormalForceModel, StiffnessLaw};
 use crate::laws::friction::FrictionModel;
 use crate::laws::wear::PressureModel;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+
+/// `value` (a law, a method, a table of a scene file) as a scene file writes it: its TOML
+/// value, an inline table with its `model` key first, each number as
+/// [`crate::io::format::exact`] writes it: `{ model = "modified", mu_d = 0.01, mu_s = 0.015,
+/// v_d = 0.001, v_s = 0.0001 }`, `"dopri5"`. What `check` prints, so that a person reads the
+/// scene's own words.
+pub fn spelling(value: &impl Serialize) -> String {
+    match toml::Value::try_from(value) {
+        Ok(v) => toml_text(&v),
+        Err(e) => format!("<{e}>"),
+    }
+}
+
+/// [`spelling`] of a TOML value.
+fn toml_text(v: &toml::Value) -> String {
+    use toml::Value;
+    let list = |items: Vec<String>| items.join(", ");
+    match v {
+        Value::Float(x) => crate::io::format::exact(*x),
+        Value::Integer(i) => i.to_string(),
+        Value::String(s) => Value::String(s.clone()).to_string(),
+        Value::Boolean(b) => b.to_string(),
+        Value::Datetime(d) => d.to_string(),
+        Value::Array(a) => format!("[{}]", list(a.iter().map(toml_text).collect())),
+        Value::Table(t) => {
+            let mut keys: Vec<&String> = t.keys().collect();
+            keys.sort_by_key(|k| *k != "model");
+            let pairs = keys.iter().map(|k| format!("{k} = {}", toml_text(&t[*k])));
+            format!("{{ {} }}", list(pairs.collect()))
+        }
+    }
+}
 
 /// A scene file as written (engineering units).
 #[derive(Clone, Debug, Deserialize)]
@@ -157,22 +190,50 @@ pub struct ClearanceSpec {
     pub wear: Option<WearSpec>,
 }
 
-/// The normal contact law of a clearance joint (eq. 1-3).
-#[derive(Clone, Debug, Deserialize)]
+/// The normal contact law of a clearance joint (eq. 1-3): either `model` (the paper's two
+/// laws by name) or `stiffness` and `dissipation` (any of the catalogue's elastic laws with any
+/// of its hysteresis-damping laws, [`crate::laws::stiffness`], [`crate::laws::dissipation`]).
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
-    /// Which law: the paper's hybrid law or one of the classical ones.
-    pub model: NormalForceModel,
+    /// The paper's law (`"hybrid"`) or Lankarani-Nikravesh (`"lankarani-nikravesh"`).
+    pub model: Option<NormalForceModel>,
+    /// Elastic force-penetration law, instead of `model`.
+    pub stiffness: Option<StiffnessLaw>,
+    /// Hysteresis-damping law, instead of `model`.
+    pub dissipation: Option<DissipationLaw>,
     /// Coefficient of restitution c_e, (0, 1].
     pub restitution: f64,
-    /// Exponent n, [1, 3]; the paper uses 1.5.
-    pub exponent: f64,
+    /// Exponent n, [1, 3], of the power laws (`hybrid`, `hertz`); the paper uses 1.5. The
+    /// other elastic laws have their own shape and take none.
+    pub exponent: Option<f64>,
+    /// Bearing length L (mm) for the elastic laws written per length (`liu`, `johnson`,
+    /// `radzimovsky`, `esdu-78035`, `pereira`); absent: `wear.length_mm`.
+    pub length_mm: Option<f64>,
     /// Floor of the captured impact velocity (m/s), (0, 10].
     pub grazing_velocity_m_s: f64,
 }
 
+impl ContactSpec {
+    /// The laws as the scene spells them, e.g. `model = "hybrid"` or
+    /// `stiffness = "johnson", dissipation = "flores"`.
+    pub fn spelling(&self) -> String {
+        let mut parts = Vec::new();
+        if let Some(m) = self.model {
+            parts.push(format!("model = \"{}\"", m.name()));
+        }
+        if let Some(s) = self.stiffness {
+            parts.push(format!("stiffness = \"{}\"", s.name()));
+        }
+        if let Some(d) = self.dissipation {
+            parts.push(format!("dissipation = \"{}\"", d.name()));
+        }
+        parts.join(", ")
+    }
+}
+
 /// Archard wear of a clearance joint's bearing (eq. 5-9).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct WearSpec {
     /// Archard coefficient over hardness k/H (1/Pa), [0, 1e-6].
@@ -186,7 +247,7 @@ pub struct WearSpec {
 }
 
 /// Integration method of a scene.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum MethodSpec {
     /// Dormand-Prince 5(4), adaptive (the default).

@@ -4,6 +4,7 @@
 use super::SceneFile;
 use crate::laws::friction::FrictionModel;
 use crate::mechanism::Mechanism;
+use crate::simulation::folder::joint_file_part;
 use crate::simulation::Scene;
 use crate::{Error, Result};
 use std::path::Path;
@@ -131,20 +132,6 @@ pub(super) fn check_name(field: &str, name: &str) -> Result<()> {
              cause: a description where a short name belongs)"
         ),
     ))
-}
-
-/// The part of a file name that stands for the clearance joint `name`: letters, digits, `-`
-/// and `_` kept, every other character turned into `_` (`wear_<part>.csv`).
-pub fn joint_file_part(name: &str) -> String {
-    name.chars()
-        .map(|c| {
-            if c.is_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
 }
 
 /// Checks that no two clearance joints write the same files: their [`joint_file_part`]s

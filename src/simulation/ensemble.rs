@@ -82,6 +82,13 @@ impl Default for Perturbation {
     }
 }
 
+/// Its key ([`Perturbation::key`]): how the command line and the perturbation study name it.
+impl std::fmt::Display for Perturbation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.key())
+    }
+}
+
 /// Time over which the velocity perturbation's offset is differenced (s): the relative
 /// velocity `u` is the journal offset `u·τ` of the ideal-joint assembly divided by τ. Short
 /// against a rotation (30 ms at 2000 r/min) so the offset stays below a nanometre, long against
@@ -98,6 +105,60 @@ impl Perturbation {
             Perturbation::Velocity(v) => format!("velocity_{}um_s", v * 1e6),
             Perturbation::Tolerance(s) => format!("tolerance_{s:e}"),
         }
+    }
+
+    /// The protocol named by `key`, as [`Perturbation::key`] writes it (`disc_10nm`,
+    /// `axis_10nm`, `velocity_10um_s`, `tolerance_1e-3`, any positive size): the inverse of
+    /// `key`, so a protocol of the perturbation study can be named on the command line. The
+    /// number is read as a decimal of the named unit (`10` nm is the double of `10e-9`), so the
+    /// protocol is bit for bit the one its key was written from. An error names the key and the
+    /// forms accepted.
+    pub fn from_key(key: &str) -> Result<Perturbation> {
+        let bad = |why: &str| {
+            Error::invalid(
+                "perturbation",
+                format!("`{key}`"),
+                format!(
+                    "disc_<R>nm, axis_<R>nm, velocity_<V>um_s or tolerance_<S> with R, V > 0 and \
+                     0 < S < 1, as the perturbation study names its protocols (default {}){why}",
+                    Perturbation::default().key()
+                ),
+            )
+        };
+        // `number` in a form's unit, `exponent` its power of ten in SI (`1e1` with an exponent
+        // appended does not parse: nm and µm/s sizes are plain decimals)
+        let size = |number: &str, exponent: &str| -> Result<f64> {
+            match format!("{number}{exponent}").parse::<f64>() {
+                Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+                _ => Err(bad(&format!("; `{number}` is not a positive decimal"))),
+            }
+        };
+        // (prefix, unit, the unit's power of ten in SI, the protocol of that size)
+        type Form = (
+            &'static str,
+            &'static str,
+            &'static str,
+            fn(f64) -> Perturbation,
+        );
+        const FORMS: [Form; 4] = [
+            ("disc_", "nm", "e-9", Perturbation::Disc),
+            ("axis_", "nm", "e-9", Perturbation::Axis),
+            ("velocity_", "um_s", "e-6", Perturbation::Velocity),
+            ("tolerance_", "", "", Perturbation::Tolerance),
+        ];
+        for (prefix, unit, exponent, make) in FORMS {
+            if let Some(number) = key
+                .strip_prefix(prefix)
+                .and_then(|rest| rest.strip_suffix(unit))
+            {
+                let x = size(number, exponent)?;
+                if prefix == "tolerance_" && x >= 1.0 {
+                    return Err(bad("; a tolerance factor of 1 − S ≤ 0 is no tolerance"));
+                }
+                return Ok(make(x));
+            }
+        }
+        Err(bad(""))
     }
 
     /// What it does, as a sentence fragment: `journal offsets uniform over a 10 nm disc`.
@@ -362,6 +423,41 @@ pub fn run<T: Send>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn protocols_are_read_back_from_their_keys_bit_for_bit() {
+        // checked: reading `100` nm as 100.0 * 1e-9 (not the double of 100e-9) fails the 100 nm disc
+        for p in [
+            Perturbation::default(),
+            Perturbation::Disc(1e-9),
+            Perturbation::Disc(100e-9),
+            Perturbation::Axis(OFFSET_RADIUS),
+            Perturbation::Velocity(10e-6),
+            Perturbation::Tolerance(1e-3),
+        ] {
+            assert_eq!(Perturbation::from_key(&p.key()).unwrap(), p, "{}", p.key());
+        }
+        for bad in [
+            "disc",
+            "disc_nm",
+            "disc_-1nm",
+            "disc_0nm",
+            "disc_1e1nm",
+            "ring_10nm",
+            "velocity_10nm",
+            "tolerance_1",
+            "tolerance_nan",
+            "",
+        ] {
+            let e = Perturbation::from_key(bad).unwrap_err().to_string();
+            assert!(
+                e.contains("perturbation")
+                    && e.contains(&format!("`{bad}`"))
+                    && e.contains("disc_10nm"),
+                "{e}"
+            );
+        }
+    }
 
     #[test]
     fn offsets_are_seeded_distinct_and_inside_the_disc() {

@@ -30,6 +30,7 @@
 //! block jump, which changes the gap discontinuously, restarts the integrator. So the settling
 //! rotations are bit-identical to a plain run of that many rotations.
 
+use crate::io::format::quantity;
 use crate::io::progress::Progress;
 use crate::simulation::Scene;
 use crate::simulation::{wear_limit, RunSettings, Simulation, MAX_WEAR_RATIO};
@@ -83,16 +84,42 @@ impl Stage {
     }
 }
 
+/// What the sample rotations of one block measured: the wear rate the block extrapolated and
+/// the journal's motion, per joint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Block {
+    /// Rotations done when the sample rotations ended (the block is extrapolated from here).
+    pub sampled: u64,
+    /// Rotations done after the block.
+    pub rotations: u64,
+    /// Per joint.
+    pub joints: Vec<Sample>,
+}
+
+/// One joint's sample rotations of a [`Block`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// Deepening per rotation of its fastest-wearing sector (m): the rate extrapolated.
+    pub wear_rate: f64,
+    /// Fraction of the time in contact (δ ≥ 0 at the end of each accepted step, weighted by
+    /// the step's length).
+    pub contact_fraction: f64,
+    /// Contact onsets per rotation.
+    pub impacts_per_rotation: f64,
+}
+
 /// Result of [`predict`].
 #[derive(Clone, Debug)]
 pub struct LongLife {
     /// Profiles after every block, from the unworn bearing to the target count.
     pub history: Vec<Stage>,
+    /// What each block was extrapolated from, in order.
+    pub blocks: Vec<Block>,
     /// Profiles at the requested snapshot counts and the target count.
     pub snapshots: Vec<Stage>,
     /// Rotations actually simulated.
     pub simulated: u64,
-    /// Radial clearance of each joint (m).
+    /// Radial clearance of each joint as the scene gives it (m).
     pub clearances: Vec<f64>,
     /// The wear-depth limit of each joint (m).
     pub limits: Vec<f64>,
@@ -131,10 +158,11 @@ pub fn predict(
     }
     let mechanism = scene.mechanism.clone();
     let y0 = mechanism.assemble(&scene.guess)?;
+    // as the scene gives them: the default limit and the clearance reported beside the wear
     let clearances: Vec<f64> = mechanism
         .clearance_joints
         .iter()
-        .map(|cj| cj.clearance())
+        .map(|cj| cj.given_clearance)
         .collect();
     // The caller decides when to stop, so the run's own length is only a bound.
     let plain = RunSettings {
@@ -154,10 +182,11 @@ pub fn predict(
         if !(l > 0.0 && l <= most) {
             return Err(Error::invalid(
                 "--until",
-                format!("{l:e} m for joint `{}`", cj.name),
+                format!("{} for joint `{}`", quantity(l * 1e3, "mm"), cj.name),
                 format!(
-                    "a wear depth in (0, {most:e}] m: the wear model holds to {:.0} % of the \
+                    "a wear depth in (0, {}]: the wear model holds to {:.0} % of the \
                      bearing radius (the default, the radial clearance, needs c > 0)",
+                    quantity(most * 1e3, "mm"),
                     100.0 * MAX_WEAR_RATIO
                 ),
             ));
@@ -169,6 +198,7 @@ pub fn predict(
         depths: depths(sim),
     };
     let mut history = vec![stage(&sim, 0)];
+    let mut blocks = Vec::new();
     let mut snapshots = Vec::new();
     let mut wanted: Vec<u64> = settings
         .snapshots
@@ -181,17 +211,51 @@ pub fn predict(
     wanted.dedup();
     let mut next_snapshot = wanted.iter().peekable();
     let mut done = 0u64;
-    // Simulates whole rotations, continuing the dynamics; returns the wear they added.
-    let simulate = |sim: &mut Simulation, rotations: u32| -> Result<Vec<Vec<f64>>> {
+    // Simulates whole rotations, continuing the dynamics; returns the wear they added and each
+    // joint's sample (its wear rate left to the caller).
+    let simulate = |sim: &mut Simulation, rotations: u32| -> Result<(Vec<Vec<f64>>, Vec<Sample>)> {
         let before = depths(sim);
-        for _ in 0..rotations {
-            sim.advance_rotation()?;
+        // the gaps before and after each step, in two buffers reused over the steps
+        let gaps = |sim: &Simulation, out: &mut [f64]| {
+            for (k, g) in out.iter_mut().enumerate() {
+                *g = sim.mechanism().penetration(sim.state(), k, sim.y());
+            }
+        };
+        let (start, end) = (sim.time(), sim.rotations_done() + rotations);
+        let joints = sim.mechanism().clearance_joints.len();
+        let (mut gap, mut now) = (vec![0.0; joints], vec![0.0; joints]);
+        gaps(sim, &mut gap);
+        let mut contact = vec![0.0; joints];
+        let mut onsets = vec![0u64; joints];
+        // step by step as advance_rotation does, to see the contact at every step
+        while sim.rotations_done() < end && !sim.is_finished() {
+            let t = sim.time();
+            sim.advance_step()?;
+            gaps(sim, &mut now);
+            for k in 0..joints {
+                if now[k] >= 0.0 {
+                    contact[k] += sim.time() - t;
+                    onsets[k] += u64::from(gap[k] < 0.0);
+                }
+            }
+            std::mem::swap(&mut gap, &mut now);
         }
-        Ok(depths(sim)
+        let elapsed = (sim.time() - start).max(f64::MIN_POSITIVE);
+        let samples = contact
+            .iter()
+            .zip(&onsets)
+            .map(|(&c, &n)| Sample {
+                wear_rate: 0.0,
+                contact_fraction: c / elapsed,
+                impacts_per_rotation: n as f64 / f64::from(rotations.max(1)),
+            })
+            .collect();
+        let added = depths(sim)
             .iter()
             .zip(before)
             .map(|(after, before)| after.iter().zip(before).map(|(a, b)| a - b).collect())
-            .collect())
+            .collect();
+        Ok((added, samples))
     };
     // The first joint whose deepest wear reached its limit.
     let at_limit = |sim: &Simulation| {
@@ -212,8 +276,12 @@ pub fn predict(
     }
     while done < target && reached.is_none() {
         let sample = (settings.sample_rotations as u64).min(target - done) as u32;
-        let increments = simulate(&mut sim, sample)?;
+        let (increments, mut samples) = simulate(&mut sim, sample)?;
         done += sample as u64;
+        for (s, inc) in samples.iter_mut().zip(&increments) {
+            s.wear_rate = inc.iter().cloned().fold(0.0, f64::max) / f64::from(sample);
+        }
+        let sampled = done;
         if let Some(k) = at_limit(&sim) {
             reached = Some((done, k));
             history.push(stage(&sim, done));
@@ -249,6 +317,11 @@ pub fn predict(
         }
         done += block;
         history.push(stage(&sim, done));
+        blocks.push(Block {
+            sampled,
+            rotations: done,
+            joints: samples,
+        });
         while next_snapshot.peek().is_some_and(|&&s| s <= done) {
             next_snapshot.next();
             snapshots.push(stage(&sim, done));
@@ -260,6 +333,7 @@ pub fn predict(
     }
     Ok(LongLife {
         history,
+        blocks,
         snapshots,
         limits,
         reached,

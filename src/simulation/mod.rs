@@ -21,10 +21,12 @@
 
 pub mod checkpoint;
 pub mod ensemble;
+pub mod folder;
 pub mod longlife;
 pub mod picture;
 mod record;
 mod run;
+pub mod summary;
 
 pub use checkpoint::Checkpoint;
 pub use run::Simulation;

@@ -118,13 +118,9 @@ fn body_label(m: &Mechanism, i: usize) -> String {
     if m.driver.body != i {
         return name.clone();
     }
-    let rpm = m.driver.omega * 60.0 / std::f64::consts::TAU;
+    let rpm = m.driver.speed_rpm;
     let sense = if rpm < 0.0 { "cw" } else { "ccw" };
-    // rounded: the speed went through rad/s and back
-    format!(
-        "{name} (driver, {} r/min {sense})",
-        (rpm.abs() * 1e6).round() / 1e6
-    )
+    format!("{name} (driver, {} r/min {sense})", rpm.abs())
 }
 
 /// The picture of the mechanism at coordinates `q` (m, rad), without title or note; clearance

@@ -4,6 +4,7 @@
 use super::checkpoint::Checkpoint;
 use super::record::{Sampler, Settler};
 use super::*;
+use crate::io::format::quantity;
 use crate::io::progress::Progress;
 use crate::mechanism::{
     Mechanism, RunState, Workspace, MAX_PENETRATION_CLEARANCES, MAX_PENETRATION_RATIO,
@@ -699,17 +700,18 @@ impl Simulation {
         Error::Integration {
             time: t,
             cause: format!(
-                "clearance joint `{}` penetrates {delta:.3e} m ({:.1} x its radial clearance of \
-                 {:.3e} m) at driver angle {:.1} deg, beyond the contact laws' limit of \
-                 {:.3e} m ({} clearances, at least {} % and at most {} % of the journal \
+                "clearance joint `{}` penetrates {} ({:.1} x its radial clearance of {}) at \
+                 driver angle {:.1} deg, beyond the contact laws' limit of {} ({} \
+                 clearances, at least {} % and at most {} % of the journal \
                  radius): the contact would cover the whole half of the bore; likely cause: a \
                  speed or load far beyond what the joint carries, a material far too soft, or \
                  links that cannot reach (the linkage pulls the joint apart)",
                 cj.name,
+                quantity(delta * 1e3, "mm"),
                 delta / cj.clearance(),
-                cj.clearance(),
+                quantity(cj.given_clearance * 1e3, "mm"),
                 self.mechanism.driver_angle(t),
-                cj.penetration_limit(),
+                quantity(cj.penetration_limit() * 1e3, "mm"),
                 MAX_PENETRATION_CLEARANCES,
                 100.0 * MIN_PENETRATION_LIMIT_RATIO,
                 100.0 * MAX_PENETRATION_RATIO,
@@ -734,47 +736,94 @@ impl Simulation {
         Error::Integration {
             time: self.integrator.t(),
             cause: format!(
-                "wear of clearance joint `{}` is {deepest:.3e} m deep in driver rotation {}, \
-                 beyond the wear model's limit of {:.0} % of its bearing radius ({:.3e} m): \
+                "wear of clearance joint `{}` is {} deep in driver rotation {}, beyond the \
+                 wear model's limit of {:.0} % of its bearing radius ({}): \
                  k/H far too large (a unit error?) or a life far past the bearing's; \
                  `jointwear longlife --until` stops at a stated depth",
                 cj.name,
+                quantity(deepest * 1e3, "mm"),
                 self.rotation + 1,
                 100.0 * MAX_WEAR_RATIO,
-                wear_limit(cj)
+                quantity(wear_limit(cj) * 1e3, "mm")
             ),
         }
     }
 
-    /// The error of a run that advanced only `advanced` (s) over the [`CRAWL_WINDOW`] steps
-    /// up to `t` and at that pace needs `needed` more; the cause it names depends on the mean
-    /// step against the largest ([`CHATTER_STEP_RATIO`]).
-    fn crawl_error(&self, t: f64, advanced: f64, needed: f64) -> Error {
-        let mean = advanced / CRAWL_WINDOW as f64;
+    /// What a mean step of `mean` (s) over a [`CRAWL_WINDOW`] points to as the cause of a run
+    /// too slow for its step limit: by the mean step against the largest
+    /// ([`CHATTER_STEP_RATIO`]) a switching force, else a driver whose period takes more than
+    /// a window of steps (a crawling run's takes over a hundred), else a run simply longer
+    /// than its limit.
+    fn slowness_cause(&self, mean: f64) -> String {
         let (field, largest) = self.settings.largest_step();
-        let cause = if mean < CHATTER_STEP_RATIO * largest {
+        let per_period = self.period / mean;
+        if mean < CHATTER_STEP_RATIO * largest {
             "a force that switches at zero velocity, such as pure Coulomb friction in sticking \
              contact (the modified law of eq. 4 regularises it), or a contact far stiffer than \
              the integrator can follow"
                 .to_string()
-        } else {
+        } else if per_period > CRAWL_WINDOW as f64 {
             format!(
                 "the driver turns too slowly for the time scale of the dynamics: steps of \
-                 {mean:.1e} s (what the contacts allow; {field} = {largest:e} s) make {:.1e} \
-                 steps per driver period of {:.4e} s; simulate fewer rotations, drive faster \
-                 or raise run.max_steps",
-                self.period / mean,
+                 {mean:.1e} s (what the contacts allow; {field} = {largest:e} s) make \
+                 {per_period:.1e} steps per driver period of {:.4e} s; simulate fewer \
+                 rotations, drive faster or raise run.max_steps",
                 self.period
             )
-        };
+        } else {
+            format!(
+                "the run is longer than its step limit: steps of {mean:.1e} s make \
+                 {per_period:.1e} steps per driver period of {:.4e} s; simulate fewer \
+                 rotations or raise run.max_steps",
+                self.period
+            )
+        }
+    }
+
+    /// The error of a run that advanced only `advanced` (s) over the [`CRAWL_WINDOW`] steps
+    /// up to `t` and at that pace needs `needed` more.
+    fn crawl_error(&self, t: f64, advanced: f64, needed: f64) -> Error {
+        let mean = advanced / CRAWL_WINDOW as f64;
         Error::Integration {
             time: t,
             cause: format!(
                 "the run crawls: its last {CRAWL_WINDOW} steps advanced {advanced:.3e} s (mean \
                  step {mean:.1e} s), under {} % of a driver period, and at that pace it needs \
-                 about {needed:.0e} more steps, beyond run.max_steps = {}: {cause}",
+                 about {needed:.0e} more steps, beyond run.max_steps = {}: {}",
                 100.0 * CRAWL_FRACTION,
-                self.settings.max_steps
+                self.settings.max_steps,
+                self.slowness_cause(mean)
+            ),
+        }
+    }
+
+    /// The error of a run that reached `run.max_steps` at `t`: its pace over the last full
+    /// [`CRAWL_WINDOW`] (the run's mean step before one), the steps it still needed at that
+    /// pace and, where a full window tells it, the cause. A run that never crawled under
+    /// [`CRAWL_FRACTION`] of a period per window gets here (0.1 r/min: 4.3 % per window, 2.3e7
+    /// steps for 10 rotations).
+    fn step_limit_error(&self, t: f64, steps: u64) -> Error {
+        // The mark is at the last multiple of the window before `steps`: at `steps` itself
+        // the limit is checked before the mark moves.
+        let (window, advanced) = match self.crawl_mark {
+            Some(mark) => ((steps - 1) % CRAWL_WINDOW + 1, t - mark),
+            None => (steps, t),
+        };
+        let mean = advanced / window as f64;
+        let cause = if window == CRAWL_WINDOW {
+            format!(": {}", self.slowness_cause(mean))
+        } else {
+            String::new()
+        };
+        Error::Integration {
+            time: t,
+            cause: format!(
+                "step limit of {} steps reached in driver rotation {}: its last {window} steps \
+                 advanced {advanced:.3e} s (mean step {mean:.1e} s), and at that pace it needed \
+                 about {:.0e} more steps{cause}",
+                self.settings.max_steps,
+                self.rotation + 1,
+                self.remaining_time(t) / mean
             ),
         }
     }
@@ -808,10 +857,7 @@ impl Simulation {
         let (ta, tb) = (self.integrator.t_prev(), self.integrator.t());
         let steps = self.integrator.stats().steps;
         if steps >= self.settings.max_steps {
-            return Err(Error::Integration {
-                time: tb,
-                cause: format!("step limit of {} steps reached", self.settings.max_steps),
-            });
+            return Err(self.step_limit_error(tb, steps));
         }
         if steps.is_multiple_of(CRAWL_WINDOW) {
             if let Some(mark) = self.crawl_mark {

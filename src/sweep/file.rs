@@ -1,13 +1,16 @@
 //! Sweep CSV files that lose no work.
 //!
-//! A sweep file is one line naming the sweep, the CSV header, then one row per finished case:
+//! A sweep file is plain CSV, the header then one row per finished case; the name of its last
+//! column names the sweep, and that column is empty:
 //! ```text
-//! # jointwear sweep fingerprint=5f1c0a9e3b7d2c41 shard=2/4 cases=3 total=12
-//! case,clearance.0.clearance_mm,…,wall_time_s,error
+//! case,clearance.0.clearance_mm,…,wall_time_s,error,jointwear sweep fingerprint=5f1c0a9e3b7d2c41 shard=2/4 cases=3 total=12
 //! ```
+//! So `pandas.read_csv(path)` reads it as it is, and a shard without finished cases still says
+//! which sweep and shard it is (the name used to be a `#` line above the header, which CSV
+//! readers took for a row).
 //! * Rows are appended as cases finish, one write each, so an interrupted or killed sweep
-//!   keeps every finished case: the partial file is CSV under its header (read it with `#` as
-//!   the comment character), and `jointwear sweep --resume` skips the cases it holds. A line
+//!   keeps every finished case: the partial file is CSV under its header, and
+//!   `jointwear sweep --resume` skips the cases it holds. A line
 //!   cut by a kill (no final newline) is dropped when the file is read back. A sweep that
 //!   finishes rewrites its file in case order, atomically.
 //! * The fingerprint is a hash (64-bit FNV-1a) of the scene document, `extends` resolved, and
@@ -36,18 +39,18 @@ pub struct SweepId {
     pub total: usize,
 }
 
-const PREFIX: &str = "# jointwear sweep ";
+const PREFIX: &str = "jointwear sweep ";
 
 impl SweepId {
-    /// The first line of a sweep file (without the newline).
-    pub fn line(&self) -> String {
+    /// The name of the last column of a sweep file.
+    pub fn column_name(&self) -> String {
         format!(
             "{PREFIX}fingerprint={} shard={}/{} cases={} total={}",
             self.fingerprint, self.shard.index, self.shard.count, self.cases, self.total
         )
     }
 
-    /// Parses [`SweepId::line`].
+    /// Parses [`SweepId::column_name`].
     pub fn parse(line: &str) -> Option<SweepId> {
         let fields = line.strip_prefix(PREFIX)?;
         let value = |key: &str| {
@@ -89,14 +92,10 @@ impl SweepId {
     }
 }
 
-/// Fingerprint of a sweep: the scene document (`extends` resolved) and the assignments.
+/// Fingerprint of a sweep: the scene document (`extends` resolved) and the assignments
+/// ([`crate::scene::variant::fingerprint`]).
 pub fn fingerprint(doc: &toml::Value, sets: &[Assignment]) -> String {
-    let mut text = doc.to_string();
-    for a in sets {
-        // Unit separators: no key or value can run into the next.
-        text.push_str(&format!("\u{1f}{}={}", a.key, a.values.join("\u{1e}")));
-    }
-    format!("{:016x}", fnv1a(text.as_bytes()))
+    crate::scene::variant::fingerprint(doc, sets.iter().map(|a| (a.key.as_str(), &a.values[..])))
 }
 
 /// A fingerprint combined with more of a sweep's definition (e.g. its ensemble size).
@@ -159,23 +158,26 @@ impl SweepFile {
             source,
         })?;
         let complete = &text[..text.rfind('\n').map_or(0, |i| i + 1)];
-        let (first, rest) = complete.split_once('\n').unwrap_or((complete, ""));
-        let id = SweepId::parse(first).ok_or_else(|| {
-            parse_error(
-                path,
-                format!(
-                    "not a sweep file: its first line is not the sweep header line \
+        let (mut header, all) = parse_rows(path, complete)?;
+        let id = header
+            .pop()
+            .as_deref()
+            .and_then(SweepId::parse)
+            .ok_or_else(|| {
+                parse_error(
+                    path,
+                    format!(
+                        "not a sweep file: the name of its header's last column is not \
                      `{PREFIX}fingerprint=… shard=I/N cases=K total=T`"
-                ),
-            )
-        })?;
+                    ),
+                )
+            })?;
         if let Some(why) = id.misfit() {
             return Err(parse_error(
                 path,
                 format!("its sweep header line does not add up: {why}"),
             ));
         }
-        let (header, all) = parse_rows(path, rest)?;
         if header.first().map(String::as_str) != Some("case") {
             return Err(parse_error(
                 path,
@@ -184,7 +186,9 @@ impl SweepFile {
         }
         let mut rows = Vec::new();
         let mut seen = HashSet::new();
-        for row in all.into_iter().filter(|row| row.len() == header.len()) {
+        // a complete row has the (empty) cell of the id column too
+        for mut row in all.into_iter().filter(|row| row.len() == header.len() + 1) {
+            row.pop();
             let case = case_of(path, &row)?;
             if case >= id.total || !id.shard.contains(case) || !seen.insert(case) {
                 return Err(parse_error(
@@ -205,9 +209,25 @@ impl SweepFile {
     }
 }
 
-/// Writes a sweep file atomically: id line, header, rows.
+/// Writes a sweep file atomically: the header with the id column, the rows.
 fn write_file(path: &Path, id: &SweepId, header: &[String], rows: Vec<Vec<String>>) -> Result<()> {
-    write_table(path, Some(&id.line()), header, rows)
+    write_table(
+        path,
+        None,
+        &with_id(header, id),
+        rows.into_iter().map(with_cell),
+    )
+}
+
+/// `header` and the name of the id column.
+fn with_id(header: &[String], id: &SweepId) -> Vec<String> {
+    header.iter().cloned().chain([id.column_name()]).collect()
+}
+
+/// `row` and its empty cell of the id column.
+fn with_cell(mut row: Vec<String>) -> Vec<String> {
+    row.push(String::new());
+    row
 }
 
 /// Writes a sweep file with `rows` in case order, atomically.
@@ -235,13 +255,14 @@ impl Journal {
         header: &[String],
         kept: &[Vec<String>],
     ) -> Result<Journal> {
-        let table = GrowingTable::create(path, Some(&id.line()), header, kept.iter().cloned())?;
+        let kept = kept.iter().cloned().map(with_cell);
+        let table = GrowingTable::create(path, None, &with_id(header, id), kept)?;
         Ok(Journal { table })
     }
 
     /// Appends one row in a single write, so that rows of parallel cases never interleave.
     pub fn append(&self, row: &[String]) -> Result<()> {
-        self.table.append(row)
+        self.table.append(&with_cell(row.to_vec()))
     }
 
     /// The file.
@@ -490,7 +511,7 @@ mod tests {
     }
 
     #[test]
-    fn the_id_line_round_trips_and_rejects_other_lines() {
+    fn the_id_column_name_round_trips_and_rejects_other_names() {
         let id = SweepId {
             fingerprint: "0123456789abcdef".into(),
             shard: Shard::parse("2/4").unwrap(),
@@ -498,18 +519,18 @@ mod tests {
             total: 12,
         };
         assert_eq!(
-            id.line(),
-            "# jointwear sweep fingerprint=0123456789abcdef shard=2/4 cases=3 total=12"
+            id.column_name(),
+            "jointwear sweep fingerprint=0123456789abcdef shard=2/4 cases=3 total=12"
         );
-        assert_eq!(SweepId::parse(&id.line()), Some(id.clone()));
+        assert_eq!(SweepId::parse(&id.column_name()), Some(id.clone()));
         assert_eq!(
-            id.whole().line(),
-            "# jointwear sweep fingerprint=0123456789abcdef shard=1/1 cases=12 total=12"
+            id.whole().column_name(),
+            "jointwear sweep fingerprint=0123456789abcdef shard=1/1 cases=12 total=12"
         );
         for bad in [
             "case,x",
-            "# jointwear sweep shard=2/4 cases=3 total=12",
-            "# jointwear sweep fingerprint=f shard=5/4 cases=3 total=12",
+            "jointwear sweep shard=2/4 cases=3 total=12",
+            "jointwear sweep fingerprint=f shard=5/4 cases=3 total=12",
         ] {
             assert_eq!(SweepId::parse(bad), None, "{bad}");
         }

@@ -3,7 +3,7 @@
 //! magnified in an inset.
 
 use crate::failure::{CliResult, Failure};
-use crate::{load_variant, scene_stem};
+use crate::{claim_out, load_variant, scene_stem};
 use jointwear::io::plot::render_animation;
 use jointwear::simulation::picture::animation_frames;
 use jointwear::simulation::simulate;
@@ -18,7 +18,7 @@ const MAX_FRAMES: usize = 1000;
 
 /// `animate`: `rotations` rotations of the scene at `path` from its assembled start (no
 /// settling, no wear snapshots), recorded on the scene's interval and drawn as `frames`
-/// evenly spaced frames into `out` (checked as `run` checks it).
+/// evenly spaced frames into `out` (checked and claimed as `run` checks and claims it).
 pub fn animate(path: &Path, out: Option<PathBuf>, rotations: u32, frames: usize) -> CliResult<()> {
     // `--rotations` is checked with the scene, as `run.rotations`
     if !(2..=MAX_FRAMES).contains(&frames) {
@@ -26,8 +26,9 @@ pub fn animate(path: &Path, out: Option<PathBuf>, rotations: u32, frames: usize)
         let e = Error::invalid("--frames", frames, expected);
         return Err(Failure::input(path, e));
     }
-    let variant = load_variant(path, &[], Some(rotations), out)?;
+    let variant = load_variant(path, &[], Some(rotations), ("animate", out))?;
     let (mut scene, dir) = (variant.scene, variant.dir);
+    let _claim = claim_out(path, &dir)?;
     // The animation starts where `check` draws the mechanism: settling would only add
     // rotations nobody sees, and wear snapshots are not drawn.
     scene.run.settle = None;

@@ -4,31 +4,35 @@
 //! draws the assembled pose (`mechanism_<scene>.png`).
 
 use crate::failure::{CliResult, Failure};
-use crate::{checked_out_dir, scene_stem};
+use crate::{checked_out_dir, claim_out, scene_stem};
+use jointwear::io::format::{exact as given, turn_deg};
 use jointwear::io::plot::render_mechanism;
 use jointwear::mechanism::SWEEP_STEP_DEG;
-use jointwear::scene::SceneFile;
+use jointwear::scene::{spelling, ContactSpec, SceneFile};
 use jointwear::simulation::picture::pose_picture;
 use jointwear::simulation::Scene;
 use std::path::{Path, PathBuf};
 
 /// `check`: reads and builds the scene at `path`, prints its bodies, joints, driver, run
 /// settings, degrees of freedom and assembled pose, draws the pose into `out`
-/// ([`checked_out_dir`]), and fails (bad input) if the driver cannot turn a whole rotation
+/// ([`checked_out_dir`], claimed while `check` runs: [`claim_out`]), and fails (bad input) if the driver cannot turn a whole rotation
 /// ([`jointwear::mechanism::Mechanism::check_rotation`]).
 pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
     let file = SceneFile::read(path).map_err(|e| Failure::input(path, e))?;
     let scene = file.build().map_err(|e| Failure::from(path, e))?;
-    let dir = checked_out_dir(path, out)?;
+    let dir = checked_out_dir(path, "check", out)?;
+    // Another check of the same scene may draw into this folder: claimed as runs claim theirs.
+    let _claim = claim_out(path, &dir)?;
     let m = &scene.mechanism;
     println!("{}: {}", path.display(), scene.title);
+    // The scene's own values and words, each number as the file gives it.
     println!("bodies:");
     for b in &file.bodies {
         println!(
             "  {:12} mass {} kg, inertia {} kg m², points {}",
             b.name,
-            b.mass_kg,
-            b.inertia_kg_m2,
+            given(b.mass_kg),
+            given(b.inertia_kg_m2),
             b.points_mm.keys().cloned().collect::<Vec<_>>().join(", ")
         );
     }
@@ -39,13 +43,17 @@ pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
     for t in &file.translational {
         println!(
             "  translational  {} along {} at {} deg",
-            t.a, t.b, t.axis_deg
+            t.a,
+            t.b,
+            given(t.axis_deg)
         );
     }
     let d = &file.driver;
     println!(
         "driver: {} at {} r/min from {} deg",
-        d.body, d.speed_rpm, d.angle_deg
+        d.body,
+        given(d.speed_rpm),
+        given(d.angle_deg)
     );
     println!("clearance joints:");
     for c in &file.clearance {
@@ -54,34 +62,32 @@ pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
             c.name,
             c.journal,
             c.bearing,
-            c.bearing_radius_mm,
-            c.clearance_mm,
+            given(c.bearing_radius_mm),
+            given(c.clearance_mm),
             c.journal_material,
             c.bearing_material
         );
-        let k = &c.contact;
         println!(
-            "    contact {:?}, restitution {}, exponent {}; friction {:?}",
-            k.model, k.restitution, k.exponent, c.friction
+            "    contact = {}{}",
+            spelling(&c.contact),
+            model_laws(&c.contact)
         );
+        println!("    friction = {}", spelling(&c.friction));
         match &c.wear {
-            Some(w) => println!(
-                "    wear: k/H = {:e} 1/Pa, {:?} pressure, L = {} mm, {} sectors",
-                w.k_over_h_per_pa, w.pressure, w.length_mm, w.sectors
-            ),
+            Some(w) => println!("    wear = {}", spelling(w)),
             None => println!("    no wear"),
         }
     }
     let r = &file.run;
     println!(
-        "run: {} rotations ({} recorded every {} s), {:?}, rtol {:e}, atol {:e}, max step {:e} s",
+        "run: {} rotations ({} recorded every {} s), method {}, rtol {}, atol {}, max step {} s",
         r.rotations,
         r.record_rotations,
-        r.record_interval_s,
-        r.method,
-        r.rtol,
-        r.atol,
-        r.max_step_s
+        given(r.record_interval_s),
+        spelling(&r.method),
+        given(r.rtol),
+        given(r.atol),
+        given(r.max_step_s)
     );
     let dof = m.degrees_of_freedom();
     println!(
@@ -115,6 +121,19 @@ pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
         Some(lock) => Err(Failure::from(path, lock.error())),
         None => Ok(()),
     }
+}
+
+/// The two catalogue laws a contact `model` stands for, e.g. ` (stiffness "hybrid",
+/// dissipation "zhiying-qishao")`; empty for a scene that names its laws itself.
+fn model_laws(k: &ContactSpec) -> String {
+    k.model.map_or_else(String::new, |m| {
+        let (s, d) = m.laws();
+        format!(
+            " (stiffness \"{}\", dissipation \"{}\")",
+            s.name(),
+            d.name()
+        )
+    })
 }
 
 /// A body assembled far from its guessed angle: its name and turn from the guess (deg).
@@ -156,9 +175,9 @@ fn print_assembly(path: &Path, scene: &Scene) -> CliResult<(Vec<f64>, Vec<FarBod
             b.name,
             x * 1e3,
             y * 1e3,
-            angle
+            turn_deg(angle)
         );
-        let turn = (angle - scene.guess[3 * i + 2].to_degrees() + 180.0).rem_euclid(360.0) - 180.0;
+        let turn = turn_deg(angle - scene.guess[3 * i + 2].to_degrees());
         if turn.abs() > BRANCH_TURN_DEG {
             println!(
                 "    note: {turn:.1} deg from its guessed angle: the loop may have closed on \

@@ -1,23 +1,14 @@
 //! `jointwear run SCENE --ensemble N`: members in parallel from seeded initial offsets, their
-//! statistics as CSVs (members, summary, per-sector wear bands), the band plot and the summary
-//! it prints.
+//! folder ([`write_ensemble`]: statistics as CSVs, the band plot) and the summary it prints.
 
 use crate::failure::{CliResult, Failure};
-use crate::outputs::{conventions, write_summary, PROGRAM, SUMMARY_FILE};
-use crate::{claim_out, joint_file, load_variant};
-use jointwear::analysis::states::{States, STATE_COLUMNS};
-use jointwear::analysis::statistics::{Distribution, VALUE_KEYS};
-use jointwear::io::output::{number, number_or_empty, write_outputs, write_rows};
-use jointwear::io::plot::{render, Axes, Series, Shade, Style};
+use crate::{claim_out, load_variant};
+use jointwear::io::format::{self as people, quantity, Reading};
 use jointwear::io::progress::progress_bar;
-use jointwear::laws::wear::sector_angles_deg;
-use jointwear::simulation::ensemble::{self, member_offsets, EnsembleSettings};
-use jointwear::simulation::Scene;
-use jointwear::sweep::{
-    header, joint_statistics, summarize, CaseResult, JointStatistics, JointSummary, Outcome,
-};
+use jointwear::simulation::ensemble::{self, EnsembleSettings};
+use jointwear::simulation::folder::ensemble::{write_ensemble, Member};
+use jointwear::simulation::summary::summarize;
 use jointwear::Error;
-use serde::Serialize;
 use std::path::{Path, PathBuf};
 
 /// `settings` of `--ensemble N --seed S` checked; a bad member count is bad input naming
@@ -46,7 +37,7 @@ pub fn run_ensemble(
 ) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
     checked(path, &settings)?;
-    let variant = load_variant(path, sets, rotations, out)?;
+    let variant = load_variant(path, sets, rotations, ("ensemble", out))?;
     let (scene, dir) = (&variant.scene, &variant.dir);
     let _claim = claim_out(path, dir)?;
     let clock = std::time::Instant::now();
@@ -60,62 +51,44 @@ pub fn run_ensemble(
     bar.finish_and_clear();
     let (members, walls): (Vec<Member>, Vec<f64>) = members.map_err(bad)?.into_iter().unzip();
     let wall = clock.elapsed().as_secs_f64();
-    let title = format!(
-        "{} --ensemble {} --seed {}",
-        variant.command, settings.members, settings.seed
-    );
-    let stats = write_outputs(dir, &title, || {
-        let stats = write_ensemble(scene, &settings, &members, &walls, dir)?;
-        let summary = EnsembleSummary {
-            program: PROGRAM.into(),
-            scene: path.display().to_string(),
-            title: scene.title.clone(),
-            fingerprint: variant.fingerprint.clone(),
-            changes: variant.changes.clone(),
-            members: settings.members,
-            seed: settings.seed,
-            rotations: scene.run.rotations,
-            record_rotations: scene.run.record_rotations,
-            wall_time_s: wall,
-            joints: stats
-                .iter()
-                .map(|j| JointDistributions {
-                    name: j.name.clone(),
-                    quantities: j
-                        .scalars
-                        .iter()
-                        .map(|(name, d)| (name.to_string(), DistributionSummary(*d)))
-                        .collect(),
-                })
-                .collect(),
-        };
-        write_summary(dir, &summary, &readme(&title, scene, &stats))?;
-        Ok(stats)
-    })
-    .map_err(bad)?;
+    let origin = variant.variant.origin();
+    let stats =
+        write_ensemble(dir, &origin, scene, &settings, (&members, &walls), wall).map_err(bad)?;
     println!("{}", scene.title);
     println!(
-        "  {} members (seed {}) of {} rotations in {wall:.2} s wall time",
-        settings.members, settings.seed, scene.run.rotations
+        "  {} members (seed {}) of {} rotations in {} of wall time",
+        settings.members,
+        settings.seed,
+        scene.run.rotations,
+        quantity(wall, "s")
+    );
+    println!(
+        "  perturbation {}: {}",
+        settings.perturbation.key(),
+        settings.perturbation.describe()
     );
     for j in &stats {
         println!("  joint {} (mean ± sd, [5 %, 95 %]):", j.name);
         for (name, d) in &j.scalars {
+            let r = Reading::of(name);
             if d.n == 0 {
-                println!("    {name:22} not recorded (run.record_rotations = 0)");
+                println!("    {:36} not recorded (run.record_rotations = 0)", r.label);
             } else if name == &"continuous_contact" {
                 let k = (d.mean * d.n as f64).round();
                 println!("    continuous contact in {k} of {} members", d.n);
             } else {
                 println!(
-                    "    {name:22} {:.6e} ± {:.2e}  [{:.6e}, {:.6e}]",
-                    d.mean, d.sd, d.quantiles[0], d.quantiles[4]
+                    "    {:36} {}  [{}, {}]",
+                    r.label,
+                    r.mean_sd(d.mean, d.sd),
+                    people::number(d.quantiles[0] * r.scale),
+                    people::number(d.quantiles[4] * r.scale)
                 );
                 let states = j.states.iter().find(|(n, _)| n == name);
                 if let Some((low, high)) = states.and_then(|(_, s)| s.low_high()) {
                     let part = |s: &jointwear::analysis::states::State| {
                         let x = &s.distribution;
-                        format!("{} of {}: {:.6e} ± {:.2e}", x.n, d.n, x.mean, x.sd)
+                        format!("{} of {}: {}", x.n, d.n, r.mean_sd(x.mean, x.sd))
                     };
                     println!("      two states: low {}, high {}", part(low), part(high));
                 }
@@ -124,213 +97,4 @@ pub fn run_ensemble(
     }
     println!("outputs in {}", dir.display());
     Ok(())
-}
-
-/// One member of `run --ensemble`: its joint summaries and final wear profiles.
-type Member = (Vec<JointSummary>, Vec<Vec<f64>>);
-
-/// The ensemble's CSVs and band plot; returns the statistics it wrote.
-fn write_ensemble(
-    scene: &Scene,
-    settings: &EnsembleSettings,
-    members: &[Member],
-    walls: &[f64],
-    dir: &Path,
-) -> jointwear::Result<Vec<JointStatistics>> {
-    let m = &scene.mechanism;
-    let joints: Vec<String> = m.clearance_joints.iter().map(|c| c.name.clone()).collect();
-    // One row per member: its offsets d (journal body frame), then a sweep row's joint columns.
-    let mut head = vec!["member".to_string()];
-    for j in &joints {
-        head.extend([
-            format!("{j}.offset_body_x_m"),
-            format!("{j}.offset_body_y_m"),
-        ]);
-    }
-    head.extend(header(&[], &joints).into_iter().skip(1));
-    let rows = members
-        .iter()
-        .zip(walls)
-        .enumerate()
-        .map(|(i, ((summary, _), secs))| {
-            let mut row = vec![i.to_string()];
-            for d in member_offsets(settings.seed, i, joints.len()) {
-                row.extend([number(d.x), number(d.y)]);
-            }
-            let record = CaseResult {
-                case: i,
-                values: Vec::new(),
-                outcome: Ok((Outcome::Run(summary.clone()), *secs)),
-            }
-            .record(header(&[], &joints).len() - 3);
-            row.extend(record.into_iter().skip(1));
-            row
-        });
-    write_rows(&dir.join("ensemble_members.csv"), &head, rows)?;
-    let stats = joint_statistics(scene, members);
-    let mut head = vec!["joint", "quantity", "n"];
-    head.extend(VALUE_KEYS);
-    head.extend(STATE_COLUMNS);
-    let numbers = |d: &Distribution| d.values().map(number_or_empty);
-    let mut rows = Vec::new();
-    for j in &stats {
-        for (name, d) in &j.scalars {
-            let mut row = vec![j.name.clone(), name.to_string(), d.n.to_string()];
-            row.extend(numbers(d));
-            let states = j.states.iter().find(|(n, _)| n == name).map(|(_, s)| s);
-            row.extend(state_cells(states));
-            rows.push(row);
-        }
-    }
-    write_rows(&dir.join("ensemble_summary.csv"), &head, rows)?;
-    let mut series = Vec::new();
-    for j in &stats {
-        let Some(band) = &j.wear else { continue };
-        let angles = sector_angles_deg(band.sectors.len());
-        let mut head = vec!["angle_deg".to_string()];
-        head.extend(VALUE_KEYS.map(|k| format!("{k}_m")));
-        let rows = band.sectors.iter().zip(&angles).map(|(d, a)| {
-            let mut row = vec![number(*a)];
-            row.extend(numbers(d));
-            row
-        });
-        let file = joint_file("ensemble_wear", &j.name);
-        write_rows(&dir.join(file), &head, rows)?;
-        let um = |v: Vec<f64>| v.iter().map(|x| x * 1e6).collect::<Vec<f64>>();
-        let (mean, lo, hi) = (um(band.mean()), um(band.quantile(0)), um(band.quantile(4)));
-        series.push((j.name.clone(), angles, mean, lo, hi));
-    }
-    if !series.is_empty() {
-        let axes = Axes {
-            x_range: Some((0.0, 360.0)),
-            shades: series
-                .iter()
-                .enumerate()
-                .map(|(i, (_, _, _, lo, hi))| Shade { series: i, lo, hi })
-                .collect(),
-            ..Axes::new(
-                format!(
-                    "Wear after {} rotations: mean of {} members, 5-95 % shaded",
-                    scene.run.rotations, settings.members
-                ),
-                "bearing angle (deg)",
-                "wear depth (µm)",
-                series
-                    .iter()
-                    .map(|(n, a, mean, _, _)| Series::new(n, a, mean, Style::Line))
-                    .collect(),
-            )
-        };
-        render(&dir.join("wear.png"), &[axes])?;
-    }
-    Ok(stats)
-}
-
-/// The [`STATE_COLUMNS`] cells of a quantity; all empty for an angle (no states).
-fn state_cells(states: Option<&States>) -> Vec<String> {
-    states.map_or_else(
-        || vec![String::new(); STATE_COLUMNS.len()],
-        |s| s.cells(number),
-    )
-}
-
-/// `summary.json` of `run --ensemble`: the ensemble and the distribution of every quantity.
-#[derive(Serialize)]
-struct EnsembleSummary {
-    program: String,
-    scene: String,
-    title: String,
-    fingerprint: String,
-    /// `[key, value]` of `--set` and `--rotations`, in the order applied.
-    changes: Vec<(String, String)>,
-    members: usize,
-    seed: u64,
-    rotations: u32,
-    record_rotations: u32,
-    /// Wall-clock time of all members, in parallel (s).
-    wall_time_s: f64,
-    joints: Vec<JointDistributions>,
-}
-
-#[derive(Serialize)]
-struct JointDistributions {
-    name: String,
-    /// By quantity name (the `quantity` column of `ensemble_summary.csv`).
-    quantities: Vec<(String, DistributionSummary)>,
-}
-
-/// A distribution in summary.json: `n`, then [`VALUE_KEYS`] with their values.
-struct DistributionSummary(Distribution);
-
-impl Serialize for DistributionSummary {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        use serde::ser::SerializeMap;
-        let mut map = s.serialize_map(Some(1 + VALUE_KEYS.len()))?;
-        map.serialize_entry("n", &self.0.n)?;
-        for (key, value) in VALUE_KEYS.iter().zip(self.0.values()) {
-            map.serialize_entry(key, &value)?;
-        }
-        map.end()
-    }
-}
-
-/// `README.txt` of an ensemble's folder: the conventions, then every file it wrote.
-fn readme(title: &str, scene: &Scene, stats: &[JointStatistics]) -> String {
-    let m = &scene.mechanism;
-    let mut text = conventions(title, m, &scene.title);
-    let worn: Vec<String> = stats
-        .iter()
-        .filter(|j| j.wear.is_some())
-        .map(|j| joint_file("ensemble_wear", &j.name))
-        .collect();
-    text.push_str(
-        "\nFILES\n\
-         Every member is the scene run from the journal of each clearance joint displaced by at \
-         most 10 nm in a seeded random direction; statistics are over the members. Quantiles \
-         qNN are type-7 sample quantiles; sd is the sample standard deviation. Angles \
-         (_deg) are unwrapped around their circular mean before the statistics.\n\
-         ensemble_members.csv: one row per member.\n\
-         \x20 member                               0-based member number\n\
-         \x20 J.offset_body_x_m, J.offset_body_y_m  initial journal offset, in the frame of the \
-         journal's body (m)\n\
-         \x20 J.max_normal_force_recorded_n        largest normal force of the recorded \
-         rotations (N); empty when none were recorded\n\
-         \x20 J.max_penetration_recorded_m         largest penetration of the recorded \
-         rotations (m), positive = overlap; empty when none were recorded\n\
-         \x20 J.max_penetration_whole_run_m        largest penetration of the whole run (m), \
-         the start-up transient (impact after the centred start) included\n\
-         \x20 J.max_wear_angle_deg                 deepest sector of the final wear profile \
-         (the most prominent wear region), bearing frame (deg)\n\
-         \x20 J.max_wear_depth_m                   its depth (m)\n\
-         \x20 J.motion_mode                        `continuous contact` or `free flight and \
-         impact` (recorded rotations)\n\
-         \x20 J.contact_fraction                   share of recorded samples in contact\n\
-         \x20 J.impacts_per_rotation               contact onsets per rotation (recorded)\n\
-         \x20 wall_time_s, error                   the member's wall time (s); empty error\n\
-         ensemble_summary.csv: per joint and quantity (the numeric columns above, and \
-         continuous_contact, 1 or 0 per member, whose mean is the share in continuous \
-         contact): n (finite values), mean, sd, min, q05, q25, q50, q75, q95, max (empty \
-         fields where n is 0: nothing recorded); then the \
-         states the members fall into (largest-gap rule: split at the largest gap of the sorted \
-         values that leaves max(2, ceil(n/10)) members on each side, when it exceeds 2 pooled \
-         within-state sds; none for angles): states (1 or 2), and with two low_n, low_mean, \
-         low_sd, high_n, high_mean, high_sd. Where a quantity has two states, its pooled mean \
-         depends on the share in each, and that share on how members are perturbed.\n",
-    );
-    if !worn.is_empty() {
-        text.push_str(&format!(
-            "{}: per sector of the final wear profiles: angle_deg (sector centre, bearing \
-             frame), then mean_m, sd_m, min_m, q05_m ... q95_m, max_m of the depth worn into \
-             the bearing (m).\n\
-             wear.png: the mean profile (µm), 5-95 % band shaded.\n",
-            worn.join(", ")
-        ));
-    }
-    text.push_str(&format!(
-        "{SUMMARY_FILE}: the ensemble as JSON: program, scene, title, fingerprint, changes \
-         (--set and --rotations as [key, value]), members, seed, rotations, record_rotations, \
-         wall_time_s, and per joint every quantity's n, mean, sd, min, q05 ... q95, max \
-         (null where no value exists).\n"
-    ));
-    text
 }

@@ -2,15 +2,20 @@
 //! rotation count or a wear limit; its growth and profile CSVs, figures and summary.
 
 use crate::failure::{CliResult, Failure};
-use crate::joint_file;
-use crate::outputs::{
-    body_name, conventions, write_profiles, write_summary, PROGRAM, SUMMARY_FILE,
-};
 use crate::{checked_out_dir, claim_out};
-use jointwear::io::output::{write_csv, write_outputs};
+use jointwear::analysis::life::{
+    changes, sample_motion, validated_until, Change, DEEPEST_MOVE_DEG, HOLD_BLOCKS, RATE_JUMP,
+    RATE_WINDOW, VALIDATED_WEAR_RATIO,
+};
+use jointwear::analysis::CONTINUOUS_CONTACT_FRACTION;
+use jointwear::io::format::{self as people, quantity};
+use jointwear::io::output::{number, write_outputs, write_rows};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::progress_bar;
 use jointwear::scene::SceneFile;
+use jointwear::simulation::folder::{
+    body_name, conventions, joint_file, write_profiles, write_summary, PROGRAM, SUMMARY_FILE,
+};
 use jointwear::simulation::longlife::{predict, LongLife, LongLifeSettings};
 use jointwear::simulation::Scene;
 use jointwear::Error;
@@ -43,7 +48,7 @@ pub fn longlife(
         }
     }
     let scene = file.build().map_err(bad)?;
-    let dir = checked_out_dir(path, out)?;
+    let dir = checked_out_dir(path, "longlife", out)?;
     let _claim = claim_out(path, &dir)?;
     let target = rotations as u64;
     let settings = LongLifeSettings {
@@ -70,14 +75,23 @@ pub fn longlife(
     .map_err(bad)?;
     let last = summary.rotations_predicted;
     println!(
-        "{}: {last} rotations predicted from {} simulated in {:.1} s ({} blocks)",
-        scene.title, summary.rotations_simulated, summary.wall_time_s, summary.blocks
+        "{}: {last} rotations predicted in {} of wall time",
+        scene.title,
+        quantity(summary.wall_time_s, "s")
+    );
+    println!(
+        "  simulated: {} rotations ({} settling, then one sampled per block); extrapolated: \
+         the other {} over {} blocks",
+        summary.rotations_simulated,
+        u64::from(settle).min(target),
+        last.saturating_sub(summary.rotations_simulated),
+        summary.blocks
     );
     match life.reached {
         Some((at, k)) => println!(
-            "  joint {} reached its wear limit of {:.3} µm after {at} rotations{}",
+            "  joint {} reached its wear limit of {} after {at} rotations{}",
             scene.mechanism.clearance_joints[k].name,
-            life.limits[k] * 1e6,
+            quantity(life.limits[k] * 1e6, "µm"),
             if until_mm.is_none() {
                 " (clearance doubled)"
             } else {
@@ -88,14 +102,33 @@ pub fn longlife(
     }
     for j in &summary.joints {
         println!(
-            "  joint {}: max wear {:.3} µm ({:.0} % of its limit) after {last} rotations, \
-             clearance {:.3} -> {:.3} µm",
+            "  joint {}: max wear {} ({} of its limit) after {last} rotations, clearance {} -> {}",
             j.name,
-            j.max_wear_depth_m * 1e6,
-            100.0 * j.max_wear_depth_m / j.wear_limit_m,
-            j.clearance_m * 1e6,
-            j.effective_clearance_m * 1e6
+            quantity(j.max_wear_depth_m * 1e6, "µm"),
+            quantity(100.0 * j.max_wear_depth_m / j.wear_limit_m, "%"),
+            quantity(j.clearance_m * 1e6, "µm"),
+            quantity(j.effective_clearance_m * 1e6, "µm")
         );
+        let validated = quantity(100.0 * VALIDATED_WEAR_RATIO, "%");
+        match j.validated_until_rotations {
+            Some(at) => println!(
+                "    after {at} rotations the wear passes {validated} of the clearance: beyond \
+                 the regime where the cycle jump was checked against simulating every rotation"
+            ),
+            None => println!(
+                "    within the validated regime throughout (wear up to {validated} of the \
+                 clearance)"
+            ),
+        }
+        for c in &j.changes {
+            println!("    after {} rotations: {}", c.at, c.what);
+        }
+        if !j.changes.is_empty() {
+            println!(
+                "    the blocks after a change are extrapolated from samples of the new regime \
+                 (per block: {BLOCKS_FILE})"
+            );
+        }
     }
     println!("outputs in {}", dir.display());
     Ok(())
@@ -117,14 +150,20 @@ fn write_longlife(scene: &Scene, life: &LongLife, dir: &Path) -> jointwear::Resu
         })
         .collect();
     let mut header = vec!["rotations".to_string()];
-    let mut columns: Vec<&[f64]> = vec![&rotations];
-    for (&k, (depth, clearance)) in worn.iter().zip(&growth) {
+    for &k in &worn {
         let name = &m.clearance_joints[k].name;
         header.extend([format!("{name}.max_depth_m"), format!("{name}.clearance_m")]);
-        columns.extend([depth.as_slice(), clearance.as_slice()]);
     }
-    let header_ref: Vec<&str> = header.iter().map(String::as_str).collect();
-    write_csv(&dir.join("longlife_growth.csv"), &header_ref, &columns)?;
+    // rotations are counts: written as integers (the shortest float text wrote 6e5 among 598063)
+    let rows = life.history.iter().enumerate().map(|(i, s)| {
+        let mut row = vec![s.rotations.to_string()];
+        for (depth, clearance) in &growth {
+            row.extend([number(depth[i]), number(clearance[i])]);
+        }
+        row
+    });
+    write_rows(&dir.join("longlife_growth.csv"), &header, rows)?;
+    write_blocks(scene, life, &dir.join(BLOCKS_FILE))?;
     let clearance_um: Vec<Vec<f64>> = growth
         .iter()
         .map(|(_, c)| c.iter().map(|x| x * 1e6).collect())
@@ -156,6 +195,40 @@ fn write_longlife(scene: &Scene, life: &LongLife, dir: &Path) -> jointwear::Resu
         &snapshots,
     )?;
     Ok(())
+}
+
+/// The per-block file of `longlife`: what each block was extrapolated from.
+const BLOCKS_FILE: &str = "longlife_blocks.csv";
+
+/// Writes [`BLOCKS_FILE`] of `life` at `path`: per block the rotations at the end of its
+/// sample and after it, and per clearance joint the sample's wear rate, contact fraction,
+/// contact onsets per rotation and motion mode.
+fn write_blocks(scene: &Scene, life: &LongLife, path: &Path) -> jointwear::Result<()> {
+    let mut header = vec!["sampled_rotations".to_string(), "rotations".to_string()];
+    for cj in &scene.mechanism.clearance_joints {
+        header.extend(
+            [
+                "wear_rate_m_per_rotation",
+                "contact_fraction",
+                "impacts_per_rotation",
+                "motion_mode",
+            ]
+            .map(|c| format!("{}.{c}", cj.name)),
+        );
+    }
+    let rows = life.blocks.iter().map(|b| {
+        let mut row = vec![b.sampled.to_string(), b.rotations.to_string()];
+        for s in &b.joints {
+            row.extend([
+                number(s.wear_rate),
+                number(s.contact_fraction),
+                number(s.impacts_per_rotation),
+                sample_motion(s).mode().to_string(),
+            ]);
+        }
+        row
+    });
+    write_rows(path, &header, rows)
 }
 
 /// `summary.json` of `longlife`: the settings and, per clearance joint, where its wear got.
@@ -190,12 +263,79 @@ struct LongLifeJoint {
     max_wear_depth_m: f64,
     /// `clearance_m + max_wear_depth_m`.
     effective_clearance_m: f64,
+    /// Rotations after which the wear passes the validated regime, `null` if it never does.
+    validated_until_rotations: Option<u64>,
+    /// The changes along the life, in order of rotations.
+    changes: Vec<ChangeSummary>,
+}
+
+/// One [`Change`] of a joint, for people (`what`) and programs (`kind`, `from`, `to`).
+#[derive(Serialize)]
+struct ChangeSummary {
+    /// Rotations at which it shows.
+    at: u64,
+    /// `motion_mode`, `wear_rate_m_per_rotation` (medians of the blocks before and after) or
+    /// `deepest_wear_angle_deg`.
+    kind: &'static str,
+    from: serde_json::Value,
+    to: serde_json::Value,
+    /// In words, as printed.
+    what: String,
+}
+
+impl ChangeSummary {
+    fn new(change: &Change) -> ChangeSummary {
+        use serde_json::json;
+        match *change {
+            Change::Motion { at, from, to, .. } => ChangeSummary {
+                at,
+                kind: "motion_mode",
+                from: json!(from),
+                to: json!(to),
+                what: format!("motion {from} -> {to}"),
+            },
+            Change::WearRate {
+                at, before, after, ..
+            } => ChangeSummary {
+                at,
+                kind: "wear_rate_m_per_rotation",
+                from: json!(before),
+                to: json!(after),
+                what: format!(
+                    "wear rate {} {}-fold, {} -> {} per rotation (medians of {RATE_WINDOW} \
+                     blocks)",
+                    if after > before { "jumps" } else { "falls" },
+                    people::sig_n((after / before).max(before / after), 2),
+                    quantity(before * 1e9, "nm"),
+                    quantity(after * 1e9, "nm")
+                ),
+            },
+            Change::Deepest {
+                at,
+                from_deg,
+                to_deg,
+                ..
+            } => ChangeSummary {
+                at,
+                kind: "deepest_wear_angle_deg",
+                from: json!(from_deg),
+                to: json!(to_deg),
+                what: format!(
+                    "profile shape changes: the deepest wear moves from {} to {}",
+                    quantity(from_deg, "deg"),
+                    quantity(to_deg, "deg")
+                ),
+            },
+        }
+    }
 }
 
 impl LongLifeSummary {
     fn new(path: &Path, scene: &Scene, settings: &LongLifeSettings, life: &LongLife) -> Self {
         let m = &scene.mechanism;
         let last = life.history.last();
+        let mut changes = changes(life);
+        changes.sort_by_key(Change::at);
         let joints = (m.clearance_joints.iter().enumerate())
             .map(|(k, cj)| {
                 let depth = last.map_or(0.0, |s| s.max_depth(k));
@@ -207,6 +347,11 @@ impl LongLifeSummary {
                     wear_limit_m: life.limits[k],
                     max_wear_depth_m: depth,
                     effective_clearance_m: life.clearances[k] + depth,
+                    validated_until_rotations: validated_until(life, k),
+                    changes: (changes.iter())
+                        .filter(|c| c.joint() == k)
+                        .map(ChangeSummary::new)
+                        .collect(),
                 }
             })
             .collect();
@@ -244,10 +389,20 @@ fn readme(title: &str, scene: &Scene) -> String {
          wear of a simulated block, scaled to a block length that changes no depth by more \
          than --max-change of the effective clearance).\n\
          longlife_growth.csv: after every block.\n\
-         \x20 rotations              rotations counted from the start\n\
+         \x20 rotations              rotations counted from the start (an integer)\n\
          \x20 <joint>.max_depth_m    deepest wear of the joint's bearing (m)\n\
          \x20 <joint>.clearance_m    radial clearance + that depth (m)\n\
          longlife_growth.png: the effective clearance against rotations (µm).\n\
+         {BLOCKS_FILE}: what each block was extrapolated from, one row per block.\n\
+         \x20 sampled_rotations                   rotations done when its sample rotation ended\n\
+         \x20 rotations                           rotations done after the block\n\
+         \x20 <joint>.wear_rate_m_per_rotation    deepening of the fastest-wearing sector per \
+         sampled rotation (m): the rate the block extrapolates\n\
+         \x20 <joint>.contact_fraction            share of the sample's time in contact \
+         (penetration >= 0 at the end of each integration step, weighted by its length)\n\
+         \x20 <joint>.impacts_per_rotation        contact onsets per sampled rotation\n\
+         \x20 <joint>.motion_mode                 `continuous contact` (contact fraction >= \
+         {CONTINUOUS_CONTACT_FRACTION}) or `free flight and impact`\n\
          {}: the wear profile at 1/5, 2/5, 3/5 and 4/5 of the rotations asked for and at the \
          last count predicted.\n\
          \x20 angle_deg    sector centre in the bearing frame (deg)\n\
@@ -255,9 +410,18 @@ fn readme(title: &str, scene: &Scene) -> String {
          longlife_profiles.png: those profiles (µm), one panel per joint.\n\n\
          {SUMMARY_FILE}: the prediction as JSON: program; scene; the settings; rotations \
          predicted and simulated, blocks, wall_time_s; limit_reached ([rotations, joint] or \
-         null); joints (bodies, clearance_m, wear_limit_m, max_wear_depth_m, \
-         effective_clearance_m).\n",
-        files("longlife_profiles")
+         null); joints (bodies, clearance_m as the scene gives it, wear_limit_m, \
+         max_wear_depth_m, effective_clearance_m, validated_until_rotations: after how many \
+         rotations the wear passes {validated} of the clearance, the regime tests/longlife.rs \
+         checks the cycle jump in against simulating every rotation, or null; changes: in order \
+         of rotations, each `at` (rotations), `kind`, `from`, `to` and `what` (as printed): \
+         `motion_mode` when the sample's mode changes for at least {HOLD_BLOCKS} blocks, \
+         `wear_rate_m_per_rotation` when the median rate of the {RATE_WINDOW} blocks from a \
+         block on differs {RATE_JUMP}-fold or more from that of the {RATE_WINDOW} before it, \
+         `deepest_wear_angle_deg` when the deepest sector moves more than {DEEPEST_MOVE_DEG} \
+         deg for at least {HOLD_BLOCKS} blocks).\n",
+        files("longlife_profiles"),
+        validated = quantity(100.0 * VALIDATED_WEAR_RATIO, "%"),
     ));
     text
 }

@@ -6,15 +6,14 @@
 //! This file owns the command line (arguments, help, dispatch) and the output naming shared by
 //! the subcommands; each subcommand lives in its own module: [`run`] (one run), [`ensemble`]
 //! (`run --ensemble`), [`check`], [`animate`], [`sweep`] (`sweep` and `sweep-merge`) and [`longlife`];
-//! [`outputs`] holds the output pieces they share; [`failure`] turns errors into messages and
-//! exit codes.
+//! their output folders are written by [`jointwear::simulation::folder`]; [`failure`] turns
+//! errors into messages and exit codes.
 
 mod animate;
 mod check;
 mod ensemble;
 mod failure;
 mod longlife;
-mod outputs;
 mod run;
 mod sweep;
 
@@ -22,11 +21,11 @@ use clap::{Parser, Subcommand};
 use failure::{CliResult, Failure};
 use jointwear::io::interrupt;
 use jointwear::io::lock::{self, Lock};
-use jointwear::scene::{joint_file_part, reversal_note, set_dotted, SceneFile};
-use jointwear::simulation::ensemble::{EnsembleSettings, DEFAULT_SEED, MAX_MEMBERS};
+use jointwear::scene::reversal_note;
+use jointwear::scene::variant::{parse_value, Variant};
+use jointwear::simulation::ensemble::{EnsembleSettings, Perturbation, DEFAULT_SEED, MAX_MEMBERS};
 use jointwear::simulation::Scene;
-use jointwear::sweep::file::fingerprint;
-use jointwear::sweep::{parse_value, Assignment};
+use jointwear::sweep::Assignment;
 use jointwear::Error;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -50,9 +49,10 @@ sd, min, quantiles and max of every scalar result), ensemble_wear_<joint>.csv (t
 per-sector band of the final wear profiles), wear.png (mean profile, 5-95 % band shaded), \
 summary.json and README.txt.
 
-With --member K (and the --seed S of the ensemble, default 1): member K (0-based) of \
-`--ensemble N --seed S` as one run, bit for bit the member the ensemble ran, with all of a \
-run's outputs; with --ensemble N too, K must be below N.";
+With --member K (and the --seed S and --perturbation P of the ensemble, default 1 and \
+disc_10nm): member K (0-based) of `--ensemble N --seed S --perturbation P` as one run, bit for \
+bit the member the ensemble ran (or the perturbation study ran under protocol P), with all of \
+a run's outputs; with --ensemble N too, K must be below N.";
 
 const EXAMPLES: &str = "\
 Examples:
@@ -61,6 +61,7 @@ Examples:
   jointwear run data/scenes/standard.toml --out out/standard
   jointwear run data/scenes/standard.toml --rotations 10 --set clearance.0.clearance_mm=0.2
   jointwear run data/scenes/standard.toml --ensemble 16 --seed 1
+  jointwear run data/scenes/standard.toml --member 3 --seed 1 --perturbation axis_10nm
   jointwear sweep data/scenes/standard.toml \\
       --set clearance.0.clearance_mm=0.02,0.1,0.5 --set driver.speed_rpm=-600,-2000 --out sweep.csv
   jointwear sweep data/scenes/standard.toml --set driver.speed_rpm=-500,-1000,-1500,-2000 \\
@@ -83,7 +84,8 @@ enum Command {
     #[command(group(clap::ArgGroup::new("perturbed").args(["ensemble", "member"]).multiple(true)))]
     Run {
         scene: PathBuf,
-        /// Output directory [default: out/<scene stem>]
+        /// Output directory [default: out/<scene stem>/run; with --ensemble
+        /// out/<scene stem>/ensemble; with --member K out/<scene stem>/member-K]
         #[arg(long)]
         out: Option<PathBuf>,
         /// Change one value of the scene: KEY is a dotted path into the scene file (as for
@@ -95,7 +97,8 @@ enum Command {
         #[arg(long, value_name = "N")]
         rotations: Option<u32>,
         /// Run N members, each from an initial journal offset of at most 10 nm in a seeded
-        /// random direction, and report statistics over them instead of one trajectory
+        /// random direction (or perturbed as --perturbation says), and report statistics over
+        /// them instead of one trajectory
         #[arg(long, value_name = "N")]
         ensemble: Option<usize>,
         /// Seed of the ensemble's initial offsets
@@ -105,6 +108,14 @@ enum Command {
         /// output of a run (K below --ensemble N when that is given too)
         #[arg(long, value_name = "K")]
         member: Option<usize>,
+        /// How the members differ: disc_<R>nm (initial journal offsets uniform over a disc,
+        /// the default), axis_<R>nm (along the journal body's x axis), velocity_<V>um_s (the
+        /// journal centred, its initial velocity perturbed) or tolerance_<S> (the journal
+        /// centred, the tolerances jittered by a factor in [1 − S, 1 + S]): the protocols of
+        /// the perturbation study by their names there
+        #[arg(long, value_name = "PROTOCOL", default_value_t = Perturbation::default(),
+              value_parser = parse_perturbation, requires = "perturbed")]
+        perturbation: Perturbation,
         /// Save the run's whole state to <out>/checkpoint.json every K rotations (removed when
         /// the run completes)
         #[arg(long, value_name = "K", conflicts_with = "perturbed")]
@@ -123,7 +134,7 @@ enum Command {
     /// The picture is <out>/mechanism_<scene stem>.png; it names the branch the loop closed on.
     Check {
         scene: PathBuf,
-        /// Output directory [default: out/<scene stem>]
+        /// Output directory [default: out/<scene stem>/check]
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -133,7 +144,7 @@ enum Command {
     /// magnifies the first clearance joint's journal centre in its clearance circle.
     Animate {
         scene: PathBuf,
-        /// Output directory [default: out/<scene stem>]
+        /// Output directory [default: out/<scene stem>/animate]
         #[arg(long)]
         out: Option<PathBuf>,
         /// Rotations to simulate and draw
@@ -204,7 +215,7 @@ enum Command {
         /// rotations it took [default: each joint's radial clearance: the clearance doubled]
         #[arg(long, value_name = "DEPTH_MM")]
         until: Option<f64>,
-        /// Output directory [default: out/<scene stem>]
+        /// Output directory [default: out/<scene stem>/longlife]
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -224,13 +235,14 @@ fn main() -> ExitCode {
             ensemble,
             seed,
             member: Some(member),
+            perturbation,
             discard_checkpoint,
             ..
         } => {
             let of = EnsembleSettings {
                 members: ensemble.unwrap_or(MAX_MEMBERS),
                 seed,
-                ..EnsembleSettings::default()
+                perturbation,
             };
             run::run(
                 &scene,
@@ -268,6 +280,7 @@ fn main() -> ExitCode {
             rotations,
             ensemble: Some(members),
             seed,
+            perturbation,
             ..
         } => ensemble::run_ensemble(
             &scene,
@@ -277,7 +290,7 @@ fn main() -> ExitCode {
             EnsembleSettings {
                 members,
                 seed,
-                ..EnsembleSettings::default()
+                perturbation,
             },
         ),
         Command::Check { scene, out } => check::check(&scene, out),
@@ -324,9 +337,23 @@ fn main() -> ExitCode {
     }
 }
 
-/// `out/<scene stem>` unless given.
-fn out_dir(scene: &Path, out: Option<PathBuf>) -> PathBuf {
-    out.unwrap_or_else(|| Path::new("out").join(scene_stem(scene)))
+/// `--perturbation`'s value ([`Perturbation::from_key`]); clap reports a bad one with exit
+/// code 2, naming the flag.
+fn parse_perturbation(key: &str) -> Result<Perturbation, String> {
+    Perturbation::from_key(key).map_err(|e| e.to_string())
+}
+
+/// `out/<scene stem>/<kind>` unless given: one default folder per kind of output (`run`,
+/// `ensemble`, `member-<K>`, `longlife`, `animate`, `check`), so that no command replaces
+/// another's results ([`jointwear::io::output::write_outputs`] removes the files of the
+/// previous write into a folder).
+fn out_dir(scene: &Path, kind: &str, out: Option<PathBuf>) -> PathBuf {
+    out.unwrap_or_else(|| scene_out(scene).join(kind))
+}
+
+/// `out/<scene stem>`: the default folders of a scene's outputs, and its sweep files, are in it.
+fn scene_out(scene: &Path) -> PathBuf {
+    Path::new("out").join(scene_stem(scene))
 }
 
 /// The scene file's name without its extension (`standard` for `data/scenes/standard.toml`).
@@ -339,8 +366,8 @@ fn scene_stem(scene: &Path) -> String {
 }
 
 /// [`out_dir`], refused (exit 2, as `--out`) if it cannot hold a run's outputs.
-fn checked_out_dir(scene: &Path, out: Option<PathBuf>) -> CliResult<PathBuf> {
-    let dir = out_dir(scene, out);
+fn checked_out_dir(scene: &Path, kind: &str, out: Option<PathBuf>) -> CliResult<PathBuf> {
+    let dir = out_dir(scene, kind, out);
     jointwear::io::output::check_output_dir("--out", &dir).map_err(|e| Failure::from(scene, e))?;
     Ok(dir)
 }
@@ -351,41 +378,30 @@ fn claim_out(scene: &Path, dir: &Path) -> CliResult<Lock> {
     lock::claim_folder("--out", dir).map_err(|e| Failure::from(scene, e))
 }
 
-/// The file `<stem>_<joint>.csv` of a per-joint output, the joint's name made safe for a file
-/// name ([`joint_file_part`]; a scene whose joints would share a file is refused at load).
-fn joint_file(stem: &str, joint: &str) -> String {
-    format!("{stem}_{}.csv", joint_file_part(joint))
-}
-
 /// A scene as `run` simulates it: the file with its `--set` values and `--rotations`.
-pub struct Variant {
+pub struct Loaded {
     /// The built scene.
     pub scene: Scene,
-    /// The changes to the file, in the order applied: the `--set` values, then `--rotations`
-    /// as `run.rotations` (and the snapshots and recorded rotations it cut).
-    pub changes: Vec<(String, String)>,
-    /// The fingerprint of the scene file and its `--set`/`--rotations` changes: a checkpoint
-    /// belongs to this variant only.
-    pub fingerprint: String,
+    /// The scene file and its changes: the `--set` values, then `--rotations` (and the
+    /// snapshots and recorded rotations it cut); its fingerprint is a checkpoint's.
+    pub variant: Variant,
     /// The output folder, checked ([`checked_out_dir`]).
     pub dir: PathBuf,
-    /// `jointwear run SCENE` with its `--set` and `--rotations` arguments, for the outputs.
-    pub command: String,
 }
 
-/// The scene file at `path` with `sets` (`KEY=VALUE`, one value each) assigned through the
-/// dotted-key setter of `sweep` ([`set_dotted`]), then `rotations` as `run.rotations`; it
-/// then cuts the wear snapshots past it and the recorded rotations to it, unless they were
-/// set. Validated as a scene file is, and every error is bad input (exit code 2): a bad key or
-/// value names the key, the value, the valid range and the `--set` it came from. The changes
-/// made on the user's behalf are printed ([`run::print_cuts`]). `out` is checked as the
+/// The scene file at `path` with `sets` (`KEY=VALUE`, one value each) assigned by dotted key,
+/// then `rotations` as `run.rotations`, which cuts the wear snapshots past it and the recorded
+/// rotations to it unless they were set ([`Variant::set`]). Validated as a scene file is, and
+/// every error is bad input (exit code 2): a bad key or value names the key, the value, the
+/// valid range and the `--set` it came from. The changes made on the user's behalf are printed
+/// ([`run::print_cuts`]). `out` (default: the folder of `kind`, [`out_dir`]) is checked as the
 /// output folder.
 fn load_variant(
     path: &Path,
     sets: &[String],
     rotations: Option<u32>,
-    out: Option<PathBuf>,
-) -> CliResult<Variant> {
+    (kind, out): (&str, Option<PathBuf>),
+) -> CliResult<Loaded> {
     let input = |e| Failure::input(path, e);
     let mut assignments = Vec::new();
     for arg in sets {
@@ -399,15 +415,8 @@ fn load_variant(
         }
         assignments.push(a);
     }
-    if let Some(n) = rotations {
-        assignments.push(Assignment {
-            key: "run.rotations".into(),
-            values: vec![n.to_string()],
-        });
-    }
-    let doc = SceneFile::read_document(path).map_err(input)?;
-    let fingerprint = fingerprint(&doc, &assignments);
-    // The arguments that changed the file, for messages and the command line.
+    let mut variant = Variant::read(path).map_err(input)?;
+    // The arguments that changed the file, for messages.
     let from: Vec<String> = (sets.iter().map(|s| format!("--set {s}")))
         .chain(rotations.map(|n| format!("--rotations {n}")))
         .collect();
@@ -419,42 +428,24 @@ fn load_variant(
         }
     };
     for a in &assignments {
-        if let Some(note) = reversal_note(&doc, &a.key, &parse_value(&a.values[0])) {
+        let value = parse_value(&a.values[0]);
+        if let Some(note) = reversal_note(variant.loaded(), &a.key, &value) {
             eprintln!("note: {note} (--set {}={})", a.key, a.values[0]);
         }
+        (variant.set(&a.key, value, &a.values[0], false)).map_err(|e| input(from_set(e)))?;
     }
-    let mut varied = doc;
-    for a in &assignments {
-        set_dotted(&mut varied, &a.key, parse_value(&a.values[0]))
+    let mut cuts = Vec::new();
+    if let Some(n) = rotations {
+        cuts = (variant.set("run.rotations", n.into(), &n.to_string(), true))
             .map_err(|e| input(from_set(e)))?;
     }
-    let mut file = SceneFile::from_document(varied, path).map_err(|e| input(from_set(e)))?;
-    let mut changes: Vec<(String, String)> = assignments
-        .iter()
-        .map(|a| (a.key.clone(), a.values[0].clone()))
-        .collect();
-    let set = |key: &str| assignments.iter().any(|a| a.key == key);
-    // What --rotations cut on the user's behalf, besides run.rotations itself.
-    let cuts: Vec<(String, String)> = match rotations {
-        Some(n) => (file.run.cut_to(n, set).into_iter())
-            .map(|(key, value)| (key, value.to_string()))
-            .collect(),
-        None => Vec::new(),
-    };
-    let scene = file.build().map_err(|e| input(from_set(e)))?;
+    let scene = variant.build().map_err(|e| input(from_set(e)))?;
     if let Some(n) = rotations {
         run::print_cuts(&cuts, n);
     }
-    changes.extend(cuts);
-    let command = std::iter::once(format!("jointwear run {}", path.display()))
-        .chain(from)
-        .collect::<Vec<_>>()
-        .join(" ");
-    Ok(Variant {
+    Ok(Loaded {
         scene,
-        changes,
-        fingerprint,
-        dir: checked_out_dir(path, out)?,
-        command,
+        variant,
+        dir: checked_out_dir(path, kind, out)?,
     })
 }

@@ -1,28 +1,21 @@
 //! `jointwear run SCENE`: one run of a scene (with its `--set` values and `--rotations`), with
-//! checkpoints and resumption; its time series, wear profiles and snapshots, default plots,
-//! `summary.json` and `README.txt`, and the summary it prints.
+//! checkpoints and resumption; its folder ([`write_run`]: time series, wear profiles and
+//! snapshots, default plots, `summary.json` and `README.txt`) and the summary it prints.
 
 use crate::ensemble::checked;
 use crate::failure::{CliResult, Failure};
-use crate::outputs::{
-    body_name, conventions, timeseries_columns, write_profiles, write_summary, PROGRAM,
-    SUMMARY_FILE,
-};
-use crate::{claim_out, joint_file, load_variant};
-use jointwear::analysis::regions::{MIN_PROMINENCE_OF_HEIGHT, MIN_RELATIVE_PROMINENCE};
+use crate::{claim_out, load_variant};
+use jointwear::io::format::{number, quantity};
 use jointwear::io::interrupt;
-use jointwear::io::output::{write_csv, write_outputs};
-use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::{progress_bar, Progress};
-use jointwear::laws::wear::sector_angles_deg;
-use jointwear::ode::Method;
 use jointwear::simulation::checkpoint::{read_checkpoint, write_checkpoint, CHECKPOINT_FILE};
 use jointwear::simulation::ensemble::{member_simulation, EnsembleSettings};
+use jointwear::simulation::folder::run::write_run;
+use jointwear::simulation::folder::SUMMARY_FILE;
+use jointwear::simulation::summary::JointSummary;
 use jointwear::simulation::Scene;
-use jointwear::simulation::{RunOutput, Settling, Simulation};
-use jointwear::sweep::{summarize, JointSummary};
+use jointwear::simulation::{RunOutput, Simulation};
 use jointwear::Error;
-use serde::Serialize;
 use std::path::{Path, PathBuf};
 
 /// What a run does with the checkpoint of an unfinished run in its output folder.
@@ -77,11 +70,12 @@ pub fn run(
             ));
         }
     }
-    let mut variant = load_variant(path, sets, rotations, out)?;
-    if let Some((ensemble, k)) = &member {
-        variant.command = format!("{} --member {k} --seed {}", variant.command, ensemble.seed);
-    }
-    let (scene, dir, fingerprint) = (&variant.scene, &variant.dir, &variant.fingerprint);
+    let kind = member
+        .as_ref()
+        .map_or("run".into(), |(_, k)| format!("member-{k}"));
+    let loaded = load_variant(path, sets, rotations, (&kind, out))?;
+    let (scene, dir) = (&loaded.scene, &loaded.dir);
+    let fingerprint = &loaded.variant.fingerprint();
     let _claim = claim_out(path, dir)?;
     if checkpoint_every == Some(0) {
         return Err(Failure::input(
@@ -166,19 +160,8 @@ pub fn run(
     bar.finish_and_clear();
     result.map_err(bad)?;
     let out = sim.finish();
-    let joints = summarize(scene, &out);
-    let mut summary = RunSummary::new(path, scene, &variant.changes, fingerprint, &out, &joints);
-    summary.ensemble_member = member.map(|(e, member)| EnsembleMember {
-        member,
-        seed: e.seed,
-        perturbation: e.perturbation.describe(),
-    });
-    let title = &variant.command;
-    write_outputs(dir, title, || {
-        write_run(scene, &out, dir)?;
-        write_summary(dir, &summary, &readme(title, scene, &out))
-    })
-    .map_err(|e| Failure::from(path, e))?;
+    let member = member.as_ref().map(|(e, k)| (e, *k));
+    let joints = write_run(dir, &loaded.variant.origin(), scene, &out, member).map_err(bad)?;
     // A completed run needs no checkpoint (any there is its own: another is refused or
     // discarded above); a failed one keeps its last.
     if saved.exists() {
@@ -190,144 +173,58 @@ pub fn run(
 }
 
 /// Says on stderr which values `--rotations n` cut beyond `run.rotations` (`cuts`: key, value).
-pub fn print_cuts(cuts: &[(String, String)], n: u32) {
+pub fn print_cuts(cuts: &[(String, toml::Value)], n: u32) {
     for (key, value) in cuts {
         eprintln!("note: --rotations {n} sets {key} = {value}");
     }
 }
 
-/// Time series, final wear profiles and the default plots of a run.
-fn write_run(scene: &Scene, out: &RunOutput, dir: &Path) -> jointwear::Result<()> {
-    let (m, rec) = (&scene.mechanism, &out.recording);
-    let table = rec.columns(m);
-    let header: Vec<&str> = table.iter().map(|(name, _)| name.as_str()).collect();
-    let columns: Vec<&[f64]> = table.iter().map(|(_, data)| &data[..]).collect();
-    write_csv(&dir.join("timeseries.csv"), &header, &columns)?;
-
-    let worn: Vec<(usize, Vec<f64>, Vec<f64>)> = m
-        .clearance_joints
-        .iter()
-        .enumerate()
-        .filter(|(_, cj)| cj.wear.is_some())
-        .map(|(k, _)| {
-            let depth = &out.final_wear[k];
-            (
-                k,
-                sector_angles_deg(depth.len()),
-                depth.iter().map(|d| d * 1e6).collect(),
-            )
-        })
-        .collect();
-    for (k, angles, _) in &worn {
-        let name = &m.clearance_joints[*k].name;
-        let path = dir.join(joint_file("wear", name));
-        write_csv(
-            &path,
-            &["angle_deg", "depth_m"],
-            &[angles, &out.final_wear[*k]],
-        )?;
-    }
-    let snapshots: Vec<(u64, &[Vec<f64>])> = out
-        .wear_snapshots
-        .iter()
-        .map(|s| (u64::from(s.rotation), s.depths.as_slice()))
-        .collect();
-    write_profiles(dir, "wear_snapshots", "wear_evolution.png", m, &snapshots)?;
-    if !worn.is_empty() {
-        let series = worn
-            .iter()
-            .map(|(k, a, um)| Series::new(&m.clearance_joints[*k].name, a, um, Style::Line))
-            .collect();
-        let axes = Axes {
-            x_range: Some((0.0, 360.0)),
-            ..Axes::new(
-                format!("Wear after {} rotations", scene.run.rotations),
-                "bearing angle (deg)",
-                "wear depth (µm)",
-                series,
-            )
-        };
-        render(&dir.join("wear.png"), &[axes])?;
-    }
-    if rec.time.is_empty() {
-        return Ok(());
-    }
-    let um = |v: &[f64]| v.iter().map(|x| x * 1e6).collect::<Vec<f64>>();
-    let orbits: Vec<(Vec<f64>, Vec<f64>)> =
-        rec.joints.iter().map(|t| (um(&t.ex), um(&t.ey))).collect();
-    let panels: Vec<Axes> = m
-        .clearance_joints
-        .iter()
-        .zip(&orbits)
-        .map(|(cj, (x, y))| {
-            let c = (cj.r_bearing - cj.r_journal) * 1e6;
-            Axes {
-                equal_aspect: true,
-                circles: vec![(0.0, 0.0, c)],
-                ..Axes::new(
-                    format!("{}: journal centre (c = {c:.3} µm)", cj.name),
-                    "x (µm)",
-                    "y (µm)",
-                    vec![Series::new("journal centre", x, y, Style::Line)],
-                )
-            }
-        })
-        .collect();
-    if !panels.is_empty() {
-        render(&dir.join("trajectory.png"), &panels)?;
-        let series = m
-            .clearance_joints
-            .iter()
-            .zip(&rec.joints)
-            .map(|(cj, t)| Series::new(&cj.name, &rec.time, &t.normal_force, Style::Line))
-            .collect();
-        let axes = Axes::new(
-            "Contact normal force",
-            "time (s)",
-            "normal force (N)",
-            series,
-        );
-        render(&dir.join("normal_force.png"), &[axes])?;
-    }
-    Ok(())
-}
-
 /// Wear regions printed per joint; `summary.json` lists them all.
 const SHOWN_REGIONS: usize = 3;
 
-/// The run's summary on stdout: counters, and per joint (`joints`, [`summarize`]) forces,
+/// The run's summary on stdout: counters, and per joint (`joints`, as its folder's) forces,
 /// motion and wear regions. What was not recorded is said to be, never printed as NaN.
 fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
     let s = &out.stats;
     println!("{}", scene.title);
     println!(
-        "  {} rotations in {:.2} s wall time: {} steps, {} rejected, {} evaluations, {} contact onsets",
-        scene.run.rotations, out.wall_time, s.steps, s.rejected, s.evaluations, s.events
+        "  {} rotations in {} of wall time: {} steps, {} rejected, {} evaluations, {} contact \
+         onsets",
+        scene.run.rotations,
+        quantity(out.wall_time, "s"),
+        s.steps,
+        s.rejected,
+        s.evaluations,
+        s.events
     );
     if let Some(e) = out.energy {
-        println!("  energy balance residual {:.2e}", e.residual());
+        println!(
+            "  energy balance residual {} (relative)",
+            number(e.residual())
+        );
     }
     for j in joints {
         println!("  joint {}:", j.name);
         match (j.max_normal_force_recorded, j.max_penetration_recorded) {
             (Some(f), Some(p)) => println!(
-                "    max normal force {f:.2} N, max penetration {:.3} µm (recorded rotations)",
-                p * 1e6
+                "    max normal force {}, max penetration {} (recorded rotations)",
+                quantity(f, "N"),
+                quantity(p * 1e6, "µm")
             ),
             _ => println!(
                 "    max normal force and penetration not recorded (run.record_rotations = 0)"
             ),
         }
         println!(
-            "    max penetration {:.3} µm over the whole run (start-up transient included)",
-            j.max_penetration_whole_run * 1e6
+            "    max penetration {} over the whole run (start-up transient included)",
+            quantity(j.max_penetration_whole_run * 1e6, "µm")
         );
         if let Some(m) = j.motion {
             println!(
-                "    motion: {} ({:.0} % in contact, {:.1} impacts per rotation)",
+                "    motion: {} ({} in contact, {} impacts per rotation)",
                 m.mode(),
-                100.0 * m.contact_fraction,
-                m.impacts_per_rotation
+                quantity(100.0 * m.contact_fraction, "%"),
+                number(m.impacts_per_rotation)
             );
         } else {
             println!("    motion: not classified (run.record_rotations = 0)");
@@ -341,294 +238,12 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
         }
         for p in &j.regions[..shown] {
             println!(
-                "    wear region at {:6.1} deg: depth {:.4} µm, prominence {:.4} µm, width {:.0} deg",
-                p.angle_deg,
-                p.depth * 1e6,
-                p.prominence * 1e6,
-                p.width_deg
+                "    wear region at {}: depth {}, prominence {}, width {}",
+                quantity(p.angle_deg, "deg"),
+                quantity(p.depth * 1e6, "µm"),
+                quantity(p.prominence * 1e6, "µm"),
+                quantity(p.width_deg, "deg")
             );
         }
     }
-}
-
-/// `summary.json` of a run: what was run and what it measured, for programs to read.
-#[derive(Serialize)]
-struct RunSummary {
-    /// `jointwear <version>`.
-    program: String,
-    /// The scene file and what `--set`/`--rotations` changed in it.
-    scene: SceneSummary,
-    /// The run settings as simulated.
-    settings: SettingsSummary,
-    /// Integrator and recording counters.
-    counts: Counts,
-    /// Wall-clock time of the simulation (s), writing excluded.
-    wall_time_s: f64,
-    /// Relative energy balance residual, with `run.energy_accounting`.
-    energy_balance_residual: Option<f64>,
-    /// How the run settled, for `run.settle`.
-    settling: Option<Settling>,
-    /// With `--member`: the ensemble member this run is; `null` for the scene's own start.
-    ensemble_member: Option<EnsembleMember>,
-    /// Per clearance joint.
-    joints: Vec<JointResult>,
-}
-
-#[derive(Serialize)]
-struct EnsembleMember {
-    /// 0-based.
-    member: usize,
-    seed: u64,
-    perturbation: String,
-}
-
-#[derive(Serialize)]
-struct SceneSummary {
-    path: String,
-    title: String,
-    /// Fingerprint of the resolved scene document and its changes (checkpoints carry it).
-    fingerprint: String,
-    /// `[key, value]` in the order applied: the `--set` values, `--rotations` as
-    /// `run.rotations`, and what it cut.
-    changes: Vec<(String, String)>,
-}
-
-#[derive(Serialize)]
-struct SettingsSummary {
-    rotations: u32,
-    record_rotations: u32,
-    record_interval_s: f64,
-    wear_snapshots: Vec<u32>,
-    method: Method,
-    rtol: f64,
-    atol: f64,
-    /// `null`: no bound.
-    max_step_s: f64,
-    baumgarte_per_s: f64,
-    max_steps: u64,
-    driver_body: String,
-    /// Signed: positive counter-clockwise.
-    driver_speed_rpm: f64,
-    driver_period_s: f64,
-}
-
-#[derive(Serialize)]
-struct Counts {
-    /// Driver rotations integrated: settling rotations, then `settings.rotations`.
-    rotations_simulated: u32,
-    settling_rotations: u32,
-    /// Rows of `timeseries.csv`.
-    recorded_samples: usize,
-    steps: u64,
-    rejected_steps: u64,
-    rhs_evaluations: u64,
-    /// Contact onsets located (all joints).
-    contact_onsets: u64,
-}
-
-#[derive(Serialize)]
-struct JointResult {
-    name: String,
-    journal_body: String,
-    bearing_body: String,
-    radial_clearance_m: f64,
-    /// Largest normal force of the recorded rotations (N); `null` when none were recorded.
-    max_normal_force_recorded_n: Option<f64>,
-    /// Largest penetration of the recorded rotations (m); `null` when none were recorded.
-    max_penetration_recorded_m: Option<f64>,
-    /// Largest penetration at the accepted steps of the whole run, start-up transient
-    /// included (m).
-    max_penetration_whole_run_m: f64,
-    /// Contact onsets of this joint over the whole run.
-    contact_onsets: u64,
-    /// Motion of the recorded rotations; `null` when none were recorded.
-    motion: Option<MotionResult>,
-    /// Deepest wear of the final profile (m); `null` without a wear model.
-    max_wear_depth_m: Option<f64>,
-    /// Wear regions of the final profile, most prominent first.
-    wear_regions: Vec<RegionResult>,
-}
-
-#[derive(Serialize)]
-struct MotionResult {
-    /// `continuous contact` or `free flight and impact`.
-    mode: String,
-    contact_fraction: f64,
-    impacts_per_rotation: f64,
-    mean_flight_time_s: f64,
-}
-
-#[derive(Serialize)]
-struct RegionResult {
-    /// Bearing frame, counter-clockwise from its +x axis.
-    angle_deg: f64,
-    depth_m: f64,
-    prominence_m: f64,
-    width_deg: f64,
-}
-
-impl RunSummary {
-    fn new(
-        path: &Path,
-        scene: &Scene,
-        changes: &[(String, String)],
-        fingerprint: &str,
-        out: &RunOutput,
-        joints: &[JointSummary],
-    ) -> RunSummary {
-        let m = &scene.mechanism;
-        let run = &scene.run;
-        let settling = out.settling.map_or(0, |s| s.rotations);
-        RunSummary {
-            program: PROGRAM.into(),
-            scene: SceneSummary {
-                path: path.display().to_string(),
-                title: scene.title.clone(),
-                fingerprint: fingerprint.to_string(),
-                changes: changes.to_vec(),
-            },
-            settings: SettingsSummary {
-                rotations: run.rotations,
-                record_rotations: run.record_rotations,
-                record_interval_s: run.record_interval,
-                wear_snapshots: run.wear_snapshots.clone(),
-                method: run.method,
-                rtol: run.tolerances.rtol,
-                atol: run.tolerances.atol,
-                max_step_s: run.tolerances.max_step,
-                baumgarte_per_s: run.baumgarte,
-                max_steps: run.max_steps,
-                driver_body: body_name(m, Some(m.driver.body)).to_string(),
-                driver_speed_rpm: m.driver.omega * 60.0 / std::f64::consts::TAU,
-                driver_period_s: out.period,
-            },
-            counts: Counts {
-                rotations_simulated: settling + run.rotations,
-                settling_rotations: settling,
-                recorded_samples: out.recording.time.len(),
-                steps: out.stats.steps,
-                rejected_steps: out.stats.rejected,
-                rhs_evaluations: out.stats.evaluations,
-                contact_onsets: out.stats.events,
-            },
-            wall_time_s: out.wall_time,
-            energy_balance_residual: out.energy.map(|e| e.residual()),
-            settling: out.settling,
-            ensemble_member: None,
-            joints: m
-                .clearance_joints
-                .iter()
-                .zip(joints)
-                .enumerate()
-                .map(|(k, (cj, j))| JointResult {
-                    name: j.name.clone(),
-                    journal_body: body_name(m, cj.journal.body).to_string(),
-                    bearing_body: body_name(m, cj.bearing.body).to_string(),
-                    radial_clearance_m: cj.clearance(),
-                    max_normal_force_recorded_n: j.max_normal_force_recorded,
-                    max_penetration_recorded_m: j.max_penetration_recorded,
-                    max_penetration_whole_run_m: j.max_penetration_whole_run,
-                    contact_onsets: out.impacts[k],
-                    motion: j.motion.map(|m| MotionResult {
-                        mode: m.mode().to_string(),
-                        contact_fraction: m.contact_fraction,
-                        impacts_per_rotation: m.impacts_per_rotation,
-                        mean_flight_time_s: m.mean_flight_time,
-                    }),
-                    max_wear_depth_m: cj
-                        .wear
-                        .map(|_| out.final_wear[k].iter().cloned().fold(0.0, f64::max)),
-                    wear_regions: j
-                        .regions
-                        .iter()
-                        .map(|p| RegionResult {
-                            angle_deg: p.angle_deg,
-                            depth_m: p.depth,
-                            prominence_m: p.prominence,
-                            width_deg: p.width_deg,
-                        })
-                        .collect(),
-                })
-                .collect(),
-        }
-    }
-}
-
-/// `README.txt` of a run's folder: the conventions, then every file and column it wrote.
-fn readme(title: &str, scene: &Scene, out: &RunOutput) -> String {
-    let m = &scene.mechanism;
-    let run = &scene.run;
-    let mut text = conventions(title, m, &scene.title);
-    text.push_str("\nFILES\n");
-    let rows = out.recording.time.len();
-    text.push_str(&format!(
-        "timeseries.csv: the last {} rotation(s) of the run (run.record_rotations), sampled \
-         every {} s: {rows} rows.\n",
-        run.record_rotations,
-        jointwear::io::output::number(run.record_interval),
-    ));
-    text.push_str(&timeseries_columns(m));
-    let worn: Vec<&str> = m
-        .clearance_joints
-        .iter()
-        .filter(|cj| cj.wear.is_some())
-        .map(|cj| cj.name.as_str())
-        .collect();
-    if !worn.is_empty() {
-        let files: Vec<String> = worn.iter().map(|n| joint_file("wear", n)).collect();
-        text.push_str(&format!(
-            "{}: the wear profile of the bearing at the end of the run.\n\
-             \x20 angle_deg    sector centre in the bearing frame (deg)\n\
-             \x20 depth_m      depth worn into the bearing (m)\n\
-             wear.png: those profiles (µm).\n\n",
-            files.join(", ")
-        ));
-        if !out.wear_snapshots.is_empty() {
-            let files: Vec<String> = worn
-                .iter()
-                .map(|n| joint_file("wear_snapshots", n))
-                .collect();
-            let counts: Vec<String> = out
-                .wear_snapshots
-                .iter()
-                .map(|s| s.rotation.to_string())
-                .collect();
-            text.push_str(&format!(
-                "{}: the wear profile after each of the rotation counts of run.wear_snapshots \
-                 ({}; counted from the start, settling rotations included).\n\
-                 \x20 angle_deg    sector centre in the bearing frame (deg)\n\
-                 \x20 rot<N>_m     depth worn into the bearing after N rotations (m)\n\
-                 wear_evolution.png: those profiles (µm), one panel per joint.\n\n",
-                files.join(", "),
-                counts.join(", ")
-            ));
-        }
-    }
-    if rows > 0 && !m.clearance_joints.is_empty() {
-        text.push_str(
-            "trajectory.png: journal centre relative to the bearing centre (ex, ey, global \
-             frame, µm) inside the clearance circle, recorded rotations.\n\
-             normal_force.png: contact normal force against time, recorded rotations.\n\n",
-        );
-    }
-    text.push_str(&format!(
-        "{SUMMARY_FILE}: the run as JSON: program; scene (path, title, fingerprint, changes: \
-         the [key, value] pairs of --set and --rotations); settings (as simulated, SI units in \
-         the key names; method and tolerances; driver_speed_rpm signed, positive \
-         counter-clockwise); counts (rotations simulated, settling rotations, recorded samples, \
-         steps, rejected steps, right-hand-side evaluations, contact onsets); wall_time_s; \
-         energy_balance_residual; settling; joints (per clearance joint: bodies, radial \
-         clearance, max_normal_force_recorded_n and max_penetration_recorded_m over the \
-         recorded rotations or null if none were recorded, max_penetration_whole_run_m over \
-         every step from the start (the start-up transient, the impact after the centred \
-         start, included), contact onsets, motion (mode: \
-         `continuous contact` or `free flight and impact`, contact fraction, impacts per \
-         rotation, mean flight time) or null, max_wear_depth_m, wear_regions: angle_deg in the \
-         bearing frame, depth_m, prominence_m, width_deg at half prominence, most prominent \
-         first; a region is a hump of the profile by topographic prominence, at least {:.0} % of \
-         the most prominent one's and {:.0} % of its own height above the shallowest sector).\n",
-        100.0 * MIN_RELATIVE_PROMINENCE,
-        100.0 * MIN_PROMINENCE_OF_HEIGHT,
-    ));
-    text
 }

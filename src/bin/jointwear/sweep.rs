@@ -3,7 +3,7 @@
 //! are [`jointwear::sweep`].
 
 use crate::failure::{CliResult, Failure};
-use crate::out_dir;
+use crate::scene_out;
 use jointwear::io::interrupt;
 use jointwear::io::lock::claim_file;
 use jointwear::io::output::check_output_file;
@@ -57,7 +57,7 @@ pub fn sweep(
         } else {
             format!("sweep-{}-of-{}.csv", shard.index, shard.count)
         };
-        out_dir(path, None).join(name)
+        scene_out(path).join(name)
     });
     let mut sweep = Sweep::new(path, sets, shard).map_err(|e| Failure::input(path, e))?;
     if let Some(e) = ensemble {

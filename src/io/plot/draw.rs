@@ -31,9 +31,14 @@ pub(super) type DrawResult<'b> = std::result::Result<(), Box<dyn std::error::Err
 /// Draws `panels` into the PNG at `path` (1-3 side by side, 4 as 2x2, more in rows of 3),
 /// atomically.
 pub(super) fn draw_figure(path: &Path, panels: &[Panel]) -> Result<()> {
+    draw_figure_in(path, panels, grid(panels.len() as u32))
+}
+
+/// [`draw_figure`] with the panels in a grid of `(columns, rows)`, filled row by row.
+pub(super) fn draw_figure_in(path: &Path, panels: &[Panel], layout: (u32, u32)) -> Result<()> {
     write_atomic(path, |tmp| {
-        let backend = BitMapBackend::new(tmp, figure_size(panels));
-        draw_frames(path, backend, std::slice::from_ref(&panels))
+        let backend = BitMapBackend::new(tmp, figure_size(layout));
+        draw_frames(path, backend, std::slice::from_ref(&panels), layout)
     })
 }
 
@@ -49,10 +54,11 @@ pub(super) fn draw_animation<P: AsRef<[Panel]>>(
     let first = frames
         .first()
         .ok_or_else(|| plot_error(path, "an animation needs at least one frame"))?;
-    let size = figure_size(first.as_ref());
+    let layout = grid(first.as_ref().len() as u32);
     write_atomic(path, |tmp| {
-        let backend = BitMapBackend::gif(tmp, size, delay_ms).map_err(|e| plot_error(path, e))?;
-        draw_frames(path, backend, frames)
+        let backend = BitMapBackend::gif(tmp, figure_size(layout), delay_ms)
+            .map_err(|e| plot_error(path, e))?;
+        draw_frames(path, backend, frames, layout)
     })
 }
 
@@ -62,9 +68,8 @@ fn grid(n: u32) -> (u32, u32) {
     (cols, n.div_ceil(cols))
 }
 
-/// The size (px) of a figure of `panels`.
-fn figure_size(panels: &[Panel]) -> (u32, u32) {
-    let (cols, rows) = grid(panels.len() as u32);
+/// The size (px) of a figure whose panels are laid out in `(columns, rows)`.
+fn figure_size((cols, rows): (u32, u32)) -> (u32, u32) {
     (cols * PANEL_SIZE.0, rows * PANEL_SIZE.1)
 }
 
@@ -75,6 +80,7 @@ fn draw_frames<P: AsRef<[Panel]>>(
     path: &Path,
     backend: BitMapBackend<'_>,
     frames: &[P],
+    (cols, rows): (u32, u32),
 ) -> Result<()> {
     ensure_font().map_err(|m| plot_error(path, m))?;
     let note_lines = frames
@@ -89,7 +95,6 @@ fn draw_frames<P: AsRef<[Panel]>>(
     let drawn: DrawResult = (|| {
         for panels in frames {
             let panels = panels.as_ref();
-            let (cols, rows) = grid(panels.len() as u32);
             root.fill(&WHITE)?;
             let areas = root.split_evenly((rows as usize, cols as usize));
             for (area, panel) in areas.iter().zip(panels) {

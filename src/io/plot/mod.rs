@@ -49,7 +49,7 @@ pub use polar::render_polar;
 use std::path::Path;
 
 use crate::{Error, Result};
-use draw::draw_figure;
+use draw::{draw_figure, draw_figure_in};
 use panel::Panel;
 
 /// How a series is drawn. Colours come from a fixed colour-blind-friendly palette, in the order
@@ -184,11 +184,26 @@ impl<'a> Axes<'a> {
 /// Renders one figure of 1-3 panels side by side (4 panels as 2x2, more in rows of 3) as PNG.
 /// Panel titles get "(a)", "(b)", ... prefixes when there is more than one panel.
 pub fn render(path: &Path, panels: &[Axes]) -> Result<()> {
+    let prepared = prepare(path, panels)?;
+    draw_figure(path, &prepared)
+}
+
+/// Renders one figure with its panels one under another, each at the width of a single
+/// panel: a figure of several panels that stays readable when scaled to a page's width.
+/// Titles are tagged as by [`render`].
+pub fn render_column(path: &Path, panels: &[Axes]) -> Result<()> {
+    let prepared = prepare(path, panels)?;
+    draw_figure_in(path, &prepared, (1, prepared.len() as u32))
+}
+
+/// The panels of a figure at `path` ready to draw, titles tagged "(a)", "(b)", ... when there
+/// is more than one.
+fn prepare(path: &Path, panels: &[Axes]) -> Result<Vec<Panel>> {
     if panels.is_empty() {
         return Err(plot_error(path, "a figure needs at least one panel"));
     }
     let tagged = panels.len() > 1;
-    let prepared = panels
+    panels
         .iter()
         .enumerate()
         .map(|(i, axes)| {
@@ -200,8 +215,7 @@ pub fn render(path: &Path, panels: &[Axes]) -> Result<()> {
             Panel::new(axes, title, None)
         })
         .collect::<std::result::Result<Vec<_>, String>>()
-        .map_err(|message| plot_error(path, message))?;
-    draw_figure(path, &prepared)
+        .map_err(|message| plot_error(path, message))
 }
 
 /// The error of the figure at `path` that cannot be drawn, saying why.

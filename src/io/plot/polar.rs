@@ -15,16 +15,21 @@ use super::theme::{text, TICK_PX};
 use super::{plot_error, Axes, Series, Style};
 use crate::Result;
 
+/// Angle at which the depth scale's rings are labelled (deg): between two spokes.
+const SCALE_LABEL_DEG: f64 = 112.5;
+
 /// Renders closed profiles `r(theta)` (theta in degrees, counter-clockwise from +x) as a polar
 /// picture around the dashed reference circle of radius `r_ref`. The deviation `r - r_ref` is
-/// scaled by `magnify` (noted on the figure) so that micrometre wear shows on a millimetre radius.
+/// scaled by `magnify` (noted on the figure) so that micrometre wear shows on a millimetre
+/// radius; `scale` gives deviations (the radii's unit) at which rings are drawn like the
+/// reference circle, each labelled with its text, so that a deviation can be read off.
 pub fn render_polar(
     path: &Path,
     title: &str,
     theta_deg: &[f64],
     profiles: &[(String, Vec<f64>, Style)],
-    r_ref: f64,
-    magnify: f64,
+    (r_ref, magnify): (f64, f64),
+    scale: &[(f64, String)],
 ) -> Result<()> {
     let fail = |message: String| plot_error(path, message);
     if !(r_ref.is_finite() && r_ref > 0.0 && magnify.is_finite() && magnify > 0.0) {
@@ -55,25 +60,34 @@ pub fn render_polar(
             })
             .unzip()
     };
-    // The reference circle first, so that the profiles are drawn over it.
-    let reference = (
-        "reference circle".to_owned(),
-        closed(&|_| r_ref),
-        Style::Reference,
-    );
-    let curves: Vec<_> = std::iter::once(reference)
-        .chain(
-            profiles
-                .iter()
-                .map(|(name, r, style)| (name.clone(), closed(&|i| r[i]), *style)),
-        )
-        .collect();
+    // The reference circle and the scale's rings first, so that the profiles are drawn over
+    // them; one legend entry stands for them all.
+    let reference = if scale.is_empty() {
+        "reference circle"
+    } else {
+        "reference circle and depth rings"
+    };
+    let rings = scale.iter().map(|(d, _)| {
+        let ring = closed(&|_| r_ref + d);
+        (String::new(), ring, Style::Reference)
+    });
+    let curves: Vec<_> =
+        std::iter::once((reference.to_owned(), closed(&|_| r_ref), Style::Reference))
+            .chain(rings)
+            .chain(
+                profiles
+                    .iter()
+                    .map(|(name, r, style)| (name.clone(), closed(&|i| r[i]), *style)),
+            )
+            .collect();
     let extent = curves
         .iter()
         .flat_map(|(_, (x, y), _)| x.iter().zip(y).map(|(x, y)| x.hypot(*y)))
         .filter(|r| r.is_finite())
         .fold(r_ref, f64::max)
         * 1.15;
+    let ring = |deviation: f64| r_ref + magnify * deviation;
+    let (sin, cos) = SCALE_LABEL_DEG.to_radians().sin_cos();
     let axes = Axes {
         title: title.to_owned(),
         series: curves
@@ -83,6 +97,10 @@ pub fn render_polar(
         x_range: Some((-extent, extent)),
         y_range: Some((-extent, extent)),
         equal_aspect: true,
+        point_labels: scale
+            .iter()
+            .map(|(d, label)| (ring(*d) * cos, ring(*d) * sin, label.clone()))
+            .collect(),
         ..Default::default()
     };
     let note = format!("radial deviation magnified ×{magnify}");

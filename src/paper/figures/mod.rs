@@ -267,9 +267,10 @@ pub(crate) fn standard_panel(title: &str) -> [CasePanel; 1] {
     }]
 }
 
-/// `member 1 of N` for titles of figures that draw one member.
+/// `member 0 (0-based) of N` for titles of figures that draw the first member: numbered from
+/// 0 as `ensemble_members.csv` and `jointwear run --member` number them.
 pub(crate) fn first_of(n: usize) -> String {
-    format!("member 1 of {n}")
+    format!("member 0 (0-based) of {n}")
 }
 
 /// `main` of a figure program: runs the default ensembles it needs, draws it, prints its

@@ -92,7 +92,7 @@ fn orbit_inset(x: &[f64], y: &[f64], c_um: f64) -> Option<Inset> {
         x_range: xr,
         y_range: yr,
         at: (0.31, 0.3, 0.69, 0.8),
-        title: format!("outlined region, y magnified ×{magnified}"),
+        title: format!("outlined region (µm), y magnified ×{magnified}"),
     })
 }
 

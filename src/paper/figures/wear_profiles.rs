@@ -16,7 +16,7 @@ use crate::io::output::write_csv;
 use crate::io::plot::{render, render_polar, Axes, Series, Shade, Style};
 use crate::laws::wear::sector_angles_deg;
 use crate::paper::cases::{Runs, WearEnsemble, CASES};
-use crate::paper::format::sci;
+use crate::paper::format::{sci, sig};
 use crate::{Error, Result};
 
 /// The line a wear ensemble's figure prints.
@@ -53,12 +53,14 @@ pub fn deepest_wear_states(e: &WearEnsemble) -> States {
 }
 
 /// Mean and 5-95 % band of the final profiles of each state of the deepest wear, when the
-/// members split into two ([`deepest_wear_states`]): tagged `<tag>_low` and `<tag>_high`.
+/// members split into two ([`deepest_wear_states`]): labelled with the state and its member
+/// count, tagged `<tag>_low` and `<tag>_high`; empty when they do not split.
 fn state_curves(e: &WearEnsemble, label: &str, tag: &str) -> Vec<BandCurve> {
     let states = deepest_wear_states(e);
     let Some((low, high)) = states.low_high() else {
         return Vec::new();
     };
+    let n = e.members.len();
     [("low", low), ("high", high)]
         .iter()
         .map(|(which, s)| {
@@ -68,7 +70,7 @@ fn state_curves(e: &WearEnsemble, label: &str, tag: &str) -> Vec<BandCurve> {
                     .map(|&i| e.members[i].final_wear.as_slice()),
             );
             BandCurve::new(
-                format!("{label}, {which}-wear state"),
+                format!("{label}, {which}-wear state ({} of {n})", s.members.len()),
                 format!("{tag}_{which}"),
                 &band,
                 1e6,
@@ -77,12 +79,31 @@ fn state_curves(e: &WearEnsemble, label: &str, tag: &str) -> Vec<BandCurve> {
         .collect()
 }
 
+/// What a panel of final profiles draws of one ensemble: its pooled curve, or, where the
+/// members split into wear states, each state's curve instead (the pooled mean of two states
+/// is a profile no member has).
+fn drawn_curves(pooled: BandCurve, states: &[BandCurve]) -> Vec<BandCurve> {
+    if states.is_empty() {
+        vec![pooled]
+    } else {
+        states.to_vec()
+    }
+}
+
+/// The note of a panel that draws an ensemble per wear state.
+fn states_note(split: bool) -> Option<String> {
+    split.then(|| {
+        "An ensemble split into two wear states (largest-gap rule) is drawn per state.".to_string()
+    })
+}
+
 /// Wear regions of the ensemble-mean final profile, most prominent first.
 pub fn mean_profile_regions(e: &WearEnsemble) -> Vec<Region> {
     wear_regions(&e.band().mean())
 }
 
 /// A curve drawn as its mean line with the 5-95 % band shaded.
+#[derive(Clone, Debug)]
 pub(crate) struct BandCurve {
     /// Legend label.
     pub label: String,
@@ -188,10 +209,21 @@ fn profile_figure(runs: &Runs, name: &str, cases: &[CasePanel]) -> Result<Vec<St
             })
             .collect();
         let n = e.members.len();
-        // per-state final profiles go to the CSV only: the figure draws the pooled bands
         let last = e.scene.run.rotations;
-        state_columns.push((*key, state_curves(e, &case.label(), &format!("rot{last}"))));
-        panels.push((*key, format!("{title}, mean of {n}, 5-95 % shaded"), curves));
+        let states = state_curves(e, &format!("{last} rotations"), &format!("rot{last}"));
+        // the final snapshot is the final profile: drawn per state where the members split
+        let mut drawn = curves.clone();
+        if let Some(final_profile) = drawn.pop() {
+            drawn.extend(drawn_curves(final_profile, &states));
+        }
+        let note = states_note(!states.is_empty());
+        state_columns.push((*key, states));
+        panels.push((
+            *key,
+            (format!("{title}, mean of {n}, 5-95 % shaded"), note),
+            curves,
+            drawn,
+        ));
     }
     let sectors = panels
         .iter()
@@ -203,13 +235,16 @@ fn profile_figure(runs: &Runs, name: &str, cases: &[CasePanel]) -> Result<Vec<St
     })?);
     let axes: Vec<Axes> = panels
         .iter()
-        .map(|(_, t, c)| band_panel(t.clone(), &angles, c, WEAR_AXIS))
+        .map(|(_, (title, note), _, drawn)| Axes {
+            note: note.clone(),
+            ..band_panel(title.clone(), &angles, drawn, WEAR_AXIS)
+        })
         .collect();
     render(&output_path("figures", &format!("{name}.png")), &axes)?;
     let tagged = cases.len() > 1;
     let columns: Vec<(String, &BandCurve)> = panels
         .iter()
-        .map(|(key, _, curves)| (key, curves))
+        .map(|(key, _, curves, _)| (key, curves))
         .chain(state_columns.iter().map(|(key, curves)| (key, curves)))
         .flat_map(|(key, curves)| {
             curves.iter().map(move |c| {
@@ -247,8 +282,8 @@ pub fn fig14(runs: &Runs) -> Result<Vec<String>> {
 fn comparison_figure(runs: &Runs, name: &str, title: &str, varied: Varied) -> Result<Vec<String>> {
     let mut lines = Vec::new();
     let mut curves = Vec::new();
-    // per-state profiles go to the CSV only: the figure draws the pooled band
     let mut state_columns = Vec::new();
+    let mut drawn = Vec::new();
     for case in varied.cases() {
         let e = runs.wear(case.scene)?;
         lines.push(wear_line(&case.label(), e));
@@ -259,21 +294,28 @@ fn comparison_figure(runs: &Runs, name: &str, title: &str, varied: Varied) -> Re
             spread.mean_sd(1.0, 2)
         ));
         let (label, tag) = (varied.label(&case), varied.tag(&case));
-        state_columns.extend(state_curves(e, &label, &tag));
-        curves.push(BandCurve::new(label, tag, &e.band(), 1e6));
+        let states = state_curves(e, &label, &tag);
+        let pooled = BandCurve::new(label, tag, &e.band(), 1e6);
+        drawn.extend(drawn_curves(pooled.clone(), &states));
+        state_columns.extend(states);
+        curves.push(pooled);
     }
     let angles = sector_angles_deg(curves[0].mean.len());
     let n = runs.ensemble.members;
-    let axis = "accumulated wear depth after 40 rotations (µm)";
-    let mut panel = band_panel(
-        format!("{title}, mean of {n}, 5-95 % shaded"),
-        &angles,
-        &curves,
-        axis,
-    );
+    let rotations = runs.wear(varied.cases()[0].scene)?.scene.run.rotations;
+    let axis = format!("accumulated wear depth after {rotations} rotations (µm)");
+    let mut panel = Axes {
+        note: states_note(drawn.len() > curves.len()),
+        ..band_panel(
+            format!("{title}, mean of {n}, 5-95 % shaded"),
+            &angles,
+            &drawn,
+            &axis,
+        )
+    };
     // A case whose deepest wear is below a tenth of the deepest case's would be a flat line
     // at zero on a linear axis (30 r/min): draw four decades below the deepest wear instead.
-    let peaks: Vec<f64> = curves
+    let peaks: Vec<f64> = drawn
         .iter()
         .map(|c| c.mean.iter().copied().fold(0.0, f64::max))
         .collect();
@@ -282,10 +324,14 @@ fn comparison_figure(runs: &Runs, name: &str, title: &str, varied: Varied) -> Re
         let floor = 10f64.powf(deepest.log10().floor() - 4.0);
         panel.y_log = true;
         panel.y_range = Some((floor, deepest));
-        panel.note = Some(format!(
+        let log = format!(
             "Logarithmic depth axis: a curve is drawn only where its case wears more than {} µm.",
             sci(floor)
-        ));
+        );
+        panel.note = Some(match panel.note {
+            Some(states) => format!("{log}\n{states}"),
+            None => log,
+        });
     }
     render(&output_path("figures", &format!("{name}.png")), &[panel])?;
     let columns: Vec<(String, &BandCurve)> = curves
@@ -309,20 +355,43 @@ pub fn fig15(runs: &Runs) -> Result<Vec<String>> {
     comparison_figure(runs, "fig15", title, Varied::Speed)
 }
 
+/// Wear depths (µm) at which figure 5 draws its depth rings: 1, 2 or 5 × 10ⁿ steps, at most
+/// four up to `deepest` (µm).
+fn depth_rings(deepest: f64) -> Vec<f64> {
+    if !(deepest.is_finite() && deepest > 0.0) {
+        return Vec::new();
+    }
+    let decade = 10f64.powf((deepest / 4.0).log10().ceil() - 1.0);
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * decade)
+        .find(|step| deepest / step <= 4.0)
+        .unwrap_or(10.0 * decade);
+    (1..)
+        .map(|k| k as f64 * step)
+        .take_while(|d| *d <= deepest * (1.0 + 1e-9))
+        .collect()
+}
+
 /// Figure 5: polar picture of the worn bearing (standard case, section 6.1): the
-/// ensemble-mean radius at each snapshot, and the 5 % and 95 % quantiles after the last.
+/// ensemble-mean radius at each snapshot, and after the last either each wear state's mean
+/// (where the members split) or the 5 % and 95 % quantiles, with rings of wear depth as its
+/// radial scale.
 pub fn fig05(runs: &Runs) -> Result<Vec<String>> {
     let e = runs.wear(CASES.standard.scene)?;
     let r = e.scene.mechanism.clearance_joints[0].r_bearing * 1e3;
     let snapshots = e.members[0].snapshots.len();
     let bands: Vec<(u32, Band)> = (0..snapshots).map(|i| e.snapshot_band(i)).collect();
-    let radius = |d: Vec<f64>| -> Vec<f64> { d.iter().map(|d| r + d * 1e3).collect() };
-    let mut profiles: Vec<(String, Vec<f64>, Style)> = bands
+    let radius = |d: &[f64], to_mm: f64| -> Vec<f64> { d.iter().map(|d| r + d * to_mm).collect() };
+    // (CSV column, legend label, radii, style) of every profile; drawn: all but the quantiles
+    // where the states are drawn instead
+    let mut profiles: Vec<(String, String, Vec<f64>, Style)> = bands
         .iter()
         .map(|(rot, b)| {
             (
+                format!("{rot}rotationsmean"),
                 format!("{rot} rotations, mean"),
-                radius(b.mean()),
+                radius(&b.mean(), 1e3),
                 Style::Line,
             )
         })
@@ -330,45 +399,93 @@ pub fn fig05(runs: &Runs) -> Result<Vec<String>> {
     let (last_rot, last) = bands.last().ok_or_else(|| {
         Error::invalid("run.wear_snapshots", "[]", "the snapshots figure 5 draws")
     })?;
-    for (q, what) in [(0, "5 %"), (4, "95 %")] {
+    for (q, what) in [(0, "5"), (4, "95")] {
         profiles.push((
-            format!("{last_rot} rotations, {what} of members"),
-            radius(last.quantile(q)),
+            format!("{last_rot}rotations{what}ofmembers"),
+            format!("{last_rot} rotations, {what} % of members"),
+            radius(&last.quantile(q), 1e3),
             Style::Dashed,
         ));
     }
+    let states = state_curves(e, &format!("{last_rot} rotations"), "");
+    // the state curves are in µm
+    profiles.extend(states.iter().map(|c| {
+        (
+            format!(
+                "{last_rot}rotations{}statemean",
+                c.tag.trim_start_matches('_')
+            ),
+            c.label.clone(),
+            radius(&c.mean, 1e-3),
+            Style::Dashed,
+        )
+    }));
+    let quantiles = snapshots..snapshots + 2;
+    let drawn: Vec<(String, Vec<f64>, Style)> = profiles
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| states.is_empty() || !quantiles.contains(i))
+        .map(|(_, (_, label, radii, style))| (label.clone(), radii.clone(), *style))
+        .collect();
     let angles = sector_angles_deg(last.sectors.len());
-    let deepest = last.quantile(4).iter().cloned().fold(0.0, f64::max) * 1e3;
-    // magnify so the deepest wear shows as a quarter of the radius, rounded to 1, 2 or 5 × 10ⁿ
-    let raw = 0.25 * r / deepest.max(1e-12);
+    let deepest = drawn
+        .iter()
+        .flat_map(|(_, radii, _)| radii.iter().map(|x| x - r))
+        .fold(0.0, f64::max);
+    // magnify so the deepest wear shows as the radius itself, rounded down to 1, 2 or 5 ×
+    // 10ⁿ: curves a tenth of the depth apart (the wear states) stay apart
+    let raw = r / deepest.max(1e-12);
     let decade = 10f64.powf(raw.log10().floor());
     let magnify = [5.0, 2.0, 1.0]
         .iter()
         .map(|m| m * decade)
         .find(|m| *m <= raw)
         .unwrap_or(decade);
+    let rings: Vec<(f64, String)> = depth_rings(deepest * 1e3)
+        .into_iter()
+        .map(|d| (d * 1e-3, format!("{} µm", sig(d))))
+        .collect();
     render_polar(
         &output_path("figures", "fig05.png"),
         &format!(
-            "Worn bearing profile, 40 rotations (c = 0.02 mm, 2000 r/min), mean of {}",
+            "Worn bearing profile, {last_rot} rotations (c = {} mm, {} r/min), mean of {}",
+            CASES.standard.clearance_mm,
+            CASES.standard.speed_rpm,
             e.members.len()
         ),
         &angles,
-        &profiles,
-        r,
-        magnify,
+        &drawn,
+        (r, magnify),
+        &rings,
     )?;
     let names: Vec<String> = profiles
         .iter()
-        .map(|(l, _, _)| format!("radius_mm_{}", l.replace([' ', ',', '%'], "")))
+        .map(|(column, ..)| format!("radius_mm_{column}"))
         .collect();
     let mut header = vec!["angle_deg"];
     header.extend(names.iter().map(String::as_str));
     let mut cols: Vec<&[f64]> = vec![&angles];
-    cols.extend(profiles.iter().map(|(_, r, _)| r.as_slice()));
+    cols.extend(profiles.iter().map(|(_, _, r, _)| r.as_slice()));
     write_csv(&output_path("data", "fig05.csv"), &header, &cols)?;
     Ok(vec![
         wear_line(&CASES.standard.label(), e),
         format!("radial deviation magnified x{magnify}"),
     ])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn depth_rings_are_round_steps_up_to_the_deepest_wear() {
+        // checked: stepping by the decade alone gives 0.1 ... 0.6 µm, six rings, for 0.68 µm
+        let close = |a: Vec<f64>, b: &[f64]| {
+            a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-12)
+        };
+        assert!(close(depth_rings(0.68), &[0.2, 0.4, 0.6]));
+        assert!(close(depth_rings(4.0), &[1.0, 2.0, 3.0, 4.0]));
+        assert!(close(depth_rings(0.011), &[0.005, 0.01]));
+        assert!(depth_rings(0.0).is_empty() && depth_rings(f64::NAN).is_empty());
+    }
 }

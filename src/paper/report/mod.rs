@@ -24,7 +24,7 @@ mod table3;
 mod text;
 pub mod verdict;
 
-pub use claims::claims;
+pub use claims::{claim_tallies, claims};
 pub use verdict::{Claim, Verdict, MEMBER_MAJORITY};
 
 use crate::io::output::write_atomic;
@@ -35,13 +35,15 @@ use crate::paper::figures::{all_needs, Figure, FIGURES};
 use crate::paper::format::seconds;
 use crate::paper::golden::Golden;
 use crate::paper::performance::REPORT_BUDGET_S;
+use crate::paper::perturbation::read_perturbation;
 use crate::paper::studies::{AccuracyDependence, StabilityRow};
 use crate::simulation::ensemble::EnsembleSettings;
+use crate::simulation::ensemble::Perturbation;
 use crate::{Error, Result};
 use markdown::{command_output, cpu_model, md_table};
 use std::fmt::Write as _;
 use std::path::Path;
-use text::{why, Dominance, ERRATA, IMPLEMENTATION};
+use text::{calibration_findings, errata, why, Dominance, IMPLEMENTATION};
 
 /// A figure the report drew, with the lines its program prints.
 pub struct DrawnFigure {
@@ -116,28 +118,37 @@ pub fn write(
         md,
         "**Results are ensemble statistics.** Impacts in the clearance joint are chaotic and eq. 3 \
          remembers the onset velocity of each contact, so one trajectory's numbers depend on rounding. \
-         Every case is run as an ensemble of {n} members whose journals start displaced by at most 10 nm \
-         in a seeded random direction (`src/simulation/ensemble.rs` says why that perturbation); a number below is \
+         Every case is run as an ensemble of {n} members perturbed by `{}` ({}, seeded; \
+         `src/simulation/ensemble.rs` says why that perturbation); a number below is \
          mean ± sd over the members, and each claim's rule is checked in every member; for a rule across \
          cases, member i is the i-th member of each case, so the N members are N independent draws of the \
          set of cases. A claim is \
          *reproduced* when its rule holds in at least {:.0} % of the members, *not reproduced* when it \
          fails entirely in at least {:.0} %, and *partly* otherwise; the tally says in how many members \
          each verdict holds.\n",
+        runs.ensemble.perturbation.key(),
+        runs.ensemble.perturbation.describe(),
         100.0 * MEMBER_MAJORITY,
         100.0 * MEMBER_MAJORITY
     );
 
     md.push_str("## 1. The claims of the paper against this reproduction\n\n");
+    let sensitivity = read_perturbation();
+    let changes: Vec<(bool, String)> = claims
+        .iter()
+        .map(|c| perturbation::verdict_changes(c, sensitivity.as_deref()))
+        .collect();
     let rows: Vec<Vec<String>> = claims
         .iter()
-        .map(|c| {
+        .zip(&changes)
+        .map(|(c, (_, note))| {
             vec![
                 c.source.into(),
                 c.paper.into(),
                 c.measured.clone(),
-                c.rule.into(),
+                c.rule.clone(),
                 format!("**{}**", c.tally()),
+                note.clone(),
             ]
         })
         .collect();
@@ -149,9 +160,32 @@ pub fn write(
             "we measured (mean ± sd)",
             "rule (per member)",
             "verdict",
+            "under the other perturbation protocols",
         ],
         &rows,
     );
+    let changed: Vec<&str> = claims
+        .iter()
+        .zip(&changes)
+        .filter(|(_, (changed, _))| *changed)
+        .map(|(c, _)| c.source)
+        .collect();
+    if sensitivity.is_some() {
+        let _ = writeln!(
+            md,
+            "The last column is the perturbation study's (section 2, `data/perturbation_sensitivity.csv`): each claim \
+             checked in every member of the same ensembles run under the other protocols, its verdict beside the \
+             study's default (`{}`). {} of the {} verdicts change under another protocol{}.\n",
+            Perturbation::default().key(),
+            changed.len(),
+            claims.len(),
+            if changed.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", changed.join(", "))
+            }
+        );
+    }
     let steady = runs.steady_cases()?;
     let impact = [
         &steady.clearance_0_2mm,
@@ -159,7 +193,12 @@ pub fn write(
         &steady.speed_30rpm,
     ];
     let members = |e: &[&&SteadyEnsemble]| e.iter().map(|e| e.members.len()).sum::<usize>();
+    let continuous = |e: &SteadyEnsemble| (e.continuous(), e.members.len());
     let dominance = Dominance {
+        continuous_big: [
+            continuous(steady.clearance_0_2mm),
+            continuous(steady.clearance_0_5mm),
+        ],
         impact_pw: (
             impact.iter().map(|e| e.pressure_dominated()).sum(),
             members(&impact),
@@ -178,6 +217,8 @@ pub fn write(
         &dominance,
         &mean_profile_regions(runs.wear(CASES.standard.scene)?),
         &golden.standard_wear,
+        &golden.low_speed_wear,
+        calibration_findings(&golden.low_speed_wear).as_ref(),
     ));
 
     table3::table3_section(&mut md, runs, golden)?;
@@ -189,7 +230,10 @@ pub fn write(
     numerical::work_precision_section(&mut md, studies.accuracy);
     numerical::stability_section(&mut md, studies.stability);
     numerical::performance_section(&mut md);
-    md.push_str(ERRATA);
+    md.push_str(&errata(
+        &steady.standard.scene,
+        steady.standard.stat(|m| m.max_penetration).mean,
+    ));
     md.push_str(IMPLEMENTATION);
     // the table of contents goes before section 1
     if let Some(at) = md.find("\n## 1.") {

@@ -78,7 +78,9 @@ fn against_ode45() -> Option<String> {
 /// `data/work_precision.csv`), and whether the paper's results depend on the integration
 /// (the accuracy study as it ran).
 pub(super) fn work_precision_section(md: &mut String, accuracy: &AccuracyDependence) {
-    md.push_str("## 5. Error against run time, and whether the paper's results depend on it\n\n");
+    md.push_str(
+        "## 5. Error against work (evaluations and run time), and whether the paper's results depend on it\n\n",
+    );
     md.push_str(
             "Standard scene (`cargo run --release --bin work_precision`, `src/paper/studies/`). Reference: DOP853 at \
              rtol 1e-12; a second reference (Dopri5 at 1e-11) gives the error floor. Errors: the journal orbit over the \

@@ -3,9 +3,66 @@
 //! computed from the file's rows.
 
 use super::markdown::md_table;
+use super::verdict::{tally, Claim, Verdict};
 use crate::paper::format::{sci, sig};
-use crate::paper::perturbation::{read_perturbation, SensitivityRow, PROTOCOLS, SIGNIFICANT_P};
+use crate::paper::perturbation::{
+    read_perturbation, SensitivityRow, CLAIMS_CASE, PROTOCOLS, SIGNIFICANT_P,
+};
 use std::fmt::Write as _;
+
+/// A claim's verdict and tally under `protocol`, from the study's rows; `None` when the rows
+/// do not hold it.
+fn claim_under(rows: &[SensitivityRow], id: &str, protocol: &str) -> Option<(Verdict, String)> {
+    let row = |v: Verdict| {
+        rows.iter().find(|r| {
+            r.protocol == protocol
+                && r.case == CLAIMS_CASE
+                && r.quantity == id
+                && r.state == v.label()
+        })
+    };
+    let found = Verdict::ALL.map(row);
+    let n = found[0]?.members;
+    let counts = [found[0]?.count?, found[1]?.count?, found[2]?.count?];
+    Some((Verdict::of_tally(counts[0], counts[2], n), tally(counts, n)))
+}
+
+/// What another perturbation protocol does to `claim`'s verdict, from the study's rows
+/// (`None`: the file is missing): the protocols under which it differs from the study's
+/// default, each with its tally, or that it is the same under all; and whether the study's
+/// default run gave this run's verdict.
+pub(super) fn verdict_changes(claim: &Claim, rows: Option<&[SensitivityRow]>) -> (bool, String) {
+    let rerun = "rerun `cargo run --release --bin perturbation`";
+    let Some(rows) = rows else {
+        return (false, format!("not studied: {rerun}"));
+    };
+    let id = claim.id();
+    let Some((default, _)) = claim_under(rows, &id, &PROTOCOLS[0].key()) else {
+        return (false, format!("not in the study's file: {rerun}"));
+    };
+    let changed: Vec<String> = PROTOCOLS[1..]
+        .iter()
+        .filter_map(|p| {
+            let key = p.key();
+            let (v, t) = claim_under(rows, &id, &key)?;
+            (v != default).then(|| format!("`{key}`: {t}"))
+        })
+        .collect();
+    let mut note = if changed.is_empty() {
+        format!("same under all {} others", PROTOCOLS.len() - 1)
+    } else {
+        format!("changes under {}", changed.join("; "))
+    };
+    if default != claim.verdict() {
+        let _ = write!(
+            note,
+            " (the study's default run gave {}, this run {}: {rerun})",
+            default.label(),
+            claim.verdict().label()
+        );
+    }
+    (!changed.is_empty(), note)
+}
 
 /// A row's value as the table shows it: `7/32` for a share, the mean otherwise; `*` marks a
 /// difference from the default at [`SIGNIFICANT_P`], with its p.
@@ -47,6 +104,8 @@ pub(super) fn perturbation_section() -> String {
         return md;
     };
     let default = PROTOCOLS[0].key();
+    // the claims' verdicts go to section 1's table; here the statistics
+    let rows: Vec<SensitivityRow> = rows.into_iter().filter(|r| r.case != CLAIMS_CASE).collect();
     let base: Vec<&SensitivityRow> = rows.iter().filter(|r| r.protocol == default).collect();
     let others: Vec<String> = PROTOCOLS[1..].iter().map(|p| p.key()).collect();
     let same = |a: &SensitivityRow, b: &SensitivityRow| {
@@ -150,6 +209,78 @@ pub(super) fn perturbation_section() -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A claim with `counts` members reproducing, partly and not reproducing it.
+    fn claim(counts: [usize; 3]) -> Claim {
+        let members = Verdict::ALL
+            .iter()
+            .zip(counts)
+            .flat_map(|(&v, k)| std::iter::repeat_n(v, k))
+            .collect();
+        Claim {
+            source: "Fig. 8",
+            paper: "free flight",
+            measured: String::new(),
+            rule: String::new(),
+            members,
+        }
+    }
+
+    /// The study's rows of `claim` under protocol `p` (of [`PROTOCOLS`]) with `counts`.
+    fn rows_of(c: &Claim, p: usize, counts: [usize; 3]) -> Vec<SensitivityRow> {
+        Verdict::ALL
+            .iter()
+            .zip(counts)
+            .map(|(v, k)| SensitivityRow {
+                protocol: PROTOCOLS[p].key(),
+                case: CLAIMS_CASE.into(),
+                quantity: c.id(),
+                state: v.label().into(),
+                members: 32,
+                count: Some(k),
+                mean: k as f64 / 32.0,
+                sd: f64::NAN,
+                test: String::new(),
+                statistic: f64::NAN,
+                dof: f64::NAN,
+                p: f64::NAN,
+                wall_time_s: 1.0,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_claim_names_the_protocols_that_change_its_verdict() {
+        // checked: comparing each protocol's count of reproducing members instead of its
+        // verdict (29 of 32 against 32 of 32) lists `disc_1nm` in the first case
+        let c = claim([32, 0, 0]);
+        let study = |counts: [[usize; 3]; 6]| -> Vec<SensitivityRow> {
+            (0..PROTOCOLS.len())
+                .flat_map(|p| rows_of(&c, p, counts[p]))
+                .collect()
+        };
+        let all = [32, 0, 0];
+        let rows = study([all, [29, 3, 0], all, all, all, all]);
+        let (changed, note) = verdict_changes(&c, Some(&rows));
+        assert!(!changed && note == "same under all 5 others", "{note}");
+        let rows = study([all, all, all, [20, 2, 10], all, all]);
+        let (changed, note) = verdict_changes(&c, Some(&rows));
+        assert!(changed, "{note}");
+        assert_eq!(
+            note,
+            "changes under `axis_10nm`: partly: reproduced in 20 of 32, partly in 2, not in 10"
+        );
+        // a study whose default disagrees with this run says so
+        let (_, note) = verdict_changes(&claim([10, 22, 0]), Some(&rows));
+        assert!(
+            note.contains("the study's default run gave reproduced, this run partly"),
+            "{note}"
+        );
+        assert!(verdict_changes(&c, None).1.contains("not studied"));
+        assert!(verdict_changes(&c, Some(&[]))
+            .1
+            .contains("not in the study's file"));
+    }
 
     #[test]
     fn the_section_reads_the_committed_study_without_nan() {

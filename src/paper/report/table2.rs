@@ -5,11 +5,15 @@
 
 use super::markdown::md_table;
 use crate::io::output::read_rows;
-use crate::paper::calibration::{FACTORIAL_GROUP, GROUP_COLUMN, SCORE_COLUMN};
+use crate::paper::calibration::{
+    FACTORIAL_GROUP, GROUP_COLUMN, SCORE_ANGLE_DEG, SCORE_COLUMN, SCORE_CONCORDANCE,
+    SCORE_DEEPEST_MISPLACED,
+};
 use crate::paper::cases::CASES;
 use crate::paper::figures::output_path;
 use crate::paper::format::{friction_name, pressure_name, sci};
 use crate::scene::{scene_path, MethodSpec, SceneFile};
+use std::fmt::Write as _;
 
 /// An integration method in words.
 fn method_name(m: MethodSpec) -> &'static str {
@@ -54,7 +58,11 @@ pub(super) fn table2_section() -> String {
                 ],
                 vec![
                     "restitution c_e, exponent n".into(),
-                    format!("{}, {}", c.contact.restitution, c.contact.exponent),
+                    format!(
+                        "{}, {}",
+                        c.contact.restitution,
+                        c.contact.exponent.map_or("none".into(), |n| n.to_string())
+                    ),
                     "notes (medium-high)".into(),
                 ],
                 vec![
@@ -110,11 +118,13 @@ pub(super) fn table2_section() -> String {
         ]],
     };
     md_table(&mut md, &["parameter", "value", "source"], &rows);
-    md.push_str(
+    let _ = write!(
+        md,
         "**Calibration** (`cargo run --release --bin calibration`, `src/paper/calibration.rs`): each candidate set is applied to \
          every case and scored on the paper's claims (peak angles, deepest region, Table 3 modes, dominance and values, \
-         the 30 r/min wear location); one unit of score is one missed qualitative claim, 10 deg of angle or 0.03 of \
-         concordance. Only sets with friction are admissible (the paper's method includes eq. 4); frictionless sets are \
+         the 30 r/min wear location); one unit of score is one missed qualitative claim, {SCORE_ANGLE_DEG} deg of angle or \
+         {SCORE_CONCORDANCE} of concordance, and a deepest region away from 180 deg costs {SCORE_DEEPEST_MISPLACED}. Only sets \
+         with friction are admissible (the paper's method includes eq. 4); frictionless sets are \
          run as a diagnostic. The best sets:\n\n",
     );
     match read_rows(&output_path("data", "calibration.csv")) {

@@ -4,11 +4,16 @@
 use super::verdict::MEMBER_MAJORITY;
 use crate::analysis::regions::Region;
 use crate::analysis::CONTINUOUS_CONTACT_FRACTION;
+use crate::io::output::read_rows;
+use crate::paper::calibration::{Params, FACTORIAL_GROUP, GROUP_COLUMN};
 use crate::paper::cases::{Case, CASES};
-use crate::paper::format::sci;
+use crate::paper::figures::output_path;
+use crate::paper::format::{sci, sig, sig_n};
 use crate::paper::golden::{angle_distance, PeakClaim};
 use crate::paper::studies::accuracy::csv_number;
 use crate::paper::studies::{AccuracyDependence, Setting, Subject};
+use crate::scene::{scene_path, SceneFile};
+use crate::simulation::Scene;
 
 /// The Table 3 results of a case the accuracy study checks, as its findings name them.
 const TABLE3_RESULTS: [&str; 4] = ["motion", "dominance", "P-w", "s-w"];
@@ -55,8 +60,10 @@ fn ode45_outcome(accuracy: &AccuracyDependence, case: Case) -> Option<String> {
     ))
 }
 
-/// This run's steady members counted by which concordance dominates.
+/// This run's steady members counted by motion mode and by which concordance dominates.
 pub(super) struct Dominance {
+    /// Members in continuous contact at 0.2 and at 0.5 mm, each of how many.
+    pub continuous_big: [(usize, usize); 2],
     /// Members of the paper's impact cases (0.2 mm, 0.5 mm, 30 r/min) where P-w dominates, of how many.
     pub impact_pw: (usize, usize),
     /// Members of all five cases where s-w dominates, of how many.
@@ -137,30 +144,165 @@ fn standard_sentence(accuracy: &AccuracyDependence) -> String {
     }
 }
 
+/// What the calibration study found across its parameter sets (`data/calibration.csv`), as
+/// the Why paragraph quotes it.
+pub(super) struct CalibrationFindings {
+    /// μ_d of the shipped scenes (the calibrated set's).
+    pub calibrated_mu_d: f64,
+    /// The largest μ_d of the factorial sets.
+    pub max_mu_d: f64,
+    /// Fewest and most Table 3 motion modes (of 5) the admissible factorial sets with the
+    /// calibrated μ_d match.
+    pub modes_calibrated: (usize, usize),
+    /// The same for the sets with the largest μ_d.
+    pub modes_max_mu: (usize, usize),
+    /// Admissible sets (factorial and one-at-a-time: every unknown tried).
+    pub admissible: usize,
+    /// Of them, those whose deepest region lies within the golden tolerance of the paper's.
+    pub deepest_as_paper: usize,
+    /// Of them, those whose 30 r/min wear lies within the golden tolerance of the paper's.
+    pub low_speed_as_paper: usize,
+}
+
+/// What `data/calibration.csv` says across its sets ([`CalibrationFindings`]), the 30 r/min
+/// angles judged against `low_speed` (the paper's, with its tolerance); `None` when the file
+/// or a column is missing.
+pub(super) fn calibration_findings(low_speed: &PeakClaim) -> Option<CalibrationFindings> {
+    let (header, rows) = read_rows(&output_path("data", "calibration.csv")).ok()?;
+    let col = |name: &str| header.iter().position(|h| h == name);
+    let (group, mu, ok, deepest, modes, low) = (
+        col(GROUP_COLUMN)?,
+        col("mu_d")?,
+        col("admissible")?,
+        col("largest_at_180")?,
+        col("modes_matched")?,
+        col("low_speed_angle_deg")?,
+    );
+    let num = |r: &Vec<String>, i: usize| r.get(i).and_then(|v| v.parse::<f64>().ok());
+    let admissible: Vec<&Vec<String>> = rows.iter().filter(|r| r[ok] == "true").collect();
+    let factorial = || admissible.iter().filter(|r| r[group] == FACTORIAL_GROUP);
+    let calibrated_mu_d =
+        Params::of_scene(&SceneFile::read(scene_path(CASES.standard.scene)).ok()?).mu_d;
+    let max_mu_d = factorial()
+        .filter_map(|r| num(r, mu))
+        .fold(f64::NAN, f64::max);
+    let modes_at = |mu_d: f64| {
+        let m: Vec<usize> = factorial()
+            .filter(|r| num(r, mu) == Some(mu_d))
+            .filter_map(|r| num(r, modes))
+            .map(|m| m as usize)
+            .collect();
+        Some((*m.iter().min()?, *m.iter().max()?))
+    };
+    Some(CalibrationFindings {
+        calibrated_mu_d,
+        max_mu_d,
+        modes_calibrated: modes_at(calibrated_mu_d)?,
+        modes_max_mu: modes_at(max_mu_d)?,
+        admissible: admissible.len(),
+        deepest_as_paper: admissible.iter().filter(|r| r[deepest] == "true").count(),
+        low_speed_as_paper: admissible
+            .iter()
+            .filter_map(|r| num(r, low))
+            .filter(|&a| {
+                angle_distance(a, low_speed.largest_peak_deg) <= low_speed.angle_tolerance_deg
+            })
+            .count(),
+    })
+}
+
+/// `2` or `2-4`.
+fn range((lo, hi): (usize, usize)) -> String {
+    if lo == hi {
+        lo.to_string()
+    } else {
+        format!("{lo}-{hi}")
+    }
+}
+
+/// What friction does to the motion modes, and which results held under every calibration set
+/// tried, from the calibration study ([`CalibrationFindings`]); `standard` and `low_speed` are
+/// the paper's angles with their tolerances.
+fn calibration_sentences(
+    found: Option<&CalibrationFindings>,
+    standard: &PeakClaim,
+    low_speed: &PeakClaim,
+) -> (String, String) {
+    let Some(f) = found else {
+        let missing = "`data/calibration.csv` is missing or of another layout (section 4)";
+        return (format!("Friction: {missing}."), String::new());
+    };
+    let fewer = if f.modes_max_mu.1 < f.modes_calibrated.1 {
+        " More friction matches fewer: its tangential force drags the journal round the bearing wall."
+    } else {
+        ""
+    };
+    (
+        format!(
+            "Friction is the dominant unknown of the lost Table 2 (section 4): of Table 3's five motion modes, the \
+             calibration's admissible factorial sets with μ_d = {} match {}, those with the calibrated μ_d = {} match {} \
+             (`data/calibration.csv`).{fewer}",
+            f.max_mu_d,
+            range(f.modes_max_mu),
+            f.calibrated_mu_d,
+            range(f.modes_calibrated)
+        ),
+        format!(
+            " Across the {} admissible calibration sets (every unknown of section 4 tried), the deepest region lies \
+             within {} deg of {} deg in {} and the 30 r/min wear within {} deg of {} deg in {}.",
+            f.admissible,
+            standard.angle_tolerance_deg,
+            standard.largest_peak_deg,
+            f.deepest_as_paper,
+            low_speed.angle_tolerance_deg,
+            low_speed.largest_peak_deg,
+            f.low_speed_as_paper
+        ),
+    )
+}
+
+/// How the members of the two larger clearances split between the motion modes.
+fn split_sentence(d: &Dominance) -> String {
+    let [(a, n), (b, m)] = d.continuous_big;
+    let split = |k: usize, n: usize| k > 0 && k < n;
+    let why = if split(a, n) && split(b, m) {
+        format!(
+            ": coexisting steady states near the {} contact-fraction threshold of the motion rule (section 2)",
+            CONTINUOUS_CONTACT_FRACTION
+        )
+    } else {
+        String::new()
+    };
+    format!(
+        "At {} and {} mm {a} of {n} and {b} of {m} members stay in continuous contact and the others fly and \
+         impact{why}.",
+        CASES.clearance_0_2mm.clearance_mm, CASES.clearance_0_5mm.clearance_mm
+    )
+}
+
 /// Why the verdicts come out as they do: the mechanisms behind the measured numbers.
-/// `dominance` counts this run's steady members by dominant concordance; `regions` are those
-/// of this run's ensemble-mean standard profile, `paper` the angles the paper gives for them.
+/// `dominance` counts this run's steady members by motion mode and dominant concordance;
+/// `regions` are those of this run's ensemble-mean standard profile, `standard` the angles the
+/// paper gives for them and `low_speed` its 30 r/min wear location (with their tolerances);
+/// `calibration` what the calibration study found across its sets.
 pub(super) fn why(
     accuracy: &AccuracyDependence,
     dominance: &Dominance,
     regions: &[Region],
-    paper: &PeakClaim,
+    standard: &PeakClaim,
+    low_speed: &PeakClaim,
+    calibration: Option<&CalibrationFindings>,
 ) -> String {
     let loose = |case| ode45_outcome(accuracy, case).unwrap_or_else(|| "see section 5".into());
-    let regions = regions_sentence(regions, paper);
+    let regions = regions_sentence(regions, standard);
+    let (friction, robust) = calibration_sentences(calibration, standard, low_speed);
     format!(
-        "**Why.** Friction is the dominant unknown of the lost Table 2 (section 4): with μ_d = 0.1 the tangential \
-         force drags the journal round the bearing wall and the larger clearances never fly; with the calibrated \
-         μ_d = 0.01 they fly and impact, penetration and acceleration grow with clearance and the wear evens out, as \
-         the paper says (at 0.2 and 0.5 mm the members split between continuous contact and free flight and \
-         impact: coexisting steady states near the {} contact-fraction threshold of the motion rule, section 2). {} Section 5 finds where that dominance can \
+        "**Why.** {friction} {} {} Section 5 finds where that dominance can \
          come from: integrated like an ode45 code at its default tolerances (rtol {}), the same model gives, \
          over section 5's windows, at 0.2 mm {}; at 0.5 mm {}; and at 30 r/min, where the converged journal \
          rests on the bottom of the bearing in continuous contact, {}. {}, so we read Table 3's impact rows as at least partly a product of under-resolved contact \
-         dynamics. {} Robust to every unknown tried: \
-         severe regions with the deepest near 180 deg, their staircase growth, s-w dominance in continuous \
-         contact, and wear at the bottom at low speed.\n",
-        CONTINUOUS_CONTACT_FRACTION,
+         dynamics. {}{robust}\n",
+        split_sentence(dominance),
         dominance_sentence(dominance),
         Setting::Ode45Defaults
             .integration()
@@ -173,24 +315,44 @@ pub(super) fn why(
     )
 }
 
-/// The errata found in the paper.
-pub(super) const ERRATA: &str = "\
-## Errata found in the paper\n\n\
+/// The errata found in the paper; eq. 1-2's forces are those of `scene`'s first clearance
+/// joint at 1 µm and at `penetration` (m, this run's mean largest penetration of the standard
+/// case over the recorded rotations).
+pub(super) fn errata(scene: &Scene, penetration: f64) -> String {
+    let cj = &scene.mechanism.clearance_joints[0];
+    let c = cj.r_bearing - cj.r_journal;
+    let force = |delta: f64| {
+        let f = cj.contact.elastic_force(delta, c);
+        if f >= 1e3 {
+            format!("{} kN", sig_n(f * 1e-3, 2))
+        } else {
+            format!("{} N", sig_n(f, 2))
+        }
+    };
+    format!(
+        "## Errata found in the paper\n\n\
 1. **Eq. 7 drops P.** It reads h/s = k/H; dividing eq. 6 by the contact area gives h/s = kP/H, which eqs. 8-9 \
 then use (h_i = h_(i−1) + k P_i Δs_i / H).\n\
 2. **Fig. 5's caption says 0.002 mm**; the text and every other caption of section 6.1 say 0.02 mm. We use 0.02 mm.\n\
 3. **Eq. 1-2 are not dimensionally consistent:** K of eq. 2 has the unit of a pressure (it is dF/dδ of the \
 elastic-foundation law divided by nothing), so K·δ^1.5 is not a force. The law is only meaningful in SI units, \
-as the paper uses it; we keep SI throughout. It is also soft for conformal contact: about 40 N at δ = 1 µm and \
-1.7 kN at 7 µm for c = 0.02 mm, so penetrations of a third of the clearance are what this law predicts at \
-2000 r/min.\n\
+as the paper uses it; we keep SI throughout. It is also soft for conformal contact: {} at δ = 1 µm and {} at \
+δ = {} µm, the standard case's mean largest penetration over the recorded rotations (c = {} mm), so penetrations \
+of {} % of the clearance are what this law predicts there.\n\
 4. **\"Ideal transitional joint\"** (section 6) means a translational (prismatic) joint.\n\
 5. **Section 5 says \"extrapolation is employed to update the profile\"**; what is described (the depth between \
 sector centres) is interpolation. We interpolate with a periodic C¹ spline.\n\
 6. **The damping of eq. 3 needs δ̇⁻ at the onset of each contact** and diverges for grazing contact; the paper \
 gives no treatment. We floor it (a scene parameter) and measure the floor's effect (section 4).\n\
 7. **Table 2 is missing** from the paper as we have it, as is the concordance formula (\"detailed information is \
-provided in ref. [23]\").\n\n";
+provided in ref. [23]\").\n\n",
+        force(1e-6),
+        force(penetration),
+        sig(penetration * 1e6),
+        sig(c * 1e3),
+        sig_n(100.0 * penetration / c, 2)
+    )
+}
 
 /// What this crate implements.
 pub(super) const IMPLEMENTATION: &str = "\
@@ -248,9 +410,15 @@ mod tests {
 
     /// No P-w dominance anywhere: 0 of 30 impact-case members, s-w in all 50.
     fn none() -> Dominance {
+        counted((0, 30), (50, 50))
+    }
+
+    /// Both continuous cases' members all large, `impact_pw` and `all_sw` as counted.
+    fn counted(impact_pw: (usize, usize), all_sw: (usize, usize)) -> Dominance {
         Dominance {
-            impact_pw: (0, 30),
-            all_sw: (50, 50),
+            continuous_big: [(32, 32), (32, 32)],
+            impact_pw,
+            all_sw,
         }
     }
 
@@ -262,16 +430,10 @@ mod tests {
         assert!(text.contains("does not give"), "{text}");
         assert!(text.contains("0 of their 30 members"), "{text}");
         assert!(text.contains("50 of the 50 members"), "{text}");
-        let some = dominance_sentence(&Dominance {
-            impact_pw: (4, 30),
-            all_sw: (46, 50),
-        });
+        let some = dominance_sentence(&counted((4, 30), (46, 50)));
         assert!(some.contains("only partly gives"), "{some}");
         assert!(some.contains("46 of the 50 members"), "{some}");
-        let all = dominance_sentence(&Dominance {
-            impact_pw: (27, 30),
-            all_sw: (23, 50),
-        });
+        let all = dominance_sentence(&counted((27, 30), (23, 50)));
         assert!(all.contains("model gives the paper's"), "{all}");
     }
 
@@ -309,6 +471,88 @@ mod tests {
         }
     }
 
+    /// The paper's 30 r/min wear location (Fig. 12, 14).
+    fn low_speed() -> PeakClaim {
+        PeakClaim {
+            scene: CASES.speed_30rpm.scene.into(),
+            peak_angles_deg: vec![270.0],
+            largest_peak_deg: 270.0,
+            ..paper()
+        }
+    }
+
+    #[test]
+    fn the_friction_and_robustness_sentences_follow_the_calibration_study() {
+        // checked: the sentences as they were (fixed "μ_d = 0.1 ... μ_d = 0.01", "robust to every
+        // unknown tried") fail both cases
+        let mut found = CalibrationFindings {
+            calibrated_mu_d: 0.01,
+            max_mu_d: 0.1,
+            modes_calibrated: (2, 4),
+            modes_max_mu: (2, 2),
+            admissible: 30,
+            deepest_as_paper: 29,
+            low_speed_as_paper: 25,
+        };
+        let (friction, robust) = calibration_sentences(Some(&found), &paper(), &low_speed());
+        assert!(
+            friction.contains("μ_d = 0.1 match 2, those with the calibrated μ_d = 0.01 match 2-4")
+                && friction.contains("More friction matches fewer"),
+            "{friction}"
+        );
+        assert!(
+            robust.contains("Across the 30 admissible")
+                && robust.contains("within 10 deg of 180 deg in 29")
+                && robust.contains("within 10 deg of 270 deg in 25"),
+            "{robust}"
+        );
+        found.calibrated_mu_d = 0.03;
+        found.modes_calibrated = (1, 1);
+        let (friction, _) = calibration_sentences(Some(&found), &paper(), &low_speed());
+        assert!(
+            friction.contains("calibrated μ_d = 0.03 match 1") && !friction.contains("fewer"),
+            "{friction}"
+        );
+        let (friction, robust) = calibration_sentences(None, &paper(), &low_speed());
+        assert!(friction.contains("missing") && robust.is_empty());
+        // the committed study reads, and its calibrated friction is the scene's
+        let committed = calibration_findings(&low_speed()).expect("data/calibration.csv reads");
+        let (friction, robust) = calibration_sentences(Some(&committed), &paper(), &low_speed());
+        println!("{friction}{robust}");
+        assert!(committed.admissible > 0 && committed.calibrated_mu_d > 0.0);
+    }
+
+    #[test]
+    fn the_split_sentence_counts_the_members_in_each_mode() {
+        let mut d = none();
+        d.continuous_big = [(20, 32), (9, 32)];
+        let text = split_sentence(&d);
+        assert!(
+            text.contains("20 of 32 and 9 of 32 members") && text.contains("coexisting"),
+            "{text}"
+        );
+        d.continuous_big = [(0, 32), (9, 32)];
+        assert!(!split_sentence(&d).contains("coexisting"));
+    }
+
+    #[test]
+    fn the_errata_forces_come_from_the_scene_contact_law() {
+        // checked: the fixed "about 40 N at 1 µm and 1.7 kN at 7 µm" fails the 4 µm case
+        let scene = SceneFile::read(scene_path(CASES.standard.scene))
+            .unwrap()
+            .build()
+            .unwrap();
+        let text = errata(&scene, 4e-6);
+        // eq. 2's law at 1 µm, c = 0.02 mm: the reproduction notes' sanity figure, about 40 N
+        assert!(text.contains("N at δ = 1 µm"), "{text}");
+        assert!(
+            text.contains("δ = 4 µm") && text.contains("20 % of the clearance"),
+            "{text}"
+        );
+        assert!(!text.contains("1.7 kN"), "{text}");
+        println!("{text}");
+    }
+
     /// A region at `angle_deg` with depth `depth` (m), listed in prominence order by the caller.
     fn region(angle_deg: f64, depth: f64) -> Region {
         Region {
@@ -328,6 +572,8 @@ mod tests {
             &none(),
             &[region(178.0, 3e-6), region(331.0, 1e-6), region(24.0, 2e-6)],
             &paper(),
+            &low_speed(),
+            None,
         );
         assert!(
             text.contains(
@@ -347,6 +593,8 @@ mod tests {
                 region(100.0, 5e-6),
             ],
             &paper(),
+            &low_speed(),
+            None,
         );
         assert!(
             text.contains("lies at 183 deg (paper 180) and the smaller ones at 52 and 318 deg"),
@@ -358,7 +606,14 @@ mod tests {
     #[test]
     fn the_why_paragraph_says_which_paper_values_loose_integration_misses() {
         // checked: the paragraph as it was (ranges only, beside the paper's values) fails this
-        let text = why(&study([false; 4]), &none(), &[], &paper());
+        let text = why(
+            &study([false; 4]),
+            &none(),
+            &[],
+            &paper(),
+            &low_speed(),
+            None,
+        );
         assert!(
             text.contains(
                 "P-w 0.7843-0.8249, s-w 0.7506-0.7693: the paper's motion, dominance, s-w \
@@ -366,7 +621,14 @@ mod tests {
             ),
             "{text}"
         );
-        let text = why(&study([false, true, false, false]), &none(), &[], &paper());
+        let text = why(
+            &study([false, true, false, false]),
+            &none(),
+            &[],
+            &paper(),
+            &low_speed(),
+            None,
+        );
         assert!(
             text.contains("the paper's motion, dominance, P-w, s-w all reproduced"),
             "{text}"

@@ -32,6 +32,22 @@ impl Verdict {
             _ => Verdict::Partly,
         }
     }
+
+    /// The verdict over `n` members of which `reproduced` reproduce a claim and
+    /// `not_reproduced` do not at all ([`Claim::verdict`]).
+    pub fn of_tally(reproduced: usize, not_reproduced: usize, n: usize) -> Verdict {
+        let n = n as f64;
+        if reproduced as f64 >= MEMBER_MAJORITY * n {
+            Verdict::Reproduced
+        } else if not_reproduced as f64 >= MEMBER_MAJORITY * n {
+            Verdict::NotReproduced
+        } else {
+            Verdict::Partly
+        }
+    }
+
+    /// Every verdict, in the order the tallies list them.
+    pub const ALL: [Verdict; 3] = [Verdict::Reproduced, Verdict::Partly, Verdict::NotReproduced];
 }
 
 /// Share of the members a claim's verdict must hold in to stand for the ensemble.
@@ -46,8 +62,8 @@ pub struct Claim {
     pub paper: &'static str,
     /// What we measured, as ensemble statistics.
     pub measured: String,
-    /// The rule, checked in each member.
-    pub rule: &'static str,
+    /// The rule, checked in each member, with the tolerances its check uses.
+    pub rule: String,
     /// The rule's verdict in each member.
     pub members: Vec<Verdict>,
 }
@@ -58,29 +74,41 @@ impl Claim {
         self.members.iter().filter(|&&m| m == v).count()
     }
 
+    /// What identifies it across runs and files: `Fig. 11: a larger clearance gives …`.
+    pub fn id(&self) -> String {
+        format!("{}: {}", self.source, self.paper)
+    }
+
     /// Reproduced (or not reproduced) when at least [`MEMBER_MAJORITY`] of the members say
     /// so; partly otherwise.
     pub fn verdict(&self) -> Verdict {
-        let n = self.members.len() as f64;
-        for v in [Verdict::Reproduced, Verdict::NotReproduced] {
-            if self.count(v) as f64 >= MEMBER_MAJORITY * n {
-                return v;
-            }
-        }
-        Verdict::Partly
+        Verdict::of_tally(
+            self.count(Verdict::Reproduced),
+            self.count(Verdict::NotReproduced),
+            self.members.len(),
+        )
+    }
+
+    /// Members with each verdict, in the order of [`Verdict::ALL`].
+    pub fn counts(&self) -> [usize; 3] {
+        Verdict::ALL.map(|v| self.count(v))
     }
 
     /// "reproduced in 16 of 16", "partly: reproduced in 9 of 16, partly in 5, not in 2".
     pub fn tally(&self) -> String {
-        let n = self.members.len();
-        let counts =
-            [Verdict::Reproduced, Verdict::Partly, Verdict::NotReproduced].map(|v| self.count(v));
-        match self.verdict() {
-            Verdict::Partly => format!(
-                "partly: reproduced in {} of {n}, partly in {}, not in {}",
-                counts[0], counts[1], counts[2]
-            ),
-            v => format!("{} in {} of {n}", v.label(), self.count(v)),
-        }
+        tally(self.counts(), self.members.len())
+    }
+}
+
+/// The tally of `n` members with `counts` of each verdict ([`Verdict::ALL`]'s order), as
+/// [`Claim::tally`] writes it.
+pub fn tally(counts: [usize; 3], n: usize) -> String {
+    match Verdict::of_tally(counts[0], counts[2], n) {
+        Verdict::Partly => format!(
+            "partly: reproduced in {} of {n}, partly in {}, not in {}",
+            counts[0], counts[1], counts[2]
+        ),
+        Verdict::Reproduced => format!("reproduced in {} of {n}", counts[0]),
+        Verdict::NotReproduced => format!("not reproduced in {} of {n}", counts[2]),
     }
 }

@@ -1,6 +1,9 @@
-//! `figures/work_precision.png`: error against run time of the work-precision study, on
-//! log-log axes, one line per method (and step cap) joining its settings from the loosest to
-//! the tightest, each point labelled with its tolerance (rtol, or the step h of RK4). Settings
+//! `figures/work_precision.png`: error against work of the work-precision study, on log-log
+//! axes, work as right-hand-side evaluations (wall time depends on the machine and its load;
+//! it stays in the CSV), one line per method (and step cap) joining its settings from the
+//! loosest to the tightest, the two ends of each line labelled with their tolerance (rtol, or
+//! the step h of RK4; labelling every point made them overlap). The three panels stand one
+//! under another, so the figure is one panel wide and stays readable at a page's width. Settings
 //! without a point (a failed run, a wear ensemble not measured) are named in a note of the
 //! panel. The figure is drawn from the study's rows as it runs, or redrawn from
 //! `data/work_precision.csv` ([`redraw_work_precision`]) without rerunning the study.
@@ -11,7 +14,7 @@ use super::work_precision::{
 };
 use crate::analysis::statistics::Distribution;
 use crate::io::output::read_rows;
-use crate::io::plot::{render, Axes, Series, Style};
+use crate::io::plot::{render_column, Axes, Series, Style};
 use crate::paper::figures::output_path;
 use crate::paper::format::count;
 use crate::{Error, Result};
@@ -24,8 +27,8 @@ pub(super) struct Point {
     setting: String,
     /// Whether it is one of the two references (which define the errors and their floor).
     reference: bool,
-    /// Wall time of the 40-rotation run (s).
-    wall_time: f64,
+    /// Right-hand-side evaluations of the 40-rotation run (0 when it failed).
+    evaluations: f64,
     /// Errors against the reference, `None` when the run failed.
     errors: Option<Errors>,
     /// The ensemble wear error, where measured.
@@ -41,7 +44,11 @@ impl Point {
             method: r.integration.method_name().to_owned(),
             setting: r.integration.setting(),
             reference: r.integration == REFERENCE || r.integration == SECOND_REFERENCE,
-            wall_time: r.wall_time,
+            evaluations: if r.failure.is_some() {
+                0.0
+            } else {
+                r.stats.evaluations as f64
+            },
             errors: r.errors,
             ensemble: r.ensemble,
             failure: r.failure.clone(),
@@ -81,7 +88,7 @@ impl Point {
     }
 }
 
-/// The drawn settings of one series in one panel: wall times, errors and point labels.
+/// The drawn settings of one series in one panel: evaluations, errors and point labels.
 type Drawn = (Vec<f64>, Vec<f64>, Vec<String>);
 
 /// Redraws `figures/work_precision.png` from `data/work_precision.csv` (the study's last
@@ -117,7 +124,11 @@ pub fn redraw_work_precision() -> Result<()> {
                 method: r[0].clone(),
                 setting: role.map_or(r[1].as_str(), |i| &r[1][..i]).to_owned(),
                 reference: r[1].ends_with("reference)"),
-                wall_time: num(&r[2]).unwrap_or(0.0),
+                evaluations: if r[11].is_empty() {
+                    num(&r[5]).unwrap_or(0.0)
+                } else {
+                    0.0
+                },
                 errors,
                 ensemble,
                 failure: (!r[11].is_empty()).then(|| r[11].clone()),
@@ -179,8 +190,8 @@ pub(super) fn plot_work_precision(points: &[Point], floor: &Errors) -> Result<()
                         .iter()
                         .filter(|p| &p.group() == g)
                         .filter_map(|p| {
-                            let e = pick(p).filter(|e| *e > 0.0 && p.wall_time > 0.0)?;
-                            Some((p.wall_time, e, p.tolerance()))
+                            let e = pick(p).filter(|e| *e > 0.0 && p.evaluations > 0.0)?;
+                            Some((p.evaluations, e, p.tolerance()))
                         })
                         .collect();
                     let mut out = (Vec::new(), Vec::new(), Vec::new());
@@ -196,7 +207,7 @@ pub(super) fn plot_work_precision(points: &[Point], floor: &Errors) -> Result<()
         .collect();
     let times: Vec<f64> = swept
         .iter()
-        .map(|p| p.wall_time)
+        .map(|p| p.evaluations)
         .filter(|t| *t > 0.0)
         .collect();
     let span = [
@@ -218,7 +229,7 @@ pub(super) fn plot_work_precision(points: &[Point], floor: &Errors) -> Result<()
     let missing = |pick: Pick| -> Option<String> {
         let lines: Vec<String> = swept
             .iter()
-            .filter(|p| pick(p).is_none_or(|e| e <= 0.0) || p.wall_time <= 0.0)
+            .filter(|p| pick(p).is_none_or(|e| e <= 0.0) || p.evaluations <= 0.0)
             .map(|p| {
                 let why = match (&p.failure, p.errors) {
                     (Some(_), _) | (None, None) => {
@@ -245,13 +256,17 @@ pub(super) fn plot_work_precision(points: &[Point], floor: &Errors) -> Result<()
                 .map(|(g, (x, y, _))| Series::new(g.as_str(), x, y, Style::LinePoints))
                 .collect();
             series.push(Series::new(*label, &span, fl, Style::Reference));
+            // the loosest and the tightest setting of each line
             let point_labels = per_group
                 .iter()
                 .flat_map(|(x, y, l)| {
-                    x.iter()
-                        .zip(y)
-                        .zip(l)
-                        .map(|((x, y), l)| (*x, *y, l.clone()))
+                    let ends = [0, x.len().saturating_sub(1)];
+                    let mut ends = ends.to_vec();
+                    ends.dedup();
+                    ends.into_iter()
+                        .filter(|&i| i < x.len())
+                        .map(|i| (x[i], y[i], l[i].clone()))
+                        .collect::<Vec<_>>()
                 })
                 .collect();
             Axes {
@@ -261,12 +276,12 @@ pub(super) fn plot_work_precision(points: &[Point], floor: &Errors) -> Result<()
                 note: missing(*pick),
                 ..Axes::new(
                     *title,
-                    "wall time of one 40-rotation run (s); points labelled rtol, or step of rk4",
+                    "right-hand-side evaluations of one 40-rotation run (ends labelled rtol, or step of rk4)",
                     *y,
                     series,
                 )
             }
         })
         .collect();
-    render(&output_path("figures", "work_precision.png"), &panels)
+    render_column(&output_path("figures", "work_precision.png"), &panels)
 }

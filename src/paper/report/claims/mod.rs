@@ -17,6 +17,7 @@ use crate::analysis::statistics::Distribution;
 use crate::paper::cases::{PerCase, Runs, SteadyEnsemble, SteadyMember, WearEnsemble, WearMember};
 use crate::paper::figures::staircase_shares;
 use crate::paper::golden::{angle_distance, Golden};
+use crate::paper::perturbation::ClaimTally;
 use crate::Result;
 
 /// One member of every ensemble the claims read: the i-th member of each case.
@@ -53,7 +54,7 @@ impl Claims<'_> {
         &mut self,
         source: &'static str,
         paper: &'static str,
-        rule: &'static str,
+        rule: impl Into<String>,
         measured: String,
         check: &dyn Fn(&Member) -> Vec<bool>,
     ) {
@@ -66,7 +67,7 @@ impl Claims<'_> {
             source,
             paper,
             measured,
-            rule,
+            rule: rule.into(),
             members,
         });
     }
@@ -98,6 +99,26 @@ pub fn claims(runs: &Runs, golden: &Golden) -> Result<Vec<Claim>> {
     speed::claims(&mut claims, &e, golden);
     table3::claims(&mut claims, &e, golden);
     Ok(claims.out)
+}
+
+/// Share of the circumference that must see contact for "the whole bearing surface sees
+/// contact" (figures 4 and 12): the paper's "whole", allowing a few 1° bins a recorded
+/// rotation's samples step over.
+const WHOLE_SURFACE: f64 = 0.9;
+
+/// Every claim checked in the members of `runs`, as the perturbation study records it.
+pub fn claim_tallies(runs: &Runs, golden: &Golden) -> Result<Vec<ClaimTally>> {
+    Ok(claims(runs, golden)?
+        .iter()
+        .map(|c| ClaimTally {
+            id: c.id(),
+            counts: Verdict::ALL
+                .iter()
+                .map(|&v| (v.label(), c.count(v)))
+                .collect(),
+            members: c.members.len(),
+        })
+        .collect())
 }
 
 fn increasing(v: &[f64]) -> bool {

@@ -3,7 +3,7 @@
 //! and 14 (wear at the bottom of the bearing at 30 r/min), figures 12-13 (penetration,
 //! acceleration and wear rate rise with speed) and figures 14-15 (wear spreads with speed).
 
-use super::{across, decreasing, deepest_angle, increasing, Claims, Ensembles};
+use super::{across, decreasing, deepest_angle, increasing, Claims, Ensembles, WHOLE_SURFACE};
 use crate::paper::cases::SteadyMember;
 use crate::paper::golden::{angle_distance, Golden};
 
@@ -27,7 +27,10 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
     c.claim(
         "Fig. 12, 14",
         "at 30 r/min contact and wear concentrate at the bottom of the bearing, around 270 deg",
-        "deepest wear within the golden tolerance (10 deg) of 270 deg",
+        format!(
+            "deepest wear within the golden tolerance ({} deg) of {} deg",
+            low.angle_tolerance_deg, low.largest_peak_deg
+        ),
         format!(
             "deepest wear at {} deg",
             e.wear.speed_30rpm.angle_stat(deepest_angle).mean_sd(1.0, 0)
@@ -41,7 +44,10 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
     c.claim(
         "Fig. 12",
         "at 600 r/min the journal is in permanent contact and the whole bearing surface sees contact",
-        "motion mode continuous contact (the motion rule of Table 3) and ≥ 90% of the circumference touched",
+        format!(
+            "motion mode continuous contact (the motion rule of Table 3) and ≥ {:.0} % of the circumference touched",
+            100.0 * WHOLE_SURFACE
+        ),
         format!(
             "continuous contact in {} of {n}; in contact {} % of the time, {} % of the circumference touched",
             mid.continuous(),
@@ -50,7 +56,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         ),
         &|m| {
             let s = m.steady.speed_600rpm;
-            vec![s.motion.continuous(), s.contact_coverage >= 0.9]
+            vec![s.motion.continuous(), s.contact_coverage >= WHOLE_SURFACE]
         },
     );
     let sp = e.steady.by_speed().map(|s| *s);

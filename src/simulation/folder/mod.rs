@@ -1,13 +1,59 @@
-//! Output pieces shared by the subcommands: wear profiles at several rotation counts (CSV and
-//! figure, for `run`'s snapshots and `longlife`), and the conventions every output folder's
-//! `README.txt` states (units, frames, signs, number format).
+//! Output folders of runs: the files, `README.txt` and `summary.json` of one run ([`run`]) and
+//! of an ensemble ([`ensemble`]), written here for the `jointwear` program and Python's
+//! `Run.save` / `Ensemble.save` alike, so that both write identical folders; and the pieces
+//! every output folder shares (also `longlife`'s): wear profiles at several rotation counts,
+//! the conventions its `README.txt` states (units, frames, signs, number format), per-joint
+//! file names.
+//!
+//! A folder is written through [`crate::io::output::write_outputs`] (atomic files and a
+//! manifest; the files of the previous write into the folder that this one did not rewrite are
+//! removed); claiming it against other processes ([`crate::io::lock::claim_folder`]) is the
+//! caller's, who may hold it from before the run.
 
-use crate::joint_file;
-use jointwear::io::output::{write_csv, write_json, write_text};
-use jointwear::io::plot::{render, Axes, Series, Style};
-use jointwear::laws::wear::sector_angles_deg;
-use jointwear::mechanism::{BodyIndex, Mechanism};
+pub mod ensemble;
+pub mod run;
+
+use crate::io::output::{write_csv, write_json, write_text};
+use crate::io::plot::{render, Axes, Series, Style};
+use crate::laws::wear::sector_angles_deg;
+use crate::mechanism::{BodyIndex, Mechanism};
+use crate::simulation::ensemble::Perturbation;
+use crate::Result;
+use serde::Serialize;
 use std::path::Path;
+
+/// Where the scene of a folder came from, as its `summary.json` and `README.txt` say.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Origin {
+    /// The scene file as named (`<dict>` for a Python scene built from a dict).
+    pub path: String,
+    /// The fingerprint of the scene and its changes ([`crate::scene::variant::fingerprint`]).
+    pub fingerprint: String,
+    /// Every change to the scene file as `[key, value]`, in the order made.
+    pub changes: Vec<(String, String)>,
+    /// The command line that runs this scene: `jointwear run SCENE --set … --rotations N`.
+    pub command: String,
+}
+
+/// The part of a file name that stands for the clearance joint `name`: letters, digits, `-`
+/// and `_` kept, every other character turned into `_` (`wear_<part>.csv`).
+pub fn joint_file_part(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// The file `<stem>_<joint>.csv` of a per-joint output, the joint's name made safe for a file
+/// name ([`joint_file_part`]; a scene whose joints would share a file is refused at load).
+pub fn joint_file(stem: &str, joint: &str) -> String {
+    format!("{stem}_{}.csv", joint_file_part(joint))
+}
 
 /// The machine-readable summary every output folder holds.
 pub const SUMMARY_FILE: &str = "summary.json";
@@ -19,11 +65,7 @@ pub const README_FILE: &str = "README.txt";
 pub const PROGRAM: &str = concat!("jointwear ", env!("CARGO_PKG_VERSION"));
 
 /// Writes an output folder's [`SUMMARY_FILE`] and [`README_FILE`].
-pub fn write_summary(
-    dir: &Path,
-    summary: &impl serde::Serialize,
-    readme: &str,
-) -> jointwear::Result<()> {
+pub fn write_summary(dir: &Path, summary: &impl Serialize, readme: &str) -> Result<()> {
     write_json(&dir.join(SUMMARY_FILE), summary)?;
     write_text(&dir.join(README_FILE), readme)
 }
@@ -35,7 +77,7 @@ const MAX_DRAWN_PROFILES: usize = 8;
 /// Wear profiles of the worn clearance joints of `m` after several rotation counts:
 /// `snapshots` holds `(rotations, depth per joint per sector in m)`, in increasing rotations.
 /// Writes per worn joint `<stem>_<joint>.csv` (`angle_deg`, then `rot<N>_m` per count, depth
-/// in m) and `png`, one panel per joint (depth in µm; at most [`MAX_DRAWN_PROFILES`] evenly
+/// in m) and `png`, one panel per joint (depth in µm; at most `MAX_DRAWN_PROFILES` (8) evenly
 /// spread profiles, the last always among them). Writes nothing without snapshots or wear.
 pub fn write_profiles(
     dir: &Path,
@@ -43,7 +85,7 @@ pub fn write_profiles(
     png: &str,
     m: &Mechanism,
     snapshots: &[(u64, &[Vec<f64>])],
-) -> jointwear::Result<()> {
+) -> Result<()> {
     let Some((_, first)) = snapshots.first() else {
         return Ok(());
     };
@@ -69,7 +111,7 @@ pub fn write_profiles(
                 (*n, d[k].iter().map(|x| x * 1e6).collect())
             })
             .collect();
-        profiles.push((name, angles, um));
+        profiles.push((k, angles, um));
     }
     let shown = if drawn.len() < snapshots.len() {
         format!(" ({} of {} snapshots)", drawn.len(), snapshots.len())
@@ -78,16 +120,12 @@ pub fn write_profiles(
     };
     let panels: Vec<Axes> = profiles
         .iter()
-        .map(|(name, angles, um)| Axes {
-            x_range: Some((0.0, 360.0)),
-            ..Axes::new(
-                format!("{name}: bearing wear profile{shown}"),
-                "bearing angle (deg, counter-clockwise from the bearing's +x)",
-                "wear depth (µm)",
-                um.iter()
-                    .map(|(n, d)| Series::new(format!("{n} rotations"), angles, d, Style::Line))
-                    .collect(),
-            )
+        .map(|(k, angles, um)| {
+            let series = um
+                .iter()
+                .map(|(n, d)| Series::new(format!("{n} rotations"), angles, d, Style::Line))
+                .collect();
+            wear_panel(m, *k, &format!("bearing wear profile{shown}"), series)
         })
         .collect();
     if !panels.is_empty() {
@@ -114,6 +152,33 @@ fn drawn_profiles(count: usize) -> Vec<usize> {
 /// The name of body `b` of `m` (`ground` for the ground).
 pub fn body_name(m: &Mechanism, b: BodyIndex) -> &str {
     b.map_or("ground", |i| m.bodies()[i].name.as_str())
+}
+
+/// The arguments that name an ensemble's perturbation protocol on a command line: none for
+/// the default.
+pub fn perturbation_arg(p: &Perturbation) -> String {
+    if *p == Perturbation::default() {
+        String::new()
+    } else {
+        format!(" --perturbation {}", p.key())
+    }
+}
+
+/// A panel of clearance joint `k`'s wear profiles `series` (µm) over the angle of its
+/// bearing's frame, titled by the joint: each joint is drawn in a panel of its own, since two
+/// joints' angles are measured in different bodies' frames.
+pub fn wear_panel<'a>(m: &Mechanism, k: usize, title: &str, series: Vec<Series<'a>>) -> Axes<'a> {
+    let cj = &m.clearance_joints[k];
+    let body = body_name(m, cj.bearing.body);
+    Axes {
+        x_range: Some((0.0, 360.0)),
+        ..Axes::new(
+            format!("{}: {title}", cj.name),
+            format!("bearing angle (deg, counter-clockwise from {body}'s +x)"),
+            "wear depth (µm)",
+            series,
+        )
+    }
 }
 
 /// The opening of every `README.txt`: what wrote the folder, then the conventions shared by
@@ -151,7 +216,7 @@ pub fn conventions(command: &str, m: &Mechanism, title: &str) -> String {
             body_name(m, cj.journal.body),
             body_name(m, cj.bearing.body),
             body_name(m, cj.bearing.body),
-            jointwear::io::output::number(cj.clearance()),
+            crate::io::output::number(cj.given_clearance),
             if cj.wear.is_some() {
                 ""
             } else {

@@ -1,0 +1,170 @@
+"""Run.save and Ensemble.save write the program's folder byte for byte, and ensembles and
+sweeps spread over any concurrent.futures.Executor give bit for bit the default's results."""
+
+import csv
+import io
+import json
+import math
+import multiprocessing
+import pickle
+import struct
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+import pytest
+
+import jointwear
+
+from conftest import STANDARD, short
+
+# The changes both sides make: `--set run.record_rotations=1 --rotations 2` and the same `set`s
+# in the same order (the rotations last, as the program applies them), so that the folders
+# name the same command line and list the same changes.
+CHANGES = [("run.record_rotations", 1), ("run.rotations", 2)]
+PROGRAM_CHANGES = ["--set", "run.record_rotations=1", "--rotations", "2"]
+
+
+def scene():
+    s = jointwear.Scene.load(STANDARD)
+    for key, value in CHANGES:
+        s.set(key, value)
+    return s
+
+
+def spawning_pool():
+    """Two worker processes started by spawn: a forked worker would inherit this process's
+    thread pool without its threads."""
+    return ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("spawn"))
+
+
+def without_wall_times(name, data):
+    """The file `name` with the wall times left out: they are measured, so two runs never
+    share them (summary.json's `wall_time_s`, ensemble_members.csv's column `wall_time_s`).
+    Every other byte of every file must be the same."""
+    if name == "summary.json":
+        summary = json.loads(data)
+        assert isinstance(summary.pop("wall_time_s"), float)
+        return summary
+    if name == "ensemble_members.csv":
+        rows = list(csv.reader(io.StringIO(data.decode())))
+        wall = rows[0].index("wall_time_s")
+        return [row[:wall] + row[wall + 1 :] for row in rows]
+    return data
+
+
+def assert_same_folder(program, python):
+    names = sorted(p.name for p in program.iterdir())
+    assert names == sorted(p.name for p in python.iterdir())
+    assert "jointwear-manifest.txt" in names and "README.txt" in names
+    for name in names:
+        a = without_wall_times(name, (program / name).read_bytes())
+        b = without_wall_times(name, (python / name).read_bytes())
+        assert a == b, name
+
+
+# Fails when Python's folder names another command line (the rotations set before the recorded
+# rotations: `--rotations 2 --set …` in README.txt and the manifest), when the member's flags
+# are left out, or when the program and Python write different files.
+@pytest.mark.parametrize(
+    "flags, run",
+    [
+        ([], lambda s: s.run()),
+        (["--member", "1", "--seed", "5"], lambda s: s.run(member=1, seed=5)),
+        (["--ensemble", "3", "--seed", "5"], lambda s: s.ensemble(3, seed=5)),
+    ],
+    ids=["run", "member", "ensemble"],
+)
+def test_save_writes_the_programs_folder(tmp_path, cli, flags, run):
+    done = cli("run", STANDARD, *PROGRAM_CHANGES, *flags, "--out", tmp_path / "program")
+    assert done.returncode == 0, done.stderr
+    run(scene()).save(tmp_path / "python")
+    assert_same_folder(tmp_path / "program", tmp_path / "python")
+
+
+def test_an_ensemble_on_an_executor_saves_the_programs_folder(tmp_path, cli):
+    done = cli("run", STANDARD, *PROGRAM_CHANGES, "--ensemble", "3", "--seed", "5",
+               "--out", tmp_path / "program")
+    assert done.returncode == 0, done.stderr
+    with spawning_pool() as pool:
+        scene().ensemble(3, seed=5, executor=pool).save(tmp_path / "python")
+    assert_same_folder(tmp_path / "program", tmp_path / "python")
+
+
+def test_save_refuses_a_folder_another_process_writes(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / ".jointwear.lock").write_text("pid=1\nhost=elsewhere\ncommand=jointwear run other\n")
+    with pytest.raises(jointwear.SceneError, match="jointwear run other"):
+        short(jointwear.Scene.load(STANDARD)).run().save(out)
+
+
+def bits(x):
+    """`x` with every float as its bytes (NaN equal to NaN), for bit for bit comparisons."""
+    if isinstance(x, float):
+        return struct.pack("<d", x)
+    if isinstance(x, np.ndarray):
+        return (x.dtype.str, x.shape, x.tobytes())
+    if isinstance(x, dict):
+        return {k: bits(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [bits(v) for v in x]
+    return x
+
+
+def test_a_pickled_scene_is_the_scene():
+    s = scene().set("clearance.0.clearance_mm", 0.4)
+    copy = pickle.loads(pickle.dumps(s))
+    assert copy.to_dict() == s.to_dict() and copy.path == s.path
+    # the changes go along: setting the rotations again cuts nothing the user set
+    assert copy.set("run.rotations", 1).to_dict() == s.set("run.rotations", 1).to_dict()
+
+
+# Fails when a worker runs another member (the member numbers shifted by one) or another seed.
+def test_an_ensemble_on_a_process_pool_is_bit_for_bit_the_ensemble():
+    s = short(jointwear.Scene.load(STANDARD))
+    default = s.ensemble(4, seed=3)
+    with spawning_pool() as pool:
+        spread = s.ensemble(4, seed=3, executor=pool)
+    for name in ["scalars", "statistics", "motion_modes", "wear", "snapshots", "band"]:
+        assert bits(getattr(spread, name)) == bits(getattr(default, name)), name
+
+
+def sweep_columns(result):
+    return {k: bits(v) for k, v in result.columns.items() if k != "wall_time_s"}
+
+
+def test_a_sweep_on_a_process_pool_is_bit_for_bit_the_sweep():
+    s = short(jointwear.Scene.load(STANDARD))
+    grid = {"driver.speed_rpm": [-2000.0, -1500.0], "clearance.0.clearance_mm": [0.5, 0.4]}
+    with spawning_pool() as pool:
+        for members in (None, 2):
+            default = s.sweep(grid, members=members)
+            spread = s.sweep(grid, members=members, executor=pool)
+            assert spread.errors == default.errors == [None] * 4
+            assert sweep_columns(spread) == sweep_columns(default), members
+            assert not any(math.isnan(x) for x in spread["wall_time_s"])
+
+
+def test_an_executor_is_checked_at_the_call():
+    s = short(jointwear.Scene.load(STANDARD))
+    with pytest.raises(TypeError, match="executor must be a concurrent.futures.Executor"):
+        s.ensemble(2, executor="pool")
+    with pytest.raises(TypeError, match="executor"):
+        s.sweep({"driver.speed_rpm": [-2000.0]}, executor=4)
+    # a bad value is refused before any task is submitted
+    with spawning_pool() as pool, pytest.raises(jointwear.SceneError, match="clearance_mm"):
+        s.sweep({"clearance.0.clearance_mm": [-1.0]}, executor=pool)
+
+
+def test_an_ensemble_on_a_local_dask_cluster_is_bit_for_bit_the_ensemble():
+    distributed = pytest.importorskip(
+        "distributed",
+        reason="dask.distributed is not installed; the executor path is tested with a process pool",
+    )
+    s = short(jointwear.Scene.load(STANDARD))
+    default = s.ensemble(3, seed=2)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True) as cluster:
+        with distributed.Client(cluster) as client:
+            spread = s.ensemble(3, seed=2, executor=client.get_executor())
+    for name in ["scalars", "statistics", "wear", "band"]:
+        assert bits(getattr(spread, name)) == bits(getattr(default, name)), name

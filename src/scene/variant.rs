@@ -1,0 +1,228 @@
+//! A scene variant: a scene document with values changed by dotted key, as `jointwear run
+//! --set KEY=VALUE --rotations N` and Python's `Scene.set` make it, with one set of rules for
+//! both: what a change of `run.rotations` cuts, the fingerprint a checkpoint carries, and what
+//! a run folder says about where its scene came from ([`Origin`]).
+
+use crate::io::output::fnv1a;
+use crate::scene::{set_dotted, SceneFile};
+use crate::simulation::folder::Origin;
+use crate::simulation::Scene;
+use crate::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// The key whose change may cut others ([`Variant::set`] with `cut`).
+const ROTATIONS: &str = "run.rotations";
+
+/// Fingerprint of a scene document (`extends` resolved) and changes to it: each change's key
+/// and its values as written, in order. A checkpoint and a sweep file carry it, so that they
+/// are resumed only with the scene and changes that made them.
+pub fn fingerprint<'a>(
+    doc: &toml::Value,
+    changes: impl IntoIterator<Item = (&'a str, &'a [String])>,
+) -> String {
+    let mut text = doc.to_string();
+    for (key, values) in changes {
+        // Unit separators: no key or value can run into the next.
+        text.push_str(&format!("\u{1f}{key}={}", values.join("\u{1e}")));
+    }
+    format!("{:016x}", fnv1a(text.as_bytes()))
+}
+
+/// A TOML value as written on the command line; a bare word that is not TOML is a string.
+pub fn parse_value(text: &str) -> toml::Value {
+    text.parse()
+        .unwrap_or_else(|_| toml::Value::String(text.to_string()))
+}
+
+/// A change asked for, as text ([`Variant::state`]): the key, the value as written, and
+/// whether it cuts (`--rotations`).
+pub type Change = (String, String, bool);
+
+/// One change asked for.
+#[derive(Clone, Debug, PartialEq)]
+struct Asked {
+    key: String,
+    /// The value as written (the command line's text, or the TOML of a Python value), one
+    /// value as the slice [`fingerprint`] takes.
+    text: [String; 1],
+    /// A change of `run.rotations` that cuts the snapshots and recorded rotations
+    /// (`--rotations`, Python's `set`), not a plain `--set`.
+    cut: bool,
+}
+
+/// A scene document as read, and the changes made to it in order.
+#[derive(Clone, Debug)]
+pub struct Variant {
+    path: PathBuf,
+    /// The document as read or built, before any change: what a reversal of the driver is
+    /// noted against and what the fingerprint hashes.
+    loaded: toml::Value,
+    /// The document with every change applied.
+    doc: toml::Value,
+    asked: Vec<Asked>,
+    /// Every change made, as `[key, value]`: the ones asked for and what they cut.
+    changes: Vec<(String, String)>,
+}
+
+impl Variant {
+    /// The scene file at `path` (`extends` resolved), unchanged.
+    pub fn read(path: &Path) -> Result<Variant> {
+        Ok(Variant::new(SceneFile::read_document(path)?, path))
+    }
+
+    /// A scene document (`extends` resolved) that `path` names in messages, unchanged.
+    pub fn new(doc: toml::Value, path: &Path) -> Variant {
+        Variant {
+            path: path.to_path_buf(),
+            loaded: doc.clone(),
+            doc,
+            asked: Vec::new(),
+            changes: Vec::new(),
+        }
+    }
+
+    /// Sets `value` (written `text`) at the dotted `key`, all or nothing: a key the scene file
+    /// cannot have or a value of the wrong type is an error and leaves the variant as it was
+    /// (a value out of range is refused by [`Variant::build`]). With `cut`, a change of
+    /// `run.rotations` to N also drops the wear snapshots past N and cuts
+    /// `run.record_rotations` to N, unless they were set before: it returns those cuts.
+    pub fn set(
+        &mut self,
+        key: &str,
+        value: toml::Value,
+        text: &str,
+        cut: bool,
+    ) -> Result<Vec<(String, toml::Value)>> {
+        let mut doc = self.doc.clone();
+        set_dotted(&mut doc, key, value)?;
+        let mut file = SceneFile::from_document(doc.clone(), &self.path)?;
+        let mut cuts = Vec::new();
+        let cut = cut && key == ROTATIONS;
+        if cut {
+            let set = |k: &str| self.asked.iter().any(|a| a.key == k);
+            cuts = file.run.cut_to(file.run.rotations, set);
+            for (k, v) in &cuts {
+                set_dotted(&mut doc, k, v.clone())?;
+            }
+        }
+        self.doc = doc;
+        self.asked.push(Asked {
+            key: key.to_string(),
+            text: [text.to_string()],
+            cut,
+        });
+        self.changes.push((key.to_string(), text.to_string()));
+        (self.changes).extend(cuts.iter().map(|(k, v)| (k.clone(), v.to_string())));
+        Ok(cuts)
+    }
+
+    /// The scene as changed, validated and in SI units.
+    pub fn build(&self) -> Result<Scene> {
+        SceneFile::from_document(self.doc.clone(), &self.path)?.build()
+    }
+
+    /// The document with every change applied.
+    pub fn document(&self) -> &toml::Value {
+        &self.doc
+    }
+
+    /// The document as read, before any change.
+    pub fn loaded(&self) -> &toml::Value {
+        &self.loaded
+    }
+
+    /// The path that names the scene.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The [`fingerprint`] of the scene as read and the changes asked for.
+    pub fn fingerprint(&self) -> String {
+        fingerprint(
+            &self.loaded,
+            (self.asked.iter()).map(|a| (a.key.as_str(), a.text.as_slice())),
+        )
+    }
+
+    /// The command line that makes this variant: `jointwear run SCENE`, then `--set KEY=VALUE`
+    /// per change and `--rotations N` for a cutting change of `run.rotations`, in the order
+    /// asked.
+    pub fn command(&self) -> String {
+        let mut command = format!("jointwear run {}", self.path.display());
+        for a in &self.asked {
+            if a.cut {
+                command.push_str(&format!(" --rotations {}", a.text[0]));
+            } else {
+                command.push_str(&format!(" --set {}={}", a.key, a.text[0]));
+            }
+        }
+        command
+    }
+
+    /// What a run folder of this variant says about its scene.
+    pub fn origin(&self) -> Origin {
+        Origin {
+            path: self.path.display().to_string(),
+            fingerprint: self.fingerprint(),
+            changes: self.changes.clone(),
+            command: self.command(),
+        }
+    }
+
+    /// The variant as text that [`Variant::restore`] makes it again, identical: the document
+    /// as read (TOML), and per change asked for its key, value as written and `cut`. For a
+    /// copy in another process (Python's executors).
+    pub fn state(&self) -> Result<(String, Vec<Change>)> {
+        let loaded = toml::to_string(&self.loaded).map_err(|e| Error::Parse {
+            path: self.path.clone(),
+            message: format!("cannot be written as TOML: {e}"),
+        })?;
+        let asked = (self.asked.iter())
+            .map(|a| (a.key.clone(), a.text[0].clone(), a.cut))
+            .collect();
+        Ok((loaded, asked))
+    }
+
+    /// The variant of [`Variant::state`], named by `path`: the changes are made again, each
+    /// value read by [`parse_value`].
+    pub fn restore(path: &Path, loaded: &str, asked: &[Change]) -> Result<Variant> {
+        let parse = |message: String| Error::Parse {
+            path: path.to_path_buf(),
+            message,
+        };
+        let doc = loaded
+            .parse::<toml::Table>()
+            .map_err(|e| parse(e.to_string()))?;
+        let mut variant = Variant::new(toml::Value::Table(doc), path);
+        for (key, text, cut) in asked {
+            variant.set(key, parse_value(text), text, *cut)?;
+        }
+        Ok(variant)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::scene_path;
+
+    /// Fails if a cut is applied to a key set before, if the command forgets `--rotations`, or
+    /// if a restored copy differs from the original in any part.
+    #[test]
+    fn rotations_cut_what_was_not_set_and_a_restored_copy_is_identical() {
+        let mut v = Variant::read(&scene_path("standard")).unwrap();
+        let snapshots = toml::Value::Array(vec![1.into()]);
+        v.set("run.wear_snapshots", snapshots, "[1]", true).unwrap();
+        let cuts = v.set(ROTATIONS, 1.into(), "1", true).unwrap();
+        assert_eq!(cuts, [("run.record_rotations".to_string(), 1.into())]);
+        assert_eq!(v.build().unwrap().run.record_rotations, 1);
+        assert!(v
+            .command()
+            .ends_with(" --set run.wear_snapshots=[1] --rotations 1"));
+        assert!(v.set("run.rotatons", 2.into(), "2", true).is_err());
+        let (loaded, asked) = v.state().unwrap();
+        let copy = Variant::restore(v.path(), &loaded, &asked).unwrap();
+        assert_eq!(copy.document(), v.document());
+        assert_eq!(copy.origin(), v.origin());
+    }
+}

@@ -1,0 +1,289 @@
+//! The folder of an ensemble: its members' results, their statistics (with the states the
+//! members fall into) and per-sector wear bands as CSVs, the band plot, `summary.json` and
+//! `README.txt` ([`write_ensemble`]).
+
+use super::{
+    conventions, joint_file, perturbation_arg, wear_panel, write_summary, Origin, PROGRAM,
+    SUMMARY_FILE,
+};
+use crate::analysis::states::{States, STATE_COLUMNS};
+use crate::analysis::statistics::{Distribution, VALUE_KEYS};
+use crate::io::output::{number, number_or_empty, write_outputs, write_rows};
+use crate::io::plot::{render, Axes, Series, Shade, Style};
+use crate::laws::wear::sector_angles_deg;
+use crate::simulation::ensemble::EnsembleSettings;
+use crate::simulation::summary::{joint_statistics, JointStatistics, JointSummary, JOINT_COLUMNS};
+use crate::simulation::Scene;
+use crate::Result;
+use serde::Serialize;
+use std::path::Path;
+
+/// One member of an ensemble as its folder takes it: its joint summaries and final wear
+/// profiles (per joint, per sector, m).
+pub type Member = (Vec<JointSummary>, Vec<Vec<f64>>);
+
+/// Writes the folder `dir` of the ensemble `settings` of `scene` (from `origin`): `members`
+/// in member order, each member's wall time in `walls` (s), `wall` the ensemble's (s).
+/// Returns the statistics it wrote. Its `README.txt` and manifest name the command that runs
+/// it (`… --ensemble N --seed S`).
+pub fn write_ensemble(
+    dir: &Path,
+    origin: &Origin,
+    scene: &Scene,
+    settings: &EnsembleSettings,
+    (members, walls): (&[Member], &[f64]),
+    wall: f64,
+) -> Result<Vec<JointStatistics>> {
+    let title = format!(
+        "{} --ensemble {} --seed {}{}",
+        origin.command,
+        settings.members,
+        settings.seed,
+        perturbation_arg(&settings.perturbation)
+    );
+    write_outputs(dir, &title, || {
+        let stats = write_files(scene, settings, members, walls, dir)?;
+        let summary = EnsembleSummary {
+            program: PROGRAM.into(),
+            scene: origin.path.clone(),
+            title: scene.title.clone(),
+            fingerprint: origin.fingerprint.clone(),
+            changes: origin.changes.clone(),
+            members: settings.members,
+            seed: settings.seed,
+            perturbation: settings.perturbation.key(),
+            rotations: scene.run.rotations,
+            record_rotations: scene.run.record_rotations,
+            wall_time_s: wall,
+            joints: stats
+                .iter()
+                .map(|j| JointDistributions {
+                    name: j.name.clone(),
+                    quantities: j
+                        .scalars
+                        .iter()
+                        .map(|(name, d)| (name.to_string(), DistributionSummary(*d)))
+                        .collect(),
+                })
+                .collect(),
+        };
+        write_summary(dir, &summary, &readme(&title, scene, settings, &stats))?;
+        Ok(stats)
+    })
+}
+
+/// The ensemble's CSVs and band plot; returns the statistics it wrote.
+fn write_files(
+    scene: &Scene,
+    settings: &EnsembleSettings,
+    members: &[Member],
+    walls: &[f64],
+    dir: &Path,
+) -> Result<Vec<JointStatistics>> {
+    let m = &scene.mechanism;
+    let joints: Vec<String> = m.clearance_joints.iter().map(|c| c.name.clone()).collect();
+    // One row per member: its offsets d (journal body frame), then a sweep row's joint columns.
+    let mut head = vec!["member".to_string()];
+    for j in &joints {
+        head.extend([
+            format!("{j}.offset_body_x_m"),
+            format!("{j}.offset_body_y_m"),
+        ]);
+    }
+    for j in &joints {
+        head.extend(JOINT_COLUMNS.iter().map(|c| format!("{j}.{c}")));
+    }
+    head.extend(["wall_time_s".to_string(), "error".to_string()]);
+    let rows = members
+        .iter()
+        .zip(walls)
+        .enumerate()
+        .map(|(i, ((summary, _), secs))| {
+            let mut row = vec![i.to_string()];
+            for d in settings
+                .perturbation
+                .offsets(settings.seed, i, joints.len())
+            {
+                row.extend([number(d.x), number(d.y)]);
+            }
+            row.extend(summary.iter().flat_map(JointSummary::cells));
+            row.extend([number(*secs), String::new()]);
+            row
+        });
+    write_rows(&dir.join("ensemble_members.csv"), &head, rows)?;
+    let stats = joint_statistics(scene, members);
+    let mut head = vec!["joint", "quantity", "n"];
+    head.extend(VALUE_KEYS);
+    head.extend(STATE_COLUMNS);
+    let numbers = |d: &Distribution| d.values().map(number_or_empty);
+    let mut rows = Vec::new();
+    for j in &stats {
+        for (name, d) in &j.scalars {
+            let mut row = vec![j.name.clone(), name.to_string(), d.n.to_string()];
+            row.extend(numbers(d));
+            let states = j.states.iter().find(|(n, _)| n == name).map(|(_, s)| s);
+            row.extend(state_cells(states));
+            rows.push(row);
+        }
+    }
+    write_rows(&dir.join("ensemble_summary.csv"), &head, rows)?;
+    let mut series = Vec::new();
+    // one per clearance joint, in the mechanism's order
+    for (k, j) in stats.iter().enumerate() {
+        let Some(band) = &j.wear else { continue };
+        let angles = sector_angles_deg(band.sectors.len());
+        let mut head = vec!["angle_deg".to_string()];
+        head.extend(VALUE_KEYS.map(|k| format!("{k}_m")));
+        let rows = band.sectors.iter().zip(&angles).map(|(d, a)| {
+            let mut row = vec![number(*a)];
+            row.extend(numbers(d));
+            row
+        });
+        let file = joint_file("ensemble_wear", &j.name);
+        write_rows(&dir.join(file), &head, rows)?;
+        let um = |v: Vec<f64>| v.iter().map(|x| x * 1e6).collect::<Vec<f64>>();
+        let (mean, lo, hi) = (um(band.mean()), um(band.quantile(0)), um(band.quantile(4)));
+        series.push((k, angles, mean, lo, hi));
+    }
+    if !series.is_empty() {
+        let title = format!(
+            "wear after {} rotations, mean of {} members, 5-95 % shaded",
+            scene.run.rotations, settings.members
+        );
+        // one panel per joint: their angles are in different bearings' frames
+        let m = &scene.mechanism;
+        let panels: Vec<Axes> = series
+            .iter()
+            .map(|(k, a, mean, lo, hi)| Axes {
+                shades: vec![Shade { series: 0, lo, hi }],
+                ..wear_panel(
+                    m,
+                    *k,
+                    &title,
+                    vec![Series::new("mean wear depth", a, mean, Style::Line)],
+                )
+            })
+            .collect();
+        render(&dir.join("wear.png"), &panels)?;
+    }
+    Ok(stats)
+}
+
+/// The [`STATE_COLUMNS`] cells of a quantity; all empty for an angle (no states).
+fn state_cells(states: Option<&States>) -> Vec<String> {
+    states.map_or_else(
+        || vec![String::new(); STATE_COLUMNS.len()],
+        |s| s.cells(number),
+    )
+}
+
+/// `summary.json` of `run --ensemble`: the ensemble and the distribution of every quantity.
+#[derive(Serialize)]
+struct EnsembleSummary {
+    program: String,
+    scene: String,
+    title: String,
+    fingerprint: String,
+    /// `[key, value]` of `--set` and `--rotations`, in the order applied.
+    changes: Vec<(String, String)>,
+    members: usize,
+    seed: u64,
+    /// The protocol's key (`disc_10nm`, `--perturbation`).
+    perturbation: String,
+    rotations: u32,
+    record_rotations: u32,
+    /// Wall-clock time of all members, in parallel (s).
+    wall_time_s: f64,
+    joints: Vec<JointDistributions>,
+}
+
+#[derive(Serialize)]
+struct JointDistributions {
+    name: String,
+    /// By quantity name (the `quantity` column of `ensemble_summary.csv`).
+    quantities: Vec<(String, DistributionSummary)>,
+}
+
+/// A distribution in summary.json: `n`, then [`VALUE_KEYS`] with their values.
+struct DistributionSummary(Distribution);
+
+impl Serialize for DistributionSummary {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = s.serialize_map(Some(1 + VALUE_KEYS.len()))?;
+        map.serialize_entry("n", &self.0.n)?;
+        for (key, value) in VALUE_KEYS.iter().zip(self.0.values()) {
+            map.serialize_entry(key, &value)?;
+        }
+        map.end()
+    }
+}
+
+/// `README.txt` of an ensemble's folder: the conventions, then every file it wrote.
+fn readme(
+    title: &str,
+    scene: &Scene,
+    settings: &EnsembleSettings,
+    stats: &[JointStatistics],
+) -> String {
+    let m = &scene.mechanism;
+    let mut text = conventions(title, m, &scene.title);
+    let worn: Vec<String> = stats
+        .iter()
+        .filter(|j| j.wear.is_some())
+        .map(|j| joint_file("ensemble_wear", &j.name))
+        .collect();
+    text.push_str(&format!(
+        "\nFILES\n\
+         Every member is the scene run with the perturbation {} ({}) drawn from the seed and \
+         the member number; statistics are over the members. Quantiles \
+         qNN are type-7 sample quantiles; sd is the sample standard deviation. Angles \
+         (_deg) are unwrapped around their circular mean before the statistics.\n\
+         ensemble_members.csv: one row per member.\n\
+         \x20 member                               0-based member number\n\
+         \x20 J.offset_body_x_m, J.offset_body_y_m  initial journal offset, in the frame of the \
+         journal's body (m); zero where the protocol starts the journal centred\n\
+         \x20 J.max_normal_force_recorded_n        largest normal force of the recorded \
+         rotations (N); empty when none were recorded\n\
+         \x20 J.max_penetration_recorded_m         largest penetration of the recorded \
+         rotations (m), positive = overlap; empty when none were recorded\n\
+         \x20 J.max_penetration_whole_run_m        largest penetration of the whole run (m), \
+         the start-up transient (impact after the centred start) included\n\
+         \x20 J.max_wear_angle_deg                 deepest sector of the final wear profile \
+         (the most prominent wear region), bearing frame (deg)\n\
+         \x20 J.max_wear_depth_m                   its depth (m)\n\
+         \x20 J.motion_mode                        `continuous contact` or `free flight and \
+         impact` (recorded rotations)\n\
+         \x20 J.contact_fraction                   share of recorded samples in contact\n\
+         \x20 J.impacts_per_rotation               contact onsets per rotation (recorded)\n\
+         \x20 wall_time_s, error                   the member's wall time (s); empty error\n\
+         ensemble_summary.csv: per joint and quantity (the numeric columns above, and \
+         continuous_contact, 1 or 0 per member, whose mean is the share in continuous \
+         contact): n (finite values), mean, sd, min, q05, q25, q50, q75, q95, max (empty \
+         fields where n is 0: nothing recorded); then the \
+         states the members fall into (largest-gap rule: split at the largest gap of the sorted \
+         values that leaves max(2, ceil(n/10)) members on each side, when it exceeds 2 pooled \
+         within-state sds; none for angles): states (1 or 2), and with two low_n, low_mean, \
+         low_sd, high_n, high_mean, high_sd. Where a quantity has two states, its pooled mean \
+         depends on the share in each, and that share on how members are perturbed.\n",
+        settings.perturbation.key(),
+        settings.perturbation.describe()
+    ));
+    if !worn.is_empty() {
+        text.push_str(&format!(
+            "{}: per sector of the final wear profiles: angle_deg (sector centre, bearing \
+             frame), then mean_m, sd_m, min_m, q05_m ... q95_m, max_m of the depth worn into \
+             the bearing (m).\n\
+             wear.png: the mean profile (µm), 5-95 % band shaded.\n",
+            worn.join(", ")
+        ));
+    }
+    text.push_str(&format!(
+        "{SUMMARY_FILE}: the ensemble as JSON: program, scene, title, fingerprint, changes \
+         (--set and --rotations as [key, value]), members, seed, perturbation, rotations, \
+         record_rotations, \
+         wall_time_s, and per joint every quantity's n, mean, sd, min, q05 ... q95, max \
+         (null where no value exists).\n"
+    ));
+    text
+}

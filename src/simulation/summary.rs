@@ -1,0 +1,188 @@
+//! A run's summary: per clearance joint its largest force and penetration (each over a named
+//! window), motion and wear regions ([`summarize`]), as every output of a run reports them (the
+//! run folder, a sweep's row, an ensemble member's row, Python's `Run.summary`); and the
+//! statistics of those summaries over the members of an ensemble ([`joint_statistics`]).
+
+use crate::analysis::regions::{wear_regions, Region};
+use crate::analysis::states::States;
+use crate::analysis::statistics::{Band, Distribution};
+use crate::analysis::Motion;
+use crate::io::output::number;
+use crate::simulation::{RunOutput, Scene};
+use serde::{Deserialize, Serialize};
+
+/// Summary of one clearance joint over a run (serialisable: a member run elsewhere, by a
+/// Python executor, hands it back exactly).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct JointSummary {
+    /// The joint's name.
+    pub name: String,
+    /// Largest sampled normal force of the recorded rotations (N); `None` when none were
+    /// recorded.
+    pub max_normal_force_recorded: Option<f64>,
+    /// Largest sampled penetration of the recorded rotations (m), the window of the force;
+    /// `None` when none were recorded.
+    pub max_penetration_recorded: Option<f64>,
+    /// Largest penetration at the accepted steps of the whole run (m): the start-up transient
+    /// (the impact after the centred start) and any settling included.
+    pub max_penetration_whole_run: f64,
+    /// Motion of the recorded rotations, if any were recorded.
+    pub motion: Option<Motion>,
+    /// Wear regions of the final profile, most prominent (and so deepest) first; empty
+    /// without wear.
+    pub regions: Vec<Region>,
+}
+
+/// Summarises every clearance joint of a run of `scene`.
+pub fn summarize(scene: &Scene, out: &RunOutput) -> Vec<JointSummary> {
+    let rec = &out.recording;
+    let dt = scene.run.record_interval;
+    scene
+        .mechanism
+        .clearance_joints
+        .iter()
+        .enumerate()
+        .map(|(k, cj)| {
+            let trace = rec.joints.get(k).filter(|t| !t.delta.is_empty());
+            let max = |v: &[f64]| v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+            JointSummary {
+                name: cj.name.clone(),
+                max_normal_force_recorded: trace.map(|t| max(&t.normal_force)),
+                max_penetration_recorded: trace.map(|t| max(&t.delta)),
+                max_penetration_whole_run: out.max_penetration_whole_run[k],
+                motion: trace
+                    .map(|t| Motion::classify(&t.delta, dt, scene.run.record_rotations as f64)),
+                regions: wear_regions(&out.final_wear[k]),
+            }
+        })
+        .collect()
+}
+
+impl JointSummary {
+    /// The joint's scalar results by name: the numeric sweep columns, and
+    /// `continuous_contact` as 1 or 0, whose mean over an ensemble is the share of members in
+    /// continuous contact. What was not recorded is NaN here, and an empty field or "not
+    /// recorded" wherever it is written or printed.
+    pub fn scalars(&self) -> [(&'static str, f64); 8] {
+        let deepest = self.regions.first();
+        let motion = |f: fn(&Motion) -> f64| self.motion.as_ref().map_or(f64::NAN, f);
+        let values = [
+            self.max_normal_force_recorded.unwrap_or(f64::NAN),
+            self.max_penetration_recorded.unwrap_or(f64::NAN),
+            self.max_penetration_whole_run,
+            deepest.map_or(f64::NAN, |p| p.angle_deg),
+            deepest.map_or(f64::NAN, |p| p.depth),
+            motion(|m| m.contact_fraction),
+            motion(|m| m.impacts_per_rotation),
+            motion(|m| f64::from(u8::from(m.mode() == "continuous contact"))),
+        ];
+        std::array::from_fn(|i| (SCALARS[i], values[i]))
+    }
+}
+
+/// Statistics of one clearance joint over the members of an ensemble.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointStatistics {
+    /// The joint's name.
+    pub name: String,
+    /// Distribution of each of [`JointSummary::scalars`] (angles unwrapped around their
+    /// circular mean).
+    pub scalars: Vec<(&'static str, Distribution)>,
+    /// The states of each quantity of `scalars` but the angles ([`States`]: largest-gap rule;
+    /// an angle's values are circular, so sorting them has no meaning), in the same order.
+    pub states: Vec<(&'static str, States)>,
+    /// Per-sector band of the final wear profiles, for a joint with a wear model.
+    pub wear: Option<Band>,
+}
+
+/// Statistics of every clearance joint over `members`: each member's joint summaries and
+/// final wear profiles.
+pub fn joint_statistics(
+    scene: &Scene,
+    members: &[(Vec<JointSummary>, Vec<Vec<f64>>)],
+) -> Vec<JointStatistics> {
+    scene
+        .mechanism
+        .clearance_joints
+        .iter()
+        .enumerate()
+        .map(|(k, cj)| {
+            let values = |i: usize| members.iter().map(move |(s, _)| s[k].scalars()[i].1);
+            let angle = |name: &str| name.ends_with("_deg");
+            let scalars = SCALARS
+                .iter()
+                .enumerate()
+                .map(|(i, &name)| {
+                    let d = if angle(name) {
+                        Distribution::of_angles_deg(values(i))
+                    } else {
+                        Distribution::of(values(i))
+                    };
+                    (name, d)
+                })
+                .collect();
+            let states = SCALARS
+                .iter()
+                .enumerate()
+                .filter(|(_, name)| !angle(name))
+                .map(|(i, &name)| (name, States::of(&values(i).collect::<Vec<f64>>())))
+                .collect();
+            JointStatistics {
+                name: cj.name.clone(),
+                scalars,
+                states,
+                wear: cj
+                    .wear
+                    .is_some()
+                    .then(|| Band::of(members.iter().map(|(_, w)| w[k].as_slice()))),
+            }
+        })
+        .collect()
+}
+
+impl JointSummary {
+    /// The joint's [`JOINT_COLUMNS`] cells of a CSV row: numbers by [`number`], an empty field
+    /// where nothing was recorded or there is no wear.
+    pub fn cells(&self) -> [String; 8] {
+        let deepest = self.regions.first();
+        let recorded = |x: Option<f64>| x.map_or(String::new(), number);
+        let motion = |f: fn(&Motion) -> String| self.motion.as_ref().map_or(String::new(), f);
+        [
+            recorded(self.max_normal_force_recorded),
+            recorded(self.max_penetration_recorded),
+            number(self.max_penetration_whole_run),
+            deepest.map_or(String::new(), |p| number(p.angle_deg)),
+            deepest.map_or(String::new(), |p| number(p.depth)),
+            motion(|m| m.mode().to_string()),
+            motion(|m| number(m.contact_fraction)),
+            motion(|m| number(m.impacts_per_rotation)),
+        ]
+    }
+}
+
+/// Per-joint columns of a run's summary row ([`JointSummary::cells`]: a sweep case's and an
+/// ensemble member's), after the joint's name and a dot. Each maximum names its window:
+/// `recorded` the recorded rotations (empty when none were recorded), `whole_run` every step
+/// from the start.
+pub const JOINT_COLUMNS: [&str; 8] = [
+    "max_normal_force_recorded_n",
+    "max_penetration_recorded_m",
+    "max_penetration_whole_run_m",
+    "max_wear_angle_deg",
+    "max_wear_depth_m",
+    "motion_mode",
+    "contact_fraction",
+    "impacts_per_rotation",
+];
+
+/// The names of [`JointSummary::scalars`], in order.
+pub const SCALARS: [&str; 8] = [
+    "max_normal_force_recorded_n",
+    "max_penetration_recorded_m",
+    "max_penetration_whole_run_m",
+    "max_wear_angle_deg",
+    "max_wear_depth_m",
+    "contact_fraction",
+    "impacts_per_rotation",
+    "continuous_contact",
+];
