@@ -217,8 +217,9 @@ pub fn predict(
         let before = depths(sim);
         // the gaps before and after each step, in two buffers reused over the steps
         let gaps = |sim: &Simulation, out: &mut [f64]| {
+            let y = sim.y();
             for (k, g) in out.iter_mut().enumerate() {
-                *g = sim.mechanism().penetration(sim.state(), k, sim.y());
+                *g = sim.mechanism().penetration(sim.state(), k, &y);
             }
         };
         let (start, end) = (sim.time(), sim.rotations_done() + rotations);
