@@ -2,6 +2,7 @@
 
 use jointwear::io::progress::Silent;
 use jointwear::scene::{scene_path, SceneFile};
+use jointwear::simulation::ensemble::{self, EnsembleSettings};
 use jointwear::simulation::longlife::{predict, LongLifeSettings};
 use jointwear::simulation::simulate;
 
@@ -9,12 +10,22 @@ fn l2(a: &[f64]) -> f64 {
     a.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
+/// Members of the brute-force ensemble of [`extrapolation_matches_brute_force`].
+const MEMBERS: usize = 4;
+
 /// 100 rotations of the standard scene with k/H accelerated to 5e-12 1/Pa (about 10 µm of wear
-/// on a 20 µm clearance, so the wear feeds back into the dynamics): the extrapolated profile has
-/// its peak depth within 3.4 % and the L2 norm of its difference within 3.3 % of the simulated
-/// profile's (asserted with margin: 5 % and 10 %). Past the clearance (k/H = 1e-11: 36 µm in
-/// 100 rotations) one rotation no longer represents a block and the extrapolation is off by
-/// half: see the module documentation.
+/// on a 20 µm clearance, so the wear feeds back into the dynamics), against the mean profile of
+/// a [`MEMBERS`]-member brute-force ensemble: one brute-force trajectory is no reference, since
+/// the motion is chaotic and a single run can settle into either of two wear states (what
+/// made this test fail when a change of formulation moved the single run to the other state).
+/// The ensemble mean is the quantity both states contribute to; the extrapolated profile has
+/// its peak depth within 3.9 % and the L2 norm of its difference within 5.6 % of it (asserted
+/// with margin: 5 % and 10 %; the members' peaks spread by 1.4 %). Checked to fail: the
+/// extrapolated blocks' wear scaled by 1.2 in `longlife.rs` gives errors of 10.9 % and 15.5 %
+/// (scaled by 1.1, 4.3 % and 7.8 % still pass: the extrapolation's own 3.9 % shortfall hides
+/// it). Past
+/// the clearance (k/H = 1e-11: 36 µm in 100 rotations) one rotation no longer represents a
+/// block and the extrapolation is off by half: see the module documentation.
 #[test]
 fn extrapolation_matches_brute_force() {
     let mut f = SceneFile::read(scene_path("standard")).unwrap();
@@ -23,7 +34,21 @@ fn extrapolation_matches_brute_force() {
     f.run.record_rotations = 0;
     f.run.wear_snapshots.clear();
     let scene = f.build().unwrap();
-    let brute = simulate(&scene).unwrap().final_wear.remove(0);
+    let ensemble = EnsembleSettings {
+        members: MEMBERS,
+        seed: 1,
+        ..EnsembleSettings::default()
+    };
+    let members = ensemble::run(
+        &scene,
+        &ensemble,
+        |_, mut o| o.final_wear.remove(0),
+        &Silent,
+    )
+    .unwrap();
+    let brute: Vec<f64> = (0..members[0].len())
+        .map(|i| members.iter().map(|m| m[i]).sum::<f64>() / MEMBERS as f64)
+        .collect();
     let settings = LongLifeSettings {
         rotations: 100,
         ..LongLifeSettings::default()
@@ -44,8 +69,10 @@ fn extrapolation_matches_brute_force() {
         (max(predicted) - max(&brute)).abs() / max(&brute),
         l2(&diff) / l2(&brute),
     );
+    let peaks: Vec<f64> = members.iter().map(|m| max(m) * 1e6).collect();
     eprintln!(
-        "brute max {:.3} µm, predicted {:.3} µm, peak error {peak_err:.3}, L2 error {l2_err:.3}",
+        "brute mean max {:.3} µm (members {peaks:.3?}), predicted {:.3} µm, peak error \
+         {peak_err:.3}, L2 error {l2_err:.3}",
         max(&brute) * 1e6,
         max(predicted) * 1e6
     );
