@@ -215,9 +215,11 @@ pub fn predict(
     // joint's sample (its wear rate left to the caller).
     let simulate = |sim: &mut Simulation, rotations: u32| -> Result<(Vec<Vec<f64>>, Vec<Sample>)> {
         let before = depths(sim);
-        // the gaps before and after each step, in two buffers reused over the steps
-        let gaps = |sim: &Simulation, out: &mut [f64]| {
-            let y = sim.y();
+        // the gaps before and after each step, in two buffers reused over the steps, from the
+        // absolute state in a third
+        let mut y = vec![0.0; sim.mechanism().state_len()];
+        let mut gaps = |sim: &Simulation, out: &mut [f64]| {
+            sim.y_into(&mut y);
             for (k, g) in out.iter_mut().enumerate() {
                 *g = sim.mechanism().penetration(sim.state(), k, &y);
             }

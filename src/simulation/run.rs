@@ -574,8 +574,14 @@ impl Simulation {
     /// whatever the [`crate::mechanism::Formulation`] integrates.
     pub fn y(&self) -> Vec<f64> {
         let mut y = vec![0.0; self.mechanism.state_len()];
-        (self.mechanism).absolute_state(self.integrator.t(), self.integrator.y(), &mut y);
+        self.y_into(&mut y);
         y
+    }
+
+    /// Writes [`Simulation::y`] into `y` (of [`Mechanism::state_len`]) without allocating, for
+    /// a caller that looks at every step.
+    pub fn y_into(&self, y: &mut [f64]) {
+        (self.mechanism).absolute_state(self.integrator.t(), self.integrator.y(), y);
     }
 
     /// Runs the remaining rotations, telling `progress` the rotations done after each, or
