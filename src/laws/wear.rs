@@ -200,7 +200,7 @@ impl WearProfile {
     }
 
     /// Depth h(θ) (m) and slope dh/dθ (m/rad) at bearing angle `theta` (rad, any value).
-    #[inline]
+    #[inline(always)]
     pub fn depth_at(&self, theta: f64) -> (f64, f64) {
         let n = self.depth.len();
         // u ∈ [0.5, n + 0.5]: a cast instead of `floor` (a libm call without SSE4.1) and no

@@ -2,7 +2,7 @@
 //! forces (eq. 11, switched by eq. 12's unit step) as applied forces, then the constrained
 //! accelerations; and the energy powers when accounting is on.
 
-use super::kinematics::perp;
+use super::kinematics::{perp, Frame};
 use super::workspace::Workspace;
 use super::{BodyIndex, Mechanism, RunState, MAX_PENETRATION_RATIO};
 use crate::io::format::quantity;
@@ -40,16 +40,15 @@ fn add_force(force: &mut [f64], b: BodyIndex, s: Vector2<f64>, f: Vector2<f64>) 
 
 impl Mechanism {
     /// Generalised forces into `force` (3 per body): gravity plus clearance-joint contact
-    /// forces (eq. 11), at absolute coordinates `(q, v)` with the bodies' `(sin, cos)` from `rot`;
-    /// each joint's penetration into `gaps` (one per clearance joint).
+    /// forces (eq. 11), with the bodies' poses and velocities from `frame`; each joint's
+    /// penetration into `gaps` (one per clearance joint).
     /// Returns (normal-force power, friction power) into the system, or the clearance joint
     /// and penetration beyond [`MAX_PENETRATION_RATIO`] of its journal radius.
+    #[inline(always)]
     pub(super) fn applied_forces(
         &self,
         state: &RunState,
-        q: &[f64],
-        v: &[f64],
-        rot: impl Fn(usize) -> (f64, f64) + Copy,
+        frame: impl Fn(BodyIndex) -> Frame + Copy,
         force: &mut [f64],
         gaps: &mut [f64],
     ) -> std::result::Result<(f64, f64), (usize, f64)> {
@@ -60,7 +59,7 @@ impl Mechanism {
         }
         let (mut p_normal, mut p_friction) = (0.0, 0.0);
         for (k, gap) in gaps.iter_mut().enumerate() {
-            let (cs, sj, sb) = self.contact_geometry(state, k, q, v, rot);
+            let (cs, sj, sb) = self.contact_geometry(state, k, frame);
             let cs = self.with_forces(state, k, cs);
             let cj = &self.clearance_joints[k];
             *gap = cs.delta;
@@ -155,7 +154,8 @@ impl Mechanism {
         ws.lambda = phi;
         let mut force = std::mem::take(&mut ws.force);
         let rot = &ws.rot;
-        let powers = self.applied_forces(state, q, v, |i| rot[i], &mut force, &mut ws.gaps);
+        let frame = |b: BodyIndex| Frame::of(q, v, b, |i| rot[i]);
+        let powers = self.applied_forces(state, frame, &mut force, &mut ws.gaps);
         ws.force = force;
         let (p_normal, p_friction) = powers.map_err(|(k, delta)| self.overload(t, k, delta))?;
         self.accelerations(ws, t, v, &mut dy[n..2 * n])?;

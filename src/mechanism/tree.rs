@@ -14,7 +14,7 @@
 //! integrated, so there is nothing to stabilise and no drift. Clearance joints are the same
 //! force elements as in the absolute formulation (the same kinematics and laws).
 
-use super::kinematics::{perp, rotate};
+use super::kinematics::{perp, rotate, Frame};
 use super::{BodyIndex, Mechanism, RunState, ENERGY_STATES};
 use crate::{Error, Result};
 use nalgebra::Vector2;
@@ -72,13 +72,9 @@ pub(super) struct Tree {
 }
 
 /// Pose and velocity of one body, with the arms of the joint to its parent.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 struct Pose {
-    phi: f64,
-    sc: (f64, f64),
-    r: Vector2<f64>,
-    w: f64,
-    v: Vector2<f64>,
+    f: Frame,
     /// `A_P`, `A_C`: from the parent's and the body's centre of mass to the joint (m).
     arm_parent: Vector2<f64>,
     arm_child: Vector2<f64>,
@@ -86,13 +82,9 @@ struct Pose {
     dir: Vector2<f64>,
 }
 
-/// The ground's pose: at rest at the origin, angle 0.
+/// The ground's pose.
 const GROUND: Pose = Pose {
-    phi: 0.0,
-    sc: (0.0, 1.0),
-    r: Vector2::new(0.0, 0.0),
-    w: 0.0,
-    v: Vector2::new(0.0, 0.0),
+    f: Frame::GROUND,
     arm_parent: Vector2::new(0.0, 0.0),
     arm_child: Vector2::new(0.0, 0.0),
     dir: Vector2::new(0.0, 0.0),
@@ -205,96 +197,87 @@ impl Tree {
         self.freedoms
     }
 
-    /// Every body's pose and velocity at time `t`, coordinates `z` and rates `zd`, by
-    /// [`slot`] into `pose` (written in place: returned, the array was copied).
+    /// The pose and velocity of link `l`'s body at time `t`, coordinates `z` and rates `zd`,
+    /// from its parent's frame `p`.
     #[inline(always)]
-    fn poses(
-        &self,
-        m: &Mechanism,
-        t: f64,
-        z: &[f64],
-        zd: &[f64],
-        pose: &mut [Pose; MAX_BODIES + 1],
-    ) {
-        for l in &self.links {
-            // The parent's fields by value, so that the body is written in place.
-            let (pphi, psc, pr, pw, pv) = {
-                let p = &pose[slot(l.parent)];
-                (p.phi, p.sc, p.r, p.w, p.v)
+    fn pose(m: &Mechanism, l: &Link, p: &Frame, t: f64, z: &[f64], zd: &[f64]) -> Pose {
+        let (phi, w, sc) = match l.angle {
+            Angle::Free(k) => (z[k], zd[k], z[k].sin_cos()),
+            Angle::Driven => {
+                let d = &m.driver;
+                let phi = d.angle0 + d.omega * t;
+                (phi, d.omega, phi.sin_cos())
+            }
+            Angle::Fixed { relative, sc } => {
+                let phi = p.phi + relative;
+                (phi, p.w, sc.unwrap_or_else(|| phi.sin_cos()))
+            }
+        };
+        let mut c = Pose {
+            f: Frame {
+                r: Vector2::zeros(),
+                phi,
+                rd: Vector2::zeros(),
+                w,
+                sc,
+            },
+            arm_parent: rotate(p.sc, l.on_parent),
+            arm_child: rotate(sc, l.on_child),
+            dir: Vector2::zeros(),
+        };
+        let (mut vp, mut vc) = (perp(c.arm_parent) * p.w, perp(c.arm_child) * w);
+        if let Some(s) = l.slide {
+            let (d, dd) = (z[s.k], zd[s.k]);
+            c.dir = rotate(if s.on_parent { p.sc } else { sc }, s.dir);
+            let (arm, rate, w) = if s.on_parent {
+                (&mut c.arm_parent, &mut vp, p.w)
+            } else {
+                (&mut c.arm_child, &mut vc, w)
             };
-            let c = &mut pose[l.body + 1];
-            match l.angle {
-                Angle::Free(k) => {
-                    (c.phi, c.w) = (z[k], zd[k]);
-                    c.sc = c.phi.sin_cos();
-                }
-                Angle::Driven => {
-                    let d = &m.driver;
-                    (c.phi, c.w) = (d.angle0 + d.omega * t, d.omega);
-                    c.sc = c.phi.sin_cos();
-                }
-                Angle::Fixed { relative, sc } => {
-                    (c.phi, c.w) = (pphi + relative, pw);
-                    c.sc = sc.unwrap_or_else(|| c.phi.sin_cos());
-                }
-            }
-            c.arm_parent = rotate(psc, l.on_parent);
-            c.arm_child = rotate(c.sc, l.on_child);
-            let (mut vp, mut vc) = (perp(c.arm_parent) * pw, perp(c.arm_child) * c.w);
-            if let Some(s) = l.slide {
-                let (d, dd) = (z[s.k], zd[s.k]);
-                c.dir = rotate(if s.on_parent { psc } else { c.sc }, s.dir);
-                let (arm, rate, w) = if s.on_parent {
-                    (&mut c.arm_parent, &mut vp, pw)
-                } else {
-                    (&mut c.arm_child, &mut vc, c.w)
-                };
-                *arm += c.dir * d;
-                *rate += c.dir * dd + perp(c.dir) * (w * d);
-            }
-            c.r = pr + c.arm_parent - c.arm_child;
-            c.v = pv + vp - vc;
+            *arm += c.dir * d;
+            *rate += c.dir * dd + perp(c.dir) * (w * d);
         }
+        c.f.r = p.r + c.arm_parent - c.arm_child;
+        c.f.rd = p.rd + vp - vc;
+        c
     }
 
-    /// Every body's Jacobian columns and `z̈ = 0` acceleration at `pose` and rates `zd`, by
-    /// [`slot`] (`C`: the `F` freedoms, and the driver's angle if `C > F`).
-    #[inline]
-    fn jacobians<const F: usize, const C: usize>(
-        &self,
-        pose: &[Pose; MAX_BODIES + 1],
+    /// The Jacobian columns and `z̈ = 0` acceleration of link `l`'s body at pose `c` and rates
+    /// `zd`, from its parent's frame `p` and Jacobian `pj` (`C`: the `F` freedoms, and the
+    /// driver's angle if `C > F`).
+    #[inline(always)]
+    fn jacobian<const F: usize, const C: usize>(
+        l: &Link,
+        p: &Frame,
+        pj: &Jacobian<C>,
+        c: &Pose,
         zd: &[f64],
-    ) -> [Jacobian<C>; MAX_BODIES + 1] {
-        let mut jac = [Jacobian::<C>::ZERO; MAX_BODIES + 1];
-        for l in &self.links {
-            let (p, c) = (&pose[slot(l.parent)], &pose[l.body + 1]);
-            let (pphi, paphi, par) = {
-                let pj = &jac[slot(l.parent)];
-                (pj.phi, pj.aphi, pj.ar)
-            };
-            let pr = jac[slot(l.parent)].r;
-            let cj = &mut jac[l.body + 1];
-            match l.angle {
-                Angle::Free(k) => cj.phi[k] = 1.0,
-                Angle::Driven if C > F => cj.phi[C - 1] = 1.0,
-                Angle::Driven => {}
-                Angle::Fixed { .. } => (cj.phi, cj.aphi) = (pphi, paphi),
-            }
-            let (pp, pc) = (perp(c.arm_parent), perp(c.arm_child));
-            for j in 0..C {
-                cj.r[j] = pr[j] + pp * pphi[j] - pc * cj.phi[j];
-            }
-            cj.ar = par + pp * paphi - c.arm_parent * (p.w * p.w) - pc * cj.aphi
-                + c.arm_child * (c.w * c.w);
-            if let Some(s) = l.slide {
-                // The slide moves the joint along the line of its body: +U on the parent's
-                // side, −U on the body's, with the Coriolis term of the line's rotation.
-                let (sign, w) = if s.on_parent { (1.0, p.w) } else { (-1.0, c.w) };
-                cj.r[s.k] += c.dir * sign;
-                cj.ar += perp(c.dir) * (sign * 2.0 * w * zd[s.k]);
-            }
+    ) -> Jacobian<C> {
+        let mut cj = Jacobian::<C>::ZERO;
+        match l.angle {
+            Angle::Free(k) => cj.phi[k] = 1.0,
+            Angle::Driven if C > F => cj.phi[C - 1] = 1.0,
+            Angle::Driven => {}
+            Angle::Fixed { .. } => (cj.phi, cj.aphi) = (pj.phi, pj.aphi),
         }
-        jac
+        let (pp, pc) = (perp(c.arm_parent), perp(c.arm_child));
+        for j in 0..C {
+            cj.r[j] = pj.r[j] + pp * pj.phi[j] - pc * cj.phi[j];
+        }
+        cj.ar = pj.ar + pp * pj.aphi - c.arm_parent * (p.w * p.w) - pc * cj.aphi
+            + c.arm_child * (c.f.w * c.f.w);
+        if let Some(s) = l.slide {
+            // The slide moves the joint along the line of its body: +U on the parent's
+            // side, −U on the body's, with the Coriolis term of the line's rotation.
+            let (sign, w) = if s.on_parent {
+                (1.0, p.w)
+            } else {
+                (-1.0, c.f.w)
+            };
+            cj.r[s.k] += c.dir * sign;
+            cj.ar += perp(c.dir) * (sign * 2.0 * w * zd[s.k]);
+        }
+        cj
     }
 
     /// Writes the absolute coordinates and velocities `(q, q̇)` of the bodies at (t, z) into
@@ -303,10 +286,12 @@ impl Tree {
         let f = self.freedoms;
         let n = m.coordinates();
         let mut pose = [GROUND; MAX_BODIES + 1];
-        self.poses(m, t, &z[..f], &z[f..2 * f], &mut pose);
+        for l in &self.links {
+            pose[l.body + 1] = Self::pose(m, l, &pose[slot(l.parent)].f, t, z, &z[f..2 * f]);
+        }
         for (b, p) in pose[1..=m.bodies.len()].iter().enumerate() {
-            y[3 * b..3 * b + 3].copy_from_slice(&[p.r.x, p.r.y, p.phi]);
-            y[n + 3 * b..n + 3 * b + 3].copy_from_slice(&[p.v.x, p.v.y, p.w]);
+            y[3 * b..3 * b + 3].copy_from_slice(&[p.f.r.x, p.f.r.y, p.f.phi]);
+            y[n + 3 * b..n + 3 * b + 3].copy_from_slice(&[p.f.rd.x, p.f.rd.y, p.f.w]);
         }
         y[2 * n..].copy_from_slice(&z[2 * f..]);
     }
@@ -402,26 +387,20 @@ impl Tree {
             )
         );
         let (u, ud) = (&z[..F], &z[F..2 * F]);
+        // Poses and Jacobians walking the tree, parents first.
         let mut pose = [GROUND; MAX_BODIES + 1];
-        self.poses(m, t, u, ud, &mut pose);
-        let bodies = m.bodies.len();
-        let (mut q, mut v) = ([0.0; 3 * MAX_BODIES], [0.0; 3 * MAX_BODIES]);
-        for (b, p) in pose[1..=bodies].iter().enumerate() {
-            q[3 * b..3 * b + 3].copy_from_slice(&[p.r.x, p.r.y, p.phi]);
-            v[3 * b..3 * b + 3].copy_from_slice(&[p.v.x, p.v.y, p.w]);
+        let mut jac = [Jacobian::<C>::ZERO; MAX_BODIES + 1];
+        for l in &self.links {
+            let (p, pj) = (&pose[slot(l.parent)].f, &jac[slot(l.parent)]);
+            let c = Self::pose(m, l, p, t, u, ud);
+            jac[l.body + 1] = Self::jacobian::<F, C>(l, p, pj, &c, ud);
+            pose[l.body + 1] = c;
         }
+        let bodies = m.bodies.len();
         let mut force = [0.0; 3 * MAX_BODIES];
         let (p_normal, p_friction) = m
-            .applied_forces(
-                state,
-                &q,
-                &v,
-                |i| pose[i + 1].sc,
-                &mut force[..3 * bodies],
-                gaps,
-            )
+            .applied_forces(state, |b| pose[slot(b)].f, &mut force[..3 * bodies], gaps)
             .map_err(|(k, delta)| m.overload(t, k, delta))?;
-        let jac = self.jacobians::<F, C>(&pose, ud);
         // Lagrange: mass matrix Jᵀ M J (lower triangle) and forces Jᵀ (F − M a).
         let mut mass = [[0.0; F]; F];
         let mut rhs = [0.0; F];
