@@ -296,8 +296,9 @@ pub(super) fn stability_section(md: &mut String, stability: &[StabilityRow]) {
     md.push_str("## 6. Numerical stability on stiff and extreme cases\n\n");
     md.push_str(
             "Each case is a scene in `data/scenes/stability/` (extending the standard scene), run for three rotations \
-             with energy accounting, a step limit and the crawl guard (a run whose last 100 000 steps advanced less \
-             than 1 % of a driver period, a pace that would not finish within the step limit, stops), so a failure is a clear error with its time and cause, never a \
+             with energy accounting, a step limit and the pace guard (a run whose last 100 000 steps went at a pace \
+             that would not finish within the step limit stops, a chattering one only when they advanced less than \
+             1 % of a driver period), so a failure is a clear error with its time and cause, never a \
              hang (`cargo run --release --bin stability`; every case also runs on a short horizon in `cargo test`). \
              The energy residual is (driver work − kinetic, potential and elastic energy change − losses) over the \
              driver work.\n\n",
