@@ -412,12 +412,12 @@ pub(super) fn stability_section(md: &mut String, stability: &[StabilityRow]) {
     let _ = write!(
         md,
         "Each case is a scene in `data/scenes/stability/` (extending the standard scene), run for \
-         {STABILITY_ROTATIONS} rotations with energy accounting, a step limit and the crawl guard (a run whose \
-         last {} steps advanced less than {} % of a driver period, a pace that would not finish within the step \
-         limit, stops), so a failure is a clear error with its time and cause, never a hang (`cargo run \
-         --release --bin stability`; every case also runs on a short horizon in `cargo test`). The energy \
-         residual is (driver work − kinetic, potential and elastic energy change − losses) over the driver \
-         work.\n\n",
+         {STABILITY_ROTATIONS} rotations with energy accounting, a step limit and the pace guard (a run whose \
+         last {} steps went at a pace that would not finish within the step limit stops, a chattering one only \
+         when they advanced less than {} % of a driver period), so a failure is a clear error with its time and \
+         cause, never a hang (`cargo run --release --bin stability`; every case also runs on a short horizon in \
+         `cargo test`). The energy residual is (driver work − kinetic, potential and elastic energy change − \
+         losses) over the driver work.\n\n",
         count(CRAWL_WINDOW),
         number(100.0 * CRAWL_FRACTION),
     );
