@@ -147,12 +147,17 @@ fn draw_panel<'b>(
     let view = (p.x.lo, p.x.hi, p.y.lo, p.y.hi);
     let view2 = (p.x.lo, p.x.hi, y2.lo, y2.hi);
     draw_data(&mut chart, p, p.legend.is_some(), view, Some(view2))?;
-    for (x, y, label) in p.point_labels.iter().filter(|l| inside((l.0, l.1), view)) {
+    for (x, y, label, left) in p.point_labels.iter().filter(|l| inside((l.0, l.1), view)) {
         // an en space keeps the text clear of the marker it names
+        let (label, anchor) = if *left {
+            (format!("{label}\u{2002}"), HPos::Right)
+        } else {
+            (format!("\u{2002}{label}"), HPos::Left)
+        };
         chart.draw_series(std::iter::once(Text::new(
-            format!("\u{2002}{label}"),
+            label,
             (*x, *y),
-            text(POINT_LABEL_PX).pos(Pos::new(HPos::Left, VPos::Center)),
+            text(POINT_LABEL_PX).pos(Pos::new(anchor, VPos::Center)),
         )))?;
     }
     if !polar {

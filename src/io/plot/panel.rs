@@ -51,8 +51,9 @@ pub(super) struct Panel {
     pub(super) legend: Option<SeriesLabelPosition>,
     /// Legend entry of the circles (empty: none).
     pub(super) circle_label: String,
-    /// Text beside data points, at drawing coordinates (log10 on a logarithmic axis).
-    pub(super) point_labels: Vec<(f64, f64, String)>,
+    /// Text beside data points, at drawing coordinates (log10 on a logarithmic axis), and
+    /// whether it goes to the left of its point ([`Axes::point_labels_left`]).
+    pub(super) point_labels: Vec<(f64, f64, String, bool)>,
     /// A polar picture: no axes, spokes instead.
     pub(super) polar: bool,
     /// The note: under the x axis, or in the lower right corner of a polar picture (its
@@ -351,11 +352,12 @@ impl Panel {
             at: i.at,
             title: i.title.clone(),
         });
-        let point_labels = axes
-            .point_labels
-            .iter()
-            .map(|(px, py, t)| (fx(*px), fy(*py), t.clone()))
-            .filter(|(px, py, _)| px.is_finite() && py.is_finite())
+        let sides = [(&axes.point_labels, false), (&axes.point_labels_left, true)];
+        let point_labels = (sides.iter())
+            .flat_map(|(labels, left)| {
+                (labels.iter()).map(|(px, py, t)| (fx(*px), fy(*py), t.clone(), *left))
+            })
+            .filter(|(px, py, ..)| px.is_finite() && py.is_finite())
             .collect();
 
         Ok(Panel {

@@ -223,7 +223,7 @@ pub fn write(
     ));
 
     table3::table3_section(&mut md, runs, golden)?;
-    md.push_str(&ensembles::ensemble_section(runs)?);
+    md.push_str(&ensembles::ensemble_section(runs, golden)?);
 
     figures::figures_section(&mut md, n, drawn);
 
