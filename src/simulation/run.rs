@@ -1065,8 +1065,8 @@ mod tests {
         f.run.wear_snapshots.clear();
         let sim = Simulation::start(&f.build().unwrap()).unwrap();
         // 3000 s to go. Smooth steps of 3e-6 s (3e-3 of the largest) advance 10 periods a
-        // window and need 1e9 more steps: judged, though above 1 % of a period (the old guard
-        // let it run into the limit).
+        // window and need 1e9 more steps: judged, though above 1 % of a period. Checked to fail
+        // with every window judged only under 1 % of a period, as before this test.
         let needed = sim.crawling(0.0, 0.3, 2 * CRAWL_WINDOW).unwrap();
         approx::assert_relative_eq!(needed, 1e9, max_relative = 1e-9);
         // Chattering steps of 3e-8 s (3e-5 of the largest), 10 % of a period a window, as a
@@ -1082,6 +1082,7 @@ mod tests {
         let mut sim = Simulation::start(&f.build().unwrap()).unwrap();
         // At 3 s, 297 s to go, after 2 windows: the last advanced 0.3 s (3e-6 s a step, 9.9e7
         // more steps), the run 3 s since its first (3e-5 s a step, 9.9e6 more): it fits.
+        // Checked to fail with the pace of the last window alone.
         assert!(sim.crawling(3.0, 0.3, 2 * CRAWL_WINDOW).is_some());
         sim.pace_origin = Some((0.0, CRAWL_WINDOW));
         assert_eq!(sim.crawling(3.0, 0.3, 2 * CRAWL_WINDOW), None);
