@@ -691,6 +691,16 @@ pub fn pooled<'a>(rows: &'a [LawRow], case: &str, quantity: &str) -> Vec<Option<
         .collect()
 }
 
+/// The window of the deepest wear on `case` without its leading words: `after 40 rotations
+/// of coupled wear`.
+pub fn wear_window(rows: &[LawRow], case: &str) -> String {
+    (rows.iter())
+        .find(|r| r.case == case && r.quantity == "deepest_wear")
+        .map_or(String::new(), |r| {
+            r.window.trim_start_matches("final profile ").to_string()
+        })
+}
+
 /// The figures' key of the law numbers: the paper's law, then the laws with its dissipation law
 /// and those with its stiffness law, a line each.
 fn law_key(pairs: &[(String, String)]) -> String {
@@ -777,7 +787,7 @@ pub fn draw_law_wear(rows: &[LawRow]) -> Result<()> {
                     case_label(c)
                 ),
                 "contact law (number: see below)",
-                "deepest wear (µm) after 40 rotations",
+                format!("deepest wear (µm), {}", wear_window(rows, c)),
                 vec![
                     Series::new("mean over members", x, y, Style::Points),
                     Series::new("± one sd", bx, by, Style::Line),
