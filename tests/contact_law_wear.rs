@@ -43,7 +43,8 @@ fn every_law_appears_with_its_statistics_or_its_error() {
         pairs_of(&rows),
         settings.pairs.iter().map(|&p| names(p)).collect::<Vec<_>>()
     );
-    // Pereira refused with the scene check's error, not dropped
+    // Pereira refused with the scene check's error, not dropped (checked: returning no rows for
+    // a failed run fails the pairs' assertion above)
     let failed: Vec<_> = rows.iter().filter(|r| r.quantity == RUN_FAILED).collect();
     assert_eq!(failed.len(), 1);
     assert_eq!(failed[0].stiffness, "pereira");

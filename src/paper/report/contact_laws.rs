@@ -11,8 +11,8 @@ use crate::paper::cases::{case_of_scene, CASES};
 use crate::paper::figures::output_path;
 use crate::paper::format::{number, sci, sig};
 use crate::paper::studies::contact_law_wear::{
-    pairs_of, pooled, read_commented, read_law_wear, LawRow, CLAIM_PREFIX, LAW_WEAR_FIGURE,
-    PAPER_LAW, RUN_FAILED, SIGNIFICANT_P,
+    pairs_of, pooled, read_commented, read_law_wear, wear_window, LawRow, CLAIM_PREFIX,
+    LAW_WEAR_FIGURE, PAPER_LAW, RUN_FAILED, SIGNIFICANT_P,
 };
 use crate::paper::studies::contact_laws::CONTACT_LAWS_HEADER;
 use std::fmt::Write as _;
@@ -545,7 +545,7 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow]) {
             md,
             &[
                 "law (stiffness + dissipation)",
-                "deepest wear after 40 rotations (µm)",
+                &format!("deepest wear (µm), {}", wear_window(rows, case)),
                 "deepest region (deg)",
                 "members in continuous contact",
                 "time in contact (%)",
