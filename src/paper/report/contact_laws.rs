@@ -675,6 +675,8 @@ mod tests {
 
     #[test]
     fn a_depth_hinges_on_the_law_only_when_it_differs_significantly_and_relevantly() {
+        // checked: counting every law as significant puts the 30 % but insignificant liu among
+        // the relevant differences
         let rows = vec![
             row(
                 ("hybrid", "zhiying-qishao"),
