@@ -308,7 +308,9 @@ fn draw_data<'a, 'b: 'a>(
             }
             let points = run.iter().copied();
             let anno = match c.style {
-                Style::Line => chart.draw_series(LineSeries::new(points, line))?,
+                Style::Line | Style::ErrorBars => {
+                    chart.draw_series(LineSeries::new(points, line))?
+                }
                 Style::Dashed | Style::Reference => {
                     chart.draw_series(DashedLineSeries::new(points, 14, 8, line))?
                 }
@@ -395,6 +397,6 @@ fn legend_parts(style: Style, color: RGBColor) -> (ShapeStyle, ShapeStyle, i32) 
         Style::Points => (hidden, color.filled(), 0),
         Style::LinePoints => (line, color.filled(), 0),
         Style::Dashed | Style::Reference => (line, hidden, 3),
-        Style::Line | Style::LineOnSecondaryAxis => (line, hidden, 0),
+        Style::Line | Style::LineOnSecondaryAxis | Style::ErrorBars => (line, hidden, 0),
     }
 }

@@ -69,6 +69,9 @@ pub enum Style {
     LineOnSecondaryAxis,
     /// Grey dashed line for reference curves (ideal joint, nominal profile), left axis.
     Reference,
+    /// Solid line in the colour of the series before it, left axis: the error bars of that
+    /// series' markers (NaN-separated segments). It takes no palette colour of its own.
+    ErrorBars,
 }
 
 /// One data series: `x[i]`, `y[i]` pairs (equal lengths).

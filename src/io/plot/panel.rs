@@ -197,16 +197,17 @@ impl Panel {
         }
 
         let mut palette = PALETTE.iter().cycle();
+        let mut previous = None;
         let curves: Vec<Curve> = axes
             .series
             .iter()
             .map(|s| Curve {
                 label: s.label.clone(),
                 style: s.style,
-                color: if s.style == Style::Reference {
-                    GREY
-                } else {
-                    *palette.next().expect("cycle")
+                color: match (s.style, previous) {
+                    (Style::Reference, _) => GREY,
+                    (Style::ErrorBars, Some(c)) => c,
+                    _ => *previous.insert(*palette.next().expect("cycle")),
                 },
                 segments: finite_runs(
                     &s.x.iter().map(|&v| fx(v)).collect::<Vec<_>>(),
@@ -428,4 +429,32 @@ pub(super) fn circle_points(c: (f64, f64), r: f64, step_deg: f64) -> Vec<(f64, f
 /// The height (px) of a legend of `rows` entries.
 pub(super) fn legend_height_px(rows: usize) -> f64 {
     f64::from(rows as u32 * (LEGEND_PX + 12) + 40)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::plot::Series;
+
+    #[test]
+    fn error_bars_take_the_colour_of_the_markers_before_them() {
+        // seen to fail when ErrorBars took the next palette colour like any other series
+        let (x, y) = ([1.0, 2.0], [1.0, 2.0]);
+        let axes = Axes::new(
+            "t",
+            "x",
+            "y",
+            vec![
+                Series::new("a", &x, &y, Style::Points),
+                Series::new("", &x, &y, Style::ErrorBars),
+                Series::new("b", &x, &y, Style::Points),
+                Series::new("", &x, &y, Style::ErrorBars),
+            ],
+        );
+        let colors: Vec<RGBColor> = (Panel::new(&axes, "t".into(), None).unwrap().curves)
+            .iter()
+            .map(|c| c.color)
+            .collect();
+        assert_eq!(colors, [PALETTE[0], PALETTE[0], PALETTE[1], PALETTE[1]]);
+    }
 }

@@ -558,7 +558,9 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow]) {
     }
     let _ = writeln!(
         md,
-        "![deepest wear, its angle and the motion mode per contact law](figures/{LAW_WEAR_FIGURE})\n"
+        "![deepest wear per contact law, per state where a law's members fall into two (each with \
+         its share of the members), the deepest region's angle where its members share one region, and \
+         the motion mode](figures/{LAW_WEAR_FIGURE})\n"
     );
 }
 

@@ -42,6 +42,7 @@ use crate::paper::golden::{angle_distance, angle_offset, Golden};
 use crate::scene::{ContactSpec, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
 use crate::{Error, Result};
+use std::fmt::Write as _;
 use std::path::Path;
 
 /// File of the study under `data/`.
@@ -725,26 +726,132 @@ fn case_label(scene: &str) -> String {
     case_of_scene(scene).map_or(scene.to_string(), |c| c.label())
 }
 
-/// Means ± sd of `quantity` on `case` per pair, `scale`d, as x (the pair's number from 1),
-/// mean, and the error-bar line (NaN-separated segments from mean − sd to mean + sd).
-fn bars(rows: &[LawRow], case: &str, quantity: &str, scale: f64) -> [Vec<f64>; 4] {
-    let (mut x, mut y, mut bx, mut by) = (vec![], vec![], vec![], vec![]);
-    for (i, r) in pooled(rows, case, quantity).into_iter().enumerate() {
-        let Some(r) = r else { continue };
-        let at = (i + 1) as f64;
-        x.push(at);
-        y.push(r.mean * scale);
-        if r.sd.is_finite() {
-            bx.extend([at, at, f64::NAN]);
-            by.extend([(r.mean - r.sd) * scale, (r.mean + r.sd) * scale, f64::NAN]);
-        }
-    }
-    [x, y, bx, by]
+/// Spread (sd, deg) up to which a law's members are taken to share their deepest wear region:
+/// the angle tolerance of the paper's wear-region claims. Beyond it the members' deepest
+/// regions lie in different regions (the 0.5 mm case: near 46 and 184 deg), and their mean
+/// angle is no region at all, so it is not drawn.
+const ONE_REGION_SD_DEG: f64 = 10.0;
+
+/// How far (in laws along x) a law's two states are drawn left and right of its place.
+const STATE_OFFSET: f64 = 0.2;
+
+/// Means of one kind with their ± one sd bars.
+#[derive(Debug, Default, PartialEq)]
+struct Group {
+    /// Where each mean is drawn (the law's number from 1, offset for a state).
+    x: Vec<f64>,
+    /// The means.
+    y: Vec<f64>,
+    /// The bars: NaN-separated vertical segments from mean − sd to mean + sd.
+    bars: [Vec<f64>; 2],
 }
 
+impl Group {
+    /// Adds `r`'s mean and sd, `scale`d, at `at`.
+    fn put(&mut self, at: f64, r: &LawRow, scale: f64) {
+        self.x.push(at);
+        self.y.push(r.mean * scale);
+        if r.sd.is_finite() {
+            self.bars[0].extend([at, at, f64::NAN]);
+            (self.bars[1]).extend([(r.mean - r.sd) * scale, (r.mean + r.sd) * scale, f64::NAN]);
+        }
+    }
+
+    /// The markers labelled `label` and their bars in the same colour; none if empty.
+    fn series(&self, label: String) -> Vec<Series<'_>> {
+        if self.x.is_empty() {
+            return Vec::new();
+        }
+        vec![
+            Series::new(label, &self.x, &self.y, Style::Points),
+            Series::new("", &self.bars[0], &self.bars[1], Style::ErrorBars),
+        ]
+    }
+}
+
+/// The markers of one quantity on one case: per law its pooled mean where its members are in
+/// one state, or each state's mean beside the other (low left, high right) with its share of
+/// the members.
+#[derive(Debug, Default, PartialEq)]
+struct Markers {
+    /// Laws whose members are in one state.
+    single: Group,
+    /// The low state of the laws in two.
+    low: Group,
+    /// The high state of the laws in two.
+    high: Group,
+    /// "n/N" left of each low-state marker.
+    low_labels: Vec<(f64, f64, String)>,
+    /// "n/N" right of each high-state marker.
+    high_labels: Vec<(f64, f64, String)>,
+    /// Numbers of the laws that ran but whose pooled row `keep` refused.
+    refused: Vec<usize>,
+}
+
+impl Markers {
+    /// `quantity` on `case` per pair of `rows`, `scale`d; a pooled row that fails `keep` is
+    /// not drawn (its law's number is listed in `refused`).
+    fn of(
+        rows: &[LawRow],
+        case: &str,
+        quantity: &str,
+        scale: f64,
+        keep: &dyn Fn(&LawRow) -> bool,
+    ) -> Markers {
+        let mut m = Markers::default();
+        for (i, r) in pooled(rows, case, quantity).into_iter().enumerate() {
+            let Some(r) = r else { continue };
+            let at = (i + 1) as f64;
+            if !keep(r) {
+                m.refused.push(i + 1);
+                continue;
+            }
+            let state = |name: &str| {
+                rows.iter().find(|s| {
+                    (&s.stiffness, &s.dissipation, &s.case, &s.quantity)
+                        == (&r.stiffness, &r.dissipation, &r.case, &r.quantity)
+                        && s.state == name
+                })
+            };
+            let share = |s: &LawRow| format!("{}/{}", s.members, r.members);
+            match (state("low"), state("high")) {
+                (Some(low), Some(high)) => {
+                    let (l, h) = (at - STATE_OFFSET, at + STATE_OFFSET);
+                    m.low.put(l, low, scale);
+                    m.high.put(h, high, scale);
+                    m.low_labels.push((l, low.mean * scale, share(low)));
+                    m.high_labels.push((h, high.mean * scale, share(high)));
+                }
+                _ => m.single.put(at, r, scale),
+            }
+        }
+        m
+    }
+
+    /// The series of the markers, labelled after `what` (`""` or `"0.5 mm: "`); empty ones
+    /// left out so the legend lists only what is drawn.
+    fn series(&self, what: &str) -> Vec<Series<'_>> {
+        [
+            self.single
+                .series(format!("{what}mean ± one sd over members")),
+            (self
+                .low
+                .series(format!("{what}low state, members/all at left"))),
+            (self
+                .high
+                .series(format!("{what}high state, members/all at right"))),
+        ]
+        .concat()
+    }
+}
+
+/// The x label of every panel: the laws by number, named in the note under the panel.
+const LAW_AXIS: &str = "contact law (number: see below; two states drawn either side)";
+
 /// The figure, from the rows (so it can be redrawn from the CSV): (a, b) the deepest wear of
-/// each wear case per law, mean ± sd; (c) the deepest region's angle; (d) the share of members
-/// in continuous contact per Table 3 case.
+/// each wear case per law, mean ± sd over the members, or over each state's members where they
+/// fall into two; (c) the deepest region's angle, where a law's members share one region;
+/// (d) the share of members in continuous contact per Table 3 case.
 pub fn draw_law_wear(rows: &[LawRow]) -> Result<()> {
     let pairs = pairs_of(rows);
     let mut note = law_key(&pairs);
@@ -760,56 +867,69 @@ pub fn draw_law_wear(rows: &[LawRow]) -> Result<()> {
                 .any(|r| r.case == *c && r.quantity == "deepest_wear")
         })
         .collect();
-    let depth: Vec<[Vec<f64>; 4]> = (wear_cases.iter())
-        .map(|c| bars(rows, c, "deepest_wear", 1e6))
+    let all = |_: &LawRow| true;
+    let depth: Vec<Markers> = (wear_cases.iter())
+        .map(|c| Markers::of(rows, c, "deepest_wear", 1e6, &all))
         .collect();
-    let angle: Vec<[Vec<f64>; 4]> = (wear_cases.iter())
-        .map(|c| bars(rows, c, "deepest_region_angle", 1.0))
+    let one_region = |r: &LawRow| r.sd <= ONE_REGION_SD_DEG;
+    let angle: Vec<Markers> = (wear_cases.iter())
+        .map(|c| Markers::of(rows, c, "deepest_region_angle", 1.0, &one_region))
         .collect();
-    let steady: Vec<(&str, [Vec<f64>; 4])> = CASES
+    let steady: Vec<(&str, Markers)> = CASES
         .list()
         .iter()
         .filter(|c| {
             rows.iter()
                 .any(|r| r.case == c.scene && r.quantity == "continuous_contact")
         })
-        .map(|c| (c.scene, bars(rows, c.scene, "continuous_contact", 1.0)))
-        .collect();
-    let x_range = Some((0.5, pairs.len() as f64 + 0.5));
-    let mut panels: Vec<Axes> = (wear_cases.iter())
-        .zip(&depth)
-        .map(|(c, [x, y, bx, by])| Axes {
-            x_range,
-            note: Some(note.clone()),
-            ..Axes::new(
-                format!(
-                    "deepest wear per law, {}, mean ± sd over members",
-                    case_label(c)
-                ),
-                "contact law (number: see below)",
-                format!("deepest wear (µm), {}", wear_window(rows, c)),
-                vec![
-                    Series::new("mean over members", x, y, Style::Points),
-                    Series::new("± one sd", bx, by, Style::Line),
-                ],
+        .map(|c| {
+            (
+                c.scene,
+                Markers::of(rows, c.scene, "continuous_contact", 1.0, &all),
             )
         })
         .collect();
+    // room left of the first law for its low state's "n/N"
+    let x_range = Some((0.2, pairs.len() as f64 + 0.8));
+    let mut panels: Vec<Axes> = (wear_cases.iter())
+        .zip(&depth)
+        .map(|(c, m)| Axes {
+            x_range,
+            note: Some(note.clone()),
+            point_labels: m.high_labels.clone(),
+            point_labels_left: m.low_labels.clone(),
+            ..Axes::new(
+                format!("deepest wear per law, {}, per state", case_label(c)),
+                LAW_AXIS,
+                format!("deepest wear (µm), {}", wear_window(rows, c)),
+                m.series(""),
+            )
+        })
+        .collect();
+    let mut angle_note = note.clone();
+    for (c, m) in wear_cases.iter().zip(&angle) {
+        if !m.refused.is_empty() {
+            let laws: Vec<String> = m.refused.iter().map(usize::to_string).collect();
+            let _ = write!(
+                angle_note,
+                "\nno {} point for law {}: members' deepest regions lie in different regions \
+                 (sd > {ONE_REGION_SD_DEG:.0}°), a mean angle of them is no region; the CSV \
+                 has no per-member angles",
+                case_label(c),
+                laws.join(", ")
+            );
+        }
+    }
     panels.push(Axes {
         x_range,
-        note: Some(note.clone()),
+        note: Some(angle_note),
         ..Axes::new(
-            "angle of the deepest wear region per law, mean ± sd",
-            "contact law (number: see below)",
+            "deepest wear region's angle per law, where members share it",
+            LAW_AXIS,
             "deepest region angle (deg)",
             (wear_cases.iter())
                 .zip(&angle)
-                .flat_map(|(c, [x, y, bx, by])| {
-                    [
-                        Series::new(format!("{}: mean", case_label(c)), x, y, Style::Points),
-                        Series::new(format!("{}: ± one sd", case_label(c)), bx, by, Style::Line),
-                    ]
-                })
+                .flat_map(|(c, m)| m.series(&format!("{}: ", case_label(c))))
                 .collect(),
         )
     });
@@ -819,10 +939,10 @@ pub fn draw_law_wear(rows: &[LawRow]) -> Result<()> {
         note: Some(note),
         ..Axes::new(
             "members in continuous contact per law (2 rotations after settling)",
-            "contact law (number: see below)",
+            LAW_AXIS,
             "share of members in continuous contact",
             (steady.iter())
-                .map(|(c, [x, y, _, _])| Series::new(case_label(c), x, y, Style::Points))
+                .map(|(c, m)| Series::new(case_label(c), &m.single.x, &m.single.y, Style::Points))
                 .collect(),
         )
     });
@@ -874,5 +994,66 @@ mod tests {
         assert_eq!(back.fields(), r.fields());
         assert!(!back.differs() && !back.is_paper_law());
         assert_eq!(LAW_WEAR_HEADER.len(), r.fields().len());
+    }
+
+    /// A row of `quantity` of `pair` on the standard case: `state` with `members`, mean and sd.
+    fn state_row(pair: &str, state: &str, members: usize, mean: f64, sd: f64) -> LawRow {
+        LawRow {
+            stiffness: pair.into(),
+            dissipation: "zhiying-qishao".into(),
+            case: "standard".into(),
+            quantity: "deepest_wear".into(),
+            unit: "m".into(),
+            window: "w".into(),
+            state: state.into(),
+            members,
+            count: None,
+            mean,
+            sd,
+            test: String::new(),
+            statistic: f64::NAN,
+            dof: f64::NAN,
+            p: f64::NAN,
+            error: String::new(),
+            wall_time_s: 1.0,
+        }
+    }
+
+    #[test]
+    fn a_law_in_two_states_is_drawn_as_its_states_and_one_state_as_its_mean() {
+        // seen to fail when the states were ignored (both laws drawn as pooled means)
+        let rows = [
+            state_row("hybrid", "pooled", 16, 0.66, 0.04),
+            state_row("hybrid", "low", 5, 0.60, 0.01),
+            state_row("hybrid", "high", 11, 0.68, 0.02),
+            state_row("hertz", "pooled", 16, 0.45, 0.01),
+        ];
+        let m = Markers::of(&rows, "standard", "deepest_wear", 1.0, &|_| true);
+        assert_eq!(
+            (m.single.x.clone(), m.single.y.clone()),
+            (vec![2.0], vec![0.45])
+        );
+        let (l, h) = (1.0 - STATE_OFFSET, 1.0 + STATE_OFFSET);
+        assert_eq!((m.low.x.clone(), m.low.y.clone()), (vec![l], vec![0.60]));
+        assert_eq!((m.high.x.clone(), m.high.y.clone()), (vec![h], vec![0.68]));
+        assert_eq!(m.low_labels, [(l, 0.60, "5/16".to_string())]);
+        assert_eq!(m.high_labels, [(h, 0.68, "11/16".to_string())]);
+        // each marker's bar spans mean ± sd at the marker's x; exact: the same f64 operations
+        assert_eq!(m.high.bars[0][..2], [h, h]);
+        assert_eq!(m.high.bars[1][..2], [0.68 - 0.02, 0.68 + 0.02]);
+        assert!(m.refused.is_empty());
+    }
+
+    #[test]
+    fn a_refused_law_is_listed_not_drawn() {
+        // the angle panel's rule: members spread over regions are not averaged into one angle
+        let rows = [
+            state_row("hybrid", "pooled", 16, 140.0, 65.0),
+            state_row("hertz", "pooled", 16, 142.5, 0.0),
+        ];
+        let keep = |r: &LawRow| r.sd <= ONE_REGION_SD_DEG;
+        let m = Markers::of(&rows, "standard", "deepest_wear", 1.0, &keep);
+        assert_eq!(m.single.x, [2.0]);
+        assert_eq!(m.refused, [1]);
     }
 }
