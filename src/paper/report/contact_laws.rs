@@ -12,7 +12,7 @@ use crate::paper::figures::output_path;
 use crate::paper::format::{number, sci, sig};
 use crate::paper::studies::contact_law_wear::{
     pairs_of, pooled, read_commented, read_law_wear, wear_window, LawRow, CLAIM_PREFIX,
-    LAW_WEAR_FIGURE, PAPER_LAW, RUN_FAILED, SIGNIFICANT_P,
+    LAW_WEAR_FIGURE, ONE_REGION_SD_DEG, PAPER_LAW, RUN_FAILED, SIGNIFICANT_P,
 };
 use crate::paper::studies::contact_laws::CONTACT_LAWS_HEADER;
 use std::fmt::Write as _;
@@ -212,6 +212,21 @@ fn mean_cell(rows: &[LawRow], r: &LawRow, scale: f64, digits: usize) -> String {
         );
     }
     if r.test == "welch" {
+        let _ = write!(cell, ", p = {}", p_value(r.p));
+    }
+    cell
+}
+
+/// The deepest region's angle where the members share one region, with Welch's p when the
+/// paper law's members share one too (`paper_one_region`); otherwise a mean angle is no region
+/// (the 0.5 mm case's members split between regions near 46 and 184 deg), so the cell gives
+/// only the spread, and no test.
+fn region_cell(r: &LawRow, paper_one_region: bool) -> String {
+    if r.sd > ONE_REGION_SD_DEG {
+        return format!("members in different regions (sd {:.0})", r.sd);
+    }
+    let mut cell = format!("{:.0} ± {:.0}", r.mean, r.sd);
+    if paper_one_region && r.test == "welch" {
         let _ = write!(cell, ", p = {}", p_value(r.p));
     }
     cell
@@ -514,11 +529,16 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow]) {
             })
             .collect()
     };
+    let paper_names = (PAPER_LAW.0.name(), PAPER_LAW.1.name());
     for case in &cases {
         let columns = [
             cell(case, "deepest_wear", &|r| mean_cell(rows, r, 1e6, 3)),
             cell(case, "deepest_region_angle", &|r| {
-                mean_cell(rows, r, 1.0, 0)
+                let paper = (pooled(rows, case, "deepest_region_angle")
+                    .into_iter()
+                    .flatten())
+                .find(|p| (p.stiffness.as_str(), p.dissipation.as_str()) == paper_names);
+                region_cell(r, paper.is_some_and(|p| p.sd <= ONE_REGION_SD_DEG))
             }),
             cell(case, "continuous_contact", &share_cell),
             cell(case, "contact_time_fraction", &|r| {
@@ -630,6 +650,28 @@ mod tests {
         // only the unresolved difference left: robust
         rows[3].count = Some(16);
         assert!(robustness(&rows)[0].robust());
+    }
+
+    #[test]
+    fn a_mean_angle_over_different_regions_is_not_printed_as_a_region() {
+        // checked: printing every mean ± sd (the old cell) fails the first assertion
+        let mut r = row(
+            ("hertz", "zhiying-qishao"),
+            "deepest_region_angle",
+            None,
+            139.0,
+            0.3,
+        );
+        r.sd = 66.0;
+        r.test = "welch".into();
+        assert_eq!(
+            region_cell(&r, true),
+            "members in different regions (sd 66)"
+        );
+        r.sd = 3.0;
+        assert_eq!(region_cell(&r, true), "139 ± 3, p = 0.3");
+        // against a paper law whose members split between regions, no test
+        assert_eq!(region_cell(&r, false), "139 ± 3");
     }
 
     #[test]

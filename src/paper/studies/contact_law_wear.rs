@@ -730,7 +730,7 @@ fn case_label(scene: &str) -> String {
 /// the angle tolerance of the paper's wear-region claims. Beyond it the members' deepest
 /// regions lie in different regions (the 0.5 mm case: near 46 and 184 deg), and their mean
 /// angle is no region at all, so it is not drawn.
-const ONE_REGION_SD_DEG: f64 = 10.0;
+pub const ONE_REGION_SD_DEG: f64 = 10.0;
 
 /// How far (in laws along x) a law's two states are drawn left and right of its place.
 const STATE_OFFSET: f64 = 0.2;
