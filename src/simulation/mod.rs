@@ -114,6 +114,12 @@ pub fn wear_limit(cj: &ClearanceJoint) -> f64 {
     MAX_WEAR_RATIO * cj.r_bearing
 }
 
+/// `rotations` of a run whose caller decides when it ends (long-life prediction simulates
+/// blocks of rotations until it has extrapolated to its target): a bound, not an end, so no
+/// pace is projected to it; only a crawl (under [`CRAWL_FRACTION`] of a period per window) or
+/// `run.max_steps` stops such a run.
+pub const OPEN_ENDED: u32 = u32::MAX;
+
 /// Accepted steps over which a run's pace is judged, at every multiple of it from the second
 /// on (the first holds the start's transient): a run that at the pace of its last window
 /// would not finish within `run.max_steps` stops there, naming the steps it would need and

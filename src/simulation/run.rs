@@ -831,14 +831,17 @@ impl Simulation {
     /// within `run.max_steps`; a run that could still finish goes on, however slow. Smooth
     /// steps (a slow driver, a run longer than its limit) hold their pace and are judged by it
     /// alone; chattering ones ([`Simulation::chatters`]) only when under [`CRAWL_FRACTION`] of
-    /// a driver period, as a sticking start may slip and speed up. A scene asking for tiny
+    /// a driver period, as a sticking start may slip and speed up; so are [`OPEN_ENDED`] runs,
+    /// which have no end to project to. A scene asking for tiny
     /// steps is not taken for a crawling one: at its largest step it finishes within the limit
     /// ([`Scene::check_step_budget`]).
     fn crawling(&self, t: f64, advanced: f64, steps: u64) -> Option<f64> {
         let mean = self.pace(t, advanced, steps);
         let needed = self.remaining_time(t) / mean;
         let allowed = self.settings.max_steps.saturating_sub(steps) as f64;
-        let judged = !self.chatters(mean) || advanced < CRAWL_FRACTION * self.period;
+        // an open-ended run has no end to project its pace to
+        let projected = self.settings.rotations != OPEN_ENDED && !self.chatters(mean);
+        let judged = projected || advanced < CRAWL_FRACTION * self.period;
         (judged && needed > allowed).then_some(needed)
     }
 

@@ -20,7 +20,7 @@ const SCALE_LABEL_DEG: f64 = 112.5;
 
 /// Half-width of the picture over its largest radius: room outside the curves for the spokes'
 /// angle labels (at 1.07 of it), wide enough that the widest label, `180°`, is not clipped.
-const MARGIN: f64 = 1.22;
+const MARGIN: f64 = 1.35;
 
 /// Renders closed profiles `r(theta)` (theta in degrees, counter-clockwise from +x) as a polar
 /// picture around the dashed reference circle of radius `r_ref`. The deviation `r - r_ref` is
