@@ -588,6 +588,13 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow]) {
 mod tests {
     use super::*;
 
+    /// The row of a law that could not run the case, with its error.
+    fn failed_run(pair: (&str, &str), error: &str) -> LawRow {
+        let mut r = row(pair, RUN_FAILED, None, f64::NAN, f64::NAN);
+        r.error = error.into();
+        r
+    }
+
     fn row(pair: (&str, &str), quantity: &str, count: Option<usize>, mean: f64, p: f64) -> LawRow {
         LawRow {
             stiffness: pair.0.into(),
@@ -622,15 +629,10 @@ mod tests {
             row(("johnson", "zhiying-qishao"), &claim, Some(12), 0.75, 0.1),
             row(("liu", "zhiying-qishao"), &claim, Some(0), 0.0, 1e-8),
         ];
-        let mut failed = row(
+        rows.push(failed_run(
             ("pereira", "zhiying-qishao"),
-            RUN_FAILED,
-            None,
-            f64::NAN,
-            f64::NAN,
-        );
-        failed.error = "integration failed".into();
-        rows.push(failed);
+            "integration failed",
+        ));
         let found = robustness(&rows);
         assert_eq!(found.len(), 1);
         let f = &found[0];
@@ -690,15 +692,10 @@ mod tests {
             ),
             row(("johnson", "zhiying-qishao"), &claim, Some(0), 0.0, 1e-8),
         ];
-        let mut failed = row(
+        rows.push(failed_run(
             ("pereira", "zhiying-qishao"),
-            RUN_FAILED,
-            None,
-            f64::NAN,
-            f64::NAN,
-        );
-        failed.error = "clearance_mm: 0.004 outside [0.005, 10] mm".into();
-        rows.push(failed);
+            "clearance_mm: 0.004 outside [0.005, 10] mm",
+        ));
         let mut md = String::new();
         law_wear_text(&mut md, &rows);
         for expected in [

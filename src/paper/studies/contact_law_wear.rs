@@ -38,6 +38,7 @@ use crate::io::progress::Progress;
 use crate::laws::contact::{DissipationLaw, StiffnessLaw};
 use crate::paper::cases::{case_of_scene, Case, Need, Runs, SteadyMember, WearMember, CASES};
 use crate::paper::figures::output_path;
+use crate::paper::format::csv_statistic;
 use crate::paper::golden::{angle_distance, angle_offset, Golden};
 use crate::scene::{ContactSpec, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
@@ -195,13 +196,6 @@ impl LawRow {
     }
 
     fn fields(&self) -> Vec<String> {
-        let num = |x: f64| {
-            if x.is_finite() {
-                format!("{x:.6e}")
-            } else {
-                String::new()
-            }
-        };
         vec![
             self.stiffness.clone(),
             self.dissipation.clone(),
@@ -212,12 +206,12 @@ impl LawRow {
             self.state.clone(),
             self.members.to_string(),
             self.count.map_or(String::new(), |c| c.to_string()),
-            num(self.mean),
-            num(self.sd),
+            csv_statistic(self.mean),
+            csv_statistic(self.sd),
             self.test.clone(),
-            num(self.statistic),
-            num(self.dof),
-            num(self.p),
+            csv_statistic(self.statistic),
+            csv_statistic(self.dof),
+            csv_statistic(self.p),
             self.error.clone(),
             format!("{:.1}", self.wall_time_s),
         ]
