@@ -529,16 +529,16 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow]) {
             })
             .collect()
     };
-    let paper_names = (PAPER_LAW.0.name(), PAPER_LAW.1.name());
     for case in &cases {
+        // whether the paper law's members share one region: only then is an angle tested
+        let paper_one_region = (pooled(rows, case, "deepest_region_angle")
+            .into_iter()
+            .flatten())
+        .any(|p| p.is_paper_law() && p.sd <= ONE_REGION_SD_DEG);
         let columns = [
             cell(case, "deepest_wear", &|r| mean_cell(rows, r, 1e6, 3)),
             cell(case, "deepest_region_angle", &|r| {
-                let paper = (pooled(rows, case, "deepest_region_angle")
-                    .into_iter()
-                    .flatten())
-                .find(|p| (p.stiffness.as_str(), p.dissipation.as_str()) == paper_names);
-                region_cell(r, paper.is_some_and(|p| p.sd <= ONE_REGION_SD_DEG))
+                region_cell(r, paper_one_region)
             }),
             cell(case, "continuous_contact", &share_cell),
             cell(case, "contact_time_fraction", &|r| {
