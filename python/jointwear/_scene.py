@@ -105,21 +105,39 @@ class Scene:
         driver) and ``rotations``."""
         return self._doc.check()
 
-    def run(self, member: Optional[int] = None, seed: int = 1) -> Run:
+    def run(
+        self, member: Optional[int] = None, seed: int = 1, perturbation: Optional[str] = None
+    ) -> Run:
         """Simulates the scene (the GIL is released meanwhile) and returns the :class:`Run`:
         the same numbers, bit for bit, as ``jointwear run``. With ``member``, runs member
-        ``member`` (0-based) of ``ensemble(members, seed)`` instead, bit for bit the member the
-        ensemble ran (``jointwear run --member K --seed S``); a member beyond the largest
-        ensemble raises :class:`jointwear.SceneError`."""
-        return Run(self._doc.run(None if member is None else int(member), int(seed)))
+        ``member`` (0-based) of ``ensemble(members, seed, perturbation)`` instead, bit for bit
+        the member the ensemble ran (``jointwear run --member K --seed S --perturbation P``); a
+        member beyond the largest ensemble raises :class:`jointwear.SceneError`.
+        ``perturbation`` (only with ``member``) is a protocol as :meth:`ensemble` takes it."""
+        if member is not None:
+            member = _count("member", member, "an integer in [0, 2^64)")
+        seed = _count("seed", seed, "an integer in [0, 2^64)")
+        return Run(self._doc.run(member, seed, _protocol(perturbation)))
 
     def ensemble(
-        self, members: int = 32, seed: int = 1, executor: Optional[Executor] = None
+        self,
+        members: int = 32,
+        seed: int = 1,
+        executor: Optional[Executor] = None,
+        perturbation: Optional[str] = None,
     ) -> Ensemble:
-        """Runs ``members`` copies of the scene in parallel, each with every journal displaced
-        by at most 10 nm in a seeded direction (``jointwear run --ensemble N --seed S``), and
-        returns the :class:`Ensemble`: every member's results and their statistics. Single
-        runs are chaotic; statistics over an ensemble are the project's results.
+        """Runs ``members`` copies of the scene in parallel, each perturbed by a seeded draw
+        (``jointwear run --ensemble N --seed S --perturbation P``), and returns the
+        :class:`Ensemble`: every member's results and their statistics. Single runs are
+        chaotic; statistics over an ensemble are the project's results, and how members are
+        perturbed can shift them (paper.md, the perturbation study).
+
+        ``perturbation``: the protocol, named as the program's ``--perturbation`` and the
+        perturbation study name it: ``"disc_<R>nm"`` (every journal displaced uniformly over a
+        disc of R nm, the default ``"disc_10nm"``), ``"axis_<R>nm"`` (along one body axis
+        only), ``"velocity_<V>um_s"`` (journal centred, its initial velocity perturbed) or
+        ``"tolerance_<S>"`` (journal centred, the tolerances jittered by a factor in [1 - S,
+        1 + S]); any other value raises ValueError naming these forms.
 
         ``executor``: any :class:`concurrent.futures.Executor` (a process pool, a
         ``dask.distributed`` client's ``get_executor()``, a Ray pool's executor) runs one task
@@ -128,16 +146,19 @@ class Scene:
         times). A member that fails raises its error here."""
         members = _count("members", members, "a positive integer")
         seed = _count("seed", seed, "an integer in [0, 2^64)")
+        protocol = _protocol(perturbation)
         if executor is None:
-            return Ensemble(self._doc.ensemble(members, seed))
+            return Ensemble(self._doc.ensemble(members, seed, protocol))
         _check_executor(executor)
-        self._doc.check_ensemble(members, seed)
+        self._doc.check_ensemble(members, seed, protocol)
         started = time.perf_counter()
         state = self._doc.state()
-        tasks = [executor.submit(_member, state, k, members, seed) for k in range(members)]
+        tasks = [
+            executor.submit(_member, state, k, members, seed, protocol) for k in range(members)
+        ]
         payloads = _gather(tasks)
         wall = time.perf_counter() - started
-        return Ensemble(self._doc.ensemble_of(members, seed, payloads, wall))
+        return Ensemble(self._doc.ensemble_of(members, seed, payloads, wall, protocol))
 
     def sweep(
         self,
@@ -188,6 +209,17 @@ class Scene:
         return f"Scene({self.title!r}, path={self.path!r})"
 
 
+def _protocol(perturbation: Any) -> Optional[str]:
+    """``perturbation`` as the native calls take it (None: the default protocol), or TypeError
+    naming the argument; its value is checked there (ValueError naming the forms allowed)."""
+    if perturbation is not None and not isinstance(perturbation, str):
+        raise TypeError(
+            f"perturbation must be a protocol name such as 'disc_10nm', got {perturbation!r} "
+            f"({type(perturbation).__name__})"
+        )
+    return perturbation
+
+
 def _check_executor(executor: Any) -> None:
     """TypeError naming the argument unless ``executor`` has ``submit`` (an Executor)."""
     if not callable(getattr(executor, "submit", None)):
@@ -218,9 +250,11 @@ def _restore(path: PathLike, loaded: str, changes: List[Tuple[str, str, bool]]) 
     return Scene(Document.from_state(path, loaded, changes))
 
 
-def _member(state: State, member: int, members: int, seed: int) -> str:
+def _member(
+    state: State, member: int, members: int, seed: int, perturbation: Optional[str]
+) -> str:
     """An executor's task: member ``member`` of an ensemble, as JSON for ``ensemble_of``."""
-    return Document.from_state(*state).member(member, members, seed)
+    return Document.from_state(*state).member(member, members, seed, perturbation)
 
 
 def _case(

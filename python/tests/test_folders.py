@@ -64,15 +64,25 @@ def assert_same_folder(program, python):
 
 # Fails when Python's folder names another command line (the rotations set before the recorded
 # rotations: `--rotations 2 --set …` in README.txt and the manifest), when the member's flags
-# are left out, or when the program and Python write different files.
+# are left out, or when the program and Python write different files; the perturbation cases
+# fail when Python drops the protocol (checked: passing None for it natively gives other wear
+# and another README.txt).
 @pytest.mark.parametrize(
     "flags, run",
     [
         ([], lambda s: s.run()),
         (["--member", "1", "--seed", "5"], lambda s: s.run(member=1, seed=5)),
         (["--ensemble", "3", "--seed", "5"], lambda s: s.ensemble(3, seed=5)),
+        (
+            ["--member", "1", "--seed", "5", "--perturbation", "axis_10nm"],
+            lambda s: s.run(member=1, seed=5, perturbation="axis_10nm"),
+        ),
+        (
+            ["--ensemble", "3", "--seed", "5", "--perturbation", "velocity_10um_s"],
+            lambda s: s.ensemble(3, seed=5, perturbation="velocity_10um_s"),
+        ),
     ],
-    ids=["run", "member", "ensemble"],
+    ids=["run", "member", "ensemble", "member-perturbation", "ensemble-perturbation"],
 )
 def test_save_writes_the_programs_folder(tmp_path, cli, flags, run):
     done = cli("run", STANDARD, *PROGRAM_CHANGES, *flags, "--out", tmp_path / "program")
@@ -88,6 +98,32 @@ def test_an_ensemble_on_an_executor_saves_the_programs_folder(tmp_path, cli):
     with spawning_pool() as pool:
         scene().ensemble(3, seed=5, executor=pool).save(tmp_path / "python")
     assert_same_folder(tmp_path / "program", tmp_path / "python")
+
+
+def test_an_ensemble_on_an_executor_keeps_its_perturbation(tmp_path, cli):
+    flags = ["--ensemble", "3", "--seed", "5", "--perturbation", "tolerance_1e-3"]
+    done = cli("run", STANDARD, *PROGRAM_CHANGES, *flags, "--out", tmp_path / "program")
+    assert done.returncode == 0, done.stderr
+    with spawning_pool() as pool:
+        ens = scene().ensemble(3, seed=5, executor=pool, perturbation="tolerance_1e-3")
+    ens.save(tmp_path / "python")
+    assert_same_folder(tmp_path / "program", tmp_path / "python")
+
+
+def test_a_bad_perturbation_names_the_protocols():
+    s = scene()
+    for call in (
+        lambda: s.run(member=0, perturbation="disk_10nm"),
+        lambda: s.ensemble(2, perturbation="disc_-1nm"),
+        lambda: s.ensemble(2, perturbation="tolerance_1"),
+    ):
+        forms = "disc_<R>nm, axis_<R>nm, velocity_<V>um_s or tolerance_<S>"
+        with pytest.raises(ValueError, match=forms):
+            call()
+    with pytest.raises(ValueError, match="member=K"):
+        s.run(perturbation="axis_10nm")
+    with pytest.raises(TypeError, match="perturbation"):
+        s.ensemble(2, perturbation=10e-9)
 
 
 def test_save_refuses_a_folder_another_process_writes(tmp_path):

@@ -2,9 +2,10 @@
 //!
 //! `report` computes the ensembles of every case once, draws every figure and Table 3 from
 //! them, reruns the accuracy-dependence study and the stability suite; `report --all` also
-//! reruns the slow studies (calibration, work-precision and the ensemble-size study, a few
-//! minutes) instead of reading their last results from `data/` (the work-precision figure is
-//! then redrawn from `data/work_precision.csv`).
+//! reruns the slow studies (calibration, work-precision, the ensemble-size study and the two
+//! contact-law studies) instead of reading their last results from `data/` (the
+//! work-precision figure is then redrawn from `data/work_precision.csv`; the contact-law
+//! section reads `data/contact_laws_restitution.csv` and `data/contact_law_wear.csv`).
 use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
 use jointwear::paper::golden::Golden;
@@ -24,6 +25,13 @@ fn main() {
         bar.finish_and_clear();
         let bar = progress_bar(0, "convergence members");
         exit_on_error(convergence::convergence_study(&bar));
+        bar.finish_and_clear();
+        exit_on_error(studies::contact_laws::contact_laws_study());
+        let bar = progress_bar(0, "contact-law members");
+        let settings = studies::contact_law_wear::LawWearSettings::default();
+        exit_on_error(studies::contact_law_wear::contact_law_wear_study(
+            &settings, &golden, &bar,
+        ));
         bar.finish_and_clear();
     } else {
         // the study's last results stay; its figure follows changes of the drawing

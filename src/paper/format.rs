@@ -46,6 +46,16 @@ pub fn seconds(t: f64) -> String {
     }
 }
 
+/// A statistic's CSV cell: seven significant digits in e-notation, empty where it is
+/// undefined (a spread of one member, a test not made), so that readers see no number there.
+pub fn csv_statistic(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.6e}")
+    } else {
+        String::new()
+    }
+}
+
 /// `v` in scientific notation for people: `4.24×10⁻⁴`, `3.00×10⁻⁴` (three significant digits),
 /// `10⁻⁷` for a power of ten, `0` for 0.
 pub fn sci(v: f64) -> String {

@@ -26,6 +26,7 @@ use crate::io::output::{read_rows, write_rows};
 use crate::io::progress::Progress;
 use crate::paper::cases::{Runs, SteadyMember, CASES};
 use crate::paper::figures::{all_needs, output_path};
+use crate::paper::format::csv_statistic;
 
 use crate::simulation::ensemble::{EnsembleSettings, Perturbation, OFFSET_RADIUS};
 use crate::Result;
@@ -123,13 +124,6 @@ impl SensitivityRow {
     }
 
     fn fields(&self) -> Vec<String> {
-        let num = |x: f64| {
-            if x.is_finite() {
-                format!("{x:.6e}")
-            } else {
-                String::new()
-            }
-        };
         vec![
             self.protocol.clone(),
             self.case.clone(),
@@ -137,12 +131,12 @@ impl SensitivityRow {
             self.state.clone(),
             self.members.to_string(),
             self.count.map_or(String::new(), |c| c.to_string()),
-            num(self.mean),
-            num(self.sd),
+            csv_statistic(self.mean),
+            csv_statistic(self.sd),
             self.test.clone(),
-            num(self.statistic),
-            num(self.dof),
-            num(self.p),
+            csv_statistic(self.statistic),
+            csv_statistic(self.dof),
+            csv_statistic(self.p),
             format!("{:.1}", self.wall_time_s),
         ]
     }

@@ -13,7 +13,7 @@ use crate::io::progress::Progress;
 use crate::laws::wear::sector_angles_deg;
 use crate::scene::variant::{Change, Variant};
 use crate::scene::{reversal_note, SceneFile};
-use crate::simulation::ensemble::{self, EnsembleSettings, MAX_MEMBERS};
+use crate::simulation::ensemble::{self, EnsembleSettings, Perturbation, MAX_MEMBERS};
 use crate::simulation::folder::ensemble::{write_ensemble, Member};
 use crate::simulation::folder::run::write_run;
 use crate::simulation::folder::Origin;
@@ -67,12 +67,23 @@ impl Document {
         Ok(d)
     }
 
-    /// The ensemble settings of `members` and `seed`, checked.
-    fn ensemble_settings(&self, members: usize, seed: u64) -> PyResult<EnsembleSettings> {
+    /// The ensemble settings of `members`, `seed` and the protocol named `perturbation` (the
+    /// default for `None`), checked: a protocol the program's `--perturbation` refuses is a
+    /// `ValueError` with its message, which names the forms allowed.
+    fn ensemble_settings(
+        &self,
+        members: usize,
+        seed: u64,
+        perturbation: Option<&str>,
+    ) -> PyResult<EnsembleSettings> {
+        let perturbation = perturbation.map_or(Ok(Perturbation::default()), |key| {
+            Perturbation::from_key(key)
+                .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
+        })?;
         let settings = EnsembleSettings {
             members,
             seed,
-            ..EnsembleSettings::default()
+            perturbation,
         };
         settings.validate().map_err(|e| self.error(e))?;
         Ok(settings)
@@ -236,23 +247,27 @@ impl Document {
     }
 
     /// Simulates the scene with the GIL released, or with `member`, member `member` of the
-    /// ensemble of `seed` (`jointwear run --member K --seed S`); returns the time series (the
+    /// ensemble of `seed` and `perturbation` (`jointwear run --member K --seed S
+    /// --perturbation P`); returns the time series (the
     /// columns of `jointwear run`'s `timeseries.csv`, then every body's position), the final
     /// wear profile and summary of every clearance joint, the wear snapshots, the run's
     /// counters and, as `folder`, the [`Folder`] that saves it as the program does.
-    #[pyo3(signature = (member=None, seed=1))]
+    #[pyo3(signature = (member=None, seed=1, perturbation=None))]
     fn run<'py>(
         &self,
         py: Python<'py>,
         member: Option<usize>,
         seed: u64,
+        perturbation: Option<&str>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        if member.is_none() && perturbation.is_some() {
+            return Err(pyo3::exceptions::PyValueError::new_err(
+                "perturbation applies to an ensemble member: give member=K with it (as the \
+                 program's --perturbation needs --member or --ensemble)",
+            ));
+        }
+        let of = self.ensemble_settings(MAX_MEMBERS, seed, perturbation)?;
         let scene = self.scene()?;
-        let of = EnsembleSettings {
-            members: MAX_MEMBERS,
-            seed,
-            ..EnsembleSettings::default()
-        };
         let out = interruptible(py, |cancel| match member {
             Some(k) => ensemble::run_member(&scene, &scene.run, &of, k, cancel),
             None => simulate_with_progress(&scene, cancel),
@@ -269,17 +284,19 @@ impl Document {
         Ok(d)
     }
 
-    /// Runs `members` members of the scene (seeded initial offsets of at most 10 nm) in
-    /// parallel with the GIL released; returns, per clearance joint, every member's scalar
+    /// Runs `members` members of the scene, perturbed by `perturbation` (default: seeded
+    /// initial offsets of at most 10 nm), in parallel with the GIL released; returns, per clearance joint, every member's scalar
     /// results, final profile and snapshots, and their statistics with the states the members
     /// fall into (see [`Document::ensemble_of`]).
+    #[pyo3(signature = (members, seed, perturbation=None))]
     fn ensemble<'py>(
         &self,
         py: Python<'py>,
         members: usize,
         seed: u64,
+        perturbation: Option<&str>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let settings = self.ensemble_settings(members, seed)?;
+        let settings = self.ensemble_settings(members, seed, perturbation)?;
         let scene = self.scene()?;
         let clock = std::time::Instant::now();
         let keep = |_, o: RunOutput| payload(&scene, o);
@@ -289,18 +306,33 @@ impl Document {
         self.ensemble_result(py, scene, settings, kept, wall)
     }
 
-    /// Checks an ensemble of `members` and `seed` of this scene as [`Document::ensemble`]
-    /// does, without running it: before an executor's workers run its members.
-    fn check_ensemble(&self, members: usize, seed: u64) -> PyResult<()> {
-        self.ensemble_settings(members, seed)?;
+    /// Checks an ensemble of `members`, `seed` and `perturbation` of this scene as
+    /// [`Document::ensemble`] does, without running it: before an executor's workers run its
+    /// members.
+    #[pyo3(signature = (members, seed, perturbation=None))]
+    fn check_ensemble(
+        &self,
+        members: usize,
+        seed: u64,
+        perturbation: Option<&str>,
+    ) -> PyResult<()> {
+        self.ensemble_settings(members, seed, perturbation)?;
         self.scene().map(drop)
     }
 
-    /// Runs member `member` of the ensemble of `members` and `seed` with the GIL released
-    /// (what [`Document::ensemble`] runs for it, bit for bit), for a worker of an executor:
-    /// returns it as JSON for [`Document::ensemble_of`].
-    fn member(&self, py: Python<'_>, member: usize, members: usize, seed: u64) -> PyResult<String> {
-        let settings = self.ensemble_settings(members, seed)?;
+    /// Runs member `member` of the ensemble of `members`, `seed` and `perturbation` with the
+    /// GIL released (what [`Document::ensemble`] runs for it, bit for bit), for a worker of an
+    /// executor: returns it as JSON for [`Document::ensemble_of`].
+    #[pyo3(signature = (member, members, seed, perturbation=None))]
+    fn member(
+        &self,
+        py: Python<'_>,
+        member: usize,
+        members: usize,
+        seed: u64,
+        perturbation: Option<&str>,
+    ) -> PyResult<String> {
+        let settings = self.ensemble_settings(members, seed, perturbation)?;
         let scene = self.scene()?;
         let out = interruptible(py, |cancel| {
             ensemble::run_member(&scene, &scene.run, &settings, member, cancel)
@@ -310,8 +342,10 @@ impl Document {
             .map_err(|e| SimulationError::new_err(format!("member {member}: {e}")))
     }
 
-    /// The ensemble of `members` and `seed` of the members `payloads` ([`Document::member`], in
-    /// member order) that took `wall` seconds: the dict of [`Document::ensemble`].
+    /// The ensemble of `members`, `seed` and `perturbation` of the members `payloads`
+    /// ([`Document::member`], in member order) that took `wall` seconds: the dict of
+    /// [`Document::ensemble`].
+    #[pyo3(signature = (members, seed, payloads, wall, perturbation=None))]
     fn ensemble_of<'py>(
         &self,
         py: Python<'py>,
@@ -319,8 +353,9 @@ impl Document {
         seed: u64,
         payloads: Vec<String>,
         wall: f64,
+        perturbation: Option<&str>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let settings = self.ensemble_settings(members, seed)?;
+        let settings = self.ensemble_settings(members, seed, perturbation)?;
         if payloads.len() != members {
             return Err(pyo3::exceptions::PyValueError::new_err(format!(
                 "{} members' results for an ensemble of {members}",

@@ -30,7 +30,10 @@ impl SceneFile {
             return Err(Error::invalid(
                 "gravity_m_s2",
                 number(*g),
-                format!("finite components within ±{GRAVITY_M_S2:e} m/s² (1000 g)"),
+                format!(
+                    "finite components within ±{} m/s² (1000 g)",
+                    crate::io::format::number(GRAVITY_M_S2)
+                ),
             ));
         }
         if self.bodies.is_empty() {
@@ -112,7 +115,7 @@ impl SceneFile {
             return Err(Error::invalid(
                 "driver.speed_rpm",
                 speed,
-                "a finite non-zero number in [-1e5, 1e5]",
+                "a finite non-zero number in [-100000, 100000]",
             ));
         }
         let driver = Driver {

@@ -116,9 +116,9 @@ pub struct GroundSpec {
 pub struct BodySpec {
     /// Name, as joints refer to it (`"name.point"`).
     pub name: String,
-    /// Mass (kg), [1e-6, 1e6] ([`MASS_KG`]).
+    /// Mass (kg), [1e-6, 1000000] ([`MASS_KG`]).
     pub mass_kg: f64,
-    /// Moment of inertia about the centre of mass (kg m²), [1e-12, 1e6] ([`INERTIA_KG_M2`]).
+    /// Moment of inertia about the centre of mass (kg m²), [1e-12, 1000000] ([`INERTIA_KG_M2`]).
     pub inertia_kg_m2: f64,
     /// Initial guess of the centre of mass (mm); assembled exactly at load.
     pub position_mm: [f64; 2],
@@ -281,7 +281,7 @@ pub struct RunSpec {
     pub max_step_s: f64,
     /// Step of `rk4` (s), required by it, (0, 1].
     pub fixed_step_s: Option<f64>,
-    /// Baumgarte stabilisation α = β (1/s), [0, 1e6].
+    /// Baumgarte stabilisation α = β (1/s), [0, 1000000].
     pub baumgarte_per_s: f64,
     /// Integrate the energy balance (driver, contact and friction work).
     #[serde(default)]

@@ -2,6 +2,7 @@
 //! bytes): each check names the field, the value, the range and the likely cause.
 
 use super::SceneFile;
+use crate::io::format::number as terminal;
 use crate::laws::friction::FrictionModel;
 use crate::mechanism::Mechanism;
 use crate::simulation::folder::joint_file_part;
@@ -19,7 +20,7 @@ pub(super) fn check(field: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
         Err(Error::invalid(
             field,
             value,
-            format!("a finite number in [{lo:e}, {hi:e}]"),
+            format!("a finite number in [{}, {}]", terminal(lo), terminal(hi)),
         ))
     }
 }
@@ -32,7 +33,7 @@ pub(super) fn check_open(field: &str, value: f64, lo: f64, hi: f64) -> Result<f6
         Err(Error::invalid(
             field,
             value,
-            format!("a finite number in ({lo:e}, {hi:e}]"),
+            format!("a finite number in ({}, {}]", terminal(lo), terminal(hi)),
         ))
     }
 }
@@ -178,8 +179,10 @@ pub(super) fn within(field: &str, value: f64, limit: &Limit) -> Result<f64> {
             field,
             number(value),
             format!(
-                "a finite number in [{:e}, {:e}]: {}",
-                limit.lo, limit.hi, limit.why
+                "a finite number in [{}, {}]: {}",
+                terminal(limit.lo),
+                terminal(limit.hi),
+                limit.why
             ),
         ))
     }
@@ -195,8 +198,9 @@ pub(super) fn check_coordinates(field: &str, values: &[f64]) -> Result<()> {
             field,
             number(*v),
             format!(
-                "finite coordinates within ±{COORDINATE_MM:e} mm (1 km; likely cause: a \
-                 coordinate in µm or another unit)"
+                "finite coordinates within ±{} mm (1 km; likely cause: a coordinate in µm or \
+                 another unit)",
+                terminal(COORDINATE_MM)
             ),
         )),
         None => Ok(()),
@@ -339,7 +343,7 @@ pub(super) fn validate_friction(field: &str, friction: &FrictionModel) -> Result
                 return Err(Error::invalid(
                     format!("{field}.v_d"),
                     v_d,
-                    format!("a finite number in ({v_s:e}, 1e2] (above v_s)"),
+                    format!("a finite number in ({}, 100] (above v_s)", terminal(v_s)),
                 ));
             }
         }

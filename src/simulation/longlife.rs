@@ -33,7 +33,7 @@
 use crate::io::format::quantity;
 use crate::io::progress::Progress;
 use crate::simulation::Scene;
-use crate::simulation::{wear_limit, RunSettings, Simulation, MAX_WEAR_RATIO};
+use crate::simulation::{wear_limit, RunSettings, Simulation, MAX_WEAR_RATIO, OPEN_ENDED};
 use crate::{Error, Result};
 
 /// Settings of a long-life prediction.
@@ -166,7 +166,7 @@ pub fn predict(
         .collect();
     // The caller decides when to stop, so the run's own length is only a bound.
     let plain = RunSettings {
-        rotations: u32::MAX,
+        rotations: OPEN_ENDED,
         record_rotations: 0,
         wear_snapshots: Vec::new(),
         settle: None,

@@ -114,25 +114,34 @@ pub fn wear_limit(cj: &ClearanceJoint) -> f64 {
     MAX_WEAR_RATIO * cj.r_bearing
 }
 
-/// Accepted steps over which a run must advance at least [`CRAWL_FRACTION`] of a driver
-/// period, checked at every multiple of it.
+/// `rotations` of a run whose caller decides when it ends (long-life prediction simulates
+/// blocks of rotations until it has extrapolated to its target): a bound, not an end, so no
+/// pace is projected to it; only a crawl (under [`CRAWL_FRACTION`] of a period per window) or
+/// `run.max_steps` stops such a run.
+pub const OPEN_ENDED: u32 = u32::MAX;
+
+/// Accepted steps over which a run's pace is judged, at every multiple of it from the second
+/// on (the first holds the start's transient): a run that at the pace of its last window
+/// would not finish within `run.max_steps` stops there, naming the steps it would need and
+/// the cause, instead of crawling for minutes into the limit.
 pub const CRAWL_WINDOW: u64 = 100_000;
 
-/// Least share of a driver period that [`CRAWL_WINDOW`] accepted steps must advance. A run
-/// slower than that crawls, and stops when at that pace it would not finish within
-/// `run.max_steps`: a force that switches at zero velocity (pure Coulomb friction in sticking
-/// contact chatters at 1e-10 s steps) or a driver far too slow for the dynamics' steps (0.01
-/// r/min: 2.4e-4 s steps, 0.4 % of its 6000 s period per window) would otherwise take minutes
-/// to reach the limit. Measured per window: the slowest completing shipped scene (stick-slip
-/// friction, sticking in its first milliseconds) advances 7.8 % of a period; pure Coulomb
-/// friction (`data/scenes/stability/coulomb_0.5.toml`) 0.045 % in its first judged window,
-/// 0.05 % to 1.3 % later.
+/// Least share of a driver period that a chattering [`CRAWL_WINDOW`] (mean step under
+/// [`CHATTER_STEP_RATIO`] of the largest) must advance; only a window under it is judged by
+/// its pace, as a sticking start may slip and speed up. Measured per window: stick-slip
+/// friction (`data/scenes/stability/stick_slip.toml`) sticks for its first 2e5 steps at
+/// 2.3e-8 s, 7.8 % of a period, a pace that would need 5e7 steps for its 40 rotations, then
+/// slips and finishes in 5.5e5; pure Coulomb friction (`coulomb_0.5.toml`) never slips and
+/// advances 0.045 % in its first judged window, 0.05 % to 1.3 % later.
 pub const CRAWL_FRACTION: f64 = 0.01;
 
-/// Mean step of a crawling window, as a fraction of the largest step, below which the
-/// integrator is taken to chatter (a switching force) rather than to follow a driver too slow
-/// for its steps: pure Coulomb friction chatters at 1e-7 of `run.max_step_s`, the standard
-/// scene at 0.01 r/min steps at 0.24 of it.
+/// Mean step of a [`CRAWL_WINDOW`], as a fraction of the largest step, below which the
+/// integrator is taken to chatter (a switching force, judged by [`CRAWL_FRACTION`]) rather
+/// than to follow smooth dynamics at a pace it holds (a driver too slow for its steps, judged
+/// by its pace alone): pure Coulomb friction chatters at 1e-7 of `run.max_step_s` and
+/// stick-slip's start at 2.3e-5, the standard scene at 0.01 r/min steps at 0.24 of it, and
+/// the slowest smooth window of a shipped scene (stick-slip once it slips, restitution 0.1's
+/// impacts at 2000 r/min; measured over up to 300 rotations) at 2.1e-3.
 pub const CHATTER_STEP_RATIO: f64 = 1e-3;
 
 /// How far before the driver angle where its ideal loop stops closing a failed run counts as

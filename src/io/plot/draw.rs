@@ -147,12 +147,17 @@ fn draw_panel<'b>(
     let view = (p.x.lo, p.x.hi, p.y.lo, p.y.hi);
     let view2 = (p.x.lo, p.x.hi, y2.lo, y2.hi);
     draw_data(&mut chart, p, p.legend.is_some(), view, Some(view2))?;
-    for (x, y, label) in p.point_labels.iter().filter(|l| inside((l.0, l.1), view)) {
+    for (x, y, label, left) in p.point_labels.iter().filter(|l| inside((l.0, l.1), view)) {
         // an en space keeps the text clear of the marker it names
+        let (label, anchor) = if *left {
+            (format!("{label}\u{2002}"), HPos::Right)
+        } else {
+            (format!("\u{2002}{label}"), HPos::Left)
+        };
         chart.draw_series(std::iter::once(Text::new(
-            format!("\u{2002}{label}"),
+            label,
             (*x, *y),
-            text(POINT_LABEL_PX).pos(Pos::new(HPos::Left, VPos::Center)),
+            text(POINT_LABEL_PX).pos(Pos::new(anchor, VPos::Center)),
         )))?;
     }
     if !polar {
@@ -303,7 +308,9 @@ fn draw_data<'a, 'b: 'a>(
             }
             let points = run.iter().copied();
             let anno = match c.style {
-                Style::Line => chart.draw_series(LineSeries::new(points, line))?,
+                Style::Line | Style::ErrorBars => {
+                    chart.draw_series(LineSeries::new(points, line))?
+                }
                 Style::Dashed | Style::Reference => {
                     chart.draw_series(DashedLineSeries::new(points, 14, 8, line))?
                 }
@@ -390,6 +397,6 @@ fn legend_parts(style: Style, color: RGBColor) -> (ShapeStyle, ShapeStyle, i32) 
         Style::Points => (hidden, color.filled(), 0),
         Style::LinePoints => (line, color.filled(), 0),
         Style::Dashed | Style::Reference => (line, hidden, 3),
-        Style::Line | Style::LineOnSecondaryAxis => (line, hidden, 0),
+        Style::Line | Style::LineOnSecondaryAxis | Style::ErrorBars => (line, hidden, 0),
     }
 }

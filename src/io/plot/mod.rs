@@ -69,6 +69,9 @@ pub enum Style {
     LineOnSecondaryAxis,
     /// Grey dashed line for reference curves (ideal joint, nominal profile), left axis.
     Reference,
+    /// Solid line in the colour of the series before it, left axis: the error bars of that
+    /// series' markers (NaN-separated segments). It takes no palette colour of its own.
+    ErrorBars,
 }
 
 /// One data series: `x[i]`, `y[i]` pairs (equal lengths).
@@ -126,6 +129,9 @@ pub struct Axes<'a> {
     pub y_log: bool,
     /// Text beside single data points, e.g. the setting of a run: `(x, y, text)`.
     pub point_labels: Vec<(f64, f64, String)>,
+    /// Text to the left of single data points, where the right is taken (the first point of a
+    /// line running rightwards): `(x, y, text)`.
+    pub point_labels_left: Vec<(f64, f64, String)>,
     /// A note under the x axis, e.g. what is not drawn and why (lines split at
     /// `\n`).
     pub note: Option<String>,

@@ -51,8 +51,9 @@ pub(super) struct Panel {
     pub(super) legend: Option<SeriesLabelPosition>,
     /// Legend entry of the circles (empty: none).
     pub(super) circle_label: String,
-    /// Text beside data points, at drawing coordinates (log10 on a logarithmic axis).
-    pub(super) point_labels: Vec<(f64, f64, String)>,
+    /// Text beside data points, at drawing coordinates (log10 on a logarithmic axis), and
+    /// whether it goes to the left of its point ([`Axes::point_labels_left`]).
+    pub(super) point_labels: Vec<(f64, f64, String, bool)>,
     /// A polar picture: no axes, spokes instead.
     pub(super) polar: bool,
     /// The note: under the x axis, or in the lower right corner of a polar picture (its
@@ -196,16 +197,17 @@ impl Panel {
         }
 
         let mut palette = PALETTE.iter().cycle();
+        let mut previous = None;
         let curves: Vec<Curve> = axes
             .series
             .iter()
             .map(|s| Curve {
                 label: s.label.clone(),
                 style: s.style,
-                color: if s.style == Style::Reference {
-                    GREY
-                } else {
-                    *palette.next().expect("cycle")
+                color: match (s.style, previous) {
+                    (Style::Reference, _) => GREY,
+                    (Style::ErrorBars, Some(c)) => c,
+                    _ => *previous.insert(*palette.next().expect("cycle")),
                 },
                 segments: finite_runs(
                     &s.x.iter().map(|&v| fx(v)).collect::<Vec<_>>(),
@@ -351,11 +353,12 @@ impl Panel {
             at: i.at,
             title: i.title.clone(),
         });
-        let point_labels = axes
-            .point_labels
-            .iter()
-            .map(|(px, py, t)| (fx(*px), fy(*py), t.clone()))
-            .filter(|(px, py, _)| px.is_finite() && py.is_finite())
+        let sides = [(&axes.point_labels, false), (&axes.point_labels_left, true)];
+        let point_labels = (sides.iter())
+            .flat_map(|(labels, left)| {
+                (labels.iter()).map(|(px, py, t)| (fx(*px), fy(*py), t.clone(), *left))
+            })
+            .filter(|(px, py, ..)| px.is_finite() && py.is_finite())
             .collect();
 
         Ok(Panel {
@@ -426,4 +429,32 @@ pub(super) fn circle_points(c: (f64, f64), r: f64, step_deg: f64) -> Vec<(f64, f
 /// The height (px) of a legend of `rows` entries.
 pub(super) fn legend_height_px(rows: usize) -> f64 {
     f64::from(rows as u32 * (LEGEND_PX + 12) + 40)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::plot::Series;
+
+    #[test]
+    fn error_bars_take_the_colour_of_the_markers_before_them() {
+        // seen to fail when ErrorBars took the next palette colour like any other series
+        let (x, y) = ([1.0, 2.0], [1.0, 2.0]);
+        let axes = Axes::new(
+            "t",
+            "x",
+            "y",
+            vec![
+                Series::new("a", &x, &y, Style::Points),
+                Series::new("", &x, &y, Style::ErrorBars),
+                Series::new("b", &x, &y, Style::Points),
+                Series::new("", &x, &y, Style::ErrorBars),
+            ],
+        );
+        let colors: Vec<RGBColor> = (Panel::new(&axes, "t".into(), None).unwrap().curves)
+            .iter()
+            .map(|c| c.color)
+            .collect();
+        assert_eq!(colors, [PALETTE[0], PALETTE[0], PALETTE[1], PALETTE[1]]);
+    }
 }

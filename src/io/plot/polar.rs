@@ -18,6 +18,10 @@ use crate::Result;
 /// Angle at which the depth scale's rings are labelled (deg): between two spokes.
 const SCALE_LABEL_DEG: f64 = 112.5;
 
+/// Half-width of the picture over its largest radius: room outside the curves for the spokes'
+/// angle labels (at 1.07 of it), wide enough that the widest label, `180°`, is not clipped.
+const MARGIN: f64 = 1.35;
+
 /// Renders closed profiles `r(theta)` (theta in degrees, counter-clockwise from +x) as a polar
 /// picture around the dashed reference circle of radius `r_ref`. The deviation `r - r_ref` is
 /// scaled by `magnify` (noted on the figure) so that micrometre wear shows on a millimetre
@@ -85,7 +89,7 @@ pub fn render_polar(
         .flat_map(|(_, (x, y), _)| x.iter().zip(y).map(|(x, y)| x.hypot(*y)))
         .filter(|r| r.is_finite())
         .fold(r_ref, f64::max)
-        * 1.15;
+        * MARGIN;
     let ring = |deviation: f64| r_ref + magnify * deviation;
     let (sin, cos) = SCALE_LABEL_DEG.to_radians().sin_cos();
     let axes = Axes {
@@ -118,7 +122,7 @@ pub(super) type Chart<'a, 'b> = DualCoordChartContext<
 
 /// Spokes every 45° with angle labels, in place of Cartesian axes.
 pub(super) fn draw_polar_grid<'b>(chart: &mut Chart<'_, 'b>, p: &Panel) -> DrawResult<'b> {
-    let reach = 0.5 * p.x.span().min(p.y.span()) / 1.15;
+    let reach = 0.5 * p.x.span().min(p.y.span()) / MARGIN;
     for k in 0..8 {
         let t = f64::from(k * 45).to_radians();
         let (c, s) = (t.cos(), t.sin());

@@ -375,8 +375,8 @@ fn depth_rings(deepest: f64) -> Vec<f64> {
 
 /// Figure 5: polar picture of the worn bearing (standard case, section 6.1): the
 /// ensemble-mean radius at each snapshot, and after the last either each wear state's mean
-/// (where the members split) or the 5 % and 95 % quantiles, with rings of wear depth as its
-/// radial scale.
+/// (where the members split; the pooled mean, between them, is then left to the CSV) or the
+/// 5 % and 95 % quantiles, with rings of wear depth as its radial scale.
 pub fn fig05(runs: &Runs) -> Result<Vec<String>> {
     let e = runs.wear(CASES.standard.scene)?;
     let r = e.scene.mechanism.clearance_joints[0].r_bearing * 1e3;
@@ -409,7 +409,8 @@ pub fn fig05(runs: &Runs) -> Result<Vec<String>> {
     }
     let states = state_curves(e, &format!("{last_rot} rotations"), "");
     // the state curves are in µm
-    profiles.extend(states.iter().map(|c| {
+    // the last state solid, the others dashed: a few pixels apart, they differ by their lines
+    profiles.extend(states.iter().enumerate().map(|(i, c)| {
         (
             format!(
                 "{last_rot}rotations{}statemean",
@@ -417,14 +418,20 @@ pub fn fig05(runs: &Runs) -> Result<Vec<String>> {
             ),
             c.label.clone(),
             radius(&c.mean, 1e-3),
-            Style::Dashed,
+            if i + 1 == states.len() {
+                Style::Line
+            } else {
+                Style::Dashed
+            },
         )
     }));
-    let quantiles = snapshots..snapshots + 2;
+    // where the states are drawn, the last snapshot's pooled mean (between them) and its
+    // quantiles are left to the CSV
+    let hidden = snapshots - 1..snapshots + 2;
     let drawn: Vec<(String, Vec<f64>, Style)> = profiles
         .iter()
         .enumerate()
-        .filter(|(i, _)| states.is_empty() || !quantiles.contains(i))
+        .filter(|(i, _)| states.is_empty() || !hidden.contains(i))
         .map(|(_, (_, label, radii, style))| (label.clone(), radii.clone(), *style))
         .collect();
     let angles = sector_angles_deg(last.sectors.len());

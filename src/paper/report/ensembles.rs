@@ -7,9 +7,10 @@ use super::markdown::md_table;
 use crate::analysis::statistics::{fractions, Distribution};
 use crate::io::output::read_rows;
 use crate::paper::cases::{Runs, SteadyMember, CASES};
-use crate::paper::convergence::MAX_MEMBERS;
+use crate::paper::convergence::{MAX_MEMBERS, SE_SHARE};
 use crate::paper::figures::output_path;
 use crate::paper::format::sci;
+use crate::paper::golden::Golden;
 use crate::paper::separation::{
     first_reaching, level, pair_offset_distance, read_separation, SEPARATION_ROTATIONS,
 };
@@ -28,7 +29,7 @@ fn steady_state(m: &SteadyMember) -> &'static str {
 }
 
 /// What the ensembles reveal: the steady states each case settles in, with their basins.
-pub(super) fn ensemble_section(runs: &Runs) -> Result<String> {
+pub(super) fn ensemble_section(runs: &Runs, golden: &Golden) -> Result<String> {
     let n = runs.ensemble.members;
     let mut md = String::from("### What the ensembles show: where single runs disagree\n\n");
     let settle = runs.steady(CASES.standard.scene)?.scene.run.settle;
@@ -99,7 +100,7 @@ pub(super) fn ensemble_section(runs: &Runs) -> Result<String> {
          claim states in how many members it holds. Claims that hold in every member are properties of the \
          model; claims that hold in some are properties of some of its runs.\n\n",
     );
-    md.push_str(&convergence_section());
+    md.push_str(&convergence_section(golden));
     md.push_str(&separation_section(runs)?);
     md.push_str(&super::perturbation::perturbation_section());
     Ok(md)
@@ -214,8 +215,9 @@ fn separation_section(runs: &Runs) -> Result<String> {
     Ok(md)
 }
 
-/// The ensemble-size study (`data/ensemble_convergence.csv`) and the default it picks.
-fn convergence_section() -> String {
+/// The ensemble-size study (`data/ensemble_convergence.csv`) and the default it picks, its rule
+/// stated with the tolerances of `golden`.
+fn convergence_section(golden: &Golden) -> String {
     let mut md = String::from(
         "### How many members: the convergence study
 
@@ -225,11 +227,13 @@ fn convergence_section() -> String {
         md,
         "One ensemble of {} members of every Table 3 case and of the standard wear case; its first N members \
          stand for an ensemble of N (`cargo run --release --bin convergence`, `src/paper/convergence.rs`). Rule: the \
-         smallest N at which the standard error of every Table 3 concordance is at most a fifth of the 0.03 \
-         tolerance, and that of every severe-region angle at most a fifth of the 10° tolerance, so that a \
+         smallest N at which the standard error of every Table 3 concordance is at most {SE_SHARE} × the {} \
+         tolerance, and that of every severe-region angle at most {SE_SHARE} × the {}° tolerance, so that a \
          comparison with the paper does not depend on which members were drawn. The library default is \
          {} members (`src/simulation/ensemble.rs`).\n",
         MAX_MEMBERS,
+        golden.concordance_tolerance,
+        golden.standard_wear.angle_tolerance_deg,
         DEFAULT_MEMBERS
     );
     match read_rows(&output_path("data", "ensemble_convergence.csv")) {

@@ -14,6 +14,7 @@
 //! of contents; `markdown.rs` has the table helpers.
 
 mod claims;
+mod contact_laws;
 mod ensembles;
 mod figures;
 mod markdown;
@@ -222,7 +223,7 @@ pub fn write(
     ));
 
     table3::table3_section(&mut md, runs, golden)?;
-    md.push_str(&ensembles::ensemble_section(runs)?);
+    md.push_str(&ensembles::ensemble_section(runs, golden)?);
 
     figures::figures_section(&mut md, n, drawn);
 
@@ -230,6 +231,7 @@ pub fn write(
     numerical::work_precision_section(&mut md, studies.accuracy);
     numerical::stability_section(&mut md, studies.stability);
     numerical::performance_section(&mut md);
+    contact_laws::contact_law_section(&mut md);
     md.push_str(&errata(
         &steady.standard.scene,
         steady.standard.stat(|m| m.max_penetration).mean,

@@ -27,9 +27,9 @@ use crate::simulation::{simulate, RunOutput};
 use crate::Result;
 
 /// Rotations recorded after settling, split into [`WINDOWS`] windows.
-const WINDOW_ROTATIONS: u32 = 2;
+pub const WINDOW_ROTATIONS: u32 = 2;
 /// Windows of each Table 3 case.
-const WINDOWS: u32 = 3;
+pub const WINDOWS: u32 = 3;
 
 /// The four integrations of the accuracy study.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -3,7 +3,11 @@
 
 use super::work_precision::wp_max_step;
 use crate::ode::Method;
-use crate::scene::{MethodSpec, SceneFile};
+use crate::scene::{MethodSpec, RunSpec, SceneFile};
+
+/// `atol` over `rtol` of the adaptive settings the studies compare: one atol for every
+/// controlled state component (m, rad, m/s, rad/s).
+pub const ATOL_PER_RTOL: f64 = 1e-3;
 
 /// An integration setting applied to a scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -19,13 +23,13 @@ pub struct Integration {
 }
 
 impl Integration {
-    /// Adaptive `method` at `rtol`, `atol = 1e-3·rtol`, with the work-precision step cap of
-    /// the method ([`wp_max_step`]).
+    /// Adaptive `method` at `rtol`, `atol = `[`ATOL_PER_RTOL`]`·rtol`, with the work-precision
+    /// step cap of the method ([`wp_max_step`]).
     pub fn adaptive(method: Method, rtol: f64) -> Integration {
         Integration {
             method,
             rtol,
-            atol: 1e-3 * rtol,
+            atol: ATOL_PER_RTOL * rtol,
             max_step: wp_max_step(method),
         }
     }
@@ -37,6 +41,23 @@ impl Integration {
             rtol: 1.0,
             atol: 1.0,
             max_step: step,
+        }
+    }
+
+    /// The integration a scene's `run` asks for ([`Integration::apply`] read back).
+    pub fn of(run: &RunSpec) -> Integration {
+        let method = match run.method {
+            MethodSpec::Dopri5 => Method::Dopri5,
+            MethodSpec::Dop853 => Method::Dop853,
+            MethodSpec::Rk4 => Method::Rk4 {
+                step: run.fixed_step_s.unwrap_or(run.max_step_s),
+            },
+        };
+        Integration {
+            method,
+            rtol: run.rtol,
+            atol: run.atol,
+            max_step: run.max_step_s,
         }
     }
 

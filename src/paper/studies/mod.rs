@@ -3,13 +3,15 @@
 //! integration accuracy ([`accuracy`]), whether Table 3's ensembles need the scenes' tolerance
 //! ([`ensemble_tolerance`](mod@ensemble_tolerance)), and whether stiff and extreme cases run to completion
 //! ([`stability`](mod@stability)), and what each contact law does to one impact
-//! ([`contact_laws`]). Each study writes `data/<study>.csv` (and a figure where it
+//! ([`contact_laws`]), and how much the predicted wear depends on the contact law
+//! ([`contact_law_wear`]). Each study writes `data/<study>.csv` (and a figure where it
 //! has one) atomically and returns what it measured, which the report (sections 5 and 6 of
 //! `paper.md`) reads; the `src/bin/` programs only call them.
 //!
 //! Owns: the studies' shared notion of an integration setting ([`Integration`]).
 
 pub mod accuracy;
+pub mod contact_law_wear;
 pub mod contact_laws;
 pub mod ensemble_tolerance;
 pub mod integration;

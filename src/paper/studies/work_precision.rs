@@ -295,7 +295,7 @@ pub fn work_precision(progress: &dyn Progress) -> Result<WorkPrecision> {
         let e = wear_ensemble(&r.integration, 1)?;
         r.ensemble = Some(ensemble_error(&e, &reference));
     }
-    let default_rtol = pick_default(&rows);
+    let default_rtol = pick_default(rows.iter().map(|r| (r.integration, r.errors)));
     write_work_precision(&rows)?;
     let points: Vec<Point> = rows.iter().map(Point::of).collect();
     plot_work_precision(&points, &floor)?;
@@ -347,27 +347,25 @@ pub const FORCE_BOUND: f64 = 1e-4;
 /// The scenes' Dopri5 rtol (atol `1e-3·rtol`), chosen by the module's rule.
 pub const SCENE_RTOL: f64 = 2e-7;
 
-/// The module's rule: loosest Dopri5 rtol from which on (tighter) the orbit and force errors
-/// are within their bounds.
-fn pick_default(rows: &[WorkRow]) -> Option<f64> {
-    let mut sweep: Vec<&WorkRow> = rows
-        .iter()
-        .filter(|r| {
-            r.integration.method == Method::Dopri5
-                && r.integration != SECOND_REFERENCE
-                && r.integration != ODE45_PAPER
+/// The module's rule on `rows` (each setting with its errors, `None` if it failed): the
+/// loosest Dopri5 rtol from which on (tighter) the orbit and force errors are within their
+/// bounds.
+pub fn pick_default(rows: impl IntoIterator<Item = (Integration, Option<Errors>)>) -> Option<f64> {
+    let mut sweep: Vec<(Integration, Option<Errors>)> = rows
+        .into_iter()
+        .filter(|(int, _)| {
+            int.method == Method::Dopri5 && *int != SECOND_REFERENCE && *int != ODE45_PAPER
         })
         .collect();
-    sweep.sort_by(|a, b| a.integration.rtol.total_cmp(&b.integration.rtol));
+    sweep.sort_by(|a, b| a.0.rtol.total_cmp(&b.0.rtol));
     // tightest first: walk towards looser while the bound holds
     sweep
         .iter()
-        .take_while(|r| {
-            r.errors
-                .is_some_and(|e| e.orbit_um <= ORBIT_BOUND_UM && e.force_rel <= FORCE_BOUND)
+        .take_while(|(_, e)| {
+            e.is_some_and(|e| e.orbit_um <= ORBIT_BOUND_UM && e.force_rel <= FORCE_BOUND)
         })
         .last()
-        .map(|r| r.integration.rtol)
+        .map(|(int, _)| int.rtol)
 }
 
 /// Column of `data/work_precision.csv`: the method.
@@ -381,6 +379,10 @@ const ENSEMBLE_ERROR: &str = "ensemble_wear_err_rel";
 /// Column of `data/work_precision.csv`: [`EnsembleWearError::sampling`].
 const ENSEMBLE_SAMPLING: &str = "ensemble_wear_sampling_rel";
 
+/// Columns of `data/work_precision.csv`: the first-rotation orbit and force errors and the
+/// single-run wear error ([`Errors`]).
+const ERRORS: [&str; 3] = ["orbit_err_um", "force_err_rel", "wear_err_rel"];
+
 /// Columns of `data/work_precision.csv`.
 pub const WORK_PRECISION_HEADER: [&str; 12] = [
     METHOD,
@@ -389,9 +391,9 @@ pub const WORK_PRECISION_HEADER: [&str; 12] = [
     "steps",
     "rejected",
     EVALUATIONS,
-    "orbit_err_um",
-    "force_err_rel",
-    "wear_err_rel",
+    ERRORS[0],
+    ERRORS[1],
+    ERRORS[2],
     ENSEMBLE_ERROR,
     ENSEMBLE_SAMPLING,
     "failure",
@@ -433,6 +435,36 @@ pub fn read_ensemble_wear_errors() -> Option<Vec<EnsembleCost>> {
         })
         .collect();
     Some(parsed)
+}
+
+/// Every setting of the study (references included) with the errors an earlier run wrote to
+/// `data/work_precision.csv` (`None` for a failed run), in the file's order; `None` when the
+/// file or one of its columns is missing. A row is matched to its setting by method and
+/// [`Integration::setting`], so a setting no longer in the study is left out.
+pub fn read_errors() -> Option<Vec<(Integration, Option<Errors>)>> {
+    let (header, rows) = read_rows(&output_path("data", "work_precision.csv")).ok()?;
+    let col = |name: &str| header.iter().position(|h| h == name);
+    let (method, setting) = (col(METHOD)?, col(SETTING)?);
+    let errors = ERRORS.map(col);
+    let [Some(orbit), Some(force), Some(wear)] = errors else {
+        return None;
+    };
+    let known: Vec<Integration> = (work_precision_settings().into_iter())
+        .chain([SECOND_REFERENCE, REFERENCE])
+        .collect();
+    let parsed = rows.iter().filter_map(|r| {
+        let int = known.iter().find(|i| {
+            r[method] == i.method_name() && r[setting].split(" (").next() == Some(&i.setting())
+        })?;
+        let value = |c: usize| r[c].parse::<f64>().ok();
+        let errors = (value(orbit).zip(value(force)).zip(value(wear))).map(|((o, f), w)| Errors {
+            orbit_um: o,
+            force_rel: f,
+            wear_rel: w,
+        });
+        Some((*int, errors))
+    });
+    Some(parsed.collect())
 }
 
 fn write_work_precision(rows: &[WorkRow]) -> Result<()> {

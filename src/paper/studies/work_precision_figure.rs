@@ -2,7 +2,8 @@
 //! axes, work as right-hand-side evaluations (wall time depends on the machine and its load;
 //! it stays in the CSV), one line per method (and step cap) joining its settings from the
 //! loosest to the tightest, the two ends of each line labelled with their tolerance (rtol, or
-//! the step h of RK4; labelling every point made them overlap). The three panels stand one
+//! the step h of RK4; labelling every point made them overlap), the loosest on its left and the
+//! tightest on its right, off the line. The three panels stand one
 //! under another, so the figure is one panel wide and stays readable at a page's width. Settings
 //! without a point (a failed run, a wear ensemble not measured) are named in a note of the
 //! panel. The figure is drawn from the study's rows as it runs, or redrawn from
@@ -256,23 +257,19 @@ pub(super) fn plot_work_precision(points: &[Point], floor: &Errors) -> Result<()
                 .map(|(g, (x, y, _))| Series::new(g.as_str(), x, y, Style::LinePoints))
                 .collect();
             series.push(Series::new(*label, &span, fl, Style::Reference));
-            // the loosest and the tightest setting of each line
-            let point_labels = per_group
-                .iter()
-                .flat_map(|(x, y, l)| {
-                    let ends = [0, x.len().saturating_sub(1)];
-                    let mut ends = ends.to_vec();
-                    ends.dedup();
-                    ends.into_iter()
-                        .filter(|&i| i < x.len())
-                        .map(|i| (x[i], y[i], l[i].clone()))
-                        .collect::<Vec<_>>()
-                })
+            // the loosest setting of each line labelled on its left (the line leaves it to the
+            // right), the tightest on its right: no label lies on its own line
+            let end = |(x, y, l): &Drawn, i: usize| (x[i], y[i], l[i].clone());
+            let drawn = per_group.iter().filter(|(x, ..)| !x.is_empty());
+            let point_labels_left = drawn.clone().map(|d| end(d, 0)).collect();
+            let point_labels = (drawn.filter(|(x, ..)| x.len() > 1))
+                .map(|d| end(d, d.0.len() - 1))
                 .collect();
             Axes {
                 x_log: true,
                 y_log: true,
                 point_labels,
+                point_labels_left,
                 note: missing(*pick),
                 ..Axes::new(
                     *title,

@@ -1,0 +1,66 @@
+//! How much the predicted wear depends on the contact law: the standard and the 0.5 mm case
+//! (and Table 3's other cases, steady) as ensembles under every stiffness and every
+//! dissipation law, `data/contact_law_wear.csv` and `figures/contact_law_wear.png`. See
+//! `jointwear::paper::studies::contact_law_wear`. `--table3` also runs Table 3's other three
+//! cases (30 and 600 r/min, 0.2 mm) steady under every law: several times longer. `--redraw`
+//! only redraws the figure from the CSV.
+use jointwear::error::exit_on_error;
+use jointwear::io::progress::progress_bar;
+use jointwear::paper::cases::CASES;
+use jointwear::paper::golden::Golden;
+use jointwear::paper::studies::contact_law_wear::{
+    contact_law_wear_study, draw_law_wear, pooled, read_law_wear, LawWearSettings, LAW_WEAR_FIGURE,
+    LAW_WEAR_FILE, RUN_FAILED,
+};
+
+fn main() {
+    let clock = std::time::Instant::now();
+    if std::env::args().any(|a| a == "--redraw") {
+        let Some(rows) = read_law_wear() else {
+            eprintln!(
+                "error: data/{LAW_WEAR_FILE} is missing or of another layout; run \
+                 `cargo run --release --bin contact_law_wear` first"
+            );
+            std::process::exit(2);
+        };
+        exit_on_error(draw_law_wear(&rows));
+        println!("redrew figures/{LAW_WEAR_FIGURE} from data/{LAW_WEAR_FILE}");
+        return;
+    }
+    let golden = exit_on_error(Golden::load());
+    let bar = progress_bar(0, "ensemble members");
+    let mut settings = LawWearSettings::default();
+    for arg in std::env::args().skip(1) {
+        match arg.as_str() {
+            "--table3" => settings.steady = CASES.list().into_iter().copied().collect(),
+            _ => {
+                eprintln!(
+                    "error: unknown argument `{arg}`; allowed: --table3 (also run Table 3's other \
+                     cases steady under every law)"
+                );
+                std::process::exit(2);
+            }
+        }
+    }
+    let rows = exit_on_error(contact_law_wear_study(&settings, &golden, &bar));
+    bar.finish_and_clear();
+    for r in rows.iter().filter(|r| r.quantity == RUN_FAILED) {
+        println!("{} on {}: could not run: {}", r.pair(), r.case, r.error);
+    }
+    println!("deepest wear after the scene's rotations (µm, mean ± sd over members; p against the paper's law):");
+    for case in ["standard", "clearance_0.5mm"] {
+        for r in pooled(&rows, case, "deepest_wear").into_iter().flatten() {
+            println!(
+                "{case:>16} {:>36}: {:.4} ± {:.4} (p = {:.1e})",
+                r.pair(),
+                r.mean * 1e6,
+                r.sd * 1e6,
+                r.p
+            );
+        }
+    }
+    println!(
+        "wrote data/{LAW_WEAR_FILE} and figures/{LAW_WEAR_FIGURE} in {:.0} s",
+        clock.elapsed().as_secs_f64()
+    );
+}
