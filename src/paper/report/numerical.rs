@@ -152,7 +152,7 @@ fn default_tolerance(scene: &SceneSetting, chosen: Option<f64>, ratios: &str) ->
     };
     format!(
         "**Default tolerance.** The loosest Dopri5 tolerance at which (and below which) the first-rotation \
-         orbit error is at most {ORBIT_BOUND_UM} µm ({:.1}% of the standard clearance; what absolute coordinates \
+         orbit error is at most {ORBIT_BOUND_UM} µm ({:.2}% of the standard clearance; what absolute coordinates \
          reached at rtol 1e-7, the scenes' setting before joint coordinates, so changing the formulation kept \
          the accuracy) and the peak-force error \
          at most {FORCE_BOUND:e}: {choice}; {verdict}. The ensemble-mean wear profile against the reference \
@@ -755,14 +755,14 @@ mod tests {
     fn the_default_tolerance_paragraph_follows_the_scene_and_the_rule() {
         let same = default_tolerance(&scene(1e-7, 0.02), Some(1e-7), "r");
         assert!(
-            same.contains("at most 0.1 µm (0.5% of the standard clearance)")
+            same.contains(&format!("at most {ORBIT_BOUND_UM} µm (0.08% of the standard clearance;"))
                 && same
                     .contains("at most 1e-4: rtol 1e-7; the scenes' setting (Dopri5 at rtol 1e-7"),
             "{same}"
         );
         let looser = default_tolerance(&scene(1e-6, 0.01), Some(1e-7), "r");
         assert!(
-            looser.contains("(1.0% of the standard clearance)")
+            looser.contains("(0.17% of the standard clearance;")
                 && looser.contains("rtol 1e-7; the scenes use Dopri5 at rtol 1e-6")
                 && looser.contains("does not pick"),
             "{looser}"
