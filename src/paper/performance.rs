@@ -29,17 +29,18 @@ use std::path::{Path, PathBuf};
 /// Run-time targets of the hot paths: criterion bench and its budget (ns). The 40-rotation
 /// run and its 16-member ensemble have the budgets users asked for: 0.1 s for the whole
 /// `jointwear run` process (`process/run_standard_40` times it as a user starts it; the
-/// run alone, `wear_run/standard_40`, has the same budget) and 1 s for the ensemble on 2 cores.
+/// run alone, `wear_run/standard_40`, has the same budget) and 0.6 s for the ensemble on 2 cores
+/// (issue 22; it was 1 s before).
 pub const TARGETS: [(&str, f64); 6] = [
     ("contact_force/hybrid", 20.0),
     ("contact_force/lankarani-nikravesh", 20.0),
     ("rhs/standard", 300.0),
     ("wear_run/standard_40", 0.1e9),
-    ("ensemble/standard_40x16", 1e9),
+    ("ensemble/standard_40x16", 0.6e9),
     ("process/run_standard_40", 0.1e9),
 ];
-/// Budget of the whole default `report` run (s).
-pub const REPORT_BUDGET_S: f64 = 60.0;
+/// Budget of the whole default `report` run on 2 cores (s; issue 22, 60 s before).
+pub const REPORT_BUDGET_S: f64 = 40.0;
 
 /// Rotation counts of the rotation sweep.
 pub const ROTATIONS: [u32; 6] = [1, 2, 5, 10, 20, 40];
