@@ -227,8 +227,13 @@ pub fn check_output_file(option: &str, file: &Path) -> Result<()> {
 
 /// Writes `text` to `path`, atomically (a sidecar `README.txt`, say).
 pub fn write_text(path: &Path, text: &str) -> Result<()> {
+    write_bytes(path, text.as_bytes())
+}
+
+/// Writes `bytes` to `path`, atomically.
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<()> {
     write_atomic(path, |tmp| {
-        fs::write(tmp, text).map_err(|e| io_error(tmp, e))
+        fs::write(tmp, bytes).map_err(|e| io_error(tmp, e))
     })
 }
 

@@ -22,7 +22,7 @@ use super::theme::{
     X_LABEL_AREA,
 };
 use super::Style;
-use crate::io::output::write_atomic;
+use crate::io::output::{write_atomic, write_bytes};
 use crate::Result;
 
 /// What drawing returns: plotters' errors, boxed.
@@ -34,12 +34,37 @@ pub(super) fn draw_figure(path: &Path, panels: &[Panel]) -> Result<()> {
     draw_figure_in(path, panels, grid(panels.len() as u32))
 }
 
-/// [`draw_figure`] with the panels in a grid of `(columns, rows)`, filled row by row.
+/// [`draw_figure`] with the panels in a grid of `(columns, rows)`, filled row by row. The
+/// picture is drawn in memory, starting white, and encoded by [`encode_png`].
 pub(super) fn draw_figure_in(path: &Path, panels: &[Panel], layout: (u32, u32)) -> Result<()> {
-    write_atomic(path, |tmp| {
-        let backend = BitMapBackend::new(tmp, figure_size(layout));
-        draw_frames(path, backend, std::slice::from_ref(&panels), layout)
-    })
+    let (w, h) = figure_size(layout);
+    let mut rgb = vec![u8::MAX; 3 * w as usize * h as usize];
+    let backend = BitMapBackend::with_buffer(&mut rgb, (w, h));
+    draw_frames(path, backend, std::slice::from_ref(&panels), layout, true)?;
+    let png = encode_png(&rgb, (w, h)).map_err(|e| plot_error(path, e))?;
+    write_bytes(path, &png)
+}
+
+/// The PNG of the 8-bit RGB picture `rgb` of `(width, height)` pixels. Each row is stored as
+/// its difference to the row above (PNG's "Up" filter) and compressed by the fast deflate
+/// coder: a figure's rows mostly repeat the row above (white, vertical lines), and their zero
+/// differences cost the coder little. Measured on a run's wear figure (1200x800 px), against
+/// the encoder plotters uses (choosing one of four filters per row): 7.8 M instead of 28.6 M
+/// instructions, 151 kB instead of 76 kB.
+fn encode_png(rgb: &[u8], (width, height): (u32, u32)) -> std::result::Result<Vec<u8>, String> {
+    let mut png = Vec::new();
+    let mut encoder = png::Encoder::new(&mut png, width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::Fast);
+    encoder.set_filter(png::FilterType::Up);
+    encoder.set_adaptive_filter(png::AdaptiveFilterType::NonAdaptive);
+    let written = encoder.write_header().and_then(|mut writer| {
+        writer.write_image_data(rgb)?;
+        writer.finish()
+    });
+    written.map_err(|e| e.to_string())?;
+    Ok(png)
 }
 
 /// Draws each element of `frames` (the panels of one frame, laid out as [`draw_figure`]
@@ -58,7 +83,7 @@ pub(super) fn draw_animation<P: AsRef<[Panel]>>(
     write_atomic(path, |tmp| {
         let backend = BitMapBackend::gif(tmp, figure_size(layout), delay_ms)
             .map_err(|e| plot_error(path, e))?;
-        draw_frames(path, backend, frames, layout)
+        draw_frames(path, backend, frames, layout, false)
     })
 }
 
@@ -73,14 +98,16 @@ fn figure_size((cols, rows): (u32, u32)) -> (u32, u32) {
     (cols * PANEL_SIZE.0, rows * PANEL_SIZE.1)
 }
 
-/// Draws every frame onto `backend`, each presented once (a PNG has one frame, a GIF many).
-/// Notes of Cartesian panels go under the x axis; every panel of every frame keeps the same
-/// plot height, so that frames of an animation line up.
+/// Draws every frame onto `backend`, each presented once (a PNG has one frame, a GIF many),
+/// on white: the first frame is not cleared if the backend `starts_white`. Notes of Cartesian
+/// panels go under the x axis; every panel of every frame keeps the same plot height, so that
+/// frames of an animation line up.
 fn draw_frames<P: AsRef<[Panel]>>(
     path: &Path,
     backend: BitMapBackend<'_>,
     frames: &[P],
     (cols, rows): (u32, u32),
+    starts_white: bool,
 ) -> Result<()> {
     ensure_font().map_err(|m| plot_error(path, m))?;
     let note_lines = frames
@@ -93,9 +120,11 @@ fn draw_frames<P: AsRef<[Panel]>>(
         .unwrap_or(0);
     let root = GlyphBackend::new(backend).into_drawing_area();
     let drawn: DrawResult = (|| {
-        for panels in frames {
+        for (k, panels) in frames.iter().enumerate() {
             let panels = panels.as_ref();
-            root.fill(&WHITE)?;
+            if k > 0 || !starts_white {
+                root.fill(&WHITE)?;
+            }
             let areas = root.split_evenly((rows as usize, cols as usize));
             for (area, panel) in areas.iter().zip(panels) {
                 draw_panel(area, panel, note_lines)?;
@@ -398,5 +427,29 @@ fn legend_parts(style: Style, color: RGBColor) -> (ShapeStyle, ShapeStyle, i32) 
         Style::LinePoints => (line, color.filled(), 0),
         Style::Dashed | Style::Reference => (line, hidden, 3),
         Style::Line | Style::LineOnSecondaryAxis | Style::ErrorBars => (line, hidden, 0),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The PNG decodes to the pixels drawn, every byte. Would fail on a wrong colour type, bit
+    /// depth or row length, or a filter applied without its type byte (checked: encoding with
+    /// `set_color(png::ColorType::Rgba)` fails here).
+    #[test]
+    fn png_decodes_to_the_pixels_drawn() {
+        let (w, h) = (7u32, 5u32);
+        // varied bytes, so that every row differs from the row above
+        let rgb: Vec<u8> = (0..3 * w * h).map(|i| (i * 37 % 251) as u8).collect();
+        let png = encode_png(&rgb, (w, h)).unwrap();
+        let mut reader = png::Decoder::new(png.as_slice()).read_info().unwrap();
+        let mut decoded = vec![0; reader.output_buffer_size()];
+        let info = reader.next_frame(&mut decoded).unwrap();
+        assert_eq!(
+            (info.width, info.height, info.color_type, info.bit_depth),
+            (w, h, png::ColorType::Rgb, png::BitDepth::Eight)
+        );
+        assert_eq!(&decoded[..info.buffer_size()], &rgb[..]);
     }
 }
