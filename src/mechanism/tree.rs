@@ -69,6 +69,10 @@ pub(super) struct Tree {
     /// Parents before children.
     links: Vec<Link>,
     freedoms: usize,
+    /// The bodies that move with the freedoms, in body order: the others (the driven body
+    /// pinned to the ground, and bodies on it with no freedom of their own) have zero Jacobian
+    /// columns along the freedoms and add nothing to Lagrange's sums.
+    moving: Vec<usize>,
 }
 
 /// Pose and velocity of one body, with the arms of the joint to its parent.
@@ -81,14 +85,6 @@ struct Pose {
     /// The slide's global direction (zero without one).
     dir: Vector2<f64>,
 }
-
-/// The ground's pose.
-const GROUND: Pose = Pose {
-    f: Frame::GROUND,
-    arm_parent: Vector2::new(0.0, 0.0),
-    arm_child: Vector2::new(0.0, 0.0),
-    dir: Vector2::new(0.0, 0.0),
-};
 
 /// Jacobian columns `∂(φ, r)/∂z` (`C`: the freedoms, then the driver's angle if needed) and the
 /// acceleration at `z̈ = 0` of one body.
@@ -128,8 +124,10 @@ impl Tree {
         // means there is no loop.
         let mut reached: Vec<BodyIndex> = vec![None];
         let mut used = vec![false; joints];
-        let mut links = Vec::new();
+        let mut links: Vec<Link> = Vec::new();
         let mut freedoms = 0;
+        // Whether a body's position or angle depends on a freedom, by slot (ground first).
+        let mut moving = vec![false; bodies + 1];
         let mut next = 0;
         while next < reached.len() {
             let parent = reached[next];
@@ -178,6 +176,8 @@ impl Tree {
                 if !driven {
                     freedoms += 1;
                 }
+                moving[child + 1] =
+                    moving[slot(parent)] || matches!(angle, Angle::Free(_)) || slide.is_some();
                 links.push(Link {
                     body: child,
                     parent,
@@ -189,7 +189,12 @@ impl Tree {
             }
         }
         let all = links.len() == bodies;
-        (all && (1..=MAX_TREE_FREEDOMS).contains(&freedoms)).then_some(Tree { links, freedoms })
+        let moving = (0..bodies).filter(|&b| moving[b + 1]).collect();
+        (all && (1..=MAX_TREE_FREEDOMS).contains(&freedoms)).then_some(Tree {
+            links,
+            freedoms,
+            moving,
+        })
     }
 
     /// Number of ideal-joint freedoms (coordinates).
@@ -285,13 +290,13 @@ impl Tree {
     pub(super) fn absolute(&self, m: &Mechanism, t: f64, z: &[f64], y: &mut [f64]) {
         let f = self.freedoms;
         let n = m.coordinates();
-        let mut pose = [GROUND; MAX_BODIES + 1];
+        let mut frame = [Frame::GROUND; MAX_BODIES + 1];
         for l in &self.links {
-            pose[l.body + 1] = Self::pose(m, l, &pose[slot(l.parent)].f, t, z, &z[f..2 * f]);
+            frame[l.body + 1] = Self::pose(m, l, &frame[slot(l.parent)], t, z, &z[f..2 * f]).f;
         }
-        for (b, p) in pose[1..=m.bodies.len()].iter().enumerate() {
-            y[3 * b..3 * b + 3].copy_from_slice(&[p.f.r.x, p.f.r.y, p.f.phi]);
-            y[n + 3 * b..n + 3 * b + 3].copy_from_slice(&[p.f.rd.x, p.f.rd.y, p.f.w]);
+        for (b, p) in frame[1..=m.bodies.len()].iter().enumerate() {
+            y[3 * b..3 * b + 3].copy_from_slice(&[p.r.x, p.r.y, p.phi]);
+            y[n + 3 * b..n + 3 * b + 3].copy_from_slice(&[p.rd.x, p.rd.y, p.w]);
         }
         y[2 * n..].copy_from_slice(&z[2 * f..]);
     }
@@ -355,22 +360,23 @@ impl Tree {
         dz: &mut [f64],
         gaps: &mut [f64],
     ) -> Result<()> {
-        // Sized at compile time for each number of freedoms; the driver's column only for
-        // its torque.
+        // Sized at compile time for each number of freedoms (and so of bodies, one more);
+        // the driver's column only for its torque.
         match (self.freedoms, m.energy_accounting) {
-            (1, false) => self.rhs_sized::<1, 1>(m, state, t, z, dz, gaps),
-            (1, true) => self.rhs_sized::<1, 2>(m, state, t, z, dz, gaps),
-            (2, false) => self.rhs_sized::<2, 2>(m, state, t, z, dz, gaps),
-            (2, true) => self.rhs_sized::<2, 3>(m, state, t, z, dz, gaps),
-            (_, false) => self.rhs_sized::<3, 3>(m, state, t, z, dz, gaps),
-            (_, true) => self.rhs_sized::<3, 4>(m, state, t, z, dz, gaps),
+            (1, false) => self.rhs_sized::<1, 1, 3>(m, state, t, z, dz, gaps),
+            (1, true) => self.rhs_sized::<1, 2, 3>(m, state, t, z, dz, gaps),
+            (2, false) => self.rhs_sized::<2, 2, 4>(m, state, t, z, dz, gaps),
+            (2, true) => self.rhs_sized::<2, 3, 4>(m, state, t, z, dz, gaps),
+            (_, false) => self.rhs_sized::<3, 3, 5>(m, state, t, z, dz, gaps),
+            (_, true) => self.rhs_sized::<3, 4, 5>(m, state, t, z, dz, gaps),
         }
     }
 
-    /// [`Tree::rhs`] for `F` freedoms and `C` Jacobian columns: `F`, or `F + 1` with the
-    /// driver's angle when energy accounting needs the driver torque.
+    /// [`Tree::rhs`] for `F` freedoms, `C` Jacobian columns (`F`, or `F + 1` with the
+    /// driver's angle when energy accounting needs the driver torque) and `S = F + 2` body
+    /// slots (the ground, then one per body).
     #[inline]
-    fn rhs_sized<const F: usize, const C: usize>(
+    fn rhs_sized<const F: usize, const C: usize, const S: usize>(
         &self,
         m: &Mechanism,
         state: &RunState,
@@ -380,37 +386,46 @@ impl Tree {
         gaps: &mut [f64],
     ) -> Result<()> {
         debug_assert_eq!(
-            (F, C),
+            (F, C, S),
             (
                 self.freedoms,
-                self.freedoms + usize::from(m.energy_accounting)
+                self.freedoms + usize::from(m.energy_accounting),
+                m.bodies.len() + 1
             )
         );
-        let (u, ud) = (&z[..F], &z[F..2 * F]);
-        // Poses and Jacobians walking the tree, parents first.
-        let mut pose = [GROUND; MAX_BODIES + 1];
-        let mut jac = [Jacobian::<C>::ZERO; MAX_BODIES + 1];
+        let (u, ud) = (chunk::<F>(z), chunk::<F>(&z[F..]));
+        // Frames and Jacobians walking the tree, parents first; slot 0 stays the ground's.
+        let mut frame = [Frame::GROUND; S];
+        let mut jac = [Jacobian::<C>::ZERO; S];
         for l in &self.links {
-            let (p, pj) = (&pose[slot(l.parent)].f, &jac[slot(l.parent)]);
-            let c = Self::pose(m, l, p, t, u, ud);
-            jac[l.body + 1] = Self::jacobian::<F, C>(l, p, pj, &c, ud);
-            pose[l.body + 1] = c;
+            let (p, pj) = (frame[slot(l.parent)], jac[slot(l.parent)]);
+            let c = Self::pose(m, l, &p, t, u, ud);
+            jac[l.body + 1] = Self::jacobian::<F, C>(l, &p, &pj, &c, ud);
+            frame[l.body + 1] = c.f;
         }
-        let bodies = m.bodies.len();
-        let mut force = [0.0; 3 * MAX_BODIES];
+        let mut force = [[0.0; 3]; S];
         let (p_normal, p_friction) = m
-            .applied_forces(state, |b| pose[slot(b)].f, &mut force[..3 * bodies], gaps)
+            .applied_forces(
+                state,
+                |b| frame[slot(b)],
+                &mut force.as_flattened_mut()[3..],
+                gaps,
+            )
             .map_err(|(k, delta)| m.overload(t, k, delta))?;
-        // Lagrange: mass matrix Jᵀ M J (lower triangle) and forces Jᵀ (F − M a).
+        // Lagrange: mass matrix Jᵀ M J (lower triangle) and forces Jᵀ (F − M a), over the
+        // bodies that move with the freedoms (the others add exact zeros).
         let mut mass = [[0.0; F]; F];
         let mut rhs = [0.0; F];
-        for (b, (j, body)) in jac[1..].iter().zip(&m.bodies).enumerate() {
-            let fr = Vector2::new(force[3 * b], force[3 * b + 1]) - j.ar * body.mass;
-            let tau = force[3 * b + 2] - body.inertia * j.aphi;
+        for &b in &self.moving {
+            let (j, body) = (&jac[b + 1], &m.bodies[b]);
+            let f = &force[b + 1];
+            let fr = Vector2::new(f[0], f[1]) - j.ar * body.mass;
+            let tau = f[2] - body.inertia * j.aphi;
             for i in 0..F {
                 rhs[i] += j.r[i].dot(&fr) + j.phi[i] * tau;
-                for (k, m_ik) in mass[i].iter_mut().enumerate().take(i + 1) {
-                    *m_ik += body.mass * j.r[i].dot(&j.r[k]) + body.inertia * j.phi[i] * j.phi[k];
+                for k in 0..=i {
+                    mass[i][k] +=
+                        body.mass * j.r[i].dot(&j.r[k]) + body.inertia * j.phi[i] * j.phi[k];
                 }
             }
         }
@@ -418,20 +433,21 @@ impl Tree {
             time: t,
             cause: "non-finite state: the step is too large for the contact stiffness".into(),
         })?;
-        dz[..F].copy_from_slice(ud);
-        dz[F..2 * F].copy_from_slice(&acc);
+        let (rates, rest) = dz.split_at_mut(F);
+        rates.copy_from_slice(ud);
+        rest[..F].copy_from_slice(&acc);
         if m.energy_accounting {
             // The driver torque is the generalised force along the driver's angle that the
             // motion needs beyond the applied forces: Σ (M q̈ − F) · ∂q/∂φ_driver.
             let (d, mut torque) = (C - 1, 0.0);
-            for (b, (j, body)) in jac[1..].iter().zip(&m.bodies).enumerate() {
+            for ((j, f), body) in jac[1..].iter().zip(&force[1..]).zip(&m.bodies) {
                 let (mut ar, mut aphi) = (j.ar, j.aphi);
                 for (i, a) in acc.iter().enumerate() {
                     ar += j.r[i] * *a;
                     aphi += j.phi[i] * a;
                 }
-                let fr = ar * body.mass - Vector2::new(force[3 * b], force[3 * b + 1]);
-                torque += j.r[d].dot(&fr) + j.phi[d] * (body.inertia * aphi - force[3 * b + 2]);
+                let fr = ar * body.mass - Vector2::new(f[0], f[1]);
+                torque += j.r[d].dot(&fr) + j.phi[d] * (body.inertia * aphi - f[2]);
             }
             dz[2 * F..2 * F + ENERGY_STATES].copy_from_slice(&[
                 torque * m.driver.omega,
@@ -441,6 +457,13 @@ impl Tree {
         }
         Ok(())
     }
+}
+
+/// The first `N` components of `s`, as an array (one length check instead of one per index).
+#[inline(always)]
+fn chunk<const N: usize>(s: &[f64]) -> &[f64; N] {
+    s.first_chunk()
+        .expect("a state of the formulation's length")
 }
 
 /// Solves `A x = b` for the symmetric positive definite `A` given by its lower triangle
