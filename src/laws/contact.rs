@@ -182,7 +182,7 @@ impl ContactLaw {
     }
 
     /// Elastic part F_e (N) at penetration `delta` ≥ 0 (m) and local clearance `delta_r` (m).
-    #[inline]
+    #[inline(always)]
     pub fn elastic_force(&self, delta: f64, delta_r: f64) -> f64 {
         match self.stiffness {
             StiffnessLaw::Hybrid | StiffnessLaw::Hertz => {

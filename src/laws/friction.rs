@@ -42,16 +42,17 @@ impl FrictionModel {
     #[inline]
     pub fn coefficient(&self, v: f64) -> f64 {
         let v = v.abs();
-        match *self {
+        // By reference: copying the whole law out costs as much as the arithmetic.
+        match self {
             FrictionModel::None => 0.0,
-            FrictionModel::Coulomb { mu } => {
+            &FrictionModel::Coulomb { mu } => {
                 if v > 0.0 {
                     mu
                 } else {
                     0.0
                 }
             }
-            FrictionModel::Modified {
+            &FrictionModel::Modified {
                 mu_s,
                 mu_d,
                 v_s,

@@ -2,7 +2,7 @@
 //! Jacobian and `γ = −(Φ_q q̇)_q q̇ − 2Φ_qt q̇ − Φ_tt`, and the accelerations
 //! `q̈ = M⁻¹ (F − Φ_qᵀ λ)` with Baumgarte's `γ̂ = γ − 2α Φ̇ − β² Φ`.
 
-use super::kinematics::{perp, rotate, Frame};
+use super::kinematics::{perp, rotate, sincos, Frame};
 use super::workspace::{Sink, Workspace};
 use super::{BodyIndex, Mechanism};
 use crate::{Error, Result};
@@ -22,7 +22,7 @@ impl Mechanism {
             .enumerate()
             .filter(|(_, (_, &r))| r)
         {
-            *rot = q[3 * i + 2].sin_cos();
+            *rot = sincos(q[3 * i + 2]);
         }
         let rot = &ws.rot;
         let frame = |b: BodyIndex| Frame::of(q, v, b, |i| rot[i]);

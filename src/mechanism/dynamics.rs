@@ -30,16 +30,17 @@ pub fn eigenvalues_by_modulus(jacobian: &DMatrix<f64>) -> Option<Vec<Complex<f64
 
 /// Adds a force `f` applied at rotated offset `s` from the centre of mass of body `b`.
 #[inline]
-fn add_force(force: &mut [f64], b: BodyIndex, s: Vector2<f64>, f: Vector2<f64>) {
+fn add_force(force: &mut [[f64; 3]], b: BodyIndex, s: Vector2<f64>, f: Vector2<f64>) {
     if let Some(i) = b {
-        force[3 * i] += f.x;
-        force[3 * i + 1] += f.y;
-        force[3 * i + 2] += s.x * f.y - s.y * f.x;
+        let [x, y, torque] = &mut force[i];
+        *x += f.x;
+        *y += f.y;
+        *torque += s.x * f.y - s.y * f.x;
     }
 }
 
 impl Mechanism {
-    /// Generalised forces into `force` (3 per body): gravity plus clearance-joint contact
+    /// Generalised forces into `force` (x, y and torque of each body): gravity plus clearance-joint contact
     /// forces (eq. 11), with the bodies' poses and velocities from `frame`; each joint's
     /// penetration into `gaps` (one per clearance joint).
     /// Returns (normal-force power, friction power) into the system, or the clearance joint
@@ -49,13 +50,11 @@ impl Mechanism {
         &self,
         state: &RunState,
         frame: impl Fn(BodyIndex) -> Frame + Copy,
-        force: &mut [f64],
+        force: &mut [[f64; 3]],
         gaps: &mut [f64],
     ) -> std::result::Result<(f64, f64), (usize, f64)> {
-        for (i, b) in self.bodies.iter().enumerate() {
-            force[3 * i] = b.mass * self.gravity.x;
-            force[3 * i + 1] = b.mass * self.gravity.y;
-            force[3 * i + 2] = 0.0;
+        for (f, b) in force.iter_mut().zip(&self.bodies) {
+            *f = [b.mass * self.gravity.x, b.mass * self.gravity.y, 0.0];
         }
         let (mut p_normal, mut p_friction) = (0.0, 0.0);
         for (k, gap) in gaps.iter_mut().enumerate() {
@@ -155,7 +154,7 @@ impl Mechanism {
         let mut force = std::mem::take(&mut ws.force);
         let rot = &ws.rot;
         let frame = |b: BodyIndex| Frame::of(q, v, b, |i| rot[i]);
-        let powers = self.applied_forces(state, frame, &mut force, &mut ws.gaps);
+        let powers = self.applied_forces(state, frame, force.as_chunks_mut().0, &mut ws.gaps);
         ws.force = force;
         let (p_normal, p_friction) = powers.map_err(|(k, delta)| self.overload(t, k, delta))?;
         self.accelerations(ws, t, v, &mut dy[n..2 * n])?;
