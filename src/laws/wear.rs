@@ -413,8 +413,9 @@ mod tests {
         // whole arc's (the oracle's own rounding: a sector's share is the difference of two
         // primitives of the arc's size, exact only to a few ulp of it; in the sector where
         // the arc ends after a sliver both primitives are nearly the whole arc's).
-        // Injected errors: the edge k·w replaced by (k + 1e-9)·w fails by 6e-10 relative;
-        // starting the running index one sector late fails outright.
+        // Injected errors, each failing: the edges at (k + 1e-9)·w (2e-9 relative in the first
+        // case); the running index one sector late (a sector left at 0 against 4.4e-8 m); no
+        // padding refreshed after the update (the seam's depth half the oracle's).
         let l = law(PressureModel::ElasticFoundation);
         let (k_over_h, ds) = (1e-12, 1e-3);
         let alpha = [0.754_877_666_246_693, 0.569_840_290_998_053];
