@@ -88,7 +88,10 @@ impl Mechanism {
         acc: &mut [f64],
     ) -> Result<()> {
         let (alpha, beta) = self.baumgarte;
-        for (a, (f, w)) in acc.iter_mut().zip(ws.force.iter().zip(&ws.inv_mass)) {
+        for (a, (f, w)) in acc
+            .iter_mut()
+            .zip(ws.force.as_flattened().iter().zip(&ws.inv_mass))
+        {
             *a = f * w;
         }
         for ((b, row), g) in ws.lambda.iter_mut().zip(&ws.rows).zip(&ws.gamma) {
@@ -102,7 +105,11 @@ impl Mechanism {
             Err(d) => d,
         };
         // A blown-up state also breaks the solve; only a finite one means bad joints.
-        let cause = if v.iter().chain(&ws.force).all(|x| x.is_finite()) {
+        let cause = if v
+            .iter()
+            .chain(ws.force.as_flattened())
+            .all(|x| x.is_finite())
+        {
             format!(
                 "the linkage locks at driver angle {}: the constraints of {} are dependent \
                  (a dead-centre position, links that cannot reach, or redundant joints)",

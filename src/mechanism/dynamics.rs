@@ -154,7 +154,7 @@ impl Mechanism {
         let mut force = std::mem::take(&mut ws.force);
         let rot = &ws.rot;
         let frame = |b: BodyIndex| Frame::of(q, v, b, |i| rot[i]);
-        let powers = self.applied_forces(state, frame, force.as_chunks_mut().0, &mut ws.gaps);
+        let powers = self.applied_forces(state, frame, &mut force, &mut ws.gaps);
         ws.force = force;
         let (p_normal, p_friction) = powers.map_err(|(k, delta)| self.overload(t, k, delta))?;
         self.accelerations(ws, t, v, &mut dy[n..2 * n])?;

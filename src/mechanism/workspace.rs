@@ -88,8 +88,8 @@ pub struct Workspace {
     pub(super) mass: Vec<f64>,
     /// Diagonal of M⁻¹ per coordinate, zero for the solved ones.
     pub(super) inv_mass: Vec<f64>,
-    /// Applied forces F.
-    pub(super) force: Vec<f64>,
+    /// Applied forces F: x, y and torque of each body.
+    pub(super) force: Vec<[f64; 3]>,
     /// Storage of each equation, in the order `constraints` visits them.
     pub(super) slot: Vec<Slot>,
     /// The equations solved for one coordinate, in the order they are solved (driver first).
@@ -212,7 +212,7 @@ impl Workspace {
             rotates,
             inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
             mass,
-            force: vec![0.0; n],
+            force: vec![[0.0; 3]; n / 3],
             slot: (0..equations).map(Slot::Row).collect(),
             rows: vec![Row::default(); equations],
             gamma: vec![0.0; equations],
@@ -375,7 +375,8 @@ impl Workspace {
         let mut lambda = 0.0;
         for s in ws.solved.iter().rev() {
             let k = s.coord;
-            lambda = (ws.force[k] - ws.mass[k] * acc[k] - ws.reaction[k]) * s.inv_coef;
+            lambda =
+                (ws.force.as_flattened()[k] - ws.mass[k] * acc[k] - ws.reaction[k]) * s.inv_coef;
             add(&mut ws.reaction, &s.row, lambda);
         }
         // The driver's equation is solved first, so its multiplier comes last.
