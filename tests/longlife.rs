@@ -130,8 +130,9 @@ fn prediction_stops_when_the_clearance_doubles() {
     // Reached within one simulated rotation, never by an extrapolated block: the stage before
     // is one rotation earlier and below the limit. (A bound on the overshoot in µm would be a
     // bound on one chaotic rotation's wear: near the doubled clearance it is 0.1-1.5 µm
-    // depending on the impact sequence; 1.5 µm on the joint-coordinate trajectory.) Fails if
-    // a block may cross the limit (to_limit dropped from the block length).
+    // depending on the impact sequence; 1.5 µm on the joint-coordinate trajectory.) Fails when
+    // a block's wear is extrapolated 3x (the block then crosses the limit); dropping the block's
+    // to_limit bound alone does not fail it here, as max_change keeps the blocks short of it.
     let previous = &life.history[life.history.len() - 2];
     assert_eq!(previous.rotations + 1, at);
     let before = previous.max_depth(0);
