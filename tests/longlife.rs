@@ -136,7 +136,10 @@ fn prediction_stops_when_the_clearance_doubles() {
     let previous = &life.history[life.history.len() - 2];
     assert_eq!(previous.rotations + 1, at);
     let before = previous.max_depth(0);
-    assert!(before < c && depth >= c, "{before:e}, {depth:e} against {c:e}");
+    assert!(
+        before < c && depth >= c,
+        "{before:e}, {depth:e} against {c:e}"
+    );
     // about 10 µm per 100 rotations at first: a few hundred rotations, not millions
     assert!((100..2000).contains(&at), "{at}");
     assert!(life

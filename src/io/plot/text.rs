@@ -283,6 +283,9 @@ mod tests {
         let small = rasterised(font, 18.0, "0.5 µm");
         assert_eq!(*small, rasterise(font, 18.0, "0.5 µm"));
         assert_ne!(*small, *big);
-        assert_eq!(*rasterised(font, 22.0, "0.6 µm"), rasterise(font, 22.0, "0.6 µm"));
+        assert_eq!(
+            *rasterised(font, 22.0, "0.6 µm"),
+            rasterise(font, 22.0, "0.6 µm")
+        );
     }
 }
