@@ -18,7 +18,9 @@ fn tiny(f: &mut SceneFile) {
     f.clearance[0].clearance_mm = 0.004;
     f.run.rotations = 1;
     f.run.wear_snapshots.clear();
-    f.run.max_steps = 200_000;
+    // The test's time budget: hertz with hu-guo takes about 4.9e4 steps a rotation here in
+    // continuous contact (joint coordinates at rtol 2e-7), so five rotations need 2.5e5.
+    f.run.max_steps = 300_000;
     if let Some(s) = f.run.steady_state.as_mut() {
         s.max_rotations = 4;
     }
@@ -46,7 +48,12 @@ fn every_law_appears_with_its_statistics_or_its_error() {
     // Pereira refused with the scene check's error, not dropped (checked: returning no rows for
     // a failed run fails the pairs' assertion above)
     let failed: Vec<_> = rows.iter().filter(|r| r.quantity == RUN_FAILED).collect();
-    assert_eq!(failed.len(), 1);
+    assert_eq!(
+        failed.len(),
+        1,
+        "{:?}",
+        failed.iter().map(|r| (&r.stiffness, &r.dissipation, &r.error)).collect::<Vec<_>>()
+    );
     assert_eq!(failed[0].stiffness, "pereira");
     assert!(
         failed[0].error.contains("clearance_mm"),
