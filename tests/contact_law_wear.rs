@@ -52,7 +52,10 @@ fn every_law_appears_with_its_statistics_or_its_error() {
         failed.len(),
         1,
         "{:?}",
-        failed.iter().map(|r| (&r.stiffness, &r.dissipation, &r.error)).collect::<Vec<_>>()
+        failed
+            .iter()
+            .map(|r| (&r.stiffness, &r.dissipation, &r.error))
+            .collect::<Vec<_>>()
     );
     assert_eq!(failed[0].stiffness, "pereira");
     assert!(
