@@ -271,7 +271,9 @@ impl WearProfile {
     /// moment wear leaves the model's validity.
     pub fn add_wear(&mut self, theta: f64, pressure: &Pressure, k_over_h: f64, ds: f64) -> f64 {
         let scale = k_over_h * pressure.peak * ds / self.width;
-        if scale <= 0.0 {
+        // A NaN angle would cast to sector 0 and wear a whole arc there; the old walk added
+        // nothing for it, and neither does this one.
+        if scale <= 0.0 || !theta.is_finite() {
             return 0.0;
         }
         let n = self.sectors();

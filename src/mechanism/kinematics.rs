@@ -99,8 +99,8 @@ fn direction_angle(v: Vector2<f64>) -> f64 {
 }
 
 /// Largest `|x|` (rad) that [`sincos`] reduces itself: below 2³⁰ the products of the
-/// reduction's multiple of π/4 with its first two parts are exact (those parts have 22 and 21
-/// significant bits). Beyond it (a driver 170 million turns on) it calls libm.
+/// reduction's multiple of π/4 with its first two parts are exact (the multiple is even and
+/// below 2³¹, so it has at most 30 significant bits; the parts have 23 and 21). Beyond it (a driver 170 million turns on) it calls libm.
 const SINCOS_LIMIT: f64 = 1_073_741_824.0;
 
 /// `(sin x, cos x)` within 2 ulp of libm's `x.sin_cos()` (plus 2⁻⁷⁰ absolute near their zeros;
@@ -344,8 +344,17 @@ mod tests {
     /// reduction's absolute error 2⁻⁷⁰ allowed on top (it matters only within ~1e-6 of a zero).
     fn sincos_error(x: f64) -> f64 {
         let ((s, c), (ls, lc)) = (sincos(x), x.sin_cos());
-        let ulps =
-            |a: f64, b: f64| ((a - b).abs() - 2f64.powi(-70)).max(0.0) / (f64::EPSILON * b.abs());
+        // In units of b's own ulp (the gap to the next float away from zero); a NaN is
+        // infinitely wrong rather than dropped by `max`.
+        let ulps = |a: f64, b: f64| {
+            let ulp = b.abs().next_up() - b.abs();
+            let e = ((a - b).abs() - 2f64.powi(-70)).max(0.0) / ulp;
+            if a.is_finite() {
+                e
+            } else {
+                f64::INFINITY
+            }
+        };
         ulps(s, ls).max(ulps(c, lc))
     }
 

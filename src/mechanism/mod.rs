@@ -39,8 +39,9 @@
 //! A mechanism whose ideal joints form a tree rooted at the ground (its loops close only
 //! through clearance joints, as in the slider-crank) is integrated in joint coordinates
 //! (`tree`): one coordinate per ideal-joint freedom, no constraints, no drift. Otherwise (a
-//! closed ideal loop, such as the four-bar's) the run integrates the absolute coordinates
-//! above. Everything outside the integrator's state (events, wear, recording, outputs) sees
+//! closed loop of ideal joints, more than `MAX_TREE_FREEDOMS` freedoms, a slide on the driven
+//! body, or a body held only by clearance joints as in `two_clearance`) the run integrates the
+//! absolute coordinates above. Everything outside the integrator's state (events, wear, recording, outputs) sees
 //! the absolute coordinates: [`Mechanism::absolute_state`] maps one to the other.
 
 mod assembly;

@@ -21,7 +21,7 @@ use nalgebra::Vector2;
 
 /// Most ideal-joint freedoms integrated in joint coordinates; a tree with more keeps the
 /// absolute coordinates. Every shipped tree scene has 2 (the slider-crank's rod angle and
-/// slider position).
+/// slider position; the four-bar's coupler and rocker angles).
 pub const MAX_TREE_FREEDOMS: usize = 3;
 
 /// Each body of a tree adds a freedom except the driven one.
@@ -89,8 +89,8 @@ const fn shape_code(links: &[(usize, usize)], moving: u64) -> u64 {
     code
 }
 
-/// The shape of a driven crank and a second body on the ground with a third body on the crank,
-/// in that body order, the last two moving: the standard slider-crank (crank, rod, slider) and
+/// The shape of a driven crank (body 0), a second body on the crank (body 1) and a third on the
+/// ground (body 2), the last two moving: the standard slider-crank (crank, rod, slider) and
 /// the four-bar whose coupler-rocker pin has the clearance (crank, coupler, rocker).
 const SLIDER_CRANK: u64 = shape_code(&[(0, 1), (0, 3), (1, 2)], 0b1100);
 

@@ -153,8 +153,8 @@ fn default_tolerance(scene: &SceneSetting, chosen: Option<f64>, ratios: &str) ->
     format!(
         "**Default tolerance.** The loosest Dopri5 tolerance at which (and below which) the first-rotation \
          orbit error is at most {ORBIT_BOUND_UM} µm ({:.2}% of the standard clearance; what absolute coordinates \
-         reached at rtol 1e-7, the scenes' setting before joint coordinates, so changing the formulation kept \
-         the accuracy) and the peak-force error \
+         reached at rtol 1e-7, the scenes' setting before joint coordinates, the bound for keeping that \
+         accuracy) and the peak-force error \
          at most {FORCE_BOUND:e}: {choice}; {verdict}. The ensemble-mean wear profile against the reference \
          ensemble's, and that error over its sampling error: {ratios}. An error within about twice its sampling \
          error cannot be told from the reference with {WP_MEMBERS} members. A Rosenbrock method (RODAS3, \
@@ -448,7 +448,8 @@ pub(super) fn performance_section(md: &mut String) {
              The hot path is the right-hand side. The standard scene's ideal joints form a tree (its loop closes \
              through the clearance joint), so a run integrates it in joint coordinates (`mechanism/tree.rs`: the \
              rod's angle and the slider's position, the crank prescribed, Lagrange's equations with a 2×2 mass \
-             matrix, no constraint drift); closed ideal loops keep the absolute coordinates (`Mechanism::rhs`: \
+             matrix, no constraint drift); other linkages (a closed loop of ideal joints, more than 3 freedoms, a body \
+             held only by clearance joints as in two_clearance) keep the absolute coordinates (`Mechanism::rhs`: \
              Baumgarte-stabilised constraints, the diagonal mass matrix, an unrolled LDLᵀ of the constraint system \
              after every equation fixing one coordinate is solved directly, a 2×2 system for the slider-crank). \
              `tests/formulations.rs` checks that both give the same body accelerations and powers, in and out of \
@@ -500,7 +501,7 @@ pub(super) fn performance_section(md: &mut String) {
              accuracy, so per evaluation and per step are the fair measures), and the 800 M target is missed. \
              What remains per evaluation: kinematics with two `sincos`, the contact angle and geometry (about 360), \
              the tree walk and Lagrange's sums (about 320), arithmetic (155), bounds checks (about 100), the wear \
-             lookup (91), the force laws (77); per attempt the integrator's 1 200 (the stage sums are not \
+             lookup (91), the force laws (77), calls and copies the rest; per attempt the integrator's 1 200 (the stage sums are not \
              vectorised; a Dopri5 unrolled with constant coefficients was not tried); per step the wear update \
              (885: about 11 sector edges of the Hertz arc, each with an `asin`) and the absolute state at the \
              step's midpoint for the wear (about 800, recomputing two of the step's `sincos`). A standalone \
@@ -516,7 +517,8 @@ pub(super) fn performance_section(md: &mut String) {
              2026-11-26. On that day, in one call alternating the two programs (15 runs each, not rerun by the \
              report), the no-record standard process took 0.251 s (median; 0.223-0.298) against 0.304 s \
              (0.282-0.457) for the program before this work (commit 5b4dc15), a median paired ratio of 0.76 \
-             (0.61-0.87): the instructions fell by 48 %, the wall time by about a quarter.\n\n",
+             (0.61-0.87): the instructions fell by 48 %, the wall time by about a quarter (one trajectory each, \
+             the new at rtol 2e-7 in joint coordinates, the old at 1e-7 in absolute coordinates).\n\n",
         );
     md.push_str("How run time grows with simulated rotations and with clearance (`cargo run --release --bin scaling`):\n\n");
     csv_table(md, "scaling.csv", "cargo run --release --bin scaling");
@@ -621,7 +623,9 @@ fn step_limit() -> String {
          {STEP_LIMIT_EVERY}th accepted step of the same 40-rotation run ({} samples; the journal in contact, \
          beyond the Jacobian's {:e} m difference step, at {} of them), the eigenvalues λ of the right-hand \
          side's Jacobian (central differences, `Mechanism::rhs_jacobian`; `tests/model.rs` checks the fastest \
-         against eq. 1-3 linearised by hand) and the step h taken. The binding eigenvalue, the one whose h|λ| is \
+         against eq. 1-3 linearised by hand; it is the absolute-coordinate system's Jacobian at the states of the \
+         run, which integrates joint coordinates: the contact vibration is the same physics in both, but the \
+         integrated system's own Jacobian was not sampled) and the step h taken. The binding eigenvalue, the one whose h|λ| is \
          the largest fraction of the step at which Dopri5 turns unstable along λ's direction \
          (`Method::stability_boundary`, median {:.1} there; {} of the {} samples have one), is the journal's \
          vibration on its contact ({} samples overdamped): |λ| median {} s⁻¹ (natural frequency {:.1} kHz; 5\u{2013}95 %: \
