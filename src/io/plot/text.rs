@@ -14,9 +14,6 @@
 //! centres the capital height in it, so a label anchored at its vertical centre sits on its
 //! tick.
 
-use std::cell::RefCell;
-use std::collections::HashMap;
-use std::rc::Rc;
 use std::sync::OnceLock;
 
 use ab_glyph::{point, Font, FontRef, GlyphId, PxScale, ScaleFont};
@@ -60,7 +57,7 @@ fn box_size(width: f32, size: f64) -> (i32, i32) {
 
 /// Rasterises `text` into `(x, y, coverage)` pixels relative to the top-left corner of its
 /// layout box (before anchoring and rotation).
-fn rasterise(font: &FontRef<'static>, size: f64, text: &str) -> Raster {
+fn rasterise(font: &FontRef<'static>, size: f64, text: &str) -> (Vec<(i32, i32, f32)>, f32) {
     let scale = PxScale::from(size as f32);
     let scaled = font.as_scaled(scale);
     let (glyphs, width) = layout(font, size, text);
@@ -87,35 +84,6 @@ fn rasterise(font: &FontRef<'static>, size: f64, text: &str) -> Raster {
         }
     }
     (pixels, width)
-}
-
-/// Pixels of a rasterised string and its advance, as [`rasterise`] returns them.
-type Raster = (Vec<(i32, i32, f32)>, f32);
-
-/// Strings the cache of [`rasterised`] holds before it starts over: a bound on its memory in a
-/// program that draws many figures (a few hundred kB at most).
-const RASTER_CACHE_LEN: usize = 256;
-
-/// [`rasterise`] of the embedded font, each string and size rasterised once per thread: the
-/// figures of a program repeat their tick labels and axis descriptions (a run's two wear
-/// figures share most of their text). The raster depends on nothing else, so a cached string
-/// draws the identical pixels.
-fn rasterised(font: &FontRef<'static>, size: f64, text: &str) -> Rc<Raster> {
-    thread_local! {
-        static CACHE: RefCell<HashMap<(String, u64), Rc<Raster>>> = RefCell::default();
-    }
-    CACHE.with_borrow_mut(|cache| {
-        let key = (text.to_owned(), size.to_bits());
-        if let Some(raster) = cache.get(&key) {
-            return Rc::clone(raster);
-        }
-        if cache.len() >= RASTER_CACHE_LEN {
-            cache.clear();
-        }
-        let raster = Rc::new(rasterise(font, size, text));
-        cache.insert(key, Rc::clone(&raster));
-        raster
-    })
 }
 
 /// The bitmap backend with this module's text rendering (module documentation).
@@ -236,9 +204,8 @@ impl<'a> DrawingBackend for GlyphBackend<'a> {
         let Some(font) = font() else {
             return self.inner.draw_text(text, style, pos);
         };
-        let raster = rasterised(font, style.size(), text);
-        let (pixels, width) = &*raster;
-        let (width, height) = box_size(*width, style.size());
+        let (pixels, width) = rasterise(font, style.size(), text);
+        let (width, height) = box_size(width, style.size());
         let dx = match style.anchor().h_pos {
             HPos::Left => 0,
             HPos::Right => -width,
@@ -251,7 +218,7 @@ impl<'a> DrawingBackend for GlyphBackend<'a> {
         };
         let transform = style.transform();
         let (w, h) = self.get_size();
-        for &(x, y, coverage) in pixels {
+        for (x, y, coverage) in pixels {
             let (x, y) = transform.transform(x + dx, y + dy);
             let (x, y) = (pos.0 + x, pos.1 + y);
             if x >= 0 && x < w as i32 && y >= 0 && y < h as i32 {
@@ -266,26 +233,5 @@ impl<'a> DrawingBackend for GlyphBackend<'a> {
             }
         }
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A cached string is the string at its own size: would fail if the cache's key left out
-    /// the size (the 22 px raster returned for 18 px).
-    #[test]
-    fn cached_rasters_are_those_of_their_string_and_size() {
-        let font = font().unwrap();
-        let big = rasterised(font, 22.0, "0.5 µm");
-        assert!(Rc::ptr_eq(&big, &rasterised(font, 22.0, "0.5 µm")));
-        let small = rasterised(font, 18.0, "0.5 µm");
-        assert_eq!(*small, rasterise(font, 18.0, "0.5 µm"));
-        assert_ne!(*small, *big);
-        assert_eq!(
-            *rasterised(font, 22.0, "0.6 µm"),
-            rasterise(font, 22.0, "0.6 µm")
-        );
     }
 }

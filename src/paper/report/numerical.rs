@@ -478,7 +478,8 @@ pub(super) fn performance_section(md: &mut String) {
              step; the profile padded at its seam for the lookup (bit-identical), 110 → 91 per evaluation; a run's \
              two PNGs encoded in memory with the Paeth filter and fast deflate instead of plotters' per-row choice \
              of filter (pixels identical; a wear figure 76 → 82 kB; the Up filter saved 12 M more but doubled the \
-             files), −32 M; each text rasterised once per size, −2.2 M. Together: 1 990 M → 1 226 M (88 249 \
+             files), −32 M (a cache of rasterised texts saved 2.2 M more and was removed as not worth its \
+             code). Together: 1 990 M → 1 228 M (88 249 \
              steps, 599 745 evaluations: 1 264 instructions per evaluation, 1 200 per attempt, 885 per step for \
              wear, 59 M of outputs); fourbar 1 739 M → 1 224 M; two_clearance (absolute coordinates, three \
              bodies) 2 790 M → 2 330 M.\n\n\
@@ -496,7 +497,7 @@ pub(super) fn performance_section(md: &mut String) {
              96 560 steps and 665 124 evaluations, against 109 717 and 761 770 at rtol 1e-7 and 72 499 and \
              559 289 for absolute coordinates at 1e-7 (first rotation: 14 170 evaluations against 12 048), so at \
              equal accuracy joint coordinates need about 19 % more evaluations and gain only per evaluation. \
-             Against absolute coordinates at rtol 1e-7 (2 337 M) the standard run now takes 1 226 M (a single \
+             Against absolute coordinates at rtol 1e-7 (2 337 M) the standard run now takes 1 228 M (a single \
              trajectory; on average over members joint coordinates take about 19 % more evaluations at equal \
              accuracy, so per evaluation and per step are the fair measures), and the 800 M target is missed. \
              What remains per evaluation: kinematics with two `sincos`, the contact angle and geometry (about 360), \
