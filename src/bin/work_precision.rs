@@ -1,9 +1,22 @@
 //! The work-precision study (see `jointwear::paper::studies::work_precision`): writes
-//! `data/work_precision.csv` and `figures/work_precision.png` and prints the error floor and
-//! the default tolerance. `work_precision --redraw` only redraws the figure from the CSV.
+//! `data/work_precision.csv`, `figures/work_precision.png` and the default-tolerance rule's
+//! `data/work_precision_members.csv`, and prints the error floor and the default tolerance.
+//! `work_precision --redraw` only redraws the figure from the CSV; `work_precision --rule` only
+//! measures the rule over members (`jointwear::paper::studies::tolerance_rule`).
 use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
 use jointwear::paper::studies;
+use jointwear::paper::studies::tolerance_rule::{pick, rule_rows, Reading, RuleRow, RULE_FILE};
+
+/// Prints what the rule picks from `rule` by each reading.
+fn print_picks(rule: &[RuleRow]) {
+    for reading in [Reading::Median, Reading::Pessimistic, Reading::Optimistic] {
+        println!(
+            "default Dopri5 rtol by the rule, {reading:?}: {:?}",
+            pick(rule, reading)
+        );
+    }
+}
 
 fn main() {
     if std::env::args().any(|a| a == "--redraw") {
@@ -11,13 +24,18 @@ fn main() {
         println!("redrew figures/work_precision.png from data/work_precision.csv");
         return;
     }
+    if std::env::args().any(|a| a == "--rule") {
+        let bar = progress_bar(0, "members");
+        let rule = exit_on_error(rule_rows(&bar));
+        bar.finish_and_clear();
+        println!("wrote data/{RULE_FILE}");
+        print_picks(&rule);
+        return;
+    }
     let bar = progress_bar(0, "work-precision runs");
     let wp = exit_on_error(studies::work_precision(&bar));
     bar.finish_and_clear();
-    println!("wrote data/work_precision.csv and figures/work_precision.png");
+    println!("wrote data/work_precision.csv, figures/work_precision.png and data/{RULE_FILE}");
     println!("error floor (reference disagreement): {:?}", wp.floor);
-    println!(
-        "default Dopri5 rtol by the stated rule: {:?}",
-        wp.default_rtol
-    );
+    print_picks(&wp.rule);
 }

@@ -1,7 +1,8 @@
 //! Numerical studies of the integration itself: how error trades against run
 //! time ([`work_precision`](mod@work_precision)), whether the paper's results depend on
 //! integration accuracy ([`accuracy`]), whether Table 3's ensembles need the scenes' tolerance
-//! ([`ensemble_tolerance`](mod@ensemble_tolerance)), and whether stiff and extreme cases run to completion
+//! ([`ensemble_tolerance`](mod@ensemble_tolerance)), which tolerance the scenes take
+//! ([`tolerance_rule`]), and whether stiff and extreme cases run to completion
 //! ([`stability`](mod@stability)), and what each contact law does to one impact
 //! ([`contact_laws`]), and how much the predicted wear depends on the contact law
 //! ([`contact_law_wear`]). Each study writes `data/<study>.csv` (and a figure where it
@@ -16,6 +17,7 @@ pub mod contact_laws;
 pub mod ensemble_tolerance;
 pub mod integration;
 pub mod stability;
+pub mod tolerance_rule;
 pub mod work_precision;
 pub mod work_precision_figure;
 
@@ -31,7 +33,7 @@ pub use stability::{
 };
 pub use work_precision::{
     work_precision, work_precision_settings, wp_max_step, EnsembleWearError, Errors, WorkPrecision,
-    WorkRow, FORCE_BOUND, ORBIT_BOUND_UM, REFERENCE, SECOND_REFERENCE, WP_ENSEMBLE_MAX_EVALUATIONS,
-    WP_MAX_STEP, WP_MEMBERS,
+    WorkRow, FORCE_BOUND, REFERENCE, SECOND_REFERENCE, WP_ENSEMBLE_MAX_EVALUATIONS, WP_MAX_STEP,
+    WP_MEMBERS,
 };
 pub use work_precision_figure::redraw_work_precision;

@@ -27,22 +27,15 @@
 //!   Settings whose single run takes more than [`WP_ENSEMBLE_MAX_EVALUATIONS`] evaluations are left out of the
 //!   ensemble measure (their 16 members would take minutes) and say so.
 //!
-//! Rule for the default tolerance ([`WorkPrecision::default_rtol`]): the loosest Dopri5 rtol
-//! at which, and at every tighter rtol, the first-rotation orbit error is at most
-//! [`ORBIT_BOUND_UM`] and the peak-force error at most [`FORCE_BOUND`]: the trajectories,
-//! forces and concordances of the figures are then converged. The orbit bound is the error the
-//! scenes' setting had before the standard scene was integrated in joint coordinates (absolute
-//! coordinates at rtol 1e-7): joint coordinates met it at rtol 2e-7 when it was chosen
-//! (0.0080 µm; 0.0110 at 1e-7, 0.0296 at 3e-7, 0.093 at 1e-6), [`SCENE_RTOL`]. After the hot
-//! path's rounding changes (`sincos`, `atan`, `asin` within 2 ulp of libm) the study measures
-//! 0.0180 µm at 2e-7 and 0.0156 µm at 1e-7, so the rule picks 1e-7; the scenes keep 2e-7, the
-//! choice between the two lying within what rounding alone moves one trajectory. An error norm over the absolute coordinates the joint coordinates map to
-//! (the old norm's scale) was measured too and needed more evaluations at that accuracy
-//! (0.0221 µm at rtol 1e-7 with 14 330 first-rotation evaluations, against 14 170 for 0.0080 µm).
+//! Rule for the default tolerance ([`WorkPrecision::rule`]): the first-rotation orbit
+//! and force errors measured over ensemble members, with the old setting's accuracy over the
+//! same members as the bound ([`super::tolerance_rule`]); the single-trajectory errors of this
+//! study's CSV draw one sample of them.
 //! The 40-rotation wear profile is reported, not used: after many impacts it can follow another
 //! impact sequence (about 1 % RMS, without a trend in the tolerance).
 
 use super::integration::Integration;
+use super::tolerance_rule::{rule_rows, RuleRow};
 use super::work_precision_figure::{plot_work_precision, Point};
 use crate::analysis::statistics::Band;
 use crate::io::output::{read_rows, write_rows};
@@ -52,7 +45,7 @@ use crate::paper::cases::{wear_run_with, Need, Runs, CASES};
 use crate::paper::figures::output_path;
 use crate::scene::{scene_path, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
-use crate::simulation::simulate;
+use crate::simulation::{simulate, RunOutput};
 use crate::Result;
 
 /// Step cap of the adaptive work-precision runs (s): far above the steps the tolerances choose.
@@ -93,11 +86,53 @@ pub const ODE45_PAPER: Integration = Integration {
     max_step: 1e-5,
 };
 
-/// What the work-precision study compares between two runs.
-struct Measured {
+/// What the first rotation of a run recorded every [`WP_RECORD_INTERVAL`] (after
+/// [`first_rotation_only`]) shows of its integration error.
+pub(super) struct FirstRotation {
     ex: Vec<f64>,
     ey: Vec<f64>,
     peak_force: f64,
+    /// Right-hand-side evaluations of the rotation.
+    pub(super) evaluations: u64,
+}
+
+impl FirstRotation {
+    /// The journal orbit and peak contact force of the first clearance joint of `out`.
+    pub(super) fn of(out: &RunOutput) -> FirstRotation {
+        let j = &out.recording.joints[0];
+        FirstRotation {
+            ex: j.ex.clone(),
+            ey: j.ey.clone(),
+            peak_force: j.normal_force.iter().cloned().fold(0.0, f64::max),
+            evaluations: out.stats.evaluations,
+        }
+    }
+
+    /// The orbit error (max journal-centre distance, µm) and the relative peak-force error
+    /// against `r`.
+    pub(super) fn errors(&self, r: &FirstRotation) -> (f64, f64) {
+        let orbit = (self.ex.iter().zip(&self.ey))
+            .zip(r.ex.iter().zip(&r.ey))
+            .map(|((x, y), (xr, yr))| (x - xr).hypot(y - yr))
+            .fold(0.0, f64::max);
+        (
+            orbit * 1e6,
+            (self.peak_force - r.peak_force).abs() / r.peak_force,
+        )
+    }
+}
+
+/// Sets `f` to run its first rotation only, recorded every [`WP_RECORD_INTERVAL`].
+pub(super) fn first_rotation_only(f: &mut SceneFile) {
+    f.run.rotations = 1;
+    f.run.record_rotations = 1;
+    f.run.record_interval_s = WP_RECORD_INTERVAL;
+    f.run.wear_snapshots.clear();
+}
+
+/// What the work-precision study compares between two runs.
+struct Measured {
+    first: FirstRotation,
     wear: Vec<f64>,
     wall_time: f64,
     stats: Stats,
@@ -154,11 +189,12 @@ pub struct WorkPrecision {
     pub rows: Vec<WorkRow>,
     /// Error of [`SECOND_REFERENCE`] against [`REFERENCE`].
     pub floor: Errors,
-    /// Default rtol by the module's rule; `None` if no Dopri5 setting meets it.
-    pub default_rtol: Option<f64>,
+    /// The default-tolerance rule's measurement over members ([`rule_rows`]), from which
+    /// [`super::tolerance_rule::pick`] chooses.
+    pub rule: Vec<RuleRow>,
 }
 
-fn standard() -> Result<SceneFile> {
+pub(super) fn standard() -> Result<SceneFile> {
     SceneFile::read(scene_path(CASES.standard.scene))
 }
 
@@ -175,17 +211,11 @@ fn measure(int: &Integration) -> Result<Measured> {
     };
     let mut f = standard()?;
     apply(&mut f);
-    f.run.rotations = 1;
-    f.run.record_rotations = 1;
-    f.run.record_interval_s = WP_RECORD_INTERVAL;
-    f.run.wear_snapshots.clear();
-    let first = simulate(&f.build()?)?;
-    let j = &first.recording.joints[0];
+    first_rotation_only(&mut f);
+    let first = FirstRotation::of(&simulate(&f.build()?)?);
     let (_, wear) = wear_run_with(CASES.standard.scene, 0, apply)?;
     Ok(Measured {
-        ex: j.ex.clone(),
-        ey: j.ey.clone(),
-        peak_force: j.normal_force.iter().cloned().fold(0.0, f64::max),
+        first,
         wear: wear.final_wear[0].clone(),
         wall_time: wear.wall_time,
         stats: wear.stats,
@@ -193,12 +223,7 @@ fn measure(int: &Integration) -> Result<Measured> {
 }
 
 fn errors(m: &Measured, r: &Measured) -> Errors {
-    let orbit =
-        m.ex.iter()
-            .zip(&m.ey)
-            .zip(r.ex.iter().zip(&r.ey))
-            .map(|((x, y), (xr, yr))| (x - xr).hypot(y - yr))
-            .fold(0.0, f64::max);
+    let (orbit_um, force_rel) = m.first.errors(&r.first);
     let ms = m
         .wear
         .iter()
@@ -208,8 +233,8 @@ fn errors(m: &Measured, r: &Measured) -> Errors {
         / r.wear.len() as f64;
     let depth = r.wear.iter().cloned().fold(0.0, f64::max);
     Errors {
-        orbit_um: orbit * 1e6,
-        force_rel: (m.peak_force - r.peak_force).abs() / r.peak_force,
+        orbit_um,
+        force_rel,
         wear_rel: ms.sqrt() / depth,
     }
 }
@@ -238,7 +263,8 @@ pub fn work_precision_settings() -> Vec<Integration> {
 
 /// The work-precision study (see the module documentation); `progress` is told each run and
 /// wear ensemble.
-/// Writes `data/work_precision.csv` and `figures/work_precision.png`.
+/// Writes `data/work_precision.csv`, `figures/work_precision.png` and the rule's
+/// `data/work_precision_members.csv`.
 pub fn work_precision(progress: &dyn Progress) -> Result<WorkPrecision> {
     let settings = work_precision_settings();
     // the reference, every setting and the second reference; the ensembles are added once known
@@ -297,15 +323,11 @@ pub fn work_precision(progress: &dyn Progress) -> Result<WorkPrecision> {
         let e = wear_ensemble(&r.integration, 1)?;
         r.ensemble = Some(ensemble_error(&e, &reference));
     }
-    let default_rtol = pick_default(rows.iter().map(|r| (r.integration, r.errors)));
     write_work_precision(&rows)?;
     let points: Vec<Point> = rows.iter().map(Point::of).collect();
     plot_work_precision(&points, &floor)?;
-    Ok(WorkPrecision {
-        rows,
-        floor,
-        default_rtol,
-    })
+    let rule = rule_rows(progress)?;
+    Ok(WorkPrecision { rows, floor, rule })
 }
 
 /// Per sector, the mean and sd of the 40-rotation wear profile over [`WP_MEMBERS`] members.
@@ -339,37 +361,12 @@ fn ensemble_error(e: &Band, reference: &Band) -> EnsembleWearError {
     }
 }
 
-/// Largest first-rotation orbit error of the default tolerance (µm): that of absolute
-/// coordinates at rtol 1e-7, the scenes' setting before joint coordinates (0.0166 µm; the
-/// earlier bound, 0.5 % of the 20 µm clearance, would have allowed rtol 1e-6).
-pub const ORBIT_BOUND_UM: f64 = 0.0166;
 /// Largest relative peak-force error of the default tolerance: above the floor of about 2e-5
 /// that sampling the peak every 1 µs sets at every tolerance.
 pub const FORCE_BOUND: f64 = 1e-4;
 /// The scenes' Dopri5 rtol (atol `1e-3·rtol`), chosen by the module's rule before the hot
 /// path's rounding changes (the rule now picks 1e-7; module docs).
 pub const SCENE_RTOL: f64 = 2e-7;
-
-/// The module's rule on `rows` (each setting with its errors, `None` if it failed): the
-/// loosest Dopri5 rtol from which on (tighter) the orbit and force errors are within their
-/// bounds.
-pub fn pick_default(rows: impl IntoIterator<Item = (Integration, Option<Errors>)>) -> Option<f64> {
-    let mut sweep: Vec<(Integration, Option<Errors>)> = rows
-        .into_iter()
-        .filter(|(int, _)| {
-            int.method == Method::Dopri5 && *int != SECOND_REFERENCE && *int != ODE45_PAPER
-        })
-        .collect();
-    sweep.sort_by(|a, b| a.0.rtol.total_cmp(&b.0.rtol));
-    // tightest first: walk towards looser while the bound holds
-    sweep
-        .iter()
-        .take_while(|(_, e)| {
-            e.is_some_and(|e| e.orbit_um <= ORBIT_BOUND_UM && e.force_rel <= FORCE_BOUND)
-        })
-        .last()
-        .map(|(int, _)| int.rtol)
-}
 
 /// Column of `data/work_precision.csv`: the method.
 const METHOD: &str = "method";
@@ -438,36 +435,6 @@ pub fn read_ensemble_wear_errors() -> Option<Vec<EnsembleCost>> {
         })
         .collect();
     Some(parsed)
-}
-
-/// Every setting of the study (references included) with the errors an earlier run wrote to
-/// `data/work_precision.csv` (`None` for a failed run), in the file's order; `None` when the
-/// file or one of its columns is missing. A row is matched to its setting by method and
-/// [`Integration::setting`], so a setting no longer in the study is left out.
-pub fn read_errors() -> Option<Vec<(Integration, Option<Errors>)>> {
-    let (header, rows) = read_rows(&output_path("data", "work_precision.csv")).ok()?;
-    let col = |name: &str| header.iter().position(|h| h == name);
-    let (method, setting) = (col(METHOD)?, col(SETTING)?);
-    let errors = ERRORS.map(col);
-    let [Some(orbit), Some(force), Some(wear)] = errors else {
-        return None;
-    };
-    let known: Vec<Integration> = (work_precision_settings().into_iter())
-        .chain([SECOND_REFERENCE, REFERENCE])
-        .collect();
-    let parsed = rows.iter().filter_map(|r| {
-        let int = known.iter().find(|i| {
-            r[method] == i.method_name() && r[setting].split(" (").next() == Some(&i.setting())
-        })?;
-        let value = |c: usize| r[c].parse::<f64>().ok();
-        let errors = (value(orbit).zip(value(force)).zip(value(wear))).map(|((o, f), w)| Errors {
-            orbit_um: o,
-            force_rel: f,
-            wear_rel: w,
-        });
-        Some((*int, errors))
-    });
-    Some(parsed.collect())
 }
 
 fn write_work_precision(rows: &[WorkRow]) -> Result<()> {
