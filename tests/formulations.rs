@@ -41,6 +41,27 @@ fn trees() -> Vec<(PathBuf, usize)> {
         "fourbar",
     ]
     .map(|name| (scene_path(name), 2));
+    // Errors injected in mechanism/tree.rs that the test scenes catch (tried; the shipped
+    // scenes pass with all but the last):
+    // - the Coriolis term of a line fixed in the moving child, `2.0 * c.f.w * zd[s.k]`, with
+    //   the wrong sign: quick_return, slotted_crank_block_line;
+    // - that of a line in the moving parent, `2.0 * p.w * zd[s.k]`, with the wrong sign:
+    //   quick_return_block_line, slotted_crank;
+    // - a fixed angle on a moving parent that does not take the parent's columns
+    //   (`(cj.phi, cj.aphi) = (pj.phi, pj.aphi)` without `cj.phi`): both quick_returns and
+    //   slotted_crank_block_line;
+    // - the same body's arm turning with the parent left out of the driver's column (`for j
+    //   in 0..F` in place of `0..C`, energy accounting only): slotted_crank_block_line;
+    // - a fixed angle's rate that does not follow its moving parent in the pose (0 in place
+    //   of `p.w`): both quick_returns and both slotted_cranks;
+    // - the velocity of a point on a turning line left out of the pose (`perp(c.dir) * (p.w
+    //   * d)` for a line in the parent: quick_return_block_line, slotted_crank; `perp(c.dir)
+    //   * (w * d)` in the child: quick_return, slotted_crank_block_line);
+    // - the parent's turn left out of a child's columns (`+ pp * pj.phi[j]`): every tree but
+    //   slotted_crank_block_line, the shipped ones through the driver's column.
+    // Dropping `pp * pj.aphi` changes nothing (tried): a body's acceleration at z̈ = 0 has no
+    // angular part for a free angle, the constant-speed driver or a fixed angle on either, so
+    // the `aphi` terms are zero in every tree.
     let tests = [
         // A pendulum on the driven crank: 1 freedom, no clearance joint (none assembles).
         ("crank_pendulum", 1),
