@@ -57,6 +57,9 @@ fn trees() -> Vec<(PathBuf, usize)> {
     // - the velocity of a point on a turning line left out of the pose (`perp(c.dir) * (p.w
     //   * d)` for a line in the parent: quick_return_block_line, slotted_crank; `perp(c.dir)
     //   * (w * d)` in the child: quick_return, slotted_crank_block_line);
+    // - the driver's power of the 1- and 3-freedom paths taken from the last freedom's
+    //   column (`rhs_sized::<1, 1, 3>`, `::<3, 3, 5>` with energy accounting): crank_pendulum,
+    //   slider_pendulum;
     // - the parent's turn left out of a child's columns (`+ pp * pj.phi[j]`): every tree but
     //   slotted_crank_block_line, the shipped ones through the driver's column.
     // Dropping `pp * pj.aphi` changes nothing (tried): a body's acceleration at z̈ = 0 has no
