@@ -149,8 +149,8 @@ fn agree(name: &str, m: &Mechanism, state: &RunState, t: f64, y: &[f64]) {
 /// joints are closed there; asserts that a state touches if a clearance joint can.
 fn compare(path: &Path, freedoms: usize, states: usize, every: usize) {
     let name = name_of(path);
-    // Rotations enough for the states asked of the scene with the fewest steps per
-    // rotation (crank_pendulum: about 50), asserted below.
+    // Rotations enough for the states asked, even of crank_pendulum, the scene of the fewest
+    // steps per rotation (asserted below: the states do not repeat the run's end).
     let scene = short(path, 100).build().unwrap();
     let m = scene.mechanism.clone();
     assert!(m.energy_accounting, "{name}");
@@ -179,7 +179,7 @@ fn compare(path: &Path, freedoms: usize, states: usize, every: usize) {
         // sized path for the runs that do not ask for powers).
         agree(&name, &without_energy, state, t, &y[..2 * n]);
         // Joint coordinates close the ideal joints by construction: to the rounding of
-        // coordinates of order 0.1 m and 10 rad (the driver's angle after a rotation).
+        // coordinates of order 0.1 m and of driver angles of at most a few hundred rad.
         for phi in m.constraint_vector(&mut ws, t, &y[..n]) {
             assert!(
                 phi.abs() < 1e-12,
