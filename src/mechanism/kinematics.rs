@@ -132,7 +132,10 @@ pub(super) fn sincos(x: f64) -> (f64, f64) {
         4.166_666_666_666_659e-2,
     ];
     let ax = x.abs();
-    if ax > SINCOS_LIMIT || ax.is_nan() {
+    // Beyond the limit or NaN in one comparison (a NaN is not below the limit).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    let outside = !(ax <= SINCOS_LIMIT);
+    if outside {
         return libm_sin_cos(x);
     }
     // The octant, rounded up to even: `ax = y π/4 + z` with `y = 2 q`, `|z|` ≤ π/4. Through

@@ -103,6 +103,9 @@ struct Link {
     /// of that angle: the body's own when the parent is the ground.
     relative: f64,
     relative_sc: (f64, f64),
+    /// `A_C` of a [`Angle::Fixed`] body on the ground, constant: `on_child` turned by
+    /// `relative_sc`.
+    ground_arm: Vector2<f64>,
     /// The joint point in the parent's and in the body's frame (m).
     on_parent: Vector2<f64>,
     on_child: Vector2<f64>,
@@ -335,12 +338,14 @@ impl Tree {
                 {
                     moving |= 1 << (child + 1);
                 }
+                let relative_sc = relative.sin_cos();
                 links.push(Link {
                     body: child,
                     parent,
                     joint: Joint { angle, slide },
                     relative,
-                    relative_sc: relative.sin_cos(),
+                    relative_sc,
+                    ground_arm: rotate(relative_sc, far.local),
                     on_parent: near.local,
                     on_child: far.local,
                     dir,
@@ -405,7 +410,11 @@ impl Tree {
             } else {
                 rotate(p.sc, l.on_parent)
             },
-            arm_child: rotate(sc, l.on_child),
+            arm_child: if ground && joint.angle == Angle::Fixed {
+                l.ground_arm
+            } else {
+                rotate(sc, l.on_child)
+            },
             dir: Vector2::zeros(),
         };
         let mut vp = if ground {
