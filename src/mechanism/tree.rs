@@ -34,21 +34,63 @@ enum Angle {
     Free(usize),
     /// The driver prescribes it.
     Driven,
-    /// The parent's plus a constant (a translational joint); `sc`, its `(sin, cos)`, when
-    /// the parent is the ground and the angle therefore constant.
-    Fixed {
-        relative: f64,
-        sc: Option<(f64, f64)>,
-    },
+    /// The parent's plus the link's constant `relative` (a translational joint).
+    Fixed,
 }
 
-/// A translational joint's slide: coordinate `k` along the unit direction `dir`, fixed in the
-/// body holding the line (the parent if `on_parent`, else the child).
+/// A translational joint's slide: coordinate `k` along the link's unit direction `dir`, fixed
+/// in the body holding the line (the parent if `on_parent`, else the child).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Slide {
     k: usize,
-    dir: Vector2<f64>,
     on_parent: bool,
+}
+
+/// Which coordinates move a link's body, and how: what a [`shape_code`] fixes of a link
+/// besides its slots, so that the walk of a known shape has no branch on them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Joint {
+    angle: Angle,
+    slide: Option<Slide>,
+}
+
+impl Joint {
+    /// Eight bits: the angle's kind (0 driven, 1 free, 2 fixed) in bits 0-1 and its
+    /// coordinate in bits 2-3; whether there is a slide in bit 4, whether on the parent in
+    /// bit 5, its coordinate in bits 6-7 (coordinates are below [`MAX_TREE_FREEDOMS`] ≤ 4).
+    const fn code(self) -> u128 {
+        let angle = match self.angle {
+            Angle::Driven => 0,
+            Angle::Free(k) => 1 | (k << 2),
+            Angle::Fixed => 2,
+        };
+        let slide = match self.slide {
+            None => 0,
+            Some(s) => 16 | ((s.on_parent as usize) << 5) | (s.k << 6),
+        };
+        (angle | slide) as u128
+    }
+
+    /// The joint of [`Joint::code`]'s bits `c`.
+    #[inline(always)]
+    fn decode(c: u128) -> Joint {
+        let k = |shift: u32| ((c >> shift) & 3) as usize;
+        Joint {
+            angle: match c & 3 {
+                0 => Angle::Driven,
+                1 => Angle::Free(k(2)),
+                _ => Angle::Fixed,
+            },
+            slide: if c & 16 != 0 {
+                Some(Slide {
+                    k: k(6),
+                    on_parent: c & 32 != 0,
+                })
+            } else {
+                None
+            },
+        }
+    }
 }
 
 /// A body and the ideal joint to its parent.
@@ -56,11 +98,19 @@ struct Slide {
 struct Link {
     body: usize,
     parent: BodyIndex,
-    angle: Angle,
+    joint: Joint,
+    /// A [`Angle::Fixed`] body's angle relative to its parent's (rad), and the `(sin, cos)`
+    /// of that angle: the body's own when the parent is the ground.
+    relative: f64,
+    relative_sc: (f64, f64),
+    /// `A_C` of a [`Angle::Fixed`] body on the ground, constant: `on_child` turned by
+    /// `relative_sc`.
+    ground_arm: Vector2<f64>,
     /// The joint point in the parent's and in the body's frame (m).
     on_parent: Vector2<f64>,
     on_child: Vector2<f64>,
-    slide: Option<Slide>,
+    /// A slide's unit direction in the frame of the body holding the line (zero without one).
+    dir: Vector2<f64>,
 }
 
 /// A linkage whose ideal joints form a tree rooted at the ground, in joint coordinates.
@@ -69,39 +119,77 @@ pub(super) struct Tree {
     /// Parents before children.
     links: Vec<Link>,
     freedoms: usize,
-    /// Which links' parents and bodies are in which slots, and which bodies move with the
-    /// freedoms ([`shape_code`]).
-    shape: u64,
+    /// Which links' parents and bodies are in which slots, their joints, and which bodies
+    /// move with the freedoms ([`shape_code`]).
+    shape: u128,
 }
 
 /// The code of a tree's shape: for link `i` (parents first), its parent's slot (0 for the
-/// ground) in bits `8i..8i + 4` and its body's slot in bits `8i + 4..8i + 8`; bit `32 + s` set
-/// if the body in slot `s` moves with the freedoms. The others (the driven body pinned to the
-/// ground, bodies on it with no freedom of their own) have zero Jacobian columns along the
-/// freedoms and add nothing to Lagrange's sums.
-const fn shape_code(links: &[(usize, usize)], moving: u64) -> u64 {
-    let mut code = moving << 32;
+/// ground) in bits `16i..16i + 4`, its body's slot in bits `16i + 4..16i + 8` and its
+/// [`Joint::code`] in bits `16i + 8..16i + 16`; bit `64 + s` set if the body in slot `s` moves
+/// with the freedoms. The others (the driven body pinned to the ground, bodies on it with no
+/// freedom of their own) have zero Jacobian columns along the freedoms and add nothing to
+/// Lagrange's sums.
+const fn shape_code(links: &[(usize, usize, Joint)], moving: u128) -> u128 {
+    let mut code = moving << 64;
     let mut i = 0;
     while i < links.len() {
-        code |= ((links[i].0 | (links[i].1 << 4)) as u64) << (8 * i);
+        let (parent, body, joint) = links[i];
+        code |= ((parent | (body << 4)) as u128 | (joint.code() << 8)) << (16 * i);
         i += 1;
     }
     code
 }
 
-/// The shape of a driven crank (body 0), a second body on the crank (body 1) and a third on the
-/// ground (body 2), the last two moving: the standard slider-crank (crank, rod, slider) and
-/// the four-bar whose coupler-rocker pin has the clearance (crank, coupler, rocker).
-const SLIDER_CRANK: u64 = shape_code(&[(0, 1), (0, 3), (1, 2)], 0b1100);
+/// A driven crank (body 0) on the ground and a second body (body 1) on the crank, with a
+/// third (body 2) on the ground: the last two move.
+const fn crank_and_two(third: Joint, second: Joint) -> u128 {
+    let driven = Joint {
+        angle: Angle::Driven,
+        slide: None,
+    };
+    shape_code(&[(0, 1, driven), (0, 3, third), (1, 2, second)], 0b1100)
+}
 
-/// Where the walk finds each link's parent and body, and which bodies move: read from the
-/// links, or constants of a [`shape_code`] that the compiler unrolls (the parents' frames
-/// then stay in registers and the ground's zeros drop out).
+/// The standard slider-crank's shape (crank, rod, slider): the slider's line on the ground
+/// gives coordinate 0, the rod's angle coordinate 1.
+const SLIDER_CRANK: u128 = crank_and_two(
+    Joint {
+        angle: Angle::Fixed,
+        slide: Some(Slide {
+            k: 0,
+            on_parent: true,
+        }),
+    },
+    Joint {
+        angle: Angle::Free(1),
+        slide: None,
+    },
+);
+
+/// The shape of the four-bar whose coupler-rocker pin has the clearance (crank, coupler,
+/// rocker): the rocker's angle is coordinate 0, the coupler's coordinate 1.
+const FOUR_BAR: u128 = crank_and_two(
+    Joint {
+        angle: Angle::Free(0),
+        slide: None,
+    },
+    Joint {
+        angle: Angle::Free(1),
+        slide: None,
+    },
+);
+
+/// Where the walk finds each link's parent and body, its joint, and which bodies move: read
+/// from the links, or constants of a [`shape_code`] that the compiler unrolls (the parents'
+/// frames then stay in registers, the ground's zeros drop out, and no joint kind is tested).
 trait Shape: Copy {
     /// Slots of link `i`'s parent and body.
     fn slots(self, i: usize, l: &Link) -> (usize, usize);
+    /// Link `i`'s joint.
+    fn joint(self, i: usize, l: &Link) -> Joint;
     /// Whether the body in slot `s` moves with the freedoms, given the tree's code.
-    fn moves(self, code: u64, s: usize) -> bool;
+    fn moves(self, code: u128, s: usize) -> bool;
 }
 
 /// The shape read at run time.
@@ -114,24 +202,32 @@ impl Shape for Listed {
         (slot(l.parent), l.body + 1)
     }
     #[inline(always)]
-    fn moves(self, code: u64, s: usize) -> bool {
-        (code >> (32 + s)) & 1 != 0
+    fn joint(self, _: usize, l: &Link) -> Joint {
+        l.joint
+    }
+    #[inline(always)]
+    fn moves(self, code: u128, s: usize) -> bool {
+        (code >> (64 + s)) & 1 != 0
     }
 }
 
 /// A shape fixed at compile time.
 #[derive(Clone, Copy)]
-struct Known<const CODE: u64>;
+struct Known<const CODE: u128>;
 
-impl<const CODE: u64> Shape for Known<CODE> {
+impl<const CODE: u128> Shape for Known<CODE> {
     #[inline(always)]
     fn slots(self, i: usize, _: &Link) -> (usize, usize) {
-        let c = CODE >> (8 * i);
+        let c = CODE >> (16 * i);
         ((c & 15) as usize, ((c >> 4) & 15) as usize)
     }
     #[inline(always)]
-    fn moves(self, _: u64, s: usize) -> bool {
-        (CODE >> (32 + s)) & 1 != 0
+    fn joint(self, i: usize, _: &Link) -> Joint {
+        Joint::decode((CODE >> (16 * i + 8)) & 255)
+    }
+    #[inline(always)]
+    fn moves(self, _: u128, s: usize) -> bool {
+        (CODE >> (64 + s)) & 1 != 0
     }
 }
 
@@ -187,7 +283,7 @@ impl Tree {
         let mut links: Vec<Link> = Vec::new();
         let mut freedoms = 0;
         // Whether a body's position or angle depends on a freedom, by slot (ground first).
-        let mut moving = 0u64;
+        let mut moving = 0u128;
         let mut next = 0;
         while next < reached.len() {
             let parent = reached[next];
@@ -212,6 +308,7 @@ impl Tree {
                 *flag = true;
                 reached.push(Some(child));
                 let driven = child == m.driver.body;
+                let (mut relative, mut dir) = (0.0, Vector2::zeros());
                 let (angle, slide) = match j.checked_sub(m.revolutes.len()) {
                     None if driven => (Angle::Driven, None),
                     None => (Angle::Free(freedoms), None),
@@ -219,18 +316,17 @@ impl Tree {
                     Some(i) => {
                         let tj = &m.translationals[i];
                         let on_parent = near_is_b;
-                        let relative = if on_parent {
+                        relative = if on_parent {
                             tj.relative_angle
                         } else {
                             -tj.relative_angle
                         };
-                        let sc = parent.is_none().then(|| relative.sin_cos());
+                        dir = perp(tj.normal);
                         let slide = Slide {
                             k: freedoms,
-                            dir: perp(tj.normal),
                             on_parent,
                         };
-                        (Angle::Fixed { relative, sc }, Some(slide))
+                        (Angle::Fixed, Some(slide))
                     }
                 };
                 if !driven {
@@ -242,18 +338,25 @@ impl Tree {
                 {
                     moving |= 1 << (child + 1);
                 }
+                let relative_sc = relative.sin_cos();
                 links.push(Link {
                     body: child,
                     parent,
-                    angle,
+                    joint: Joint { angle, slide },
+                    relative,
+                    relative_sc,
+                    ground_arm: rotate(relative_sc, far.local),
                     on_parent: near.local,
                     on_child: far.local,
-                    slide,
+                    dir,
                 });
             }
         }
         let all = links.len() == bodies;
-        let slots: Vec<_> = links.iter().map(|l| (slot(l.parent), l.body + 1)).collect();
+        let slots: Vec<_> = links
+            .iter()
+            .map(|l| (slot(l.parent), l.body + 1, l.joint))
+            .collect();
         (all && (1..=MAX_TREE_FREEDOMS).contains(&freedoms)).then_some(Tree {
             links,
             freedoms,
@@ -266,28 +369,32 @@ impl Tree {
         self.freedoms
     }
 
-    /// The pose and velocity of link `l`'s body at time `t`, coordinates `z` and rates `zd`,
-    /// from its parent's frame `p` (the ground's if `ground`: its zeros are left out).
+    /// The pose and velocity of link `l`'s body, whose joint is `joint`, at time `t`,
+    /// coordinates `z` and rates `zd`, from its parent's frame `p` (the ground's if `ground`:
+    /// its zeros are left out).
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn pose(
         m: &Mechanism,
         l: &Link,
+        joint: Joint,
         p: &Frame,
         ground: bool,
         t: f64,
         z: &[f64],
         zd: &[f64],
     ) -> Pose {
-        let (phi, w, sc) = match l.angle {
+        let (phi, w, sc) = match joint.angle {
             Angle::Free(k) => (z[k], zd[k], sincos(z[k])),
             Angle::Driven => {
                 let d = &m.driver;
                 let phi = d.angle0 + d.omega * t;
                 (phi, d.omega, sincos(phi))
             }
-            Angle::Fixed { relative, sc } => {
-                let phi = p.phi + relative;
-                (phi, p.w, sc.unwrap_or_else(|| sincos(phi)))
+            Angle::Fixed => {
+                let phi = p.phi + l.relative;
+                // On the ground the angle is the constant relative one.
+                (phi, p.w, if ground { l.relative_sc } else { sincos(phi) })
             }
         };
         let mut c = Pose {
@@ -303,7 +410,11 @@ impl Tree {
             } else {
                 rotate(p.sc, l.on_parent)
             },
-            arm_child: rotate(sc, l.on_child),
+            arm_child: if ground && joint.angle == Angle::Fixed {
+                l.ground_arm
+            } else {
+                rotate(sc, l.on_child)
+            },
             dir: Vector2::zeros(),
         };
         let mut vp = if ground {
@@ -312,17 +423,17 @@ impl Tree {
             perp(c.arm_parent) * p.w
         };
         let mut vc = perp(c.arm_child) * w;
-        if let Some(s) = l.slide {
+        if let Some(s) = joint.slide {
             let (d, dd) = (z[s.k], zd[s.k]);
             if s.on_parent {
-                c.dir = if ground { s.dir } else { rotate(p.sc, s.dir) };
+                c.dir = if ground { l.dir } else { rotate(p.sc, l.dir) };
                 c.arm_parent += c.dir * d;
                 vp += c.dir * dd;
                 if !ground {
                     vp += perp(c.dir) * (p.w * d);
                 }
             } else {
-                c.dir = rotate(sc, s.dir);
+                c.dir = rotate(sc, l.dir);
                 c.arm_child += c.dir * d;
                 vc += c.dir * dd + perp(c.dir) * (w * d);
             }
@@ -335,14 +446,14 @@ impl Tree {
         c
     }
 
-    /// The Jacobian columns and `z̈ = 0` acceleration of link `l`'s body at pose `c` and rates
-    /// `zd`, from its parent's frame `p` and Jacobian `pj` (`C`: the `F` freedoms, and the
-    /// driver's angle if `C > F`).
+    /// The Jacobian columns and `z̈ = 0` acceleration of the body of a link with `joint` at
+    /// pose `c` and rates `zd`, from its parent's frame `p` and Jacobian `pj` (`C`: the `F`
+    /// freedoms, and the driver's angle if `C > F`).
     /// A ground parent (`ground`) has no columns and no acceleration: its terms are left
     /// out, as are the products with the zeros and ones of a revolute's own column.
     #[inline(always)]
     fn jacobian<const F: usize, const C: usize>(
-        l: &Link,
+        joint: Joint,
         p: &Frame,
         pj: &Jacobian<C>,
         ground: bool,
@@ -365,7 +476,7 @@ impl Tree {
             }
         };
         // The body's own angle: `r_C = … − A_C`, so its column gains `−perp(A_C)` per unit.
-        match l.angle {
+        match joint.angle {
             Angle::Free(k) => {
                 cj.phi[k] = 1.0;
                 cj.r[k] -= pc;
@@ -375,8 +486,8 @@ impl Tree {
                 cj.r[C - 1] -= pc;
             }
             Angle::Driven => {}
-            Angle::Fixed { .. } if ground => {}
-            Angle::Fixed { .. } => {
+            Angle::Fixed if ground => {}
+            Angle::Fixed => {
                 (cj.phi, cj.aphi) = (pj.phi, pj.aphi);
                 for j in 0..C {
                     cj.r[j] -= pc * cj.phi[j];
@@ -384,7 +495,7 @@ impl Tree {
                 cj.ar -= pc * cj.aphi;
             }
         }
-        if let Some(s) = l.slide {
+        if let Some(s) = joint.slide {
             // The slide moves the joint along the line of its body: +U on the parent's
             // side, −U on the body's, with the Coriolis term of the line's rotation.
             if s.on_parent {
@@ -408,7 +519,7 @@ impl Tree {
         let mut frame = [Frame::GROUND; MAX_BODIES + 1];
         for l in &self.links {
             let (p, ground) = (&frame[slot(l.parent)], l.parent.is_none());
-            frame[l.body + 1] = Self::pose(m, l, p, ground, t, z, &z[f..2 * f]).f;
+            frame[l.body + 1] = Self::pose(m, l, l.joint, p, ground, t, z, &z[f..2 * f]).f;
         }
         for (b, p) in frame[1..=m.bodies.len()].iter().enumerate() {
             y[3 * b..3 * b + 3].copy_from_slice(&[p.r.x, p.r.y, p.phi]);
@@ -435,7 +546,7 @@ impl Tree {
             })
         };
         for l in &self.links {
-            match (l.angle, l.slide) {
+            match (l.joint.angle, l.joint.slide) {
                 (Angle::Free(k), _) => {
                     (z[k], z[f + k]) = (q[3 * l.body + 2], v[3 * l.body + 2]);
                 }
@@ -454,7 +565,7 @@ impl Tree {
                     let (pl, vl) = point(line, line_at);
                     let (pa, va) = point(at.0, at.1);
                     let (_, _, phi, w) = frame(line);
-                    let u = rotate(sincos(phi), s.dir);
+                    let u = rotate(sincos(phi), l.dir);
                     z[s.k] = u.dot(&(pa - pl));
                     z[f + s.k] = u.dot(&(va - vl)) + w * perp(u).dot(&(pa - pl));
                 }
@@ -478,11 +589,13 @@ impl Tree {
     ) -> Result<()> {
         // Sized at compile time for each number of freedoms (and so of bodies, one more);
         // the driver's column only for its torque.
-        // The slider-crank's shape (and the four-bar's) gets its own unrolled copy.
-        let known = Known::<SLIDER_CRANK>;
+        // The slider-crank's shape and the four-bar's get their own unrolled copies.
         match (self.freedoms, m.energy_accounting) {
             (2, false) if self.shape == SLIDER_CRANK => {
-                self.rhs_sized::<2, 2, 4>(known, m, state, t, z, dz, gaps)
+                self.rhs_sized::<2, 2, 4>(Known::<SLIDER_CRANK>, m, state, t, z, dz, gaps)
+            }
+            (2, false) if self.shape == FOUR_BAR => {
+                self.rhs_sized::<2, 2, 4>(Known::<FOUR_BAR>, m, state, t, z, dz, gaps)
             }
             (1, false) => self.rhs_sized::<1, 1, 3>(Listed, m, state, t, z, dz, gaps),
             (1, true) => self.rhs_sized::<1, 2, 3>(Listed, m, state, t, z, dz, gaps),
@@ -527,10 +640,10 @@ impl Tree {
             ($i:literal) => {
                 if $i < S - 1 {
                     let l = &links[$i];
-                    let (ps, bs) = shape.slots($i, l);
+                    let ((ps, bs), joint) = (shape.slots($i, l), shape.joint($i, l));
                     let (p, pj, ground) = (frame[ps], jac[ps], ps == 0);
-                    let c = Self::pose(m, l, &p, ground, t, u, ud);
-                    jac[bs] = Self::jacobian::<F, C>(l, &p, &pj, ground, &c, ud);
+                    let c = Self::pose(m, l, joint, &p, ground, t, u, ud);
+                    jac[bs] = Self::jacobian::<F, C>(joint, &p, &pj, ground, &c, ud);
                     frame[bs] = c.f;
                 }
             };
@@ -636,18 +749,29 @@ mod tests {
     use super::*;
     use crate::scene::{scene_path, SceneFile};
 
-    // The standard and four-bar scenes must take the unrolled path (their speed depends on
-    // it; the oracle in tests/formulations.rs checks the answers either way). Fails when a
-    // scene's code differs from SLIDER_CRANK: seen with the four-bar first expected to differ.
+    // The standard and four-bar scenes must take their unrolled paths (their speed depends
+    // on it; the oracle in tests/formulations.rs checks the answers either way). Fails when a
+    // scene's code differs from its constant: seen with the slider's coordinate set to 1.
     #[test]
-    fn the_standard_and_fourbar_scenes_have_the_slider_crank_shape() {
-        for name in ["standard", "fourbar"] {
+    fn the_standard_and_fourbar_scenes_have_known_shapes() {
+        for (name, code) in [("standard", SLIDER_CRANK), ("fourbar", FOUR_BAR)] {
             let scene = SceneFile::read(scene_path(name)).unwrap().build().unwrap();
-            assert_eq!(
-                Tree::of(&scene.mechanism).unwrap().shape,
-                SLIDER_CRANK,
-                "{name}"
-            );
+            assert_eq!(Tree::of(&scene.mechanism).unwrap().shape, code, "{name}");
+        }
+    }
+
+    // Every joint a tree can hold survives its code. Fails with the slide's coordinate read
+    // from bits 4-5: tried.
+    #[test]
+    fn joint_codes_round_trip() {
+        for k in 0..MAX_TREE_FREEDOMS {
+            for angle in [Angle::Driven, Angle::Free(k), Angle::Fixed] {
+                for slide in [None, Some((k, false)), Some((k, true))] {
+                    let slide = slide.map(|(k, on_parent)| Slide { k, on_parent });
+                    let joint = Joint { angle, slide };
+                    assert_eq!(Joint::decode(joint.code()), joint);
+                }
+            }
         }
     }
 }
