@@ -382,6 +382,47 @@ impl Mechanism {
         }
     }
 
+    /// [`Mechanism::contact_state`] of every clearance joint that wears, at the absolute
+    /// state of the integrator's state `z` at time `t`, into `out` (one entry per clearance
+    /// joint; the others are left as they are): the same bits, from the bodies' frames
+    /// without writing that state out and taking its angles' sines and cosines again.
+    pub fn wearing_contact_states(
+        &self,
+        state: &RunState,
+        t: f64,
+        z: &[f64],
+        out: &mut [ContactState],
+    ) {
+        match &self.tree {
+            Some(tree) => {
+                let frames = tree.frames(self, t, z);
+                self.wearing_contact_states_in(state, |b| frames[tree::slot(b)], out)
+            }
+            None => {
+                let n = self.coordinates();
+                let (q, v) = (&z[..n], &z[n..2 * n]);
+                let frame = |b| kinematics::Frame::of(q, v, b, kinematics::sin_cos(q));
+                self.wearing_contact_states_in(state, frame, out)
+            }
+        }
+    }
+
+    /// [`Mechanism::wearing_contact_states`] from the bodies' `frame`s.
+    #[inline(always)]
+    fn wearing_contact_states_in(
+        &self,
+        state: &RunState,
+        frame: impl Fn(BodyIndex) -> kinematics::Frame + Copy,
+        out: &mut [ContactState],
+    ) {
+        for (k, cj) in self.clearance_joints.iter().enumerate() {
+            if cj.wear.is_some() {
+                let cs = self.contact_geometry(state, k, frame).0;
+                out[k] = self.with_forces(state, k, cs);
+            }
+        }
+    }
+
     /// The right-hand side of the integrator's state: [`Mechanism::rhs`], or Lagrange's
     /// equations in joint coordinates (`ws` keeps only the penetrations,
     /// [`Workspace::last_gaps`]).
