@@ -404,18 +404,37 @@ impl Tree {
     /// them: each `sc` is [`sincos`] of the body's angle, what the contact kinematics takes
     /// from that state (a slide on the ground keeps libm's of its constant angle in its
     /// [`Angle::Fixed`], which may differ in the last bit; not at an angle of +0, where both
-    /// are (+0, 1)).
+    /// are (+0, 1)). Unrolled as in [`Tree::rhs_sized`], the slider-crank's shape known.
     #[inline(always)]
     pub(super) fn frames(&self, m: &Mechanism, t: f64, z: &[f64]) -> [Frame; MAX_BODIES + 1] {
-        let f = self.freedoms;
+        let (u, ud) = (z, &z[self.freedoms..2 * self.freedoms]);
         let mut frame = [Frame::GROUND; MAX_BODIES + 1];
-        for l in &self.links {
-            let (p, ground) = (&frame[slot(l.parent)], l.parent.is_none());
-            let mut c = Self::pose(m, l, p, ground, t, z, &z[f..2 * f]).f;
-            if matches!(l.angle, Angle::Fixed { sc: Some(_), .. }) && c.phi.to_bits() != 0 {
-                c.sc = sincos(c.phi);
-            }
-            frame[l.body + 1] = c;
+        macro_rules! walk {
+            ($shape:expr) => {{
+                let shape = $shape;
+                macro_rules! link {
+                    ($i:literal) => {
+                        if let Some(l) = self.links.get($i) {
+                            let (ps, bs) = shape.slots($i, l);
+                            let mut c = Self::pose(m, l, &frame[ps], ps == 0, t, u, ud).f;
+                            let ground_slide = matches!(l.angle, Angle::Fixed { sc: Some(_), .. });
+                            if ground_slide && c.phi.to_bits() != 0 {
+                                c.sc = sincos(c.phi);
+                            }
+                            frame[bs] = c;
+                        }
+                    };
+                }
+                link!(0);
+                link!(1);
+                link!(2);
+                link!(3);
+            }};
+        }
+        if self.shape == SLIDER_CRANK {
+            walk!(Known::<SLIDER_CRANK>)
+        } else {
+            walk!(Listed)
         }
         frame
     }
