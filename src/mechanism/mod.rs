@@ -396,29 +396,25 @@ impl Mechanism {
         match &self.tree {
             Some(tree) => {
                 let frames = tree.frames(self, t, z);
-                self.wearing_contact_states_in(state, |b| frames[tree::slot(b)], out)
+                let frame = |b| frames[tree::slot(b)];
+                self.each_wearing(out, |k| {
+                    let cs = self.contact_geometry(state, k, frame).0;
+                    self.with_forces(state, k, cs)
+                })
             }
             None => {
-                let n = self.coordinates();
-                let (q, v) = (&z[..n], &z[n..2 * n]);
-                let frame = |b| kinematics::Frame::of(q, v, b, kinematics::sin_cos(q));
-                self.wearing_contact_states_in(state, frame, out)
+                let (q, v) = z[..2 * self.coordinates()].split_at(self.coordinates());
+                self.each_wearing(out, |k| self.contact_state(state, k, q, v))
             }
         }
     }
 
-    /// [`Mechanism::wearing_contact_states`] from the bodies' `frame`s.
+    /// Sets `out[k]` to `contact(k)` for every clearance joint `k` that wears.
     #[inline(always)]
-    fn wearing_contact_states_in(
-        &self,
-        state: &RunState,
-        frame: impl Fn(BodyIndex) -> kinematics::Frame + Copy,
-        out: &mut [ContactState],
-    ) {
+    fn each_wearing(&self, out: &mut [ContactState], contact: impl Fn(usize) -> ContactState) {
         for (k, cj) in self.clearance_joints.iter().enumerate() {
             if cj.wear.is_some() {
-                let cs = self.contact_geometry(state, k, frame).0;
-                out[k] = self.with_forces(state, k, cs);
+                out[k] = contact(k);
             }
         }
     }
