@@ -382,6 +382,43 @@ impl Mechanism {
         }
     }
 
+    /// [`Mechanism::contact_state`] of every clearance joint that wears, at the absolute
+    /// state of the integrator's state `z` at time `t`, into `out` (one entry per clearance
+    /// joint; the others are left as they are): the same bits, from the bodies' frames
+    /// without writing that state out and taking its angles' sines and cosines again.
+    pub fn wearing_contact_states(
+        &self,
+        state: &RunState,
+        t: f64,
+        z: &[f64],
+        out: &mut [ContactState],
+    ) {
+        match &self.tree {
+            Some(tree) => {
+                let frames = tree.frames(self, t, z);
+                let frame = |b| frames[tree::slot(b)];
+                self.each_wearing(out, |k| {
+                    let cs = self.contact_geometry(state, k, frame).0;
+                    self.with_forces(state, k, cs)
+                })
+            }
+            None => {
+                let (q, v) = z[..2 * self.coordinates()].split_at(self.coordinates());
+                self.each_wearing(out, |k| self.contact_state(state, k, q, v))
+            }
+        }
+    }
+
+    /// Sets `out[k]` to `contact(k)` for every clearance joint `k` that wears.
+    #[inline(always)]
+    fn each_wearing(&self, out: &mut [ContactState], contact: impl Fn(usize) -> ContactState) {
+        for (k, cj) in self.clearance_joints.iter().enumerate() {
+            if cj.wear.is_some() {
+                out[k] = contact(k);
+            }
+        }
+    }
+
     /// The right-hand side of the integrator's state: [`Mechanism::rhs`], or Lagrange's
     /// equations in joint coordinates (`ws` keeps only the penetrations,
     /// [`Workspace::last_gaps`]).

@@ -263,7 +263,7 @@ impl<const C: usize> Jacobian<C> {
 
 /// Slot of a body in the per-body arrays: the ground is slot 0.
 #[inline(always)]
-fn slot(b: BodyIndex) -> usize {
+pub(super) fn slot(b: BodyIndex) -> usize {
     b.map_or(0, |i| i + 1)
 }
 
@@ -511,16 +511,52 @@ impl Tree {
         cj
     }
 
+    /// The frames of the bodies at (t, z), by [`slot`], as the absolute state of (t, z) gives
+    /// them: each `sc` is [`sincos`] of the body's angle, what the contact kinematics takes
+    /// from that state (a slide on the ground keeps libm's of its constant angle in its
+    /// [`Angle::Fixed`], which may differ in the last bit; not at an angle of +0, where both
+    /// are (+0, 1)). Unrolled as in [`Tree::rhs_sized`], the slider-crank's shape known.
+    #[inline(always)]
+    pub(super) fn frames(&self, m: &Mechanism, t: f64, z: &[f64]) -> [Frame; MAX_BODIES + 1] {
+        let (u, ud) = (z, &z[self.freedoms..2 * self.freedoms]);
+        let mut frame = [Frame::GROUND; MAX_BODIES + 1];
+        macro_rules! walk {
+            ($shape:expr) => {{
+                let shape = $shape;
+                macro_rules! link {
+                    ($i:literal) => {
+                        if let Some(l) = self.links.get($i) {
+                            let ((ps, bs), joint) = (shape.slots($i, l), shape.joint($i, l));
+                            let mut c = Self::pose(m, l, joint, &frame[ps], ps == 0, t, u, ud).f;
+                            let ground_slide = ps == 0 && joint.angle == Angle::Fixed;
+                            if ground_slide && c.phi.to_bits() != 0 {
+                                c.sc = sincos(c.phi);
+                            }
+                            frame[bs] = c;
+                        }
+                    };
+                }
+                link!(0);
+                link!(1);
+                link!(2);
+                link!(3);
+            }};
+        }
+        if self.shape == SLIDER_CRANK {
+            walk!(Known::<SLIDER_CRANK>)
+        } else if self.shape == FOUR_BAR {
+            walk!(Known::<FOUR_BAR>)
+        } else {
+            walk!(Listed)
+        }
+        frame
+    }
+
     /// Writes the absolute coordinates and velocities `(q, q̇)` of the bodies at (t, z) into
     /// `y`, and the energy integrals that follow them in `z`, if any.
     pub(super) fn absolute(&self, m: &Mechanism, t: f64, z: &[f64], y: &mut [f64]) {
-        let f = self.freedoms;
-        let n = m.coordinates();
-        let mut frame = [Frame::GROUND; MAX_BODIES + 1];
-        for l in &self.links {
-            let (p, ground) = (&frame[slot(l.parent)], l.parent.is_none());
-            frame[l.body + 1] = Self::pose(m, l, l.joint, p, ground, t, z, &z[f..2 * f]).f;
-        }
+        let (f, n) = (self.freedoms, m.coordinates());
+        let frame = self.frames(m, t, z);
         for (b, p) in frame[1..=m.bodies.len()].iter().enumerate() {
             y[3 * b..3 * b + 3].copy_from_slice(&[p.r.x, p.r.y, p.phi]);
             y[n + 3 * b..n + 3 * b + 3].copy_from_slice(&[p.rd.x, p.rd.y, p.w]);

@@ -58,7 +58,7 @@ mod tests;
 pub use events::{locate_root, Event};
 
 use crate::{Error, Result};
-use tableau::{Dense, Estimate};
+use tableau::{Dense, Estimate, Tableau, DOPRI5};
 
 /// The right-hand side y' = f(t, y). `&mut self` because systems keep scratch buffers.
 pub trait OdeSystem {
@@ -544,30 +544,54 @@ impl Integrator {
     /// One attempt of size `h`: fills `y_new` (and `dy_new` for first-same-as-last methods)
     /// and returns the error norm (0 without an estimate).
     fn attempt(&mut self, sys: &mut impl OdeSystem, h: f64) -> Result<f64> {
-        sized!(self.attempt_sized(sys, h))
+        match self.method {
+            Method::Dopri5 => sized!(self.attempt_sized(sys, h, &DOPRI5)),
+            m => sized!(self.attempt_sized(sys, h, m.tableau())),
+        }
     }
 
-    /// [`Integrator::attempt`] for a state of `N` components of which `C` are controlled
-    /// (both 0: read at run time).
+    /// [`Integrator::attempt`] with tableau `tab` for a state of `N` components of which `C`
+    /// are controlled (both 0: read at run time). The stages are unrolled, so that with a
+    /// constant `tab` (Dormand-Prince's) every coefficient is a constant and the zeros' tests
+    /// and the loops over a row drop out: the same operations in the same order.
     #[inline(always)]
     fn attempt_sized<const N: usize, const C: usize>(
         &mut self,
         sys: &mut impl OdeSystem,
         h: f64,
+        tab: &Tableau,
     ) -> Result<f64> {
-        let tab = self.method.tableau();
-        for s in 1..tab.a.len() {
-            combine::<N>(
-                &mut self.y_stage,
-                &self.s.y,
-                &self.s.dy,
-                &self.k,
-                tab.a[s],
-                h,
-            );
-            self.s.stats.evaluations += 1;
-            sys.rhs(self.s.t + tab.c[s] * h, &self.y_stage, &mut self.k[s - 1])?;
+        macro_rules! stage {
+            ($s:literal) => {
+                if $s < tab.a.len() {
+                    combine::<N>(
+                        &mut self.y_stage,
+                        &self.s.y,
+                        &self.s.dy,
+                        &self.k,
+                        tab.a[$s],
+                        h,
+                    );
+                    self.s.stats.evaluations += 1;
+                    sys.rhs(self.s.t + tab.c[$s] * h, &self.y_stage, &mut self.k[$s - 1])?;
+                }
+            };
         }
+        stage!(1);
+        stage!(2);
+        stage!(3);
+        stage!(4);
+        stage!(5);
+        stage!(6);
+        stage!(7);
+        stage!(8);
+        stage!(9);
+        stage!(10);
+        stage!(11);
+        const _: () = assert!(
+            tableau::MAX_STAGES == 12,
+            "one stage! per stage after the first"
+        );
         combine::<N>(&mut self.y_new, &self.s.y, &self.s.dy, &self.k, tab.b, h);
         if tab.fsal {
             self.s.stats.evaluations += 1;
@@ -613,7 +637,16 @@ impl Integrator {
     /// What an accepted step needs before it becomes current: the dense-output term, or f at
     /// the new point for methods that do not evaluate it with every attempt.
     fn finish_step(&mut self, sys: &mut impl OdeSystem, h: f64) -> Result<()> {
-        let tab = self.method.tableau();
+        match self.method {
+            Method::Dopri5 => self.finish_step_with(sys, h, &DOPRI5),
+            m => self.finish_step_with(sys, h, m.tableau()),
+        }
+    }
+
+    /// [`Integrator::finish_step`] with tableau `tab` (constant for Dormand-Prince's, as in
+    /// [`Integrator::attempt_sized`]).
+    #[inline(always)]
+    fn finish_step_with(&mut self, sys: &mut impl OdeSystem, h: f64, tab: &Tableau) -> Result<()> {
         if let Dense::Shampine(d) = tab.dense {
             sized!(self.dense_term(d, h));
         }

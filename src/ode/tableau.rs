@@ -105,8 +105,11 @@ impl Method {
     }
 }
 
+/// Most stages of a method (DOP853's).
+pub(super) const MAX_STAGES: usize = 12;
+
 /// Dormand-Prince 5(4) with Shampine's dense output.
-const DOPRI5: Tableau = Tableau {
+pub(super) const DOPRI5: Tableau = Tableau {
     a: DP5_A.split_at(6).0,
     c: DP5_C.split_at(6).0,
     b: DP5_A[6],

@@ -7,8 +7,8 @@ use super::*;
 use crate::io::format::quantity;
 use crate::io::progress::Progress;
 use crate::mechanism::{
-    Mechanism, RunState, Workspace, MAX_PENETRATION_CLEARANCES, MAX_PENETRATION_RATIO,
-    MIN_PENETRATION_LIMIT_RATIO,
+    ContactState, Mechanism, RunState, Workspace, MAX_PENETRATION_CLEARANCES,
+    MAX_PENETRATION_RATIO, MIN_PENETRATION_LIMIT_RATIO,
 };
 use crate::ode::{Event, Integrator, OdeSystem};
 use crate::{Error, Result};
@@ -62,10 +62,11 @@ pub struct Simulation {
     /// Time and coordinates the run started (or resumed) from: where a failed run turns its
     /// ideal loop through a rotation to see whether the links lock ([`Simulation::at_lock`]).
     start: (f64, Vec<f64>),
-    /// Absolute states (of `Mechanism::state_len`) at an onset, a step's midpoint, anywhere.
+    /// Absolute states (of `Mechanism::state_len`) at an onset, anywhere.
     y_event: Vec<f64>,
-    y_mid: Vec<f64>,
     y_abs: Vec<f64>,
+    /// The wearing joints' contact states at a step's midpoint (one per clearance joint).
+    contacts: Vec<ContactState>,
     /// The integrator's state at an onset, or on the dense output.
     z_event: Vec<f64>,
     wears: bool,
@@ -145,8 +146,8 @@ impl Simulation {
             gaps,
             start: (t0, y0[..n].to_vec()),
             y_event: vec![0.0; dim],
-            y_mid: vec![0.0; dim],
             y_abs: y0,
+            contacts: vec![ContactState::default(); joints],
             z_event: vec![0.0; ode],
             wears,
             rotation: 0,
@@ -921,19 +922,21 @@ impl Simulation {
             z_event,
         );
         let t_stop = onset.map_or(tb, |e| e.t);
+        // 2. Wear at the interval midpoint, 3. samples, both over [ta, t_stop].
+        if self.wears {
+            let t_mid = 0.5 * (ta + t_stop);
+            integrator.dense(t_mid, z_event);
+            mechanism.wearing_contact_states(&self.state, t_mid, z_event, &mut self.contacts);
+            let (contacts, dt) = (&self.contacts, t_stop - ta);
+            if let Some((k, deepest)) = add_wear(mechanism, &mut self.state, contacts, dt) {
+                return Err(self.wear_limit_error(k, deepest));
+            }
+        }
         // The absolute state on the step's dense output.
         let mut dense = |t: f64, y: &mut [f64]| {
             integrator.dense(t, z_event);
             mechanism.absolute_state(t, z_event, y);
         };
-        // 2. Wear at the interval midpoint, 3. samples, both over [ta, t_stop].
-        if self.wears {
-            dense(0.5 * (ta + t_stop), &mut self.y_mid);
-            let y_mid = &self.y_mid[..2 * n];
-            if let Some((k, deepest)) = add_wear(mechanism, &mut self.state, y_mid, t_stop - ta) {
-                return Err(self.wear_limit_error(k, deepest));
-            }
-        }
         let state = &self.state;
         if let Some(s) = self.sampler.as_mut() {
             s.sample(
@@ -1033,22 +1036,21 @@ fn mechanical_energy(mechanism: &Mechanism, state: &RunState, y: &[f64]) -> (f64
     )
 }
 
-/// Archard wear of an interval of length `dt` evaluated at state `y` (eq. 9).
-/// Returns the first joint whose wear this deepened beyond its [`wear_limit`], and that depth:
-/// the run stops there, before the contact geometry turns absurd.
+/// Archard wear of an interval of length `dt` evaluated at the wearing joints' `contacts`
+/// (eq. 9; [`Mechanism::wearing_contact_states`]). Returns the first joint whose wear this
+/// deepened beyond its [`wear_limit`], and that depth: the run stops there, before the contact
+/// geometry turns absurd.
 fn add_wear(
     mechanism: &Mechanism,
     state: &mut RunState,
-    y: &[f64],
+    contacts: &[ContactState],
     dt: f64,
 ) -> Option<(usize, f64)> {
-    let n = mechanism.coordinates();
     let mut beyond = None;
-    for k in 0..mechanism.clearance_joints.len() {
+    for (k, cs) in contacts.iter().enumerate() {
         let Some(law) = mechanism.clearance_joints[k].wear else {
             continue;
         };
-        let cs = mechanism.contact_state(state, k, &y[..n], &y[n..2 * n]);
         if cs.f_n > 0.0 {
             let p = law.pressure(cs.f_n, cs.delta, cs.local_clearance);
             let deepest =
