@@ -195,8 +195,8 @@ fn reduced_constraint_solve_matches_the_dense_system() {
             for (k, mass) in [body.mass, body.mass, body.inertia].into_iter().enumerate() {
                 a[(3 * i + k, 3 * i + k)] = mass;
             }
-            b[3 * i] = body.mass * m.gravity.x;
-            b[3 * i + 1] = body.mass * m.gravity.y;
+            b[3 * i] = body.mass * m.gravity().x;
+            b[3 * i + 1] = body.mass * m.gravity().y;
         }
         for r in 0..rows {
             let row = &jac[r * n..(r + 1) * n];

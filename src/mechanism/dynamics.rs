@@ -53,8 +53,8 @@ impl Mechanism {
         force: &mut [[f64; 3]],
         gaps: &mut [f64],
     ) -> std::result::Result<(f64, f64), (usize, f64)> {
-        for (f, b) in force.iter_mut().zip(&self.bodies) {
-            *f = [b.mass * self.gravity.x, b.mass * self.gravity.y, 0.0];
+        for (f, w) in force.iter_mut().zip(&self.weights) {
+            *f = *w;
         }
         let (mut p_normal, mut p_friction) = (0.0, 0.0);
         for (k, gap) in gaps.iter_mut().enumerate() {

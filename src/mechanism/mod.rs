@@ -231,8 +231,8 @@ pub struct Mechanism {
     pub driver: Driver,
     /// Clearance joints, as force elements.
     pub clearance_joints: Vec<ClearanceJoint>,
-    /// Gravitational acceleration (m/s²).
-    pub gravity: Vector2<f64>,
+    /// Gravitational acceleration (m/s²); fixed at construction, as the weights derive from it.
+    gravity: Vector2<f64>,
     /// Baumgarte parameters α, β (1/s).
     pub baumgarte: (f64, f64),
     /// Integrate driver work, normal-contact work and friction work as extra states.
@@ -240,6 +240,9 @@ pub struct Mechanism {
     /// Fixed at construction: the inverse masses and the equations solved for one coordinate
     /// derive from them.
     bodies: Vec<Body>,
+    /// Each body's weight (m g_x, m g_y, 0) in N, N, N m: the start of its generalised force
+    /// at every evaluation, multiplied once here.
+    weights: Vec<[f64; 3]>,
     /// The layout of the constraint solve with buffers sized, derived once from the joints:
     /// the template of every run's [`Workspace`], never written to.
     layout: Workspace,
@@ -292,8 +295,13 @@ impl Mechanism {
         baumgarte: (f64, f64),
         energy_accounting: bool,
     ) -> Result<Self> {
+        let weights = bodies
+            .iter()
+            .map(|b| [b.mass * gravity.x, b.mass * gravity.y, 0.0])
+            .collect();
         let mut m = Mechanism {
             bodies,
+            weights,
             revolutes,
             translationals,
             driver,
@@ -313,6 +321,11 @@ impl Mechanism {
     /// The bodies, in coordinate order.
     pub fn bodies(&self) -> &[Body] {
         &self.bodies
+    }
+
+    /// Gravitational acceleration (m/s²).
+    pub fn gravity(&self) -> Vector2<f64> {
+        self.gravity
     }
 
     /// Number of generalised coordinates, 3 per body.

@@ -122,6 +122,31 @@ pub(super) struct Tree {
     /// Which links' parents and bodies are in which slots, their joints, and which bodies
     /// move with the freedoms ([`shape_code`]).
     shape: u128,
+    /// Which sized walk [`Tree::rhs`] runs, chosen here from `freedoms` and `shape` so that
+    /// each evaluation branches on one small value instead of comparing 128-bit codes.
+    walk: Walk,
+}
+
+/// The sized walks of [`Tree::rhs`]: the known shapes', else one per number of freedoms.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Walk {
+    SliderCrank,
+    FourBar,
+    Listed1,
+    Listed2,
+    Listed3,
+}
+
+impl Walk {
+    fn of(freedoms: usize, shape: u128) -> Walk {
+        match freedoms {
+            1 => Walk::Listed1,
+            2 if shape == SLIDER_CRANK => Walk::SliderCrank,
+            2 if shape == FOUR_BAR => Walk::FourBar,
+            2 => Walk::Listed2,
+            _ => Walk::Listed3,
+        }
+    }
 }
 
 /// The code of a tree's shape: for link `i` (parents first), its parent's slot (0 for the
@@ -357,10 +382,12 @@ impl Tree {
             .iter()
             .map(|l| (slot(l.parent), l.body + 1, l.joint))
             .collect();
+        let shape = shape_code(&slots, moving);
         (all && (1..=MAX_TREE_FREEDOMS).contains(&freedoms)).then_some(Tree {
             links,
             freedoms,
-            shape: shape_code(&slots, moving),
+            shape,
+            walk: Walk::of(freedoms, shape),
         })
     }
 
@@ -626,19 +653,22 @@ impl Tree {
         // Sized at compile time for each number of freedoms (and so of bodies, one more);
         // the driver's column only for its torque.
         // The slider-crank's shape and the four-bar's get their own unrolled copies.
-        match (self.freedoms, m.energy_accounting) {
-            (2, false) if self.shape == SLIDER_CRANK => {
+        // (Energy accounting is read here, not in `walk`: a clone of the mechanism may turn it off.)
+        match (self.walk, m.energy_accounting) {
+            (Walk::SliderCrank, false) => {
                 self.rhs_sized::<2, 2, 4>(Known::<SLIDER_CRANK>, m, state, t, z, dz, gaps)
             }
-            (2, false) if self.shape == FOUR_BAR => {
+            (Walk::FourBar, false) => {
                 self.rhs_sized::<2, 2, 4>(Known::<FOUR_BAR>, m, state, t, z, dz, gaps)
             }
-            (1, false) => self.rhs_sized::<1, 1, 3>(Listed, m, state, t, z, dz, gaps),
-            (1, true) => self.rhs_sized::<1, 2, 3>(Listed, m, state, t, z, dz, gaps),
-            (2, false) => self.rhs_sized::<2, 2, 4>(Listed, m, state, t, z, dz, gaps),
-            (2, true) => self.rhs_sized::<2, 3, 4>(Listed, m, state, t, z, dz, gaps),
-            (_, false) => self.rhs_sized::<3, 3, 5>(Listed, m, state, t, z, dz, gaps),
-            (_, true) => self.rhs_sized::<3, 4, 5>(Listed, m, state, t, z, dz, gaps),
+            (Walk::Listed1, false) => self.rhs_sized::<1, 1, 3>(Listed, m, state, t, z, dz, gaps),
+            (Walk::Listed1, true) => self.rhs_sized::<1, 2, 3>(Listed, m, state, t, z, dz, gaps),
+            (Walk::Listed2, false) => self.rhs_sized::<2, 2, 4>(Listed, m, state, t, z, dz, gaps),
+            (Walk::Listed2 | Walk::SliderCrank | Walk::FourBar, true) => {
+                self.rhs_sized::<2, 3, 4>(Listed, m, state, t, z, dz, gaps)
+            }
+            (Walk::Listed3, false) => self.rhs_sized::<3, 3, 5>(Listed, m, state, t, z, dz, gaps),
+            (Walk::Listed3, true) => self.rhs_sized::<3, 4, 5>(Listed, m, state, t, z, dz, gaps),
         }
     }
 
@@ -790,9 +820,14 @@ mod tests {
     // scene's code differs from its constant: seen with the slider's coordinate set to 1.
     #[test]
     fn the_standard_and_fourbar_scenes_have_known_shapes() {
-        for (name, code) in [("standard", SLIDER_CRANK), ("fourbar", FOUR_BAR)] {
+        // (The walk's check fails with Walk::of's two known shapes swapped: tried.)
+        for (name, code, walk) in [
+            ("standard", SLIDER_CRANK, Walk::SliderCrank),
+            ("fourbar", FOUR_BAR, Walk::FourBar),
+        ] {
             let scene = SceneFile::read(scene_path(name)).unwrap().build().unwrap();
-            assert_eq!(Tree::of(&scene.mechanism).unwrap().shape, code, "{name}");
+            let tree = Tree::of(&scene.mechanism).unwrap();
+            assert_eq!((tree.shape, tree.walk), (code, walk), "{name}");
         }
     }
 
