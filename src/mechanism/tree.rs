@@ -363,7 +363,8 @@ impl Tree {
                 {
                     moving |= 1 << (child + 1);
                 }
-                let relative_sc = relative.sin_cos();
+                // The hot path's sincos, as every reader of an absolute state takes it.
+                let relative_sc = sincos(relative);
                 links.push(Link {
                     body: child,
                     parent,
@@ -540,9 +541,7 @@ impl Tree {
 
     /// The frames of the bodies at (t, z), by [`slot`], as the absolute state of (t, z) gives
     /// them: each `sc` is [`sincos`] of the body's angle, what the contact kinematics takes
-    /// from that state (a slide on the ground keeps libm's of its constant angle in its
-    /// [`Angle::Fixed`], which may differ in the last bit; not at an angle of +0, where both
-    /// are (+0, 1)). Unrolled as in [`Tree::rhs_sized`], the slider-crank's shape known.
+    /// from that state. Unrolled as in [`Tree::rhs_sized`].
     #[inline(always)]
     pub(super) fn frames(&self, m: &Mechanism, t: f64, z: &[f64]) -> [Frame; MAX_BODIES + 1] {
         let (u, ud) = (z, &z[self.freedoms..2 * self.freedoms]);
@@ -554,12 +553,7 @@ impl Tree {
                     ($i:literal) => {
                         if let Some(l) = self.links.get($i) {
                             let ((ps, bs), joint) = (shape.slots($i, l), shape.joint($i, l));
-                            let mut c = Self::pose(m, l, joint, &frame[ps], ps == 0, t, u, ud).f;
-                            let ground_slide = ps == 0 && joint.angle == Angle::Fixed;
-                            if ground_slide && c.phi.to_bits() != 0 {
-                                c.sc = sincos(c.phi);
-                            }
-                            frame[bs] = c;
+                            frame[bs] = Self::pose(m, l, joint, &frame[ps], ps == 0, t, u, ud).f;
                         }
                     };
                 }
@@ -569,12 +563,10 @@ impl Tree {
                 link!(3);
             }};
         }
-        if self.shape == SLIDER_CRANK {
-            walk!(Known::<SLIDER_CRANK>)
-        } else if self.shape == FOUR_BAR {
-            walk!(Known::<FOUR_BAR>)
-        } else {
-            walk!(Listed)
+        match self.walk {
+            Walk::SliderCrank => walk!(Known::<SLIDER_CRANK>),
+            Walk::FourBar => walk!(Known::<FOUR_BAR>),
+            _ => walk!(Listed),
         }
         frame
     }
