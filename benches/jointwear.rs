@@ -105,8 +105,20 @@ fn rhs(c: &mut Criterion) {
     let y = out.final_state;
     let mut dy = vec![0.0; y.len()];
     let t = out.period;
+    // What a run integrates (joint coordinates: the scene is a tree), and the absolute
+    // formulation at the same state.
+    let z = mechanism.ode_state(&y);
+    let mut dz = vec![0.0; z.len()];
     let mut group = c.benchmark_group("rhs");
     group.bench_function("standard", |b| {
+        b.iter(|| {
+            mechanism
+                .ode_rhs(&state, &mut ws, black_box(t), black_box(&z), &mut dz)
+                .expect("rhs");
+            black_box(&dz);
+        })
+    });
+    group.bench_function("standard_absolute", |b| {
         b.iter(|| {
             mechanism
                 .rhs(&state, &mut ws, black_box(t), black_box(&y), &mut dy)

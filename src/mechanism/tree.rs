@@ -268,12 +268,13 @@ struct Pose {
 }
 
 /// Jacobian columns `∂(φ, r)/∂z` (`C`: the freedoms, then the driver's angle if needed) and the
-/// acceleration at `z̈ = 0` of one body.
+/// acceleration at `z̈ = 0` of one body's centre of mass. Its angular acceleration at `z̈ = 0` is
+/// zero in every tree: a free angle is a coordinate, the driver turns at constant speed and a
+/// fixed angle follows its parent's.
 #[derive(Clone, Copy, Debug)]
 struct Jacobian<const C: usize> {
     phi: [f64; C],
     r: [Vector2<f64>; C],
-    aphi: f64,
     ar: Vector2<f64>,
 }
 
@@ -281,7 +282,6 @@ impl<const C: usize> Jacobian<C> {
     const ZERO: Self = Jacobian {
         phi: [0.0; C],
         r: [Vector2::new(0.0, 0.0); C],
-        aphi: 0.0,
         ar: Vector2::new(0.0, 0.0),
     };
 }
@@ -499,8 +499,7 @@ impl Tree {
             Jacobian {
                 phi: [0.0; C],
                 r: std::array::from_fn(|j| pj.r[j] + pp * pj.phi[j]),
-                aphi: 0.0,
-                ar: pj.ar + pp * pj.aphi - c.arm_parent * (p.w * p.w) + spin,
+                ar: pj.ar - c.arm_parent * (p.w * p.w) + spin,
             }
         };
         // The body's own angle: `r_C = … − A_C`, so its column gains `−perp(A_C)` per unit.
@@ -516,11 +515,10 @@ impl Tree {
             Angle::Driven => {}
             Angle::Fixed if ground => {}
             Angle::Fixed => {
-                (cj.phi, cj.aphi) = (pj.phi, pj.aphi);
+                cj.phi = pj.phi;
                 for j in 0..C {
                     cj.r[j] -= pc * cj.phi[j];
                 }
-                cj.ar -= pc * cj.aphi;
             }
         }
         if let Some(s) = joint.slide {
@@ -726,9 +724,8 @@ impl Tree {
             }
             let (j, body, f) = (&jac[s], &bodies[s - 1], &force[s]);
             let fr = Vector2::new(f[0], f[1]) - j.ar * body.mass;
-            let tau = f[2] - body.inertia * j.aphi;
             for i in 0..F {
-                rhs[i] += j.r[i].dot(&fr) + j.phi[i] * tau;
+                rhs[i] += j.r[i].dot(&fr) + j.phi[i] * f[2];
                 for (k, m_ik) in mass[i].iter_mut().enumerate().take(i + 1) {
                     *m_ik += body.mass * j.r[i].dot(&j.r[k]) + body.inertia * j.phi[i] * j.phi[k];
                 }
@@ -746,7 +743,7 @@ impl Tree {
             // motion needs beyond the applied forces: Σ (M q̈ − F) · ∂q/∂φ_driver.
             let (d, mut torque) = (C - 1, 0.0);
             for ((j, f), body) in jac[1..].iter().zip(&force[1..]).zip(&m.bodies) {
-                let (mut ar, mut aphi) = (j.ar, j.aphi);
+                let (mut ar, mut aphi) = (j.ar, 0.0);
                 for (i, a) in acc.iter().enumerate() {
                     ar += j.r[i] * *a;
                     aphi += j.phi[i] * a;

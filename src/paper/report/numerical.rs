@@ -573,8 +573,26 @@ pub(super) fn performance_section(md: &mut String) {
              files), −32 M (a cache of rasterised texts saved 2.2 M more and was removed as not worth its \
              code). Together: 1 990 M → 1 228 M (88 249 \
              steps, 599 745 evaluations: 1 264 instructions per evaluation, 1 200 per attempt, 885 per step for \
-             wear, 59 M of outputs); fourbar 1 739 M → 1 224 M; two_clearance (absolute coordinates, three \
-             bodies) 2 790 M → 2 330 M.\n\n\
+             wear, 59 M of outputs); fourbar 1 739 M → 1 227 M; two_clearance (absolute coordinates, three \
+             bodies) 2 790 M → 2 340 M. Then, from commit 12befa0 and with every output bit-identical (`cmp` of \
+             every file of the standard, fourbar, two_clearance, clearance_0.2mm, clearance_0.5mm, speed_30rpm \
+             and speed_600rpm runs): `sincos`'s octant converted through a signed integer (one instruction \
+             instead of about twenty; the same integer below 2³⁰ rad), 1 264 → 1 240 instructions per \
+             evaluation; the known tree shapes' codes fixing each link's joint (driven, free or fixed angle, \
+             the slide's side and coordinate) as well as its slots, so that their unrolled walk neither branches \
+             on the joints nor checks the coordinates' bounds, and the four-bar its own shape, → 1 057; the \
+             slider's constant arm stored once, → 1 039; each body's weight multiplied once, → 1 030; the walk \
+             chosen once when the tree is built instead of comparing shape codes at every evaluation, → 1 016; \
+             the bodies' angular accelerations at zero joint accelerations no longer carried through the walk \
+             (exactly zero in every tree: a free angle is a coordinate, the driver turns at constant speed, a \
+             fixed angle follows its parent's; no test could tell them from zero), → 1 006; \
+             the wear's contact states at each step's midpoint taken from the tree's frames instead of from an \
+             absolute state whose angles' `sincos` were computed again (about 1 040 → 830 per step, −31 M); \
+             Dormand-Prince's stages unrolled with its tableau as constants, 1 200 → 1 010 instructions per \
+             attempt beyond the right-hand side (−13 M). Together: 1 228 M → 1 012 M (the same steps and \
+             evaluations: 1 006 instructions per evaluation, about 1 010 per attempt, 880 per step for the wear \
+             and 830 for its contact states, 61 M of outputs); fourbar 1 227 M → 1 026 M; two_clearance \
+             2 340 M → 2 326 M (absolute coordinates: only `sincos` and the weights reach it).\n\n\
              **What joint coordinates bought, measured.** The right-hand side fell from 2 946 to about 2 250 \
              instructions per evaluation (the constraint terms and the solve are gone; the closed-form poses with \
              their two `sin_cos`, Lagrange's sums and the 2×2 Cholesky came instead; the contact and friction \
@@ -589,15 +607,20 @@ pub(super) fn performance_section(md: &mut String) {
              96 560 steps and 665 124 evaluations, against 109 717 and 761 770 at rtol 1e-7 and 72 499 and \
              559 289 for absolute coordinates at 1e-7 (first rotation: 14 170 evaluations against 12 048), so at \
              equal accuracy joint coordinates need about 19 % more evaluations and gain only per evaluation. \
-             Against absolute coordinates at rtol 1e-7 (2 337 M) the standard run now takes 1 228 M (a single \
+             Against absolute coordinates at rtol 1e-7 (2 337 M) the standard run now takes 1 012 M (a single \
              trajectory; on average over members joint coordinates take about 19 % more evaluations at that equal \
              accuracy, 26 % at the members' median one, so per evaluation and per step are the fair measures), and the 800 M target is missed. \
-             What remains per evaluation: kinematics with two `sincos`, the contact angle and geometry (about 360), \
-             the tree walk and Lagrange's sums (about 320), arithmetic (155), bounds checks (about 100), the wear \
-             lookup (91), the force laws (77), calls and copies the rest; per attempt the integrator's 1 200 (the stage sums are not \
-             vectorised; a Dopri5 unrolled with constant coefficients was not tried); per step the wear update \
-             (885: about 11 sector edges of the Hertz arc, each with an `asin`) and the absolute state at the \
-             step's midpoint for the wear (about 800, recomputing two of the step's `sincos`). A standalone \
+             What remains per evaluation (1 006, by source file in the profile): the kinematics with two \
+             `sincos` (about 75 each), the body rotations, the contact angle and geometry (329), the tree walk \
+             and Lagrange's sums (139), bounds checks (122, mostly the applied forces reading frames by a body \
+             index known only at run time: the clearance joints' bodies are not part of the shape code), \
+             arithmetic (97), the applied forces (75), the wear lookup (66), the contact and friction laws (66), \
+             calls and copies the rest; per attempt the integrator's 1 010 (call and `Result` overhead; the \
+             stage sums stay in registers); per step the wear update (880: about 11 sector edges of the Hertz \
+             arc, each with an `asin`), the contact states at the step's midpoint (830) and the step \
+             controller's `powf` (about 113, kept: any replacement changes the last bits of the step sizes). \
+             A further gain found but not taken: the clearance joints' bodies in the shape code (estimated \
+             20-30 per evaluation, not measured). A standalone \
              slider-crank with a fixed-size state reached 633 M (issue 22), so what separates this code from the \
              target is its structure, not the formulation. These rounding changes (`sincos`, `atan`, `asin`, each \
              within 2 ulp of libm) moved the first-rotation orbit error of section 5 at rtol 2e-7 from 0.0080 to \
@@ -618,7 +641,16 @@ pub(super) fn performance_section(md: &mut String) {
              report), the no-record standard process took 0.251 s (median; 0.223-0.298) against 0.304 s \
              (0.282-0.457) for the program before this work (commit 5b4dc15), a median paired ratio of 0.76 \
              (0.61-0.87): the instructions fell by 48 %, the wall time by about a quarter (one trajectory each, \
-             the new at rtol 2e-7 in joint coordinates, the old at 1e-7 in absolute coordinates).\n\n",
+             the new at rtol 2e-7 in joint coordinates, the old at 1e-7 in absolute coordinates). Against \
+             12befa0 (the bit-identical changes above; the same trajectory), alternating 15 runs each later that \
+             day: 0.240 s (0.188-0.253) against 0.300 s (0.228-0.435), a median paired ratio of 0.81 \
+             (0.55-0.92) for 17 % fewer instructions (1 018 M then; the last change above, −6 M, came after).\n\n\
+             `rhs/standard` times the right-hand side a run integrates (joint coordinates) since 2026-11-26; \
+             before, it timed the absolute formulation (337 ns in the previous table), which is now \
+             `rhs/standard_absolute`. That one measured 441-452 ns on 2026-11-26 against 337 ns on 12befa0's \
+             table; not explained: its instruction count did not grow (two_clearance, which integrates it, \
+             fell 0.6 %), and whole two_clearance runs of both programs, alternated 8 times, took the same \
+             time (medians 0.508 and 0.509 s).\n\n",
         );
     md.push_str("How run time grows with simulated rotations and with clearance (`cargo run --release --bin scaling`):\n\n");
     csv_table(md, "scaling.csv", "cargo run --release --bin scaling");
