@@ -406,6 +406,11 @@ impl Mechanism {
         z: &[f64],
         out: &mut [ContactState],
     ) {
+        assert_eq!(
+            out.len(),
+            self.clearance_joints.len(),
+            "one state per clearance joint"
+        );
         match &self.tree {
             Some(tree) => {
                 let frames = tree.frames(self, t, z);

@@ -363,8 +363,9 @@ impl Tree {
                 {
                     moving |= 1 << (child + 1);
                 }
-                // The hot path's sincos, as every reader of an absolute state takes it.
-                let relative_sc = sincos(relative);
+                // The hot path's sincos of the angle the absolute state stores (the ground's
+                // 0 plus the offset: +0, not −0, for a line in the block), as its readers take it.
+                let relative_sc = sincos(0.0 + relative);
                 links.push(Link {
                     body: child,
                     parent,

@@ -592,6 +592,10 @@ impl Integrator {
             tableau::MAX_STAGES == 12,
             "one stage! per stage after the first"
         );
+        debug_assert!(
+            tab.a.len() <= tableau::MAX_STAGES,
+            "a stage without its stage!"
+        );
         combine::<N>(&mut self.y_new, &self.s.y, &self.s.dy, &self.k, tab.b, h);
         if tab.fsal {
             self.s.stats.evaluations += 1;
