@@ -323,8 +323,10 @@ fn a_rerun_replaces_the_previous_run_and_leaves_other_files_alone() {
 #[test]
 fn an_interrupted_run_says_so_and_exits_130() {
     let dir = temp_dir("guards", "interrupt");
-    // 100 000 rotations: still simulating when the signal comes.
-    let scene = short_standard(&dir, "long.toml", 100_000, &[]);
+    // 5 000 rotations: still simulating when the signal comes (about 1.1e7 steps, tens of
+    // seconds), and within run.max_steps, so that the crawl guard does not end the run first
+    // (with 100 000 rotations it did, at 2e5 steps, once a run of them took under 0.5 s).
+    let scene = short_standard(&dir, "long.toml", 5_000, &[]);
     let out = dir.join("out");
     let child = std::process::Command::new(env!("CARGO_BIN_EXE_jointwear"))
         .args(["run", s(&scene), "--out", s(&out)])

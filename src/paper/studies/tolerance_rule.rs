@@ -230,9 +230,22 @@ fn member_errors(member: usize) -> Result<MemberErrors> {
         REFERENCE.apply(f);
         Ok(())
     })?;
+    // A non-finite error (a peak force of zero) would drop out of the medians unseen, and
+    // the row would claim more members than it pools.
     let measured = |first: FirstRotation| {
         let (orbit, force) = first.errors(&reference);
-        (first.evaluations, orbit, force)
+        if orbit.is_finite() && force.is_finite() {
+            Ok((first.evaluations, orbit, force))
+        } else {
+            Err(Error::Integration {
+                time: 0.0,
+                cause: format!(
+                    "member {member}'s first-rotation errors are orbit {orbit} µm, peak force \
+                     {force} (relative): not finite, so the default-tolerance rule's statistics \
+                     would leave the member out; likely cause: no contact in the first rotation"
+                ),
+            })
+        }
     };
     let mut errors = Vec::with_capacity(RULE_RTOLS.len() + 1);
     for rtol in RULE_RTOLS {
@@ -240,7 +253,7 @@ fn member_errors(member: usize) -> Result<MemberErrors> {
         errors.push(measured(member_first_rotation(member, |f| {
             int.apply(f);
             Ok(())
-        })?));
+        })?)?);
     }
     let bound = member_first_rotation(member, |f| {
         absolute_coordinates(f, &BOUND);
@@ -253,7 +266,7 @@ fn member_errors(member: usize) -> Result<MemberErrors> {
             )),
         }
     })?;
-    errors.push(measured(bound));
+    errors.push(measured(bound)?);
     Ok(errors)
 }
 
