@@ -82,18 +82,21 @@ fn trees() -> Vec<(PathBuf, usize)> {
         // The same shapes assembled at nonzero angles: every scene above starts with the
         // driver at 0 and every fixed angle's offset 0, where the offset's sign and the
         // rotation of a line or arm by it do nothing. Errors injected in mechanism/tree.rs
-        // that every scene above passes and these catch (tried, each in all three tests
-        // unless said): the sign of `relative` in Tree::of swapped (all six;
-        // slotted_crank_turned not in the energy balance), `relative_sc` of `-relative` and
-        // `ground_arm` turned from `near.local` in place of `far.local` (both
-        // inclined_sliders), the driver's `angle0` left out of the pose (all six). They also
-        // catch, as the scenes above do, a line direction not turned by the angle of the body
-        // holding it (`c.dir = l.dir`: in the parent, the turned quick_return_block_line and
-        // slotted_crank; in the child, inclined_slider_block_line, the turned quick_return
-        // and slotted_crank_block_line) and Tree::coordinates' line direction not turned
-        // (every one whose line is not on the ground). Dropping coordinates()'s `w *
-        // perp(u).dot(&(pa - pl))` changes nothing (tried): on closed joints `pa - pl` is
-        // along `u`, so the term is zero.
+        // (tried one at a time; each fails all three tests unless said) that every scene
+        // above passes:
+        // - the sign of `relative` in Tree::of swapped: all six (slotted_crank_turned passes
+        //   the energy balance);
+        // - `relative_sc` of `-relative`, and `ground_arm` turned from `near.local` in place
+        //   of `far.local`: both inclined_sliders;
+        // - the driver's `angle0` left out of the pose: all six.
+        // Errors that these catch as the scenes above do: a line's direction not turned by
+        // the angle of the body holding it (`c.dir = l.dir`), in the parent:
+        // quick_return_turned_block_line, slotted_crank_turned; in the child:
+        // inclined_slider_block_line (a line on a fixed angle on the ground),
+        // quick_return_turned, slotted_crank_turned_block_line; Tree::coordinates' line
+        // direction not turned (`u = l.dir`): all but inclined_slider, whose line is on the
+        // ground. Dropping coordinates()'s `w * perp(u).dot(&(pa - pl))` changes nothing
+        // (tried): on closed joints `pa - pl` is along `u`, so the term is zero.
         //
         // A slider at 50 deg on a guide inclined at 30 deg, the line on the ground (the
         // slider-crank's shape: the unrolled walk without energy accounting), then in the
@@ -203,7 +206,8 @@ fn compare(path: &Path, freedoms: usize, states: usize, every: usize) {
         // The run's state round trips through its joint coordinates (Tree::coordinates, the
         // inverse of the pose), at the angles the run reaches: to the rounding of coordinates
         // of order 0.1 m, velocities of order 10 m/s and angles and rates that grow with the
-        // driver's.
+        // driver's. Fails with the line point's velocity left out of coordinates()'s slide
+        // rate (`u.dot(&va)`): tried.
         let (z, mut yz) = (m.ode_state(&y), vec![0.0; y.len()]);
         m.absolute_state(t, &z, &mut yz);
         for (a, b) in y.iter().zip(&yz) {
