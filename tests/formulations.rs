@@ -2,7 +2,8 @@
 //! oracle: at states along a run, in contact and (with the bearings widened) in free flight,
 //! both give the same accelerations of every body and the same energy powers. The trees are
 //! the shipped scenes (all of the slider-crank's shape) and the test scenes of tests/scenes/
-//! (1 and 3 freedoms, translational joints on moving bodies with the line in either body).
+//! (1 and 3 freedoms, translational joints on moving bodies with the line in either body,
+//! trees assembled at nonzero angles); the run's states round trip through joint coordinates.
 
 use approx::assert_relative_eq;
 use jointwear::mechanism::{ContactState, Formulation, Mechanism, RunState};
