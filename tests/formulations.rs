@@ -85,25 +85,27 @@ fn trees() -> Vec<(PathBuf, usize)> {
         // rotation of a line or arm by it do nothing. Errors injected in mechanism/tree.rs
         // (tried one at a time; each fails all three tests unless said) that every scene
         // above passes:
-        // - the sign of `relative` in Tree::of swapped: all six (slotted_crank_turned passes
-        //   the energy balance);
+        // - the sign of `relative` in Tree::of swapped: all seven (slotted_crank_turned
+        //   passes the energy balance);
         // - `relative_sc` of `-relative`, and `ground_arm` turned from `near.local` in place
-        //   of `far.local`: both inclined_sliders;
-        // - the driver's `angle0` left out of the pose: all six.
+        //   of `far.local`: the three inclined_sliders;
+        // - the driver's `angle0` left out of the pose: all seven.
         // Errors that these catch as the scenes above do: a line's direction not turned by
         // the angle of the body holding it (`c.dir = l.dir`), in the parent:
         // quick_return_turned_block_line, slotted_crank_turned; in the child:
         // inclined_slider_block_line (a line on a fixed angle on the ground),
         // quick_return_turned, slotted_crank_turned_block_line; Tree::coordinates' line
-        // direction not turned (`u = l.dir`): all but inclined_slider, whose line is on the
-        // ground. Dropping coordinates()'s `w * perp(u).dot(&(pa - pl))` changes nothing
-        // (tried): on closed joints `pa - pl` is along `u`, so the term is zero.
+        // direction not turned (`u = l.dir`): all but inclined_slider(_pendulum), whose line
+        // is on the ground. Dropping coordinates()'s `w * perp(u).dot(&(pa - pl))` changes
+        // nothing (tried): on closed joints `pa - pl` is along `u`, so the term is zero.
         //
         // A slider at 50 deg on a guide inclined at 30 deg, the line on the ground (the
         // slider-crank's shape: the unrolled walk without energy accounting), then in the
         // slider.
         ("inclined_slider", 2),
         ("inclined_slider_block_line", 2),
+        // inclined_slider with a pendulum on the slider: 3 freedoms.
+        ("inclined_slider_pendulum", 3),
         // quick_return from 120 deg, the lever 35 deg off the block.
         ("quick_return_turned", 2),
         ("quick_return_turned_block_line", 2),
