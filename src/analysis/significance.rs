@@ -202,9 +202,9 @@ mod tests {
     // Hand-computed: of 16 values, P(B ≤ 3) = (1 + 16 + 120 + 560)/2¹⁶ = 697/65 536, so the
     // 4th smallest and largest cover 1 − 1 394/65 536 = 0.978 729 248 046 875; the 5th would
     // cover 1 − 2·2 517/65 536 = 0.923 < 0.95. Of 6 values only the extremes, 1 − 2/64; of 5,
-    // 1 − 2/32 = 0.9375 < 0.95. Checked to fail with a one-sided coverage (1 − P(B ≤ k − 1),
-    // which takes the 5th values of 16) and with the ends taken off by one (sorted[k], the 5th).
-    // Tolerance: 1e-14 relative, a few roundings of the sum of exponentials.
+    // 1 − 2/32 = 0.9375 < 0.95. Checked to fail with a one-sided coverage (1 − P(B ≤ k − 1)
+    // takes the 5th values of 16: (5, 12)). Tolerance: 1e-14 relative, a few roundings of the
+    // sum of exponentials.
     #[test]
     fn the_median_interval_takes_the_order_statistics_of_the_binomial() {
         let values: Vec<f64> = (1..=16).rev().map(f64::from).collect();

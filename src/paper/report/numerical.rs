@@ -1021,9 +1021,8 @@ mod tests {
 
     // Fails on the old literal text ("rtol 1e-7, atol 1e-10, the scenes' setting", "0.5% of the
     // clearance" whatever the scene said): checked by writing the clearance share as 0.5 again;
-    // when the settling sentence ignores the interval (checked: always "settle"); and when the
-    // switching cost compares the pick with the bound instead of the scenes' row (checked:
-    // "8 % fewer").
+    // and when the switching cost divides the scenes' evaluations by the pick's (checked: "8 %
+    // fewer" instead of "9 % more").
     #[test]
     fn the_default_tolerance_paragraph_follows_the_scene_and_the_rule() {
         let narrow = rule(&[2e-7, 1e-7], &[0.95, 0.9], 0.01);

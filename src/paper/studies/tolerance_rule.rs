@@ -563,10 +563,9 @@ mod tests {
         }
     }
 
-    // Checked to fail: walking from the loosest (sorting descending) picks None (1e-6 fails
-    // first); `<` instead of `<=` at 1e-7's median ratio of exactly 1 picks 5e-8; reading the
-    // interval's ends swapped exchanges the strict and lenient picks; continuing past a failing
-    // rtol (filter instead of take_while) picks 2e-7 on the non-monotone table.
+    // Checked to fail: continuing past a failing rtol (filter instead of take_while) picks 2e-7
+    // by the paired ratio on the non-monotone table instead of 1e-8. 1e-7's median ratio of
+    // exactly 1 passes (at most 1).
     #[test]
     fn the_rule_walks_from_the_tightest_on_the_paired_ratios() {
         let bound = RuleRow {
@@ -622,10 +621,9 @@ mod tests {
 
     // The ratios pair each member with its own bound: the candidate errors are the bound's in
     // reverse order, halved, so the median ratio (0.4 + 0.625)/2 = 0.5125 differs from the
-    // ratio of the medians (0.5), which pairing sorted values would give. Checked to fail with
-    // the candidate's errors divided by the bound's sorted ones (0.5) and with the NaN check
-    // removed (member 3 then drops out: 7 members pooled). Of 8 values only the extremes reach
-    // 0.95 (1 − 2/256).
+    // ratio of the medians (0.5), which pairing sorted values would give. Checked to fail when
+    // member m's errors are divided by member n−1−m's bound (every ratio 0.5). Of 8 values only
+    // the extremes reach 0.95 (1 − 2/256).
     #[test]
     fn the_rows_pair_each_member_with_its_own_bound_and_refuse_a_bad_member() {
         let bound: Vec<f64> = (1..=8).map(f64::from).collect();
