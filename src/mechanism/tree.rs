@@ -154,8 +154,15 @@ impl Walk {
 /// [`Joint::code`] in bits `16i + 8..16i + 16`; bit `64 + s` set if the body in slot `s` moves
 /// with the freedoms. The others (the driven body pinned to the ground, bodies on it with no
 /// freedom of their own) have zero Jacobian columns along the freedoms and add nothing to
-/// Lagrange's sums.
-const fn shape_code(links: &[(usize, usize, Joint)], moving: u128) -> u128 {
+/// Lagrange's sums. Then the clearance joints (`ends`: the slots of each one's journal and
+/// bearing bodies): their number in bits `72..76` and joint `k`'s journal's slot in bits
+/// `76 + 8k..80 + 8k`, its bearing's in the next four, for at most [`CODED_CLEARANCES`]
+/// joints (more are coded as 15 joints and no slots: a shape no known one equals).
+const fn shape_code(
+    links: &[(usize, usize, Joint)],
+    moving: u128,
+    ends: &[(usize, usize)],
+) -> u128 {
     let mut code = moving << 64;
     let mut i = 0;
     while i < links.len() {
@@ -163,17 +170,35 @@ const fn shape_code(links: &[(usize, usize, Joint)], moving: u128) -> u128 {
         code |= ((parent | (body << 4)) as u128 | (joint.code() << 8)) << (16 * i);
         i += 1;
     }
+    if ends.len() > CODED_CLEARANCES {
+        return code | (15 << 72);
+    }
+    code |= (ends.len() as u128) << 72;
+    let mut k = 0;
+    while k < ends.len() {
+        let (journal, bearing) = ends[k];
+        code |= ((journal | (bearing << 4)) as u128) << (76 + 8 * k);
+        k += 1;
+    }
     code
 }
 
+/// Most clearance joints a [`shape_code`] holds.
+const CODED_CLEARANCES: usize = 6;
+
 /// A driven crank (body 0) on the ground and a second body (body 1) on the crank, with a
-/// third (body 2) on the ground: the last two move.
+/// third (body 2) on the ground: the last two move. One clearance joint, its journal on the
+/// second body and its bearing on the third.
 const fn crank_and_two(third: Joint, second: Joint) -> u128 {
     let driven = Joint {
         angle: Angle::Driven,
         slide: None,
     };
-    shape_code(&[(0, 1, driven), (0, 3, third), (1, 2, second)], 0b1100)
+    shape_code(
+        &[(0, 1, driven), (0, 3, third), (1, 2, second)],
+        0b1100,
+        &[(2, 3)],
+    )
 }
 
 /// The standard slider-crank's shape (crank, rod, slider): the slider's line on the ground
@@ -215,6 +240,10 @@ trait Shape: Copy {
     fn joint(self, i: usize, l: &Link) -> Joint;
     /// Whether the body in slot `s` moves with the freedoms, given the tree's code.
     fn moves(self, code: u128, s: usize) -> bool;
+    /// How many clearance joints `m` has.
+    fn clearances(self, m: &Mechanism) -> usize;
+    /// The bodies of clearance joint `k`'s journal and bearing.
+    fn ends(self, k: usize, m: &Mechanism) -> (BodyIndex, BodyIndex);
 }
 
 /// The shape read at run time.
@@ -233,6 +262,15 @@ impl Shape for Listed {
     #[inline(always)]
     fn moves(self, code: u128, s: usize) -> bool {
         (code >> (64 + s)) & 1 != 0
+    }
+    #[inline(always)]
+    fn clearances(self, m: &Mechanism) -> usize {
+        m.clearance_joints.len()
+    }
+    #[inline(always)]
+    fn ends(self, k: usize, m: &Mechanism) -> (BodyIndex, BodyIndex) {
+        let cj = &m.clearance_joints[k];
+        (cj.journal.body, cj.bearing.body)
     }
 }
 
@@ -253,6 +291,17 @@ impl<const CODE: u128> Shape for Known<CODE> {
     #[inline(always)]
     fn moves(self, _: u128, s: usize) -> bool {
         (CODE >> (64 + s)) & 1 != 0
+    }
+    #[inline(always)]
+    fn clearances(self, _: &Mechanism) -> usize {
+        ((CODE >> 72) & 15) as usize
+    }
+    #[inline(always)]
+    fn ends(self, k: usize, _: &Mechanism) -> (BodyIndex, BodyIndex) {
+        let c = CODE >> (76 + 8 * k);
+        // Slot s holds body s − 1; slot 0 is the ground.
+        let body = |s: u128| (s as usize).checked_sub(1);
+        (body(c & 15), body((c >> 4) & 15))
     }
 }
 
@@ -384,7 +433,10 @@ impl Tree {
             .iter()
             .map(|l| (slot(l.parent), l.body + 1, l.joint))
             .collect();
-        let shape = shape_code(&slots, moving);
+        let ends: Vec<_> = (m.clearance_joints.iter())
+            .map(|cj| (slot(cj.journal.body), slot(cj.bearing.body)))
+            .collect();
+        let shape = shape_code(&slots, moving, &ends);
         (all && (1..=MAX_TREE_FREEDOMS).contains(&freedoms)).then_some(Tree {
             links,
             freedoms,
@@ -711,8 +763,12 @@ impl Tree {
         link!(3);
         const _: () = assert!(MAX_BODIES == 4, "one link! per body");
         let mut force = [[0.0; 3]; S];
+        // The known shapes' clearance joints, and so the frames read and forces added, are
+        // fixed at compile time: the frames can stay in registers.
+        let ends = |k| shape.ends(k, m);
+        let gaps = &mut gaps[..shape.clearances(m)];
         let (p_normal, p_friction) = m
-            .applied_forces(state, |b| frame[slot(b)], &mut force[1..], gaps)
+            .applied_forces(state, ends, |b| frame[slot(b)], &mut force[1..], gaps)
             .map_err(|(k, delta)| m.overload(t, k, delta))?;
         // Lagrange: mass matrix Jᵀ M J (lower triangle) and forces Jᵀ (F − M a), over the
         // bodies that move with the freedoms (the others add exact zeros).
@@ -819,6 +875,24 @@ mod tests {
             let tree = Tree::of(&scene.mechanism).unwrap();
             assert_eq!((tree.shape, tree.walk), (code, walk), "{name}");
         }
+    }
+
+    // The clearance joints a known shape fixes at compile time are the scene's (their count
+    // and their journal and bearing bodies, as the shape read at run time gives them). Fails
+    // with Known::ends's journal and bearing swapped: tried.
+    #[test]
+    fn known_shapes_decode_the_scenes_clearance_joints() {
+        fn ends(shape: impl Shape, m: &Mechanism) -> Vec<(BodyIndex, BodyIndex)> {
+            (0..shape.clearances(m)).map(|k| shape.ends(k, m)).collect()
+        }
+        let scene = |name| SceneFile::read(scene_path(name)).unwrap().build().unwrap();
+        let standard = scene("standard").mechanism;
+        assert_eq!(
+            ends(Known::<SLIDER_CRANK>, &standard),
+            ends(Listed, &standard)
+        );
+        let fourbar = scene("fourbar").mechanism;
+        assert_eq!(ends(Known::<FOUR_BAR>, &fourbar), ends(Listed, &fourbar));
     }
 
     // Every joint a tree can hold survives its code. Fails with the slide's coordinate read
