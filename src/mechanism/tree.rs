@@ -341,6 +341,35 @@ pub(super) fn slot(b: BodyIndex) -> usize {
     b.map_or(0, |i| i + 1)
 }
 
+/// Runs `$body` with the sizes of `$tree`'s walk bound to the constants `$f` (freedoms),
+/// `$c` (Jacobian columns: the driver's angle too when `$energy`, for its torque) and `$s`
+/// (body slots, the ground's first), and its [`Shape`] to `$shape`: sized at compile time
+/// for each number of freedoms (and so of bodies, one more), with the slider-crank's and the
+/// four-bar's shapes fixed (their own unrolled copies, without energy accounting).
+macro_rules! sized_walk {
+    ($tree:expr, $energy:expr, $f:ident, $c:ident, $s:ident, $shape:ident => $body:expr) => {{
+        macro_rules! sized {
+            ($fv:literal, $cv:literal, $sv:literal, $sh:expr) => {{
+                const $f: usize = $fv;
+                const $c: usize = $cv;
+                const $s: usize = $sv;
+                let $shape = $sh;
+                $body
+            }};
+        }
+        match ($tree.walk, $energy) {
+            (Walk::SliderCrank, false) => sized!(2, 2, 4, Known::<SLIDER_CRANK>),
+            (Walk::FourBar, false) => sized!(2, 2, 4, Known::<FOUR_BAR>),
+            (Walk::Listed1, false) => sized!(1, 1, 3, Listed),
+            (Walk::Listed1, true) => sized!(1, 2, 3, Listed),
+            (Walk::Listed2, false) => sized!(2, 2, 4, Listed),
+            (Walk::Listed2 | Walk::SliderCrank | Walk::FourBar, true) => sized!(2, 3, 4, Listed),
+            (Walk::Listed3, false) => sized!(3, 3, 5, Listed),
+            (Walk::Listed3, true) => sized!(3, 4, 5, Listed),
+        }
+    }};
+}
+
 impl Tree {
     /// The tree of `m`'s ideal joints, if they form one rooted at the ground with the driven
     /// body on a revolute joint and 1 to [`MAX_TREE_FREEDOMS`] freedoms.
@@ -590,35 +619,39 @@ impl Tree {
         cj
     }
 
+    /// Calls `visit(l, joint, parent's slot, body's slot)` for each link `l` of `links`,
+    /// parents first, with its joint and slots as `shape` gives them. Unrolled, so that the
+    /// slots of a known shape are constants: its frames then stay in registers (a loop with
+    /// that body is not unrolled by the compiler); `visit` must be inlined for that.
+    #[inline(always)]
+    fn walk(shape: impl Shape, links: &[Link], mut visit: impl FnMut(&Link, Joint, usize, usize)) {
+        macro_rules! link {
+            ($i:literal) => {
+                if let Some(l) = links.get($i) {
+                    let (ps, bs) = shape.slots($i, l);
+                    visit(l, shape.joint($i, l), ps, bs);
+                }
+            };
+        }
+        link!(0);
+        link!(1);
+        link!(2);
+        link!(3);
+        const _: () = assert!(MAX_BODIES == 4, "one link! per body");
+    }
+
     /// The frames of the bodies at (t, z), by [`slot`], as the absolute state of (t, z) gives
     /// them: each `sc` is [`sincos`] of the body's angle, what the contact kinematics takes
-    /// from that state. Unrolled as in [`Tree::rhs_sized`].
+    /// from that state. The walk of [`Tree::rhs_sized`], without the Jacobians.
     #[inline(always)]
     pub(super) fn frames(&self, m: &Mechanism, t: f64, z: &[f64]) -> [Frame; MAX_BODIES + 1] {
-        let (u, ud) = (z, &z[self.freedoms..2 * self.freedoms]);
         let mut frame = [Frame::GROUND; MAX_BODIES + 1];
-        macro_rules! walk {
-            ($shape:expr) => {{
-                let shape = $shape;
-                macro_rules! link {
-                    ($i:literal) => {
-                        if let Some(l) = self.links.get($i) {
-                            let ((ps, bs), joint) = (shape.slots($i, l), shape.joint($i, l));
-                            frame[bs] = Self::pose(m, l, joint, &frame[ps], ps == 0, t, u, ud).f;
-                        }
-                    };
-                }
-                link!(0);
-                link!(1);
-                link!(2);
-                link!(3);
-            }};
-        }
-        match self.walk {
-            Walk::SliderCrank => walk!(Known::<SLIDER_CRANK>),
-            Walk::FourBar => walk!(Known::<FOUR_BAR>),
-            _ => walk!(Listed),
-        }
+        sized_walk!(self, false, F, _C, S, shape => {
+            let (u, ud) = (chunk::<F>(z), chunk::<F>(&z[F..]));
+            Self::walk(shape, &self.links[..S - 1], #[inline(always)] |l, joint, ps, bs| {
+                frame[bs] = Self::pose(m, l, joint, &frame[ps], ps == 0, t, u, ud).f;
+            });
+        });
         frame
     }
 
@@ -693,26 +726,10 @@ impl Tree {
         dz: &mut [f64],
         gaps: &mut [f64],
     ) -> Result<()> {
-        // Sized at compile time for each number of freedoms (and so of bodies, one more);
-        // the driver's column only for its torque.
-        // The slider-crank's shape and the four-bar's get their own unrolled copies.
         // (Energy accounting is read here, not in `walk`: a clone of the mechanism may turn it off.)
-        match (self.walk, m.energy_accounting) {
-            (Walk::SliderCrank, false) => {
-                self.rhs_sized::<2, 2, 4>(Known::<SLIDER_CRANK>, m, state, t, z, dz, gaps)
-            }
-            (Walk::FourBar, false) => {
-                self.rhs_sized::<2, 2, 4>(Known::<FOUR_BAR>, m, state, t, z, dz, gaps)
-            }
-            (Walk::Listed1, false) => self.rhs_sized::<1, 1, 3>(Listed, m, state, t, z, dz, gaps),
-            (Walk::Listed1, true) => self.rhs_sized::<1, 2, 3>(Listed, m, state, t, z, dz, gaps),
-            (Walk::Listed2, false) => self.rhs_sized::<2, 2, 4>(Listed, m, state, t, z, dz, gaps),
-            (Walk::Listed2 | Walk::SliderCrank | Walk::FourBar, true) => {
-                self.rhs_sized::<2, 3, 4>(Listed, m, state, t, z, dz, gaps)
-            }
-            (Walk::Listed3, false) => self.rhs_sized::<3, 3, 5>(Listed, m, state, t, z, dz, gaps),
-            (Walk::Listed3, true) => self.rhs_sized::<3, 4, 5>(Listed, m, state, t, z, dz, gaps),
-        }
+        sized_walk!(self, m.energy_accounting, F, C, S, shape => {
+            self.rhs_sized::<F, C, S>(shape, m, state, t, z, dz, gaps)
+        })
     }
 
     /// [`Tree::rhs`] for `F` freedoms, `C` Jacobian columns (`F`, or `F + 1` with the
@@ -742,26 +759,17 @@ impl Tree {
         // Frames and Jacobians walking the tree, parents first; slot 0 stays the ground's.
         let mut frame = [Frame::GROUND; S];
         let mut jac = [Jacobian::<C>::ZERO; S];
-        let links = &self.links[..S - 1];
-        // Unrolled, so that the slots of a known shape are constants: its frames then stay
-        // in registers (a loop with that body is not unrolled by the compiler).
-        macro_rules! link {
-            ($i:literal) => {
-                if $i < S - 1 {
-                    let l = &links[$i];
-                    let ((ps, bs), joint) = (shape.slots($i, l), shape.joint($i, l));
-                    let (p, pj, ground) = (frame[ps], jac[ps], ps == 0);
-                    let c = Self::pose(m, l, joint, &p, ground, t, u, ud);
-                    jac[bs] = Self::jacobian::<F, C>(joint, &p, &pj, ground, &c, ud);
-                    frame[bs] = c.f;
-                }
-            };
-        }
-        link!(0);
-        link!(1);
-        link!(2);
-        link!(3);
-        const _: () = assert!(MAX_BODIES == 4, "one link! per body");
+        Self::walk(
+            shape,
+            &self.links[..S - 1],
+            #[inline(always)]
+            |l, joint, ps, bs| {
+                let (p, pj, ground) = (frame[ps], jac[ps], ps == 0);
+                let c = Self::pose(m, l, joint, &p, ground, t, u, ud);
+                jac[bs] = Self::jacobian::<F, C>(joint, &p, &pj, ground, &c, ud);
+                frame[bs] = c.f;
+            },
+        );
         let mut force = [[0.0; 3]; S];
         // The known shapes' clearance joints, and so the frames read and forces added, are
         // fixed at compile time: the frames can stay in registers.
