@@ -650,7 +650,28 @@ pub(super) fn performance_section(md: &mut String) {
              attempt beyond the right-hand side (−13 M). Together: 1 228 M → 1 012 M (the same steps and \
              evaluations: 1 006 instructions per evaluation, about 1 010 per attempt, 880 per step for the wear \
              and 830 for its contact states, 61 M of outputs); fourbar 1 227 M → 1 026 M; two_clearance \
-             2 340 M → 2 326 M (absolute coordinates: only `sincos` and the weights reach it).\n\n\
+             2 340 M → 2 326 M (absolute coordinates: only `sincos` and the weights reach it). Then, from \
+             commit c0023e6 and again with every output bit-identical (the same `cmp` of seven scenes' runs): \
+             the known shapes' codes also fixing their clearance joints' journal and bearing bodies, so that the \
+             contact kinematics read the frames and add the contact forces at slots known at compile time instead \
+             of storing the frames and reading them back by a run-time index (standard 1 010.6 M → 942.1 M, \
+             fourbar 1 024.4 M → 937.0 M, two_clearance 2 326.0 M → 2 310.5 M); one unrolled walk serving both \
+             the right-hand side and the wear's frames (→ 939.5 M and 934.5 M; it removes a duplicated walk); the \
+             integrator's stage sums accumulated in a local array and stored once, with the stage derivatives in \
+             one flat vector (the compiler could not rule out that the output overlapped the stage buffers, so \
+             it stored and reloaded every component after every pass: standard 1 010.5 M → 967.6 M, \
+             two_clearance 2 326.2 M → 2 171.9 M); the run's right-hand side inlined into all six stages (the \
+             compiler had inlined it into one and called it in five: → 961.5 M). Together: 1 012 M → 892 M \
+             (the same 88 249 steps and 599 745 evaluations at rtol 2e-7: 889 instructions per evaluation, about \
+             580 per attempt beyond the right-hand side, 880 per step for the wear and 800 for its contact \
+             states, 61 M of outputs); fourbar 1 026 M → 888 M; two_clearance 2 326 M → 2 151 M. Measured and \
+             not kept: libm's `pow` in the step controller (125 instructions a call, 12.5 M a run) replaced by \
+             a division-free Newton fifth root within 2 ulp of it (about 60 a call), −6.8 M (0.67 %) at an equal \
+             trajectory; it is not bit-identical, and over 96 members (`--member K`) the two programs' step \
+             counts do not differ (mean 95 462 against 97 226, difference 0.79 standard errors), nor do 64-member \
+             ensembles' statistics (every one within 1.06 standard errors), and the golden tests pass with it, \
+             but 0.67 % did not pay for a second regeneration of every output; a cache of rasterised glyphs \
+             (12 thousand instructions: a figure's 345 glyphs rarely repeat at one sub-pixel offset).\n\n\
              **What joint coordinates bought, measured.** The right-hand side fell from 2 946 to about 2 250 \
              instructions per evaluation (the constraint terms and the solve are gone; the closed-form poses with \
              their two `sin_cos`, Lagrange's sums and the 2×2 Cholesky came instead; the contact and friction \
@@ -665,20 +686,17 @@ pub(super) fn performance_section(md: &mut String) {
              96 560 steps and 665 124 evaluations, against 109 717 and 761 770 at rtol 1e-7 and 72 499 and \
              559 289 for absolute coordinates at 1e-7 (first rotation: 14 170 evaluations against 12 048), so at \
              equal accuracy joint coordinates need about 19 % more evaluations and gain only per evaluation. \
-             Against absolute coordinates at rtol 1e-7 (2 337 M) the standard run now takes 1 012 M (a single \
-             trajectory; on average over members joint coordinates take about 19 % more evaluations at that equal \
-             accuracy, 26 % at 1.5e-7, so per evaluation and per step are the fair measures), and the 800 M target is missed. \
-             What remains per evaluation (1 006, by source file in the profile): the kinematics with two \
-             `sincos` (about 75 each), the body rotations, the contact angle and geometry (329), the tree walk \
-             and Lagrange's sums (139), bounds checks (122, mostly the applied forces reading frames by a body \
-             index known only at run time: the clearance joints' bodies are not part of the shape code), \
-             arithmetic (97), the applied forces (75), the wear lookup (66), the contact and friction laws (66), \
-             calls and copies the rest; per attempt the integrator's 1 010 (call and `Result` overhead; the \
-             stage sums stay in registers); per step the wear update (880: about 11 sector edges of the Hertz \
-             arc, each with an `asin`), the contact states at the step's midpoint (830) and the step \
-             controller's `powf` (about 113, kept: any replacement changes the last bits of the step sizes). \
-             A further gain found but not taken: the clearance joints' bodies in the shape code (estimated \
-             20-30 per evaluation, not measured). A standalone \
+             Against absolute coordinates at rtol 1e-7 (2 337 M) the standard run took 892 M at rtol 2e-7 (a \
+             single trajectory; on average over members joint coordinates take about 19 % more evaluations at that \
+             equal accuracy, 26 % at 1.5e-7, so per evaluation and per step are the fair measures), and the 800 M \
+             target is missed. What remains per evaluation (889): two `sincos` (about 75 each), the contact \
+             geometry with its `atan`, the wear lookup, Lagrange's sums and the laws; about 12 bounds checks \
+             (24 instructions: the profile's larger share under the slice-indexing source lines is arithmetic that \
+             the debug information files there) and about 110 loads and stores of values the registers cannot \
+             hold; per attempt the integrator's 580; per step the wear update (880: about 10 sector edges of \
+             the Hertz arc, each a division, two square roots and an `asin`, which cannot be cut without \
+             changing the floating-point operations), the contact states at the step's midpoint (800) and the \
+             step controller's `powf` (about 125, see above). A standalone \
              slider-crank with a fixed-size state reached 633 M (issue 22), so what separates this code from the \
              target is its structure, not the formulation. These rounding changes (`sincos`, `atan`, `asin`, each \
              within 2 ulp of libm) moved the first-rotation orbit error of section 5 at rtol 2e-7 from 0.0080 to \
