@@ -1,5 +1,7 @@
 //! Tests of whether two ensembles differ: Welch's t test for means and Fisher's exact test for
-//! shares (the differences the perturbation study reports, [`crate::paper::perturbation`]).
+//! shares (the differences the perturbation study reports, [`crate::paper::perturbation`]),
+//! and the sign test's interval of a median (the default-tolerance rule's paired ratios,
+//! [`crate::paper::studies::tolerance_rule`]).
 //!
 //! * **Welch** (unequal variances): `t = (m₁ − m₂) / √(s₁²/n₁ + s₂²/n₂)`, Welch–Satterthwaite
 //!   degrees of freedom `ν = (s₁²/n₁ + s₂²/n₂)² / ((s₁²/n₁)²/(n₁−1) + (s₂²/n₂)²/(n₂−1))`, and the
@@ -8,6 +10,10 @@
 //! * **Fisher** (a 2×2 table of counts `k₁ of n₁` against `k₂ of n₂`): the hypergeometric
 //!   probability of every table with the same margins, summed over those no more probable than
 //!   the observed one (the two-sided rule of R's `fisher.test`).
+//! * **Median interval** (the sign test's, distribution-free): of `n` sorted values, the order
+//!   statistics `x₍ₖ₎` and `x₍ₙ₊₁₋ₖ₎` (1-based) hold any continuous distribution's median with
+//!   probability exactly `1 − 2·P(B ≤ k − 1)`, `B ~ Binomial(n, ½)`; the largest `k` whose
+//!   coverage reaches the asked confidence gives the narrowest such interval.
 
 use super::statistics::Distribution;
 
@@ -64,6 +70,47 @@ pub fn fisher_two_sided(k1: usize, n1: usize, k2: usize, n2: usize) -> f64 {
         .map(f64::exp)
         .sum();
     p.min(1.0)
+}
+
+/// A distribution-free confidence interval of a median ([`median_interval`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MedianInterval {
+    /// Lower end: the `k`-th smallest value.
+    pub lower: f64,
+    /// Upper end: the `k`-th largest value.
+    pub upper: f64,
+    /// Its exact coverage, `1 − 2·P(B ≤ k − 1)`: at least the confidence asked, usually more
+    /// (order statistics come in steps).
+    pub coverage: f64,
+}
+
+/// The narrowest order-statistic interval of the median of `values` whose exact coverage is at
+/// least `confidence` (module documentation); `None` when even the smallest and largest value
+/// do not reach it (fewer than 6 values for 0.95) or a value is not finite.
+pub fn median_interval(values: &[f64], confidence: f64) -> Option<MedianInterval> {
+    if values.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let n = values.len();
+    let ln_half_n = n as f64 * 0.5f64.ln();
+    let ln_choose = |i: usize| ln_factorial(n) - ln_factorial(i) - ln_factorial(n - i);
+    // coverage of the k-th order statistics: 1 − 2·P(B ≤ k − 1), shrinking as k grows
+    let coverage = |k: usize| {
+        1.0 - 2.0
+            * (0..k)
+                .map(|i| (ln_choose(i) + ln_half_n).exp())
+                .sum::<f64>()
+    };
+    let k = (1..=n / 2)
+        .take_while(|&k| coverage(k) >= confidence)
+        .last()?;
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    Some(MedianInterval {
+        lower: sorted[k - 1],
+        upper: sorted[n - k],
+        coverage: coverage(k),
+    })
 }
 
 /// ln n! (exact summation: the tables here have at most a few thousand members).
@@ -151,6 +198,28 @@ mod tests {
     // Tolerances: 1e-9 relative is far below any plausible slip (a one-sided p, a wrong
     // degrees-of-freedom formula or a pooled variance move these by percents) and above the
     // references' own error.
+
+    // Hand-computed: of 16 values, P(B ≤ 3) = (1 + 16 + 120 + 560)/2¹⁶ = 697/65 536, so the
+    // 4th smallest and largest cover 1 − 1 394/65 536 = 0.978 729 248 046 875; the 5th would
+    // cover 1 − 2·2 517/65 536 = 0.923 < 0.95. Of 6 values only the extremes, 1 − 2/64; of 5,
+    // 1 − 2/32 = 0.9375 < 0.95. Checked to fail with a one-sided coverage (1 − P(B ≤ k − 1)
+    // takes the 5th values of 16: (5, 12)). Tolerance: 1e-14 relative, a few roundings of the
+    // sum of exponentials.
+    #[test]
+    fn the_median_interval_takes_the_order_statistics_of_the_binomial() {
+        let values: Vec<f64> = (1..=16).rev().map(f64::from).collect();
+        let i = median_interval(&values, 0.95).unwrap();
+        assert_eq!((i.lower, i.upper), (4.0, 13.0));
+        assert_relative_eq!(i.coverage, 64_142.0 / 65_536.0, max_relative = 1e-14);
+        let six = median_interval(&[6.0, 1.0, 5.0, 2.0, 4.0, 3.0], 0.95).unwrap();
+        assert_eq!((six.lower, six.upper), (1.0, 6.0));
+        assert_relative_eq!(six.coverage, 62.0 / 64.0, max_relative = 1e-14);
+        assert_eq!(median_interval(&[1.0, 2.0, 3.0, 4.0, 5.0], 0.95), None);
+        assert_eq!(
+            median_interval(&[1.0, f64::NAN, 3.0, 4.0, 5.0, 6.0], 0.95),
+            None
+        );
+    }
 
     #[test]
     fn fisher_matches_exact_rational_sums() {

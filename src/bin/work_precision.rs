@@ -8,9 +8,23 @@ use jointwear::io::progress::progress_bar;
 use jointwear::paper::studies;
 use jointwear::paper::studies::tolerance_rule::{pick, rule_rows, Reading, RuleRow, RULE_FILE};
 
-/// Prints what the rule picks from `rule` by each reading.
+/// Prints the members' median paired orbit ratio per setting and what the rule picks from
+/// `rule` by each reading.
 fn print_picks(rule: &[RuleRow]) {
-    for reading in [Reading::Median, Reading::Pessimistic, Reading::Optimistic] {
+    for r in rule {
+        let (p, i) = (r.orbit_ratio, r.orbit_ratio.interval);
+        println!(
+            "rtol {:e}{}: first-rotation orbit error over the member's own bound's, median {:.3} \
+             (interval {:.3}-{:.3}, coverage {:.4})",
+            r.integration.rtol,
+            if r.absolute { " (bound)" } else { "" },
+            p.median,
+            i.lower,
+            i.upper,
+            i.coverage
+        );
+    }
+    for reading in Reading::ALL {
         println!(
             "default Dopri5 rtol by the rule, {reading:?}: {:?}",
             pick(rule, reading)

@@ -42,23 +42,30 @@ fn add_force(force: &mut [[f64; 3]], b: BodyIndex, s: Vector2<f64>, f: Vector2<f
 impl Mechanism {
     /// Generalised forces into `force` (x, y and torque of each body): gravity plus clearance-joint contact
     /// forces (eq. 11), with the bodies' poses and velocities from `frame`; each joint's
-    /// penetration into `gaps` (one per clearance joint).
+    /// penetration into `gaps` (one per clearance joint, the first `gaps.len()`).
+    /// `ends(k)` names clearance joint `k`'s journal and bearing bodies, so that a caller
+    /// that knows them at compile time reads their frames and adds their forces at fixed
+    /// places.
     /// Returns (normal-force power, friction power) into the system, or the clearance joint
     /// and penetration beyond [`MAX_PENETRATION_RATIO`] of its journal radius.
     #[inline(always)]
     pub(super) fn applied_forces(
         &self,
         state: &RunState,
-        frame: impl Fn(BodyIndex) -> Frame + Copy,
+        ends: impl Fn(usize) -> (BodyIndex, BodyIndex),
+        frame: impl Fn(BodyIndex) -> Frame,
         force: &mut [[f64; 3]],
         gaps: &mut [f64],
     ) -> std::result::Result<(f64, f64), (usize, f64)> {
-        for (f, w) in force.iter_mut().zip(&self.weights) {
+        // Sliced, so that a force array of a length known at compile time unrolls the copy.
+        let weights = &self.weights[..force.len()];
+        for (f, w) in force.iter_mut().zip(weights) {
             *f = *w;
         }
         let (mut p_normal, mut p_friction) = (0.0, 0.0);
         for (k, gap) in gaps.iter_mut().enumerate() {
-            let (cs, sj, sb) = self.contact_geometry(state, k, frame);
+            let (journal, bearing) = ends(k);
+            let (cs, sj, sb) = self.contact_between(state, k, &frame(journal), &frame(bearing));
             let cs = self.with_forces(state, k, cs);
             let cj = &self.clearance_joints[k];
             *gap = cs.delta;
@@ -70,8 +77,8 @@ impl Mechanism {
             }
             let (n, t) = (cs.n, perp(cs.n));
             let on_journal = -n * cs.f_n + t * cs.f_t;
-            add_force(force, cj.journal.body, sj + n * cj.r_journal, on_journal);
-            add_force(force, cj.bearing.body, sb + n * cj.r_bearing, -on_journal);
+            add_force(force, journal, sj + n * cj.r_journal, on_journal);
+            add_force(force, bearing, sb + n * cj.r_bearing, -on_journal);
             p_normal -= cs.f_n * cs.e_rate;
             p_friction += cs.f_t * cs.v_t;
         }
@@ -154,7 +161,11 @@ impl Mechanism {
         let mut force = std::mem::take(&mut ws.force);
         let rot = &ws.rot;
         let frame = |b: BodyIndex| Frame::of(q, v, b, |i| rot[i]);
-        let powers = self.applied_forces(state, frame, &mut force, &mut ws.gaps);
+        let ends = |k: usize| {
+            let cj = &self.clearance_joints[k];
+            (cj.journal.body, cj.bearing.body)
+        };
+        let powers = self.applied_forces(state, ends, frame, &mut force, &mut ws.gaps);
         ws.force = force;
         let (p_normal, p_friction) = powers.map_err(|(k, delta)| self.overload(t, k, delta))?;
         self.accelerations(ws, t, v, &mut dy[n..2 * n])?;

@@ -269,8 +269,20 @@ impl Mechanism {
         frame: impl Fn(BodyIndex) -> Frame,
     ) -> (ContactState, Vector2<f64>, Vector2<f64>) {
         let cj = &self.clearance_joints[k];
-        let fj = frame(cj.journal.body);
-        let fb = frame(cj.bearing.body);
+        self.contact_between(state, k, &frame(cj.journal.body), &frame(cj.bearing.body))
+    }
+
+    /// [`Mechanism::contact_geometry`] from the frames of the journal's body `fj` and of the
+    /// bearing's `fb`.
+    #[inline(always)]
+    pub(super) fn contact_between(
+        &self,
+        state: &RunState,
+        k: usize,
+        fj: &Frame,
+        fb: &Frame,
+    ) -> (ContactState, Vector2<f64>, Vector2<f64>) {
+        let cj = &self.clearance_joints[k];
         let (rj, vj, sj) = fj.point(cj.journal.local);
         let (rb, vb, sb) = fb.point(cj.bearing.local);
         let (wj, wb) = (fj.w, fb.w);

@@ -440,6 +440,7 @@ impl Mechanism {
     /// The right-hand side of the integrator's state: [`Mechanism::rhs`], or Lagrange's
     /// equations in joint coordinates (`ws` keeps only the penetrations,
     /// [`Workspace::last_gaps`]).
+    #[inline(always)]
     pub fn ode_rhs(
         &self,
         state: &RunState,

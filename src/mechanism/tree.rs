@@ -154,8 +154,15 @@ impl Walk {
 /// [`Joint::code`] in bits `16i + 8..16i + 16`; bit `64 + s` set if the body in slot `s` moves
 /// with the freedoms. The others (the driven body pinned to the ground, bodies on it with no
 /// freedom of their own) have zero Jacobian columns along the freedoms and add nothing to
-/// Lagrange's sums.
-const fn shape_code(links: &[(usize, usize, Joint)], moving: u128) -> u128 {
+/// Lagrange's sums. Then the clearance joints (`ends`: the slots of each one's journal and
+/// bearing bodies): their number in bits `72..76` and joint `k`'s journal's slot in bits
+/// `76 + 8k..80 + 8k`, its bearing's in the next four, for at most [`CODED_CLEARANCES`]
+/// joints (more are coded as 15 joints and no slots: a shape no known one equals).
+const fn shape_code(
+    links: &[(usize, usize, Joint)],
+    moving: u128,
+    ends: &[(usize, usize)],
+) -> u128 {
     let mut code = moving << 64;
     let mut i = 0;
     while i < links.len() {
@@ -163,17 +170,35 @@ const fn shape_code(links: &[(usize, usize, Joint)], moving: u128) -> u128 {
         code |= ((parent | (body << 4)) as u128 | (joint.code() << 8)) << (16 * i);
         i += 1;
     }
+    if ends.len() > CODED_CLEARANCES {
+        return code | (15 << 72);
+    }
+    code |= (ends.len() as u128) << 72;
+    let mut k = 0;
+    while k < ends.len() {
+        let (journal, bearing) = ends[k];
+        code |= ((journal | (bearing << 4)) as u128) << (76 + 8 * k);
+        k += 1;
+    }
     code
 }
 
+/// Most clearance joints a [`shape_code`] holds.
+const CODED_CLEARANCES: usize = 6;
+
 /// A driven crank (body 0) on the ground and a second body (body 1) on the crank, with a
-/// third (body 2) on the ground: the last two move.
+/// third (body 2) on the ground: the last two move. One clearance joint, its journal on the
+/// second body and its bearing on the third.
 const fn crank_and_two(third: Joint, second: Joint) -> u128 {
     let driven = Joint {
         angle: Angle::Driven,
         slide: None,
     };
-    shape_code(&[(0, 1, driven), (0, 3, third), (1, 2, second)], 0b1100)
+    shape_code(
+        &[(0, 1, driven), (0, 3, third), (1, 2, second)],
+        0b1100,
+        &[(2, 3)],
+    )
 }
 
 /// The standard slider-crank's shape (crank, rod, slider): the slider's line on the ground
@@ -215,6 +240,10 @@ trait Shape: Copy {
     fn joint(self, i: usize, l: &Link) -> Joint;
     /// Whether the body in slot `s` moves with the freedoms, given the tree's code.
     fn moves(self, code: u128, s: usize) -> bool;
+    /// How many clearance joints `m` has.
+    fn clearances(self, m: &Mechanism) -> usize;
+    /// The bodies of clearance joint `k`'s journal and bearing.
+    fn ends(self, k: usize, m: &Mechanism) -> (BodyIndex, BodyIndex);
 }
 
 /// The shape read at run time.
@@ -233,6 +262,15 @@ impl Shape for Listed {
     #[inline(always)]
     fn moves(self, code: u128, s: usize) -> bool {
         (code >> (64 + s)) & 1 != 0
+    }
+    #[inline(always)]
+    fn clearances(self, m: &Mechanism) -> usize {
+        m.clearance_joints.len()
+    }
+    #[inline(always)]
+    fn ends(self, k: usize, m: &Mechanism) -> (BodyIndex, BodyIndex) {
+        let cj = &m.clearance_joints[k];
+        (cj.journal.body, cj.bearing.body)
     }
 }
 
@@ -253,6 +291,17 @@ impl<const CODE: u128> Shape for Known<CODE> {
     #[inline(always)]
     fn moves(self, _: u128, s: usize) -> bool {
         (CODE >> (64 + s)) & 1 != 0
+    }
+    #[inline(always)]
+    fn clearances(self, _: &Mechanism) -> usize {
+        ((CODE >> 72) & 15) as usize
+    }
+    #[inline(always)]
+    fn ends(self, k: usize, _: &Mechanism) -> (BodyIndex, BodyIndex) {
+        let c = CODE >> (76 + 8 * k);
+        // Slot s holds body s − 1; slot 0 is the ground.
+        let body = |s: u128| (s as usize).checked_sub(1);
+        (body(c & 15), body((c >> 4) & 15))
     }
 }
 
@@ -290,6 +339,35 @@ impl<const C: usize> Jacobian<C> {
 #[inline(always)]
 pub(super) fn slot(b: BodyIndex) -> usize {
     b.map_or(0, |i| i + 1)
+}
+
+/// Runs `$body` with the sizes of `$tree`'s walk bound to the constants `$f` (freedoms),
+/// `$c` (Jacobian columns: the driver's angle too when `$energy`, for its torque) and `$s`
+/// (body slots, the ground's first), and its [`Shape`] to `$shape`: sized at compile time
+/// for each number of freedoms (and so of bodies, one more), with the slider-crank's and the
+/// four-bar's shapes fixed (their own unrolled copies, without energy accounting).
+macro_rules! sized_walk {
+    ($tree:expr, $energy:expr, $f:ident, $c:ident, $s:ident, $shape:ident => $body:expr) => {{
+        macro_rules! sized {
+            ($fv:literal, $cv:literal, $sv:literal, $sh:expr) => {{
+                const $f: usize = $fv;
+                const $c: usize = $cv;
+                const $s: usize = $sv;
+                let $shape = $sh;
+                $body
+            }};
+        }
+        match ($tree.walk, $energy) {
+            (Walk::SliderCrank, false) => sized!(2, 2, 4, Known::<SLIDER_CRANK>),
+            (Walk::FourBar, false) => sized!(2, 2, 4, Known::<FOUR_BAR>),
+            (Walk::Listed1, false) => sized!(1, 1, 3, Listed),
+            (Walk::Listed1, true) => sized!(1, 2, 3, Listed),
+            (Walk::Listed2, false) => sized!(2, 2, 4, Listed),
+            (Walk::Listed2 | Walk::SliderCrank | Walk::FourBar, true) => sized!(2, 3, 4, Listed),
+            (Walk::Listed3, false) => sized!(3, 3, 5, Listed),
+            (Walk::Listed3, true) => sized!(3, 4, 5, Listed),
+        }
+    }};
 }
 
 impl Tree {
@@ -384,7 +462,10 @@ impl Tree {
             .iter()
             .map(|l| (slot(l.parent), l.body + 1, l.joint))
             .collect();
-        let shape = shape_code(&slots, moving);
+        let ends: Vec<_> = (m.clearance_joints.iter())
+            .map(|cj| (slot(cj.journal.body), slot(cj.bearing.body)))
+            .collect();
+        let shape = shape_code(&slots, moving, &ends);
         (all && (1..=MAX_TREE_FREEDOMS).contains(&freedoms)).then_some(Tree {
             links,
             freedoms,
@@ -538,35 +619,39 @@ impl Tree {
         cj
     }
 
+    /// Calls `visit(l, joint, parent's slot, body's slot)` for each link `l` of `links`,
+    /// parents first, with its joint and slots as `shape` gives them. Unrolled, so that the
+    /// slots of a known shape are constants: its frames then stay in registers (a loop with
+    /// that body is not unrolled by the compiler); `visit` must be inlined for that.
+    #[inline(always)]
+    fn walk(shape: impl Shape, links: &[Link], mut visit: impl FnMut(&Link, Joint, usize, usize)) {
+        macro_rules! link {
+            ($i:literal) => {
+                if let Some(l) = links.get($i) {
+                    let (ps, bs) = shape.slots($i, l);
+                    visit(l, shape.joint($i, l), ps, bs);
+                }
+            };
+        }
+        link!(0);
+        link!(1);
+        link!(2);
+        link!(3);
+        const _: () = assert!(MAX_BODIES == 4, "one link! per body");
+    }
+
     /// The frames of the bodies at (t, z), by [`slot`], as the absolute state of (t, z) gives
     /// them: each `sc` is [`sincos`] of the body's angle, what the contact kinematics takes
-    /// from that state. Unrolled as in [`Tree::rhs_sized`].
+    /// from that state. The walk of [`Tree::rhs_sized`], without the Jacobians.
     #[inline(always)]
     pub(super) fn frames(&self, m: &Mechanism, t: f64, z: &[f64]) -> [Frame; MAX_BODIES + 1] {
-        let (u, ud) = (z, &z[self.freedoms..2 * self.freedoms]);
         let mut frame = [Frame::GROUND; MAX_BODIES + 1];
-        macro_rules! walk {
-            ($shape:expr) => {{
-                let shape = $shape;
-                macro_rules! link {
-                    ($i:literal) => {
-                        if let Some(l) = self.links.get($i) {
-                            let ((ps, bs), joint) = (shape.slots($i, l), shape.joint($i, l));
-                            frame[bs] = Self::pose(m, l, joint, &frame[ps], ps == 0, t, u, ud).f;
-                        }
-                    };
-                }
-                link!(0);
-                link!(1);
-                link!(2);
-                link!(3);
-            }};
-        }
-        match self.walk {
-            Walk::SliderCrank => walk!(Known::<SLIDER_CRANK>),
-            Walk::FourBar => walk!(Known::<FOUR_BAR>),
-            _ => walk!(Listed),
-        }
+        sized_walk!(self, false, F, _C, S, shape => {
+            let (u, ud) = (chunk::<F>(z), chunk::<F>(&z[F..]));
+            Self::walk(shape, &self.links[..S - 1], #[inline(always)] |l, joint, ps, bs| {
+                frame[bs] = Self::pose(m, l, joint, &frame[ps], ps == 0, t, u, ud).f;
+            });
+        });
         frame
     }
 
@@ -641,26 +726,10 @@ impl Tree {
         dz: &mut [f64],
         gaps: &mut [f64],
     ) -> Result<()> {
-        // Sized at compile time for each number of freedoms (and so of bodies, one more);
-        // the driver's column only for its torque.
-        // The slider-crank's shape and the four-bar's get their own unrolled copies.
         // (Energy accounting is read here, not in `walk`: a clone of the mechanism may turn it off.)
-        match (self.walk, m.energy_accounting) {
-            (Walk::SliderCrank, false) => {
-                self.rhs_sized::<2, 2, 4>(Known::<SLIDER_CRANK>, m, state, t, z, dz, gaps)
-            }
-            (Walk::FourBar, false) => {
-                self.rhs_sized::<2, 2, 4>(Known::<FOUR_BAR>, m, state, t, z, dz, gaps)
-            }
-            (Walk::Listed1, false) => self.rhs_sized::<1, 1, 3>(Listed, m, state, t, z, dz, gaps),
-            (Walk::Listed1, true) => self.rhs_sized::<1, 2, 3>(Listed, m, state, t, z, dz, gaps),
-            (Walk::Listed2, false) => self.rhs_sized::<2, 2, 4>(Listed, m, state, t, z, dz, gaps),
-            (Walk::Listed2 | Walk::SliderCrank | Walk::FourBar, true) => {
-                self.rhs_sized::<2, 3, 4>(Listed, m, state, t, z, dz, gaps)
-            }
-            (Walk::Listed3, false) => self.rhs_sized::<3, 3, 5>(Listed, m, state, t, z, dz, gaps),
-            (Walk::Listed3, true) => self.rhs_sized::<3, 4, 5>(Listed, m, state, t, z, dz, gaps),
-        }
+        sized_walk!(self, m.energy_accounting, F, C, S, shape => {
+            self.rhs_sized::<F, C, S>(shape, m, state, t, z, dz, gaps)
+        })
     }
 
     /// [`Tree::rhs`] for `F` freedoms, `C` Jacobian columns (`F`, or `F + 1` with the
@@ -690,29 +759,24 @@ impl Tree {
         // Frames and Jacobians walking the tree, parents first; slot 0 stays the ground's.
         let mut frame = [Frame::GROUND; S];
         let mut jac = [Jacobian::<C>::ZERO; S];
-        let links = &self.links[..S - 1];
-        // Unrolled, so that the slots of a known shape are constants: its frames then stay
-        // in registers (a loop with that body is not unrolled by the compiler).
-        macro_rules! link {
-            ($i:literal) => {
-                if $i < S - 1 {
-                    let l = &links[$i];
-                    let ((ps, bs), joint) = (shape.slots($i, l), shape.joint($i, l));
-                    let (p, pj, ground) = (frame[ps], jac[ps], ps == 0);
-                    let c = Self::pose(m, l, joint, &p, ground, t, u, ud);
-                    jac[bs] = Self::jacobian::<F, C>(joint, &p, &pj, ground, &c, ud);
-                    frame[bs] = c.f;
-                }
-            };
-        }
-        link!(0);
-        link!(1);
-        link!(2);
-        link!(3);
-        const _: () = assert!(MAX_BODIES == 4, "one link! per body");
+        Self::walk(
+            shape,
+            &self.links[..S - 1],
+            #[inline(always)]
+            |l, joint, ps, bs| {
+                let (p, pj, ground) = (frame[ps], jac[ps], ps == 0);
+                let c = Self::pose(m, l, joint, &p, ground, t, u, ud);
+                jac[bs] = Self::jacobian::<F, C>(joint, &p, &pj, ground, &c, ud);
+                frame[bs] = c.f;
+            },
+        );
         let mut force = [[0.0; 3]; S];
+        // The known shapes' clearance joints, and so the frames read and forces added, are
+        // fixed at compile time: the frames can stay in registers.
+        let ends = |k| shape.ends(k, m);
+        let gaps = &mut gaps[..shape.clearances(m)];
         let (p_normal, p_friction) = m
-            .applied_forces(state, |b| frame[slot(b)], &mut force[1..], gaps)
+            .applied_forces(state, ends, |b| frame[slot(b)], &mut force[1..], gaps)
             .map_err(|(k, delta)| m.overload(t, k, delta))?;
         // Lagrange: mass matrix Jᵀ M J (lower triangle) and forces Jᵀ (F − M a), over the
         // bodies that move with the freedoms (the others add exact zeros).
@@ -819,6 +883,24 @@ mod tests {
             let tree = Tree::of(&scene.mechanism).unwrap();
             assert_eq!((tree.shape, tree.walk), (code, walk), "{name}");
         }
+    }
+
+    // The clearance joints a known shape fixes at compile time are the scene's (their count
+    // and their journal and bearing bodies, as the shape read at run time gives them). Fails
+    // with Known::ends's journal and bearing swapped: tried.
+    #[test]
+    fn known_shapes_decode_the_scenes_clearance_joints() {
+        fn ends(shape: impl Shape, m: &Mechanism) -> Vec<(BodyIndex, BodyIndex)> {
+            (0..shape.clearances(m)).map(|k| shape.ends(k, m)).collect()
+        }
+        let scene = |name| SceneFile::read(scene_path(name)).unwrap().build().unwrap();
+        let standard = scene("standard").mechanism;
+        assert_eq!(
+            ends(Known::<SLIDER_CRANK>, &standard),
+            ends(Listed, &standard)
+        );
+        let fourbar = scene("fourbar").mechanism;
+        assert_eq!(ends(Known::<FOUR_BAR>, &fourbar), ends(Listed, &fourbar));
     }
 
     // Every joint a tree can hold survives its code. Fails with the slide's coordinate read

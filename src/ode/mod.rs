@@ -204,8 +204,10 @@ pub struct Integrator {
     y_new: Vec<f64>,
     dy_new: Vec<f64>,
     y_stage: Vec<f64>,
-    /// Stage derivatives k2, k3, ... (k1 is `dy`, first-same-as-last).
-    k: Vec<Vec<f64>>,
+    /// Stage derivatives k2, k3, ... (k1 is `dy`, first-same-as-last), one after another,
+    /// each of the state's length: [`Integrator::attempt_sized`] slices them once, not a
+    /// vector per stage whose length is read again after every evaluation.
+    k: Vec<f64>,
     /// Per-component error estimate of the last attempt (scratch).
     err: Vec<f64>,
 }
@@ -246,40 +248,88 @@ fn first_mut<const N: usize>(v: &mut [f64]) -> &mut [f64] {
     }
 }
 
-/// `out = y + h (row[0] k1 + Σ_{j≥1} row[j] k[j-1])`, skipping the many zero coefficients;
-/// `N` as in `sized!`. Every component sums its terms in stage order.
+/// `$f(out, args..)` on the first `N` components of `out` held in a local array (on all of
+/// `out`, in place, when `N` is 0), then stored: as far as the compiler knows `out` may
+/// overlap the stage buffers `$f` reads, so in place every pass would store and reload each
+/// component, while a local array stays in registers and its passes are vectorised. The same
+/// operations in the same order either way. (A macro: a closure here is not inlined.)
+macro_rules! accumulate {
+    ($n:ident, $f:ident($out:expr, $($arg:expr),*)) => {
+        if $n == 0 {
+            $f($out, $($arg),*)
+        } else {
+            let mut acc = [0.0; $n];
+            $f(&mut acc, $($arg),*);
+            $out[..$n].copy_from_slice(&acc);
+        }
+    };
+}
+
+/// The stage derivatives k2, k3, ... held one after another in `k`, each `d` long.
+#[inline(always)]
+fn stages(k: &[f64], d: usize) -> std::slice::ChunksExact<'_, f64> {
+    // `max(1)`: no stages to read for an empty state, and chunks may not be empty.
+    k.chunks_exact(d.max(1))
+}
+
+/// `out = y + h (row[0] k1 + Σ_{j≥1} row[j] k_{j+1})`, with k2, k3, ... the [`stages`] of
+/// `k`, each `d` long, skipping the many zero coefficients; `N` as in `sized!`. Every
+/// component sums its terms in stage order.
 #[inline(always)]
 fn combine<const N: usize>(
     out: &mut [f64],
     y: &[f64],
     k1: &[f64],
-    k: &[Vec<f64>],
+    k: (&[f64], usize),
     row: &[f64],
     h: f64,
 ) {
-    let out = first_mut::<N>(out);
+    accumulate!(N, combine_in(out, y, k1, k, row, h));
+}
+
+/// [`combine`] into all of `out`.
+#[inline(always)]
+fn combine_in(
+    out: &mut [f64],
+    y: &[f64],
+    k1: &[f64],
+    (k, d): (&[f64], usize),
+    row: &[f64],
+    h: f64,
+) {
     let h0 = h * row.first().copied().unwrap_or(0.0);
-    for ((o, &yi), &k1i) in out.iter_mut().zip(first::<N>(y)).zip(first::<N>(k1)) {
+    for ((o, &yi), &k1i) in out.iter_mut().zip(y).zip(k1) {
         *o = yi + h0 * k1i;
     }
-    for (&a, kj) in row.iter().skip(1).zip(k) {
+    for (&a, kj) in row.iter().skip(1).zip(stages(k, d)) {
         if a != 0.0 {
             let ha = h * a;
-            for (o, &kji) in out.iter_mut().zip(first::<N>(kj)) {
+            for (o, &kji) in out.iter_mut().zip(kj) {
                 *o += ha * kji;
             }
         }
     }
 }
 
-/// `out_i = Σ_j w_j k_j,i` over the stages k1 (`k1`), k2.. (`k`) and, last, f at the new point
-/// (`k_new`), skipping zero weights, for the first `out.len()` components (`N` of them when
-/// `N` is not 0). Stage by stage, so that each pass is a contiguous axpy the compiler
-/// vectorises; every component still sums its terms in stage order, so the result is the same
-/// bits as a component-by-component sum.
+/// `out_i = Σ_j w_j k_j,i` over the stages k1 (`k1`), k2.. (the [`stages`] of `k`, each `d`
+/// long) and, last, f at the new point (`k_new`), skipping zero weights, for the first
+/// `out.len()` components (`N` of them when `N` is not 0). Stage by stage, so that each pass
+/// is a contiguous axpy the compiler vectorises; every component still sums its terms in
+/// stage order, so the result is the same bits as a component-by-component sum.
 #[inline(always)]
-fn weighted<const N: usize>(out: &mut [f64], w: &[f64], k1: &[f64], k: &[Vec<f64>], k_new: &[f64]) {
-    let out = first_mut::<N>(out);
+fn weighted<const N: usize>(
+    out: &mut [f64],
+    w: &[f64],
+    k1: &[f64],
+    k: (&[f64], usize),
+    k_new: &[f64],
+) {
+    accumulate!(N, weighted_in(out, w, k1, k, k_new));
+}
+
+/// [`weighted`] into all of `out`.
+#[inline(always)]
+fn weighted_in(out: &mut [f64], w: &[f64], k1: &[f64], (k, d): (&[f64], usize), k_new: &[f64]) {
     out.fill(0.0);
     let last = w.len() - 1;
     for (j, &wj) in w.iter().enumerate() {
@@ -289,9 +339,9 @@ fn weighted<const N: usize>(out: &mut [f64], w: &[f64], k1: &[f64], k: &[Vec<f64
         let kj = match j {
             0 => k1,
             j if j == last => k_new,
-            j => &k[j - 1],
+            j => &k[(j - 1) * d..j * d],
         };
-        for (o, &v) in out.iter_mut().zip(first::<N>(kj)) {
+        for (o, &v) in out.iter_mut().zip(kj) {
             *o += wj * v;
         }
     }
@@ -334,7 +384,7 @@ impl Integrator {
             y_new: vec![0.0; dim],
             dy_new: vec![0.0; dim],
             y_stage: vec![0.0; dim],
-            k: vec![vec![0.0; dim]; method.tableau().a.len() - 1],
+            k: vec![0.0; dim * (method.tableau().a.len() - 1)],
             err: vec![0.0; dim],
         }
     }
@@ -422,7 +472,14 @@ impl Integrator {
             0.01 * d0 / d1
         }
         .min(self.tol.max_step);
-        combine::<0>(&mut self.y_stage, &self.s.y, &self.s.dy, &[], &[1.0], h0);
+        combine::<0>(
+            &mut self.y_stage,
+            &self.s.y,
+            &self.s.dy,
+            (&[], 0),
+            &[1.0],
+            h0,
+        );
         self.s.stats.evaluations += 1;
         sys.rhs(self.s.t + h0, &self.y_stage, &mut self.dy_new)?;
         let mut d2 = 0.0;
@@ -561,19 +618,23 @@ impl Integrator {
         h: f64,
         tab: &Tableau,
     ) -> Result<f64> {
+        // Slices taken once: their lengths are then known across the evaluations, which the
+        // compiler cannot assume of the vectors' (an evaluation gets pointers into them).
+        let s = &mut self.s;
+        let (y, dy, t) = (first::<N>(&s.y), first::<N>(&s.dy), s.t);
+        let d = y.len();
+        let (y_stage, y_new) = (
+            first_mut::<N>(&mut self.y_stage),
+            first_mut::<N>(&mut self.y_new),
+        );
+        let (k, dy_new) = (&mut self.k[..], first_mut::<N>(&mut self.dy_new));
         macro_rules! stage {
             ($s:literal) => {
                 if $s < tab.a.len() {
-                    combine::<N>(
-                        &mut self.y_stage,
-                        &self.s.y,
-                        &self.s.dy,
-                        &self.k,
-                        tab.a[$s],
-                        h,
-                    );
-                    self.s.stats.evaluations += 1;
-                    sys.rhs(self.s.t + tab.c[$s] * h, &self.y_stage, &mut self.k[$s - 1])?;
+                    let (done, next) = k.split_at_mut(($s - 1) * d);
+                    combine::<N>(y_stage, y, dy, (done, d), tab.a[$s], h);
+                    s.stats.evaluations += 1;
+                    sys.rhs(t + tab.c[$s] * h, y_stage, &mut next[..d])?;
                 }
             };
         }
@@ -596,16 +657,16 @@ impl Integrator {
             tab.a.len() <= tableau::MAX_STAGES,
             "a stage without its stage!"
         );
-        combine::<N>(&mut self.y_new, &self.s.y, &self.s.dy, &self.k, tab.b, h);
+        combine::<N>(y_new, y, dy, (k, d), tab.b, h);
         if tab.fsal {
-            self.s.stats.evaluations += 1;
-            sys.rhs(self.s.t + h, &self.y_new, &mut self.dy_new)?;
+            s.stats.evaluations += 1;
+            sys.rhs(t + h, y_new, dy_new)?;
         }
         Ok(match tab.estimate {
             Estimate::None => 0.0,
             Estimate::Embedded(e) => {
                 let n = self.n_controlled;
-                weighted::<C>(&mut self.err[..n], e, &self.s.dy, &self.k, &self.dy_new);
+                weighted::<C>(&mut self.err[..n], e, dy, (k, d), dy_new);
                 self.error_norm::<C>(h)
             }
             Estimate::Blended { er, bhh } => self.blended_error(h, tab.b, er, bhh),
@@ -620,7 +681,7 @@ impl Integrator {
                 if j == 0 {
                     self.s.dy[i]
                 } else {
-                    self.k[j - 1][i]
+                    self.k[(j - 1) * self.s.y.len() + i]
                 }
             };
             let (mut e5, mut bi) = (0.0, 0.0);
@@ -665,7 +726,8 @@ impl Integrator {
     /// (`N` as in [`Integrator::attempt_sized`]).
     #[inline(always)]
     fn dense_term<const N: usize, const C: usize>(&mut self, d: &[f64], h: f64) {
-        weighted::<N>(&mut self.s.dense5, d, &self.s.dy, &self.k, &self.dy_new);
+        let k = (&self.k[..], self.s.y.len());
+        weighted::<N>(&mut self.s.dense5, d, &self.s.dy, k, &self.dy_new);
         for r in first_mut::<N>(&mut self.s.dense5) {
             *r *= h;
         }

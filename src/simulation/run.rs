@@ -26,6 +26,10 @@ impl OdeSystem for Dynamics<'_> {
         self.mechanism.ode_len()
     }
 
+    // Inlined into the integrator's stages: a call here (and its saving and restoring of
+    // registers) around the call of the formulation's right-hand side costs 12 instructions
+    // an evaluation.
+    #[inline(always)]
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
         self.mechanism.ode_rhs(self.state, self.ws, t, y, dy)
     }
