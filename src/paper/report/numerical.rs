@@ -272,6 +272,7 @@ fn default_tolerance(
                 spread_text(&r.force_rel, sci),
                 paired_text(&r.orbit_ratio),
                 paired_text(&r.force_ratio),
+                r.onsets_differ.to_string(),
             ]
         })
         .collect();
@@ -285,8 +286,21 @@ fn default_tolerance(
             "peak-force error (relative)",
             "orbit error / own bound's",
             "peak-force error / own bound's",
+            "members with another onset count",
         ],
         &table,
+    );
+    text.push_str(
+        "The last column counts the members whose run locates another number of contact onsets in the \
+         first rotation than their reference: they make the table's largest orbit errors, several µm at every \
+         setting and the bound. Their references are right (for member 19, DOP853 at rtol 1e-13 agrees to \
+         0.001 µm and Dopri5 at 1e-12 with a 1e-5 s maximum step to 0.003 µm): the journal lifts off by about \
+         a nanometre within a contact, and a run whose step spans the lift-off locates no new onset and keeps \
+         the previous contact's δ̇⁻ in eq. 3's damping instead of the grazing floor. Onsets are located as \
+         sign changes of the gap between step ends, so such a lift-off is missed or not by where the steps \
+         fall, not monotonically in the tolerance; these members are kept, their errors are the runs' real \
+         ones, and the rule's median ratio is a rank statistic they move by at most their share \
+         (`src/paper/studies/tolerance_rule.rs`).\n\n",
     );
     let _ = write!(
         text,
@@ -1030,6 +1044,7 @@ mod tests {
             force_rel: spread(1e-5),
             orbit_ratio: paired(ratio, half_width),
             force_ratio: paired(0.5, 0.01),
+            onsets_differ: 0,
         };
         (rtols.iter().zip(ratios))
             .map(|(&r, &m)| row(r, m, false))
@@ -1043,8 +1058,15 @@ mod tests {
     // fewer" instead of "9 % more").
     #[test]
     fn the_default_tolerance_paragraph_follows_the_scene_and_the_rule() {
-        let narrow = rule(&[2e-7, 1e-7], &[0.95, 0.9], 0.01);
+        let mut narrow = rule(&[2e-7, 1e-7], &[0.95, 0.9], 0.01);
+        // the members with another onset count end each row (checked to fail without the column)
+        narrow[1].onsets_differ = 7;
         let same = default_tolerance(&scene(2e-7, 0.02), Some((&narrow, 16)), "r");
+        assert!(
+            same.lines()
+                .any(|l| l.starts_with("| 10⁻⁷ | joint") && l.ends_with("| 7 |")),
+            "{same}"
+        );
         assert!(
             same.contains("16 members (seed 1,")
                 && same.contains("median orbit error 0.012 µm (quartiles 0.0108–0.0132")

@@ -94,6 +94,8 @@ pub(super) struct FirstRotation {
     peak_force: f64,
     /// Right-hand-side evaluations of the rotation.
     pub(super) evaluations: u64,
+    /// Contact onsets the run located in the rotation.
+    pub(super) onsets: u64,
 }
 
 impl FirstRotation {
@@ -105,6 +107,7 @@ impl FirstRotation {
             ey: j.ey.clone(),
             peak_force: j.normal_force.iter().cloned().fold(0.0, f64::max),
             evaluations: out.stats.evaluations,
+            onsets: out.impacts[0],
         }
     }
 
