@@ -20,7 +20,7 @@ fn tiny(f: &mut SceneFile) {
     f.run.wear_snapshots.clear();
     // The test's time budget: hertz with hu-guo takes about 4.9e4 steps a rotation here in
     // continuous contact (joint coordinates at rtol 2e-7, measured before the scenes' switch to
-    // 1.5e-7, which takes about 10 % more), so five rotations need 2.5e5 to 2.8e5.
+    // 1.5e-7), so five rotations needed 2.5e5 then.
     f.run.max_steps = 300_000;
     if let Some(s) = f.run.steady_state.as_mut() {
         s.max_rotations = 4;

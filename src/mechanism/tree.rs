@@ -726,7 +726,8 @@ impl Tree {
         dz: &mut [f64],
         gaps: &mut [f64],
     ) -> Result<()> {
-        // (Energy accounting is read here, not in `walk`: a clone of the mechanism may turn it off.)
+        // (Energy accounting is read here, not in `Tree::of`'s `Walk`: a clone of the mechanism may
+        // turn it off.)
         sized_walk!(self, m.energy_accounting, F, C, S, shape => {
             self.rhs_sized::<F, C, S>(shape, m, state, t, z, dz, gaps)
         })

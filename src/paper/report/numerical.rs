@@ -191,7 +191,7 @@ fn rule_verdict(rows: &[RuleRow], ours: &Integration) -> String {
         _ => String::new(),
     };
     format!(
-        "{}, which is not the scenes' setting: they run at {} until every output is regenerated{cost}",
+        "{}, which is not the scenes' setting: they run at {}{cost}",
         choice(chosen),
         describe(ours)
     )
@@ -237,8 +237,8 @@ fn default_tolerance(
          which, and at every tighter one, the median ratio over the members is at most 1 and the median \
          peak-force error at most {FORCE_BOUND:e}: {}. Pairing each member with its own bound removes what a \
          member's start does to both errors, so it asks more precisely on the same members than comparing the \
-         two medians, the rule before (which picks {}); the paired rule was announced before its result was \
-         known. With the median ratio's distribution-free interval (sign test: order statistics of the members' \
+         two medians, the rule before (which picks {}); the paired rule was announced (issue 22's closing note of 2026-11-26) before \
+         its result was known. With the median ratio's distribution-free interval (sign test: order statistics of the members' \
          ratios, exact coverage {:.1} %), the rule picks {} when the interval's upper end must be at most 1 \
          (strict) and {} when its lower end must (lenient): {settled}. Per setting, the mean first-rotation \
          evaluations, the errors as median (quartiles; range), and the members' ratios to their own bound as \
@@ -293,7 +293,7 @@ fn default_tolerance(
     text.push_str(
         "The last column counts the members whose run locates another number of contact onsets in the \
          first rotation than their reference: they make the table's largest orbit errors, several µm at every \
-         setting and the bound. Their references are right (for member 19, DOP853 at rtol 1e-13 agrees to \
+         setting but 5e-8, the bound included. Their references are right (for member 19, DOP853 at rtol 1e-13 agrees to \
          0.001 µm and Dopri5 at 1e-12 with a 1e-5 s maximum step to 0.003 µm): the journal lifts off by about \
          a nanometre within a contact, and a run whose step spans the lift-off locates no new onset and keeps \
          the previous contact's δ̇⁻ in eq. 3's damping instead of the grazing floor. Onsets are located as \
@@ -436,8 +436,8 @@ fn ensemble_tolerance_intro(rtol: f64, members: Option<usize>) -> String {
         format!("the study's base setting, not the scenes' rtol {rtol:e}")
     };
     format!(
-        "**Does Table 3 need the scenes' tolerance?** The scenes' rtol {rtol:e} is chosen on single \
-         trajectories, while the results are ensemble statistics. Table 3's ensembles ({members} members of \
+        "**Does Table 3 need the scenes' tolerance?** The scenes' rtol {rtol:e} is chosen on first-rotation \
+         errors (section 5), while the results are ensemble statistics. Table 3's ensembles ({members} members of \
          every case, settled) with Dopri5 at looser tolerances (`cargo run --release --bin ensemble_tolerance`); \
          member i starts from the same offsets at every tolerance, so `z` is a mean's change from the rtol \
          {base:e} rows ({base_note}) over the standard error of the members' own changes; evaluations are per \
@@ -665,7 +665,7 @@ pub(super) fn performance_section(md: &mut String) {
              evaluations: 1 006 instructions per evaluation, about 1 010 per attempt, 880 per step for the wear \
              and 830 for its contact states, 61 M of outputs); fourbar 1 227 M → 1 026 M; two_clearance \
              2 340 M → 2 326 M (absolute coordinates: only `sincos` and the weights reach it). Then, from \
-             commit c0023e6 and again with every output bit-identical (the same `cmp` of seven scenes' runs): \
+             commit c0023e6, at rtol 2e-7, and again with every output bit-identical (the same `cmp` of seven scenes' runs): \
              the known shapes' codes also fixing their clearance joints' journal and bearing bodies, so that the \
              contact kinematics read the frames and add the contact forces at slots known at compile time instead \
              of storing the frames and reading them back by a run-time index (standard 1 010.6 M → 942.1 M, \
@@ -700,8 +700,9 @@ pub(super) fn performance_section(md: &mut String) {
              96 560 steps and 665 124 evaluations, against 109 717 and 761 770 at rtol 1e-7 and 72 499 and \
              559 289 for absolute coordinates at 1e-7 (first rotation: 14 170 evaluations against 12 048), so at \
              equal accuracy joint coordinates need about 19 % more evaluations and gain only per evaluation. \
-             Against absolute coordinates at rtol 1e-7 (2 337 M) the standard run took 892 M at rtol 2e-7 (a \
-             single trajectory; on average over members joint coordinates take about 19 % more evaluations at that \
+             Against absolute coordinates at rtol 1e-7 (2 337 M) the standard run took 892 M at rtol 2e-7 \
+             (`--set run.rtol=2e-7 --set run.atol=2e-10`, the setting of every count of the kept optimisations since commit c0023e6) and takes \
+             950 M at the scenes' 1.5e-7 (93 606 steps, 643 101 evaluations; one trajectory each; on average over members joint coordinates take about 19 % more evaluations at that \
              equal accuracy, 26 % at 1.5e-7, so per evaluation and per step are the fair measures), and the 800 M \
              target is missed. What remains per evaluation (889): two `sincos` (about 75 each), the contact \
              geometry with its `atan`, the wear lookup, Lagrange's sums and the laws; about 12 bounds checks \
@@ -1090,8 +1091,7 @@ mod tests {
         let wide = rule(&[2e-7, 1e-7], &[1.05, 0.9], 0.08);
         let other = default_tolerance(&scene(2e-7, 0.01), Some((&wide, 16)), "r");
         let verdict = "rtol 1e-7, which is not the scenes' setting: they run at Dopri5 at rtol 2e-7, \
-                       atol 2e-10, maximum step 1e-3 s until every output is regenerated; switching \
-                       to it would take 9 % more evaluations over the first rotation (12\u{2009}000 \
+                       atol 2e-10, maximum step 1e-3 s; switching to it would take 9 % more evaluations over the first rotation (12\u{2009}000 \
                        against 11\u{2009}000, the members' means)";
         assert!(
             other.contains("; 0.12% of the standard clearance at the median")

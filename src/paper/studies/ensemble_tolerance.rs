@@ -1,5 +1,5 @@
-//! Does Table 3 need the scenes' tolerance? The scenes' rtol ([`SCENE_RTOL`]) is chosen on single
-//! trajectories (the work-precision study's first-rotation orbit and peak force), while this
+//! Does Table 3 need the scenes' tolerance? The scenes' rtol ([`SCENE_RTOL`]) is chosen on
+//! first-rotation orbit and peak-force errors (the default-tolerance rule over members), while this
 //! project's results are ensemble statistics. This study runs Table 3's ensembles (every case,
 //! [`DEFAULT_MEMBERS`] members, settled, two rotations recorded) with Dopri5 at each rtol of
 //! [`RTOLS`] (`atol = 1e-3·rtol`, step cap 1e-3 s, as in the work-precision study) and sets each

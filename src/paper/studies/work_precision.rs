@@ -94,7 +94,8 @@ pub(super) struct FirstRotation {
     peak_force: f64,
     /// Right-hand-side evaluations of the rotation.
     pub(super) evaluations: u64,
-    /// Contact onsets the run located in the rotation.
+    /// Contact onsets the run located in the rotation at its first clearance joint (the standard
+    /// scene's only one).
     pub(super) onsets: u64,
 }
 
