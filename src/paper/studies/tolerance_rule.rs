@@ -527,8 +527,8 @@ fn write_rule_rows(rows: &[RuleRow], members: usize) -> Result<()> {
 }
 
 /// The rows an earlier run wrote to [`RULE_FILE`] and the member count they were measured
-/// over; an error saying why when the file is missing or not what [`rule_rows`] writes
-/// ([`parse_rule_rows`]).
+/// over; an error saying why when the file is missing or not exactly what [`rule_rows`]
+/// writes (its candidates in order, then the bound, finite numbers, one member count).
 pub fn read_rule_rows() -> Result<(Vec<RuleRow>, usize)> {
     let (header, rows) = read_rows(&output_path("data", RULE_FILE))?;
     parse_rule_rows(&header, &rows)
