@@ -186,6 +186,12 @@ const fn shape_code(
 /// Most clearance joints a [`shape_code`] holds.
 const CODED_CLEARANCES: usize = 6;
 
+// The layout of a [`shape_code`]: the links' 16 bits each below the moving bits, a slot
+// (0..=MAX_BODIES) in 4 bits and a moving bit per slot in bits 64..72, a count below the 15 that
+// marks too many clearance joints, and each coded joint's 8 bits within the 128.
+const _: () = assert!(16 * MAX_BODIES <= 64 && MAX_BODIES < 8);
+const _: () = assert!(CODED_CLEARANCES < 15 && 76 + 8 * CODED_CLEARANCES <= 128);
+
 /// A driven crank (body 0) on the ground and a second body (body 1) on the crank, with a
 /// third (body 2) on the ground: the last two move. One clearance joint, its journal on the
 /// second body and its bearing on the third.
@@ -297,7 +303,8 @@ impl<const CODE: u128> Shape for Known<CODE> {
         ((CODE >> 72) & 15) as usize
     }
     #[inline(always)]
-    fn ends(self, k: usize, _: &Mechanism) -> (BodyIndex, BodyIndex) {
+    fn ends(self, k: usize, m: &Mechanism) -> (BodyIndex, BodyIndex) {
+        debug_assert!(k < self.clearances(m), "clearance joint {k} is not coded");
         let c = CODE >> (76 + 8 * k);
         // Slot s holds body s − 1; slot 0 is the ground.
         let body = |s: u128| (s as usize).checked_sub(1);
@@ -902,6 +909,23 @@ mod tests {
         );
         let fourbar = scene("fourbar").mechanism;
         assert_eq!(ends(Known::<FOUR_BAR>, &fourbar), ends(Listed, &fourbar));
+    }
+
+    // The clearance joints are part of the shape: the standard slider-crank with its clearance
+    // joint's journal and bearing exchanged has the same links and moving bodies but must not
+    // take the walk that fixes the standard's ends. Fails with the clearance bits dropped from
+    // shape_code (the swapped scene then gets Walk::SliderCrank): tried.
+    #[test]
+    fn a_slider_crank_with_other_clearance_ends_is_not_the_standard_shape() {
+        let mut f = SceneFile::read(scene_path("standard")).unwrap();
+        let cj = &mut f.clearance[0];
+        std::mem::swap(&mut cj.journal, &mut cj.bearing);
+        let scene = f.build().unwrap();
+        let tree = Tree::of(&scene.mechanism).unwrap();
+        assert_eq!(tree.walk, Walk::Listed2);
+        // only the clearance bits (72 and above) differ from the standard's
+        assert_eq!(tree.shape & ((1 << 72) - 1), SLIDER_CRANK & ((1 << 72) - 1));
+        assert_ne!(tree.shape, SLIDER_CRANK);
     }
 
     // Every joint a tree can hold survives its code. Fails with the slide's coordinate read

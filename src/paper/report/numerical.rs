@@ -31,6 +31,7 @@ use crate::paper::studies::{
 };
 use crate::scene::{scene_path, SceneFile};
 use crate::simulation::{CRAWL_FRACTION, CRAWL_WINDOW};
+use crate::Error;
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
 
@@ -198,12 +199,12 @@ fn rule_verdict(rows: &[RuleRow], ours: &Integration) -> String {
 }
 
 /// The default-tolerance paragraph: the rule's measurement over `members` members (`rule`, as
-/// `data/work_precision_members.csv` holds it; `None` if missing), what it picks with the
+/// `data/work_precision_members.csv` holds it, or why it cannot be read), what it picks with the
 /// median paired ratio, with its interval's ends and with the former medians' comparison, the
 /// scenes' setting beside it, and the ensemble-mean wear errors (`ratios`).
 fn default_tolerance(
     scene: &SceneSetting,
-    rule: Option<(&[RuleRow], usize)>,
+    rule: std::result::Result<(&[RuleRow], usize), &Error>,
     ratios: &str,
 ) -> String {
     let mut text = String::from(
@@ -213,9 +214,15 @@ fn default_tolerance(
          members (`cargo run --release --bin work_precision -- --rule`, `data/work_precision_members.csv`, \
          `src/paper/studies/tolerance_rule.rs`). ",
     );
-    let Some((rows, members)) = rule.filter(|(rows, _)| rows.iter().any(|r| r.absolute)) else {
-        text.push_str("*The rule's measurement is missing: no tolerance is chosen here.*\n\n");
-        return text;
+    let (rows, members) = match rule {
+        Ok(rule) => rule,
+        Err(why) => {
+            let _ = write!(
+                text,
+                "*The rule's measurement is missing or damaged: {why}. No tolerance is chosen here.*\n\n"
+            );
+            return text;
+        }
     };
     let bound = rows.iter().find(|r| r.absolute).map(|r| r.orbit_um);
     let bound = bound.unwrap_or(rows[0].orbit_um);
@@ -322,7 +329,7 @@ fn rule_sentence(scene: Option<&SceneSetting>, rule: Option<&[RuleRow]>) -> Stri
             rule_verdict(rows, &scene.integration)
         ),
         _ => "Section 5 therefore chooses on the members' errors; its measurement or the scenes' setting is \
-              missing here."
+              missing or damaged here."
             .into(),
     }
 }
@@ -724,7 +731,7 @@ pub(super) fn performance_section(md: &mut String) {
     let rule = read_rule_rows();
     md.push_str(&rule_sentence(
         scene.as_ref(),
-        rule.as_ref().map(|(rows, _)| rows.as_slice()),
+        rule.as_ref().ok().map(|(rows, _)| rows.as_slice()),
     ));
     md.push_str(
             " Over members 0-15 of seed 1 (`jointwear run data/scenes/standard.toml --set \
@@ -1062,7 +1069,7 @@ mod tests {
         let mut narrow = rule(&[2e-7, 1e-7], &[0.95, 0.9], 0.01);
         // the members with another onset count end each row (checked to fail without the column)
         narrow[1].onsets_differ = 7;
-        let same = default_tolerance(&scene(2e-7, 0.02), Some((&narrow, 16)), "r");
+        let same = default_tolerance(&scene(2e-7, 0.02), Ok((&narrow, 16)), "r");
         assert!(
             same.lines()
                 .any(|l| l.starts_with("| 10⁻⁷ | joint") && l.ends_with("| 7 |")),
@@ -1089,7 +1096,7 @@ mod tests {
         );
         // picks 1e-7 while the scenes run at 2e-7 (11 000 evaluations against 12 000)
         let wide = rule(&[2e-7, 1e-7], &[1.05, 0.9], 0.08);
-        let other = default_tolerance(&scene(2e-7, 0.01), Some((&wide, 16)), "r");
+        let other = default_tolerance(&scene(2e-7, 0.01), Ok((&wide, 16)), "r");
         let verdict = "rtol 1e-7, which is not the scenes' setting: they run at Dopri5 at rtol 2e-7, \
                        atol 2e-10, maximum step 1e-3 s; switching to it would take 9 % more evaluations over the first rotation (12\u{2009}000 \
                        against 11\u{2009}000, the members' means)";
@@ -1111,7 +1118,7 @@ mod tests {
         assert!(rule_sentence(None, Some(&wide)).contains("missing"));
         let none = default_tolerance(
             &scene(1e-7, 0.02),
-            Some((&rule(&[1e-7], &[1.2], 0.01), 16)),
+            Ok((&rule(&[1e-7], &[1.2], 0.01), 16)),
             "r",
         );
         assert!(
@@ -1119,8 +1126,13 @@ mod tests {
                 && !none.contains("switching"),
             "{none}"
         );
-        let missing = default_tolerance(&scene(1e-7, 0.02), None, "r");
-        assert!(missing.contains("measurement is missing"), "{missing}");
+        let why = Error::invalid("data/work_precision_members.csv rows", 9, "10 rows");
+        let missing = default_tolerance(&scene(1e-7, 0.02), Err(&why), "r");
+        assert!(
+            missing.contains("measurement is missing or damaged: invalid value for `data/")
+                && missing.contains("No tolerance is chosen"),
+            "{missing}"
+        );
     }
 
     #[test]

@@ -176,6 +176,17 @@ impl Spread {
     fn values(&self) -> [f64; 5] {
         [self.min, self.q25, self.median, self.q75, self.max]
     }
+
+    /// The spread of [`Spread::values`].
+    fn from_values([min, q25, median, q75, max]: [f64; 5]) -> Spread {
+        Spread {
+            min,
+            q25,
+            median,
+            q75,
+            max,
+        }
+    }
 }
 
 /// How a [`Spread`]'s values are named in the CSV columns.
@@ -479,13 +490,12 @@ fn formulation(absolute: bool) -> &'static str {
     }
 }
 
-fn write_rule_rows(rows: &[RuleRow], members: usize) -> Result<()> {
+/// The CSV rows of `rows` measured over `members` members, under [`rule_header`].
+fn rule_csv_rows(rows: &[RuleRow], members: usize) -> Vec<Vec<String>> {
     // shortest round-trip form: the report reapplies the rule to exactly these numbers
     let num = |v: f64| format!("{v:e}");
-    write_rows(
-        &output_path("data", RULE_FILE),
-        &rule_header(),
-        rows.iter().map(|r| {
+    rows.iter()
+        .map(|r| {
             let fixed = [
                 formulation(r.absolute).to_string(),
                 num(r.integration.rtol),
@@ -504,55 +514,176 @@ fn write_rule_rows(rows: &[RuleRow], members: usize) -> Result<()> {
                     r.onsets_differ.to_string(),
                 ])
                 .collect()
-        }),
+        })
+        .collect()
+}
+
+fn write_rule_rows(rows: &[RuleRow], members: usize) -> Result<()> {
+    write_rows(
+        &output_path("data", RULE_FILE),
+        &rule_header(),
+        rule_csv_rows(rows, members),
     )
 }
 
 /// The rows an earlier run wrote to [`RULE_FILE`] and the member count they were measured
-/// over; `None` when the file is missing or not in the form [`rule_rows`] writes.
-pub fn read_rule_rows() -> Option<(Vec<RuleRow>, usize)> {
-    let (header, rows) = read_rows(&output_path("data", RULE_FILE)).ok()?;
-    if header != rule_header() {
-        return None;
+/// over; an error saying why when the file is missing or not exactly what [`rule_rows`]
+/// writes (its candidates in order, then the bound, finite numbers, one member count).
+pub fn read_rule_rows() -> Result<(Vec<RuleRow>, usize)> {
+    let (header, rows) = read_rows(&output_path("data", RULE_FILE))?;
+    parse_rule_rows(&header, &rows)
+}
+
+/// Why a damaged [`RULE_FILE`] cannot be read: `field` holds `value`, not `expected`.
+fn damaged(
+    field: impl std::fmt::Display,
+    value: impl std::fmt::Display,
+    expected: impl std::fmt::Display,
+) -> Error {
+    Error::invalid(
+        format!("data/{RULE_FILE} {field}"),
+        value,
+        format!(
+            "{expected}; likely cause: a damaged or hand-edited file or one from another version of \
+             the study, rerun `cargo run --release --bin work_precision -- --rule`"
+        ),
+    )
+}
+
+/// One data row of [`RULE_FILE`], its values found by their columns' names.
+struct CsvRow<'a> {
+    header: &'a [String],
+    row: &'a [String],
+    /// Its line in the file (the header is line 1).
+    line: usize,
+}
+
+impl CsvRow<'_> {
+    fn text(&self, column: &str) -> Result<&str> {
+        let c = (self.header.iter().position(|h| h == column)).ok_or_else(|| {
+            damaged(
+                "header",
+                self.header.join(","),
+                format!("a column `{column}`"),
+            )
+        })?;
+        Ok(&self.row[c])
     }
-    let members = rows.first()?[3].parse().ok()?;
-    let parsed = rows.iter().map(|r| {
-        let v = |c: usize| r[c].parse::<f64>().ok();
-        let spread = |first: usize| {
-            Some(Spread {
-                min: v(first)?,
-                q25: v(first + 1)?,
-                median: v(first + 2)?,
-                q75: v(first + 3)?,
-                max: v(first + 4)?,
+
+    fn field(&self, column: &str) -> String {
+        format!("line {} column {column}", self.line)
+    }
+
+    /// The finite number in `column`.
+    fn number(&self, column: &str) -> Result<f64> {
+        let text = self.text(column)?;
+        (text.parse::<f64>().ok().filter(|v| v.is_finite()))
+            .ok_or_else(|| damaged(self.field(column), text, "a finite number"))
+    }
+
+    /// The count in `column`.
+    fn count(&self, column: &str) -> Result<usize> {
+        let text = self.text(column)?;
+        text.parse()
+            .map_err(|_| damaged(self.field(column), text, "a count (0, 1, 2, ...)"))
+    }
+
+    /// The numbers in the columns `prefix_key` of `keys`.
+    fn numbers<const N: usize>(&self, prefix: &str, keys: [&str; N]) -> Result<[f64; N]> {
+        let mut values = [0.0; N];
+        for (v, k) in values.iter_mut().zip(keys) {
+            *v = self.number(&format!("{prefix}_{k}"))?;
+        }
+        Ok(values)
+    }
+}
+
+/// The rows of a [`RULE_FILE`] with `header`, and their member count. They must be exactly
+/// what [`rule_rows`] writes: one row per candidate of [`RULE_RTOLS`] in that order, then the
+/// bound ([`rule_settings`]), finite numbers, the same member count in every row and at most
+/// that many members with another onset count; else [`pick`] would walk across a missing
+/// candidate or the report would state a damaged number. Columns are found by their names.
+fn parse_rule_rows(header: &[String], rows: &[Vec<String>]) -> Result<(Vec<RuleRow>, usize)> {
+    let settings: Vec<(Integration, bool)> = rule_settings().collect();
+    if rows.len() != settings.len() {
+        return Err(damaged(
+            "rows",
+            rows.len(),
+            format!(
+                "{} rows: the candidates at rtol {RULE_RTOLS:?} in that order, then the bound",
+                settings.len()
+            ),
+        ));
+    }
+    let mut members = None;
+    let parsed =
+        (rows.iter().zip(settings).enumerate()).map(|(i, (row, (integration, absolute)))| {
+            let r = CsvRow {
+                header,
+                row,
+                line: i + 2,
+            };
+            let setting = [
+                (r.text(RULE_COLUMNS[0])? == formulation(absolute)),
+                (r.number(RULE_COLUMNS[1])? == integration.rtol),
+                (r.number(RULE_COLUMNS[2])? == integration.atol),
+            ];
+            if setting.contains(&false) {
+                return Err(damaged(
+                    format!("line {}", r.line),
+                    row[..3.min(row.len())].join(","),
+                    format!(
+                        "{},{:e},{:e} (row {} of the study's settings in order)",
+                        formulation(absolute),
+                        integration.rtol,
+                        integration.atol,
+                        i + 1
+                    ),
+                ));
+            }
+            let n = r.count(RULE_COLUMNS[3])?;
+            let first = *members.get_or_insert(n);
+            if n != first || n == 0 {
+                return Err(damaged(
+                    r.field(RULE_COLUMNS[3]),
+                    n,
+                    format!("the same positive member count in every row ({first} on line 2)"),
+                ));
+            }
+            let spread = |prefix| r.numbers(prefix, SPREAD_KEYS).map(Spread::from_values);
+            let coverage = r.number(COVERAGE)?;
+            let paired = |prefix| {
+                let [median, lower, upper] = r.numbers(prefix, PAIRED_KEYS)?;
+                Ok::<_, Error>(Paired {
+                    median,
+                    interval: MedianInterval {
+                        lower,
+                        upper,
+                        coverage,
+                    },
+                })
+            };
+            let onsets_differ = r.count(ONSETS_DIFFER)?;
+            if onsets_differ > n {
+                return Err(damaged(
+                    r.field(ONSETS_DIFFER),
+                    onsets_differ,
+                    format!("at most the {n} members"),
+                ));
+            }
+            Ok(RuleRow {
+                integration,
+                absolute,
+                evaluations: r.number(RULE_COLUMNS[4])?,
+                orbit_um: spread(SPREADS[0])?,
+                force_rel: spread(SPREADS[1])?,
+                orbit_ratio: paired(RATIOS[0])?,
+                force_ratio: paired(RATIOS[1])?,
+                onsets_differ,
             })
-        };
-        let paired = |first: usize| {
-            Some(Paired {
-                median: v(first)?,
-                interval: MedianInterval {
-                    lower: v(first + 1)?,
-                    upper: v(first + 2)?,
-                    coverage: v(21)?,
-                },
-            })
-        };
-        let absolute = r[0] == formulation(true);
-        Some(RuleRow {
-            integration: Integration {
-                atol: v(2)?,
-                ..Integration::adaptive(Method::Dopri5, v(1)?)
-            },
-            absolute,
-            evaluations: v(4)?,
-            orbit_um: spread(5)?,
-            force_rel: spread(10)?,
-            orbit_ratio: paired(15)?,
-            force_ratio: paired(18)?,
-            onsets_differ: r[22].parse().ok()?,
-        })
-    });
-    Some((parsed.collect::<Option<_>>()?, members))
+        });
+    let parsed = parsed.collect::<Result<_>>()?;
+    Ok((parsed, members.unwrap_or(0)))
 }
 
 #[cfg(test)]
@@ -708,6 +839,70 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("members") && e.contains('5'), "{e}");
+    }
+
+    // Each damage below was checked to be accepted without its check: with the finiteness
+    // filter removed "NaN" reads; without the row count the missing candidate reads; without
+    // the setting comparison the swapped rows read; without the member comparison the 64 reads.
+    #[test]
+    fn the_rule_file_reads_back_only_as_written() {
+        // the committed measurement reads
+        let (committed, n) = read_rule_rows().unwrap();
+        assert_eq!((committed.len(), n), (RULE_RTOLS.len() + 1, RULE_MEMBERS));
+        let bound: Vec<f64> = (1..=8).map(f64::from).collect();
+        let candidate: Vec<f64> = bound.iter().map(|b| 0.7 * b).collect();
+        let rows = rows_of(&members(&candidate, &bound)).unwrap();
+        let header = rule_header();
+        let csv = rule_csv_rows(&rows, 8);
+        assert_eq!(parse_rule_rows(&header, &csv).unwrap(), (rows.clone(), 8));
+        // columns are found by name: the file with two columns swapped reads the same
+        let swap = |r: &[String]| {
+            let mut r = r.to_vec();
+            r.swap(7, 16);
+            r
+        };
+        let swapped: Vec<Vec<String>> = csv.iter().map(|r| swap(r)).collect();
+        assert_eq!(
+            parse_rule_rows(&swap(&header), &swapped).unwrap(),
+            (rows, 8)
+        );
+        let rejects = |csv: &[Vec<String>], why: &str| {
+            let e = parse_rule_rows(&header, csv).unwrap_err().to_string();
+            assert!(e.contains(why) && e.contains("rerun"), "{e}");
+        };
+        let edit = |line: usize, column: &str, value: &str| {
+            let mut csv = csv.clone();
+            let c = header.iter().position(|h| h == column).unwrap();
+            csv[line - 2][c] = value.into();
+            csv
+        };
+        rejects(
+            &edit(4, "orbit_err_um_q50", "NaN"),
+            "line 4 column orbit_err_um_q50`: NaN (expected a finite number",
+        );
+        rejects(&edit(11, "ratio_ci_coverage", "inf"), "finite number");
+        rejects(&edit(7, "members", "64"), "column members`: 64");
+        rejects(
+            &edit(2, "members_onsets_differ", "9"),
+            "at most the 8 members",
+        );
+        rejects(&edit(3, "formulation", "absolute_old_norm"), "line 3`");
+        let mut gap = csv.clone();
+        gap.remove(3);
+        rejects(&gap, "rows`: 9 (expected 10 rows");
+        let mut order = csv.clone();
+        order.swap(3, 4);
+        rejects(
+            &order,
+            "line 5`: joint,1.5e-7,1.5e-10 (expected joint,2e-7,2e-10",
+        );
+        let mut no_bound = csv.clone();
+        no_bound.pop();
+        rejects(&no_bound, "rows`: 9");
+        let short = &header[..header.len() - 1];
+        let cut: Vec<Vec<String>> = csv.iter().map(|r| r[..r.len() - 1].to_vec()).collect();
+        let e = parse_rule_rows(short, &cut).unwrap_err().to_string();
+        assert!(e.contains("a column `members_onsets_differ`"), "{e}");
     }
 
     // Fails when the inert bodies leave a tree (checked: with one, the scene stays in joint
