@@ -161,10 +161,7 @@ impl Mechanism {
         let mut force = std::mem::take(&mut ws.force);
         let rot = &ws.rot;
         let frame = |b: BodyIndex| Frame::of(q, v, b, |i| rot[i]);
-        let ends = |k: usize| {
-            let cj = &self.clearance_joints[k];
-            (cj.journal.body, cj.bearing.body)
-        };
+        let ends = |k| self.clearance_ends(k);
         let powers = self.applied_forces(state, ends, frame, &mut force, &mut ws.gaps);
         ws.force = force;
         let (p_normal, p_friction) = powers.map_err(|(k, delta)| self.overload(t, k, delta))?;

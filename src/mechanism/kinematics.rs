@@ -268,8 +268,8 @@ impl Mechanism {
         k: usize,
         frame: impl Fn(BodyIndex) -> Frame,
     ) -> (ContactState, Vector2<f64>, Vector2<f64>) {
-        let cj = &self.clearance_joints[k];
-        self.contact_between(state, k, &frame(cj.journal.body), &frame(cj.bearing.body))
+        let (journal, bearing) = self.clearance_ends(k);
+        self.contact_between(state, k, &frame(journal), &frame(bearing))
     }
 
     /// [`Mechanism::contact_geometry`] from the frames of the journal's body `fj` and of the

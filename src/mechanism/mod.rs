@@ -323,6 +323,13 @@ impl Mechanism {
         &self.bodies
     }
 
+    /// The bodies of clearance joint `k`'s journal and bearing.
+    #[inline(always)]
+    pub(super) fn clearance_ends(&self, k: usize) -> (BodyIndex, BodyIndex) {
+        let cj = &self.clearance_joints[k];
+        (cj.journal.body, cj.bearing.body)
+    }
+
     /// Gravitational acceleration (m/s²).
     pub fn gravity(&self) -> Vector2<f64> {
         self.gravity

@@ -275,8 +275,7 @@ impl Shape for Listed {
     }
     #[inline(always)]
     fn ends(self, k: usize, m: &Mechanism) -> (BodyIndex, BodyIndex) {
-        let cj = &m.clearance_joints[k];
-        (cj.journal.body, cj.bearing.body)
+        m.clearance_ends(k)
     }
 }
 

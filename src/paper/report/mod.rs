@@ -228,9 +228,11 @@ pub fn write(
     figures::figures_section(&mut md, n, drawn);
 
     md.push_str(&table2::table2_section());
-    numerical::work_precision_section(&mut md, studies.accuracy);
+    // Sections 5 and 7 state the default tolerance from one reading of its inputs.
+    let tolerance = numerical::ToleranceInputs::read();
+    numerical::work_precision_section(&mut md, studies.accuracy, &tolerance);
     numerical::stability_section(&mut md, studies.stability);
-    numerical::performance_section(&mut md);
+    numerical::performance_section(&mut md, &tolerance);
     contact_laws::contact_law_section(&mut md);
     md.push_str(&errata(
         &steady.standard.scene,

@@ -35,6 +35,23 @@ use crate::Error;
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
 
+/// What sections 5 and 7 state the default tolerance from: the scenes' setting and the rule's
+/// measurement, read once so that both sections state it from the same reading.
+pub(super) struct ToleranceInputs {
+    scene: Option<SceneSetting>,
+    rule: crate::Result<(Vec<RuleRow>, usize)>,
+}
+
+impl ToleranceInputs {
+    /// The standard scene's setting and `data/work_precision_members.csv`, as they are now.
+    pub(super) fn read() -> Self {
+        ToleranceInputs {
+            scene: SceneSetting::load(),
+            rule: read_rule_rows(),
+        }
+    }
+}
+
 /// The scenes' integration as the report states it: the standard scene's `[run]`, which every
 /// case scene inherits, and its radial clearance (m), against which the orbit bound is stated.
 #[derive(Clone, Copy, Debug)]
@@ -337,7 +354,11 @@ fn rule_sentence(scene: Option<&SceneSetting>, rule: Option<&[RuleRow]>) -> Stri
 /// Section 5: error against run time and the choice of the default tolerance (read from
 /// `data/work_precision.csv`), and whether the paper's results depend on the integration
 /// (the accuracy study as it ran).
-pub(super) fn work_precision_section(md: &mut String, accuracy: &AccuracyDependence) {
+pub(super) fn work_precision_section(
+    md: &mut String,
+    accuracy: &AccuracyDependence,
+    inputs: &ToleranceInputs,
+) {
     md.push_str(
         "## 5. Error against work (evaluations and run time), and whether the paper's results depend on it\n\n",
     );
@@ -362,14 +383,14 @@ pub(super) fn work_precision_section(md: &mut String, accuracy: &AccuracyDepende
         "work_precision.csv",
         "cargo run --release --bin work_precision",
     );
-    let Some(scene) = SceneSetting::load() else {
+    let Some(scene) = inputs.scene else {
         md.push_str(
             "*The standard scene cannot be read: its integration setting is not stated.*\n\n",
         );
         return;
     };
     let ratios = ensemble_wear_ratios().unwrap_or_else(|| "not measured".into());
-    let rule = read_rule_rows();
+    let rule = &inputs.rule;
     md.push_str(&default_tolerance(
         &scene,
         rule.as_ref()
@@ -600,7 +621,7 @@ pub(super) fn stability_section(md: &mut String, stability: &[StabilityRow]) {
 
 /// Section 7, run time: criterion medians (`cargo bench`, then `bench_summary`) and the
 /// scaling study, read from `data/`.
-pub(super) fn performance_section(md: &mut String) {
+pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
     md.push_str(
         "## 7. Run time
 
@@ -727,11 +748,9 @@ pub(super) fn performance_section(md: &mut String) {
              rounding alone moves one trajectory's error, while the ensemble wear error is 1.0× its sampling \
              error at both. ",
         );
-    let scene = SceneSetting::load();
-    let rule = read_rule_rows();
     md.push_str(&rule_sentence(
-        scene.as_ref(),
-        rule.as_ref().ok().map(|(rows, _)| rows.as_slice()),
+        inputs.scene.as_ref(),
+        inputs.rule.as_ref().ok().map(|(rows, _)| rows.as_slice()),
     ));
     md.push_str(
             " Over members 0-15 of seed 1 (`jointwear run data/scenes/standard.toml --set \
