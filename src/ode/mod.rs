@@ -30,10 +30,11 @@
 //! plain (I) controller and `β ≈ 0.04` Hairer's PI controller ([`StepControl`]); `fac_max` is
 //! replaced by 1 for the step that follows a rejection, and `|h|` never exceeds `max_step`.
 //! After a rejection the step shrinks by `max(fac_min, safety * err^(-1/q))`; `err^(-1/q)` is
-//! taken by Newton's method (`root.rs`, within 2 ulp of the exact root), not libm's `pow`. A trial whose
-//! right-hand side fails ([`OdeSystem::rhs`] returns an error, e.g. a contact far outside the
-//! model's validity) or overflows is rejected and retried `fac_min` times smaller; only when
-//! the step size underflows is it an error, and then the first such failure is reported.
+//! taken by Newton's method (`root.rs`, within 2 ulp of the exact root), not libm's `pow`.
+//! A trial whose right-hand side fails ([`OdeSystem::rhs`] returns an error, e.g. a contact
+//! far outside the model's validity) or overflows is rejected and retried `fac_min` times
+//! smaller; only when the step size underflows is it an error, and then the first such
+//! failure is reported.
 //!
 //! # Events
 //!
