@@ -29,10 +29,12 @@
 //! `h * clamp(safety * err^-(1/q - 0.75 β) * err_prev^β, fac_min, fac_max)` where `β = 0` is the
 //! plain (I) controller and `β ≈ 0.04` Hairer's PI controller ([`StepControl`]); `fac_max` is
 //! replaced by 1 for the step that follows a rejection, and `|h|` never exceeds `max_step`.
-//! After a rejection the step shrinks by `max(fac_min, safety * err^(-1/q))`. A trial whose
-//! right-hand side fails ([`OdeSystem::rhs`] returns an error, e.g. a contact far outside the
-//! model's validity) or overflows is rejected and retried `fac_min` times smaller; only when
-//! the step size underflows is it an error, and then the first such failure is reported.
+//! After a rejection the step shrinks by `max(fac_min, safety * err^(-1/q))`; `err^(-1/q)` is
+//! taken by Newton's method (`root.rs`, within 2 ulp of the exact root), not libm's `pow`.
+//! A trial whose right-hand side fails ([`OdeSystem::rhs`] returns an error, e.g. a contact
+//! far outside the model's validity) or overflows is rejected and retried `fac_min` times
+//! smaller; only when the step size underflows is it an error, and then the first such
+//! failure is reported.
 //!
 //! # Events
 //!
@@ -51,6 +53,7 @@
 //! comparison with the `diffsol` and `differential-equations` crates.
 
 mod events;
+mod root;
 mod tableau;
 #[cfg(test)]
 mod tests;
@@ -58,6 +61,7 @@ mod tests;
 pub use events::{locate_root, Event};
 
 use crate::{Error, Result};
+use root::inverse_root;
 use tableau::{Dense, Estimate, Tableau, DOPRI5};
 
 /// The right-hand side y' = f(t, y). `&mut self` because systems keep scratch buffers.
@@ -561,7 +565,7 @@ impl Integrator {
                     }
                     None => {
                         let c = self.control;
-                        self.s.h = h * (c.safety * err.powf(-1.0 / tableau.order)).max(c.fac_min);
+                        self.s.h = h * (c.safety * inverse_root(err, tableau.order)).max(c.fac_min);
                         None
                     }
                 },
@@ -587,13 +591,12 @@ impl Integrator {
         let c = self.control;
         let order = self.method.tableau().order;
         let fac_max = if after_rejection { 1.0 } else { c.fac_max };
-        // The I controller (β = 0) skips the PI factor's `powf`, which is exactly 1 then.
-        let pi = if c.beta == 0.0 {
-            1.0
+        // The I controller (β = 0) needs no `powf`: its exponent is −1/q and the PI factor 1.
+        let fac = if c.beta == 0.0 {
+            c.safety * inverse_root(err, order)
         } else {
-            self.s.err_prev.powf(c.beta)
+            c.safety * err.powf(-(1.0 / order - 0.75 * c.beta)) * self.s.err_prev.powf(c.beta)
         };
-        let fac = c.safety * err.powf(-(1.0 / order - 0.75 * c.beta)) * pi;
         self.s.err_prev = err.max(1e-4);
         self.s.h = (h * fac.clamp(c.fac_min, fac_max)).min(self.tol.max_step);
     }
