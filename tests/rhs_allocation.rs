@@ -49,7 +49,7 @@ fn rhs_does_not_allocate() {
     }
     assert_eq!(ALLOCATIONS.load(Ordering::Relaxed) - before, 0);
     assert!(
-        ws.last_gaps()[0] > 0.0,
+        ws.last_gaps()[0].value > 0.0,
         "the joint coordinates' state is in contact"
     );
 }

@@ -6,6 +6,7 @@ use super::kinematics::{perp, Frame};
 use super::workspace::Workspace;
 use super::{BodyIndex, Mechanism, RunState, MAX_PENETRATION_RATIO};
 use crate::io::format::quantity;
+use crate::ode::EventValue;
 use crate::{Error, Result};
 use nalgebra::{Complex, DMatrix, Schur, Vector2};
 
@@ -42,7 +43,7 @@ fn add_force(force: &mut [[f64; 3]], b: BodyIndex, s: Vector2<f64>, f: Vector2<f
 impl Mechanism {
     /// Generalised forces into `force` (x, y and torque of each body): gravity plus clearance-joint contact
     /// forces (eq. 11), with the bodies' poses and velocities from `frame`; each joint's
-    /// penetration into `gaps` (one per clearance joint, the first `gaps.len()`).
+    /// penetration and its rate into `gaps` (one per clearance joint, the first `gaps.len()`).
     /// `ends(k)` names clearance joint `k`'s journal and bearing bodies, so that a caller
     /// that knows them at compile time reads their frames and adds their forces at fixed
     /// places.
@@ -55,7 +56,7 @@ impl Mechanism {
         ends: impl Fn(usize) -> (BodyIndex, BodyIndex),
         frame: impl Fn(BodyIndex) -> Frame,
         force: &mut [[f64; 3]],
-        gaps: &mut [f64],
+        gaps: &mut [EventValue],
     ) -> std::result::Result<(f64, f64), (usize, f64)> {
         // Sliced, so that a force array of a length known at compile time unrolls the copy.
         let weights = &self.weights[..force.len()];
@@ -68,7 +69,10 @@ impl Mechanism {
             let (cs, sj, sb) = self.contact_between(state, k, &frame(journal), &frame(bearing));
             let cs = self.with_forces(state, k, cs);
             let cj = &self.clearance_joints[k];
-            *gap = cs.delta;
+            *gap = EventValue {
+                value: cs.delta,
+                rate: cs.delta_dot,
+            };
             if cs.delta > MAX_PENETRATION_RATIO * cj.r_journal {
                 return Err((k, cs.delta));
             }

@@ -6,6 +6,7 @@
 use super::{BodyIndex, Mechanism, RunState};
 use crate::laws::friction::FrictionModel;
 use crate::laws::wear::wrap_angle;
+use crate::ode::EventValue;
 use nalgebra::Vector2;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
@@ -244,6 +245,18 @@ impl Mechanism {
         let n = self.coordinates();
         self.contact_kinematics(state, k, &y[..n], &y[n..2 * n])
             .delta
+    }
+
+    /// Penetration δ (m) of clearance joint `k` and its rate δ̇ (m/s) at state `y`: the event
+    /// function of contact onsets.
+    #[inline]
+    pub fn contact_event(&self, state: &RunState, k: usize, y: &[f64]) -> EventValue {
+        let n = self.coordinates();
+        let cs = self.contact_kinematics(state, k, &y[..n], &y[n..2 * n]);
+        EventValue {
+            value: cs.delta,
+            rate: cs.delta_dot,
+        }
     }
 
     /// Kinematics of clearance joint `k` at state (q, v), without forces.

@@ -16,6 +16,7 @@
 
 use super::kinematics::{perp, rotate, sincos, Frame};
 use super::{BodyIndex, Mechanism, RunState, ENERGY_STATES};
+use crate::ode::EventValue;
 use crate::{Error, Result};
 use nalgebra::Vector2;
 
@@ -730,7 +731,7 @@ impl Tree {
         t: f64,
         z: &[f64],
         dz: &mut [f64],
-        gaps: &mut [f64],
+        gaps: &mut [EventValue],
     ) -> Result<()> {
         // (Energy accounting is read here, not in `Tree::of`'s `Walk`: a clone of the mechanism may
         // turn it off.)
@@ -752,7 +753,7 @@ impl Tree {
         t: f64,
         z: &[f64],
         dz: &mut [f64],
-        gaps: &mut [f64],
+        gaps: &mut [EventValue],
     ) -> Result<()> {
         debug_assert_eq!(
             (F, C, S),

@@ -3,6 +3,7 @@
 //! LDLᵀ ([`Workspace::project`]). Sized once per run; nothing here allocates per evaluation.
 
 use super::{BodyIndex, Mechanism, MIN_RELATIVE_PIVOT};
+use crate::ode::EventValue;
 use crate::{Error, Result};
 use nalgebra::Vector2;
 
@@ -107,8 +108,8 @@ pub struct Workspace {
     pub(super) lambda: Vec<f64>,
     /// Φ_qᵀ λ, for the driver's torque.
     pub(super) reaction: Vec<f64>,
-    /// Penetration δ (m) of each clearance joint at the last evaluation.
-    pub(super) gaps: Vec<f64>,
+    /// Penetration δ (m) of each clearance joint and its rate (m/s) at the last evaluation.
+    pub(super) gaps: Vec<EventValue>,
 }
 
 /// One row of Φ_q: the three columns of each of (at most) two bodies, and the same columns
@@ -175,10 +176,11 @@ impl Row {
 }
 
 impl Workspace {
-    /// Penetration δ (m) of each clearance joint at the state of the last evaluation of the
-    /// right-hand side: after an accepted step, at its end (every method evaluates the
-    /// right-hand side there last), which is where a run tests for contact onsets.
-    pub fn last_gaps(&self) -> &[f64] {
+    /// Penetration δ (m) of each clearance joint and its rate δ̇ (m/s) at the state of the last
+    /// evaluation of the right-hand side: after an accepted step, at its end (every method
+    /// evaluates the right-hand side there last), which is where a run tests for contact
+    /// onsets.
+    pub fn last_gaps(&self) -> &[EventValue] {
         &self.gaps
     }
 
@@ -217,7 +219,7 @@ impl Workspace {
             rows: vec![Row::default(); equations],
             gamma: vec![0.0; equations],
             reaction: vec![0.0; n],
-            gaps: vec![0.0; m.clearance_joints.len()],
+            gaps: vec![EventValue::default(); m.clearance_joints.len()],
             ..Default::default()
         };
         // The pattern at two unremarkable states: a column non-zero at either is non-zero,

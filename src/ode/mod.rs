@@ -58,7 +58,7 @@ mod tableau;
 #[cfg(test)]
 mod tests;
 
-pub use events::{locate_root, Event};
+pub use events::{locate_root, Event, EventValue};
 
 use crate::{Error, Result};
 use root::inverse_root;

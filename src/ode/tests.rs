@@ -535,18 +535,81 @@ fn integrator_locates_the_earliest_event_of_a_step() {
     int.reset(&mut sys, 0.0, &[0.0]).unwrap();
     assert_eq!(int.step(&mut sys, 1.0).unwrap(), Stop::Limit);
     let levels = [0.3, 0.2, 2.0];
-    let mut g = [-0.3, -0.2, -2.0];
+    // y − level, rising at rate 1.
+    let event = |value| EventValue { value, rate: 1.0 };
+    let g_of = |i: usize, _, y: &[f64]| event(y[0] - levels[i]);
+    let mut g = levels.map(|l| event(-l));
     let mut scratch = [0.0];
-    let at_end: Vec<f64> = levels.iter().map(|l| int.y()[0] - l).collect();
-    let event = int.earliest_event(&mut g, &at_end, |i, _, y| y[0] - levels[i], &mut scratch);
-    let event = event.expect("two events in the step");
-    assert_eq!(event.index, 1);
-    assert_relative_eq!(event.t, 0.2, epsilon = 1e-12);
+    let at_end: Vec<EventValue> = levels.iter().map(|l| event(int.y()[0] - l)).collect();
+    let found = int.earliest_event(&mut g, &at_end, g_of, &mut scratch);
+    let found = found.expect("two events in the step");
+    assert_eq!(found.index, 1);
+    assert_relative_eq!(found.t, 0.2, epsilon = 1e-12);
     // The values move on to the step end, so the same crossings are not found again.
-    assert_relative_eq!(g[0], 0.7, epsilon = 1e-12);
+    assert_relative_eq!(g[0].value, 0.7, epsilon = 1e-12);
     assert!(int
-        .earliest_event(&mut g, &at_end, |i, _, y| y[0] - levels[i], &mut scratch)
+        .earliest_event(&mut g, &at_end, g_of, &mut scratch)
         .is_none());
+}
+
+/// Event functions of y = sin t over one step [1.4, 1.75] that spans the maximum at π/2 and
+/// have the same sign at both ends: `0.99 − y` dips below zero (a lift-off and a landing at
+/// π − asin 0.99), `y − 0.99` rises above it (a graze from asin 0.99), `1.01 − y` dips but stays
+/// positive. The step's ends alone see no sign change; the search around the extremum finds
+/// the crossing from negative to non-negative of each. (Taking the lift-off for the landing,
+/// or searching only one of the two cases, fails.)
+#[test]
+fn integrator_locates_crossings_around_an_extremum_inside_a_step() {
+    let mut sys = Sys(1, |t: f64, _y: &[f64], dy: &mut [f64]| dy[0] = t.cos());
+    let (ta, tb) = (1.4, 1.75);
+    let mut int = Integrator::new(Method::Dopri5, 1, 1, fixed(tb - ta));
+    int.reset(&mut sys, ta, &[ta.sin()]).unwrap();
+    int.step(&mut sys, tb).unwrap();
+    assert_eq!(int.t(), tb);
+    // (sign, level): g = sign·(level − y), its rate −sign·cos t.
+    let events = [(1.0, 0.99), (-1.0, 0.99), (1.0, 1.01)];
+    let g = |i: usize, t: f64, y: &[f64]| {
+        let (sign, level) = events[i];
+        EventValue {
+            value: sign * (level - y[0]),
+            rate: -sign * t.cos(),
+        }
+    };
+    let mut scratch = [0.0];
+    let mut located = |which: &[usize]| {
+        let mut start: Vec<EventValue> = which.iter().map(|&i| g(i, ta, &[ta.sin()])).collect();
+        let end: Vec<EventValue> = which.iter().map(|&i| g(i, tb, int.y())).collect();
+        let found = int.earliest_event(&mut start, &end, |k, t, y| g(which[k], t, y), &mut scratch);
+        found.map(|e| (which[e.index], e.t))
+    };
+    let (landing, graze) = (PI - 0.99f64.asin(), 0.99f64.asin());
+    let (i, t) = located(&[0]).expect("the landing");
+    assert_eq!(i, 0);
+    assert_relative_eq!(t, landing, epsilon = 1e-7);
+    let (i, t) = located(&[0, 1, 2]).expect("the graze, earliest");
+    assert_eq!(i, 1);
+    assert_relative_eq!(t, graze, epsilon = 1e-7);
+    assert_eq!(located(&[2]), None);
+}
+
+/// The tangents at a step's ends meet below a convex minimum and above a concave maximum: for
+/// c·(t − m)² + d, at c·(ta − m)(tb − m) + d.
+#[test]
+fn tangents_meet_beyond_the_extremum_of_a_convex_or_concave_function() {
+    let at = |f: &dyn Fn(f64) -> (f64, f64), t: f64| {
+        let (value, rate) = f(t);
+        EventValue { value, rate }
+    };
+    let quadratic = |t: f64| (3.0 * (t - 0.3) * (t - 0.3) - 0.02, 6.0 * (t - 0.3));
+    let meet = events::tangents_meet(0.0, at(&quadratic, 0.0), 1.0, at(&quadratic, 1.0));
+    assert_relative_eq!(meet, 3.0 * -0.3 * 0.7 - 0.02, epsilon = 1e-15);
+    let hump = |t: f64| (0.02 - 3.0 * (t - 0.3) * (t - 0.3), -6.0 * (t - 0.3));
+    let meet = events::tangents_meet(0.0, at(&hump, 0.0), 1.0, at(&hump, 1.0));
+    assert_relative_eq!(meet, 0.02 - 3.0 * -0.3 * 0.7, epsilon = 1e-15);
+    // cosh is convex with its minimum 1 at 0.
+    let convex = |t: f64| (t.cosh(), t.sinh());
+    let meet = events::tangents_meet(-1.0, at(&convex, -1.0), 2.0, at(&convex, 2.0));
+    assert!(meet <= 1.0, "{meet}");
 }
 
 /// A stiff decay y' = −λ (y − cos t) at a loose tolerance puts Dopri5 on its stability limit:

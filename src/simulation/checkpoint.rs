@@ -29,7 +29,9 @@ pub struct Checkpoint {
     pub(super) rotation: u32,
     pub(super) end_rotation: Option<u32>,
     pub(super) integrator: IntegratorState,
+    /// Penetration of each joint at the last step's end (m), and its rate (m/s).
     pub(super) gaps: Vec<f64>,
+    pub(super) gap_rates: Vec<f64>,
     /// Wear depth per joint per sector (m).
     pub(super) profiles: Vec<Vec<f64>>,
     /// Onset velocity of each joint's current contact (m/s).

@@ -215,34 +215,28 @@ pub fn predict(
     // joint's sample (its wear rate left to the caller).
     let simulate = |sim: &mut Simulation, rotations: u32| -> Result<(Vec<Vec<f64>>, Vec<Sample>)> {
         let before = depths(sim);
-        // the gaps before and after each step, in two buffers reused over the steps, from the
-        // absolute state in a third
+        // the absolute state after each step, in a buffer reused over the steps
         let mut y = vec![0.0; sim.mechanism().state_len()];
-        let mut gaps = |sim: &Simulation, out: &mut [f64]| {
-            sim.y_into(&mut y);
-            for (k, g) in out.iter_mut().enumerate() {
-                *g = sim.mechanism().penetration(sim.state(), k, &y);
-            }
-        };
         let (start, end) = (sim.time(), sim.rotations_done() + rotations);
         let joints = sim.mechanism().clearance_joints.len();
-        let (mut gap, mut now) = (vec![0.0; joints], vec![0.0; joints]);
-        gaps(sim, &mut gap);
         let mut contact = vec![0.0; joints];
-        let mut onsets = vec![0u64; joints];
+        // the run's own onsets, those located inside a step included
+        let onsets_before = sim.contact_onsets().to_vec();
         // step by step as advance_rotation does, to see the contact at every step
         while sim.rotations_done() < end && !sim.is_finished() {
             let t = sim.time();
             sim.advance_step()?;
-            gaps(sim, &mut now);
-            for k in 0..joints {
-                if now[k] >= 0.0 {
-                    contact[k] += sim.time() - t;
-                    onsets[k] += u64::from(gap[k] < 0.0);
+            sim.y_into(&mut y);
+            for (k, c) in contact.iter_mut().enumerate() {
+                if sim.mechanism().penetration(sim.state(), k, &y) >= 0.0 {
+                    *c += sim.time() - t;
                 }
             }
-            std::mem::swap(&mut gap, &mut now);
         }
+        let onsets: Vec<u64> = (sim.contact_onsets().iter())
+            .zip(&onsets_before)
+            .map(|(after, before)| after - before)
+            .collect();
         let elapsed = (sim.time() - start).max(f64::MIN_POSITIVE);
         let samples = contact
             .iter()

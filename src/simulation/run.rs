@@ -10,7 +10,7 @@ use crate::mechanism::{
     ContactState, Mechanism, RunState, Workspace, MAX_PENETRATION_CLEARANCES,
     MAX_PENETRATION_RATIO, MIN_PENETRATION_LIMIT_RATIO,
 };
-use crate::ode::{Event, Integrator, OdeSystem};
+use crate::ode::{Event, EventValue, Integrator, OdeSystem};
 use crate::{Error, Result};
 use std::f64::consts::TAU;
 
@@ -61,8 +61,8 @@ pub struct Simulation {
     /// Time and accepted steps at the first such multiple: the run's pace since then leaves
     /// out the start's transient ([`Simulation::pace`]).
     pace_origin: Option<(f64, u64)>,
-    /// Penetration of each joint at the end of the last accepted step.
-    gaps: Vec<f64>,
+    /// Penetration of each joint and its rate at the end of the last accepted step.
+    gaps: Vec<EventValue>,
     /// Time and coordinates the run started (or resumed) from: where a failed run turns its
     /// ideal loop through a rotation to see whether the links lock ([`Simulation::at_lock`]).
     start: (f64, Vec<f64>),
@@ -123,7 +123,7 @@ impl Simulation {
             .energy_accounting
             .then(|| mechanical_energy(&mechanism, &state, &y0));
         let gaps = (0..joints)
-            .map(|k| mechanism.penetration(&state, k, &y0))
+            .map(|k| mechanism.contact_event(&state, k, &y0))
             .collect();
         let wears = mechanism.clearance_joints.iter().any(|c| c.wear.is_some());
         let mut ws = mechanism.workspace();
@@ -202,7 +202,8 @@ impl Simulation {
             rotation: self.rotation,
             end_rotation: self.end_rotation,
             integrator: self.integrator.state(),
-            gaps: self.gaps.clone(),
+            gaps: self.gaps.iter().map(|g| g.value).collect(),
+            gap_rates: self.gaps.iter().map(|g| g.rate).collect(),
             profiles: joints.iter().map(|j| j.wear.depths().to_vec()).collect(),
             impact_velocities: joints.iter().map(|j| j.onset_velocity).collect(),
             settler: self.settler.clone(),
@@ -227,6 +228,7 @@ impl Simulation {
             ("profiles", c.profiles.len()),
             ("impact_velocities", c.impact_velocities.len()),
             ("gaps", c.gaps.len()),
+            ("gap_rates", c.gap_rates.len()),
             ("out.impacts", c.out.impacts.len()),
             (
                 "out.max_penetration_whole_run",
@@ -296,7 +298,9 @@ impl Simulation {
         sim.validate(&c)?;
         sim.rotation = c.rotation;
         sim.end_rotation = c.end_rotation;
-        sim.gaps = c.gaps;
+        sim.gaps = (c.gaps.iter().zip(&c.gap_rates))
+            .map(|(&value, &rate)| EventValue { value, rate })
+            .collect();
         sim.settler = c.settler;
         sim.sampler = c.sampler;
         sim.next_history = c.next_history.unwrap_or(f64::INFINITY);
@@ -452,6 +456,13 @@ impl Simulation {
                 "finite penetrations (m)".into(),
             ));
         }
+        if c.gap_rates.iter().any(|g| !g.is_finite()) {
+            return Err(misfit(
+                "gap_rates",
+                format!("{:?}", c.gap_rates),
+                "finite penetration rates (m/s)".into(),
+            ));
+        }
         self.validate_output(c)
     }
 
@@ -549,6 +560,11 @@ impl Simulation {
         }
         Ok(())
     }
+    /// Contact onsets located so far, per clearance joint.
+    pub fn contact_onsets(&self) -> &[u64] {
+        &self.out.impacts
+    }
+
     /// Driver rotations completed.
     pub fn rotations_done(&self) -> u32 {
         self.rotation
@@ -617,7 +633,7 @@ impl Simulation {
         let (t, z) = (self.integrator.t(), self.integrator.y().to_vec());
         (self.mechanism).absolute_state(t, &z, &mut self.y_abs);
         for (k, g) in self.gaps.iter_mut().enumerate() {
-            *g = self.mechanism.penetration(&self.state, k, &self.y_abs);
+            *g = self.mechanism.contact_event(&self.state, k, &self.y_abs);
         }
         self.restart(t, &z)
     }
@@ -913,7 +929,8 @@ impl Simulation {
         }
         let (mechanism, integrator) = (&self.mechanism, &self.integrator);
         let (y_event, y_abs, z_event) = (&mut self.y_event, &mut self.y_abs, &mut self.z_event);
-        // 1. Contact onsets: the earliest gap sign change from free flight to contact.
+        // 1. Contact onsets: the earliest change of a gap from free flight to contact, at the
+        //    step's ends or around an extremum inside it (`Integrator::earliest_event`).
         let state = &self.state;
         // The gaps at the step end are the last evaluation's.
         let onset = integrator.earliest_event(
@@ -921,7 +938,7 @@ impl Simulation {
             self.ws.last_gaps(),
             |k, t, z| {
                 mechanism.absolute_state(t, z, y_abs);
-                mechanism.penetration(state, k, y_abs)
+                mechanism.contact_event(state, k, y_abs)
             },
             z_event,
         );
@@ -964,9 +981,12 @@ impl Simulation {
             self.out.impacts[k] += 1;
             for (j, g) in self.gaps.iter_mut().enumerate() {
                 *g = if j == k {
-                    0.0
+                    EventValue {
+                        value: 0.0,
+                        rate: cs.delta_dot,
+                    }
                 } else {
-                    mechanism.penetration(&self.state, j, y_event)
+                    mechanism.contact_event(&self.state, j, y_event)
                 };
             }
             self.integrator.record_event();
@@ -981,11 +1001,12 @@ impl Simulation {
             .iter_mut()
             .zip(&self.gaps)
         {
-            *m = m.max(*g);
+            *m = m.max(g.value);
         }
         let joints = &self.mechanism.clearance_joints;
-        if let Some(k) = (0..joints.len()).find(|&k| self.gaps[k] > joints[k].penetration_limit()) {
-            return Err(self.penetration_error(t_stop, k, self.gaps[k]));
+        let gap = |k: usize| self.gaps[k].value;
+        if let Some(k) = (0..joints.len()).find(|&k| gap(k) > joints[k].penetration_limit()) {
+            return Err(self.penetration_error(t_stop, k, gap(k)));
         }
         if t_stop >= self.next_history * (1.0 - 1e-12) {
             self.out
