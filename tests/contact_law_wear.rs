@@ -19,8 +19,7 @@ fn tiny(f: &mut SceneFile) {
     f.run.rotations = 1;
     f.run.wear_snapshots.clear();
     // The test's time budget: hertz with hu-guo takes about 4.9e4 steps a rotation here in
-    // continuous contact (joint coordinates at rtol 2e-7, measured before the scenes' switch to
-    // 1.5e-7), so five rotations needed 2.5e5 then.
+    // continuous contact (joint coordinates at rtol 2e-7), so five rotations need 2.5e5.
     f.run.max_steps = 300_000;
     if let Some(s) = f.run.steady_state.as_mut() {
         s.max_rotations = 4;

@@ -61,7 +61,7 @@ fn edited_checkpoints_are_refused_naming_the_field() {
     let path = dir.join("edited.json");
     let ptr = |v: &mut Value, p: &str| v.pointer_mut(&format!("/checkpoint{p}")).unwrap().take();
     type Edit = fn(&mut Value);
-    let edits: [(&str, Edit); 11] = [
+    let edits: [(&str, Edit); 13] = [
         ("sampler.dy", |v| {
             v["sampler"]["dy"].as_array_mut().unwrap().pop();
         }),
@@ -81,6 +81,11 @@ fn edited_checkpoints_are_refused_naming_the_field() {
         ("end_rotation", |v| v["end_rotation"] = Value::Null),
         ("energy_start", |v| v["energy_start"] = Value::Null),
         ("next_history", |v| v["next_history"] = 1e300.into()),
+        ("gap_rates", |v| v["gap_rates"] = Value::Array(vec![])),
+        // as an earlier version wrote it
+        ("gap_rates", |v| {
+            v.as_object_mut().unwrap().remove("gap_rates");
+        }),
     ];
     for (field, edit) in edits {
         let mut file = real.clone();

@@ -445,7 +445,7 @@ impl Mechanism {
     }
 
     /// The right-hand side of the integrator's state: [`Mechanism::rhs`], or Lagrange's
-    /// equations in joint coordinates (`ws` keeps only the penetrations,
+    /// equations in joint coordinates (`ws` keeps only the penetrations and their rates,
     /// [`Workspace::last_gaps`]).
     #[inline(always)]
     pub fn ode_rhs(

@@ -75,8 +75,8 @@ impl Sink<'_> {
 /// The scratch space of the right-hand side: the layout of the constraint solve, derived once
 /// from the mechanism's joints, and every buffer sized once, so that an evaluation allocates
 /// nothing. One per run ([`Mechanism::workspace`]); it carries nothing from one evaluation to
-/// the next that changes a result, and keeps the penetrations of the last evaluation
-/// ([`Workspace::last_gaps`]).
+/// the next that changes a result, and keeps the penetrations and their rates of the last
+/// evaluation ([`Workspace::last_gaps`]).
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
     /// `(sin φ, cos φ)` of every body: one `sin_cos` per body and evaluation, not per point.

@@ -7,11 +7,18 @@
 //! lands again within one step of a contact, or grazes the bearing within one step of free
 //! flight). The extremum is located as the zero of the rate, and when the function changes
 //! sign there the crossing beside it is located. Without that search such an onset is not
-//! seen, and eq. 3 keeps the previous contact's onset velocity. The search runs only when the
-//! tangents at the step's ends meet across zero (`tangents_meet`): a convex dip lies above
-//! them and a concave bump below, so for those no crossing is skipped, and most of a contact's
-//! vibrations, micrometres deep, cost nothing. Two extrema in one step (a rate of the same sign
-//! at both ends) are not searched for.
+//! seen, and eq. 3 keeps the previous contact's onset velocity.
+//!
+//! The search runs only when the tangents at the step's ends meet across zero
+//! (`tangents_meet`), so that most of a contact's vibrations, micrometres deep, cost nothing.
+//! That screen is a bound for a convex dip (it lies above its tangents) and a concave bump, not
+//! in general: a gap pressed deeper than its static penetration bends towards zero between the
+//! ends, and a dip that does so across zero could pass the screen unseen. Measured on
+//! 2026-11-26: the default-tolerance rule's 128 members at its ten settings
+//! (`work_precision --rule`) give the same onset counts, largest orbit errors and median
+//! ratios with the screen as without it, and without it the standard scene's 40 rotations at
+//! rtol 1.5e-7 searched 3 882 steps and found no landing. Two extrema in one step (a rate of the same
+//! sign at both ends) are not searched for.
 
 use super::Integrator;
 
@@ -94,9 +101,9 @@ impl Integrator {
 }
 
 /// Where the tangents of an event function at the ends of a step `[ta, tb]` (values and rates
-/// `a`, `b` of opposite signs) meet, clamped to the step: a bound on its extremum when it is
-/// convex over the step (a minimum: the function lies above both tangents) or concave (a
-/// maximum: below them).
+/// `a`, `b`, the rates of opposite signs or one zero) meet, clamped to the step: a bound on its
+/// extremum when it is convex over the step (a minimum: the function lies above both tangents)
+/// or concave (a maximum: below them).
 pub(super) fn tangents_meet(ta: f64, a: EventValue, tb: f64, b: EventValue) -> f64 {
     let h = tb - ta;
     let s = ((b.value - a.value - b.rate * h) / (a.rate - b.rate)).clamp(0.0, h);
@@ -109,7 +116,7 @@ pub(super) fn tangents_meet(ta: f64, a: EventValue, tb: f64, b: EventValue) -> f
 }
 
 /// Locate a sign change of a continuous scalar function g on [ta, tb] (g(ta) and g(tb) of
-/// opposite sign or g(tb) == 0) by the Illinois variant of regula falsi; returns t with
+/// opposite sign, or either zero) by the Illinois variant of regula falsi; returns t with
 /// |bracket| < tol. The returned t is the upper end of the final bracket, so g has already
 /// changed sign there (or is zero): a driver that restarts at t is past the event.
 pub fn locate_root(

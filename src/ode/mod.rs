@@ -40,8 +40,9 @@
 //!
 //! [`Integrator::earliest_event`] finds the first sign change from negative to non-negative
 //! of a set of event functions inside the last accepted step, on its dense output, with
-//! [`locate_root`]; the driver decides what the event does and restarts with
-//! [`Integrator::reset`].
+//! [`locate_root`]: between the step's ends, or beside an extremum inside the step where the
+//! function's rate ([`EventValue`]) changes sign; the driver decides what the event does and
+//! restarts with [`Integrator::reset`].
 //!
 //! # Why our own integrator
 //!

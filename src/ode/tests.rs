@@ -554,8 +554,8 @@ fn integrator_locates_the_earliest_event_of_a_step() {
 
 /// Event functions of y = sin t over one step [1.4, 1.75] that spans the maximum at π/2 and
 /// have the same sign at both ends: `0.99 − y` dips below zero (a lift-off and a landing at
-/// π − asin 0.99), `y − 0.99` rises above it (a graze from asin 0.99), `1.01 − y` dips but stays
-/// positive. The step's ends alone see no sign change; the search around the extremum finds
+/// π − asin 0.99), `y − 0.99` rises above it (a graze from asin 0.99), `1.01 − y` dips but
+/// stays positive. The step's ends alone see no sign change; the search around the extremum finds
 /// the crossing from negative to non-negative of each. (Taking the lift-off for the landing,
 /// or searching only one of the two cases, fails.)
 #[test]
@@ -610,6 +610,13 @@ fn tangents_meet_beyond_the_extremum_of_a_convex_or_concave_function() {
     let convex = |t: f64| (t.cosh(), t.sinh());
     let meet = events::tangents_meet(-1.0, at(&convex, -1.0), 2.0, at(&convex, 2.0));
     assert!(meet <= 1.0, "{meet}");
+    // Ends no convex function joins: the tangents meet at −4.5, clamped to the step's start,
+    // where the bound is the higher tangent for a dip and the lower for a bump.
+    let ends = |v: f64, r: f64| EventValue { value: v, rate: r };
+    let dip = events::tangents_meet(0.0, ends(0.0, -0.1), 1.0, ends(1.0, 0.1));
+    assert_relative_eq!(dip, 0.9, epsilon = 1e-15);
+    let bump = events::tangents_meet(0.0, ends(0.0, 0.1), 1.0, ends(-1.0, -0.1));
+    assert_relative_eq!(bump, -0.9, epsilon = 1e-15);
 }
 
 /// A stiff decay y' = −λ (y − cos t) at a loose tolerance puts Dopri5 on its stability limit:

@@ -29,8 +29,10 @@ pub struct Checkpoint {
     pub(super) rotation: u32,
     pub(super) end_rotation: Option<u32>,
     pub(super) integrator: IntegratorState,
-    /// Penetration of each joint at the last step's end (m), and its rate (m/s).
+    /// Penetration of each joint at the last step's end (m).
     pub(super) gaps: Vec<f64>,
+    /// Their rates there (m/s): where a gap's rate changes sign within a step, an onset is
+    /// searched around its extremum ([`crate::ode`]'s events).
     pub(super) gap_rates: Vec<f64>,
     /// Wear depth per joint per sector (m).
     pub(super) profiles: Vec<Vec<f64>>,
@@ -87,6 +89,17 @@ pub fn read_checkpoint(path: &Path, fingerprint: &str) -> Result<Checkpoint> {
         message: e.to_string(),
     };
     let file: CheckpointFile = serde_json::from_str(&text).map_err(parse)?;
+    // The one field an earlier version did not write, named with its remedy rather than left
+    // to the parser's "missing field".
+    if file.checkpoint.get("gap_rates").is_none() {
+        return Err(Error::invalid(
+            "checkpoint.gap_rates",
+            format!("(absent from {})", path.display()),
+            "the gaps' rates, which this version keeps to locate contact onsets inside a step: the \
+             checkpoint was written by an earlier version, whose run this one would not continue \
+             bit for bit (start over with --discard-checkpoint)",
+        ));
+    }
     let sum = checksum(&file.checkpoint);
     if file.checksum != sum {
         return Err(Error::invalid(

@@ -2,8 +2,9 @@
 //!
 //! One run integrates eq. 10 with the adaptive integrator and, after every accepted step:
 //! 1. locates the onset of each new contact (the zero of the gap δ(t) on the step's dense
-//!    output), captures the normal velocity δ̇⁻ there for eq. 3, truncates the step at the
-//!    onset and restarts the integrator from it;
+//!    output, also beside an extremum of δ inside the step: a lift-off and landing within one
+//!    step, [`crate::ode`]'s events), captures the normal velocity δ̇⁻ there for eq. 3,
+//!    truncates the step at the onset and restarts the integrator from it;
 //! 2. adds the step's Archard wear (eq. 9) to the bearing profile, evaluated at the step
 //!    midpoint: `Δs = |v_t| Δt`, pressure from the joint's pressure model; the worn profile
 //!    enters the gap of every later step (the paper's "coupled iterative" update);

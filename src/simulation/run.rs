@@ -560,6 +560,7 @@ impl Simulation {
         }
         Ok(())
     }
+
     /// Contact onsets located so far, per clearance joint.
     pub fn contact_onsets(&self) -> &[u64] {
         &self.out.impacts

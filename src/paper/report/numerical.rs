@@ -316,15 +316,20 @@ fn default_tolerance(
     );
     text.push_str(
         "The last column counts the members whose run locates another number of contact onsets in the \
-         first rotation than their reference: they make the table's largest orbit errors, several µm at every \
-         setting but 5e-8, the bound included. Their references are right (for member 19, DOP853 at rtol 1e-13 agrees to \
-         0.001 µm and Dopri5 at 1e-12 with a 1e-5 s maximum step to 0.003 µm): the journal lifts off by about \
-         a nanometre within a contact, and a run whose step spans the lift-off locates no new onset and keeps \
-         the previous contact's δ̇⁻ in eq. 3's damping instead of the grazing floor. Onsets are located as \
-         sign changes of the gap between step ends, so such a lift-off is missed or not by where the steps \
-         fall, not monotonically in the tolerance; these members are kept, their errors are the runs' real \
-         ones, and the rule's median ratio is a rank statistic they move by at most their share \
-         (`src/paper/studies/tolerance_rule.rs`).\n\n",
+         first rotation than their reference: they make the table's largest orbit errors, several µm. Within \
+         a contact the journal can lift off by about a nanometre for a few µs and land again, and each landing \
+         is an onset that restarts eq. 3's damping from the grazing floor of δ̇⁻. Onsets are located where the \
+         gap changes sign between a step's ends and, since 2026-11-26, also around an extremum of the gap \
+         inside a step whose ends are both in contact or both free (its rate changes sign; `src/ode/events.rs`). \
+         Before, a step that spanned a lift-off located no landing and the contact kept the previous δ̇⁻: \
+         member 19 at rtol 2e-7 then had an orbit error of 7.33 µm, and 0.09 µm with the search (its \
+         reference agrees with DOP853 at rtol 1e-13 to 0.001 µm). Summed over the ten settings, the column \
+         fell from 51 to 18; at 5e-8 it rose from 0 to 1, as member 124's reference now locates a landing. The \
+         members still counted have run and reference disagree on whether a lift-off happens \
+         at all; for member 124 at rtol 1e-6 the search runs, and the run's gap at the minimum stays positive \
+         where the reference's dips about a nanometre below zero, a difference within a candidate's accuracy \
+         that the memory of δ̇⁻ turns into micrometres. They are kept, their errors are the runs' real ones, and the rule's median ratio is a rank \
+         statistic they move by at most their share (`src/paper/studies/tolerance_rule.rs`).\n\n",
     );
     let _ = write!(
         text,
@@ -448,9 +453,15 @@ fn ensemble_tolerance(md: &mut String, scene: &SceneSetting) {
         ENSEMBLE_TOLERANCE_FILE,
         "cargo run --release --bin ensemble_tolerance",
     );
-    if let Some(text) = rows.and_then(|rows| ensemble_tolerance_findings(&rows, scene)) {
-        md.push_str(&text);
-    }
+    md.push_str(&match rows {
+        Some(rows) => ensemble_tolerance_findings(&rows, scene),
+        // A missing file is said by the table above.
+        None if !output_path("data", ENSEMBLE_TOLERANCE_FILE).exists() => String::new(),
+        None => format!(
+            "*No findings: `data/{ENSEMBLE_TOLERANCE_FILE}` is damaged or of another layout (rerun \
+             `cargo run --release --bin ensemble_tolerance`).*\n\n"
+        ),
+    });
 }
 
 /// What the ensemble-tolerance study compares: `members` per case (`None`: not run), Dopri5
@@ -480,9 +491,26 @@ const TIGHT_SE: f64 = 1e-5;
 /// Per looser tolerance of `data/ensemble_tolerance.csv`: the largest |z| of the cases whose
 /// members spread and the largest change of those that agree ([`TIGHT_SE`]); the loosest
 /// tolerance within [`Z_FAMILY`]; cases that lose continuous contact; the largest change
-/// against the concordance tolerance of the golden data; and what that tolerance saves.
-fn ensemble_tolerance_findings(rows: &[ToleranceRow], scene: &SceneSetting) -> Option<String> {
+/// against the concordance tolerance of the golden data; and what that tolerance saves. A case
+/// without a row at the study's base rtol ([`RTOLS`]'s first: the CSV is of another setting or
+/// incomplete) is named instead, as nothing can be compared with it.
+fn ensemble_tolerance_findings(rows: &[ToleranceRow], scene: &SceneSetting) -> String {
     let base = |case: &str| rows.iter().find(|r| r.case == case && r.rtol == RTOLS[0]);
+    // Every row with its case's base row.
+    let mut paired = Vec::with_capacity(rows.len());
+    for r in rows {
+        match base(&r.case) {
+            Some(b) => paired.push((r, b)),
+            None => {
+                return format!(
+                    "*No findings: case {} has no row at the study's base rtol {:e} in \
+                     `data/{ENSEMBLE_TOLERANCE_FILE}` (written at another setting, or incomplete; rerun \
+                     `cargo run --release --bin ensemble_tolerance`).*\n\n",
+                    r.case, RTOLS[0]
+                )
+            }
+        }
+    }
     let tight = |r: &ToleranceRow| r.pw.se < TIGHT_SE && r.sw.se < TIGHT_SE;
     let mut parts = Vec::new();
     let mut lost = Vec::new();
@@ -491,8 +519,7 @@ fn ensemble_tolerance_findings(rows: &[ToleranceRow], scene: &SceneSetting) -> O
     for &tol in &RTOLS[1..] {
         let mut worst_z: Option<(f64, String)> = None;
         let mut worst_tight: Option<(f64, String, f64)> = None;
-        for r in rows.iter().filter(|r| r.rtol == tol) {
-            let b = base(&r.case)?;
+        for &(r, b) in paired.iter().filter(|(r, _)| r.rtol == tol) {
             for (name, now, then) in [("P-w", r.pw, b.pw), ("s-w", r.sw, b.sw)] {
                 let what = format!("{} {name}", r.case);
                 let change = now.mean - then.mean;
@@ -597,7 +624,7 @@ fn ensemble_tolerance_findings(rows: &[ToleranceRow], scene: &SceneSetting) -> O
         "The scenes use rtol {:e}.\n\n",
         scene.integration.rtol
     );
-    Some(text)
+    text
 }
 
 /// Section 6: stability on stiff and extreme cases (the stability study as it ran).
@@ -706,14 +733,14 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              compiler had inlined it into one and called it in five: → 961.5 M). Together: 1 012 M → 892 M \
              (the same 88 249 steps and 599 745 evaluations at rtol 2e-7: 889 instructions per evaluation, about \
              580 per attempt beyond the right-hand side, 880 per step for the wear and 800 for its contact \
-             states, 61 M of outputs); fourbar 1 026 M → 888 M; two_clearance 2 326 M → 2 151 M. Measured and \
-             not kept: libm's `pow` in the step controller (125 instructions a call, 12.5 M a run) replaced by \
-             a division-free Newton fifth root within 2 ulp of it (about 60 a call), −6.8 M (0.67 %) at an equal \
-             trajectory; it is not bit-identical, and over 96 members (`--member K`) the two programs' step \
-             counts do not differ (mean 95 462 against 97 226, difference 0.79 standard errors), nor do 64-member \
-             ensembles' statistics (every one within 1.06 standard errors), and the golden tests pass with it, \
-             but 0.67 % did not pay for a second regeneration of every output; a cache of rasterised glyphs \
-             (12 thousand instructions: a figure's 345 glyphs rarely repeat at one sub-pixel offset).\n\n\
+             states, 61 M of outputs); fourbar 1 026 M → 888 M; two_clearance 2 326 M → 2 151 M. Not \
+             bit-identical, kept since the onset search below changed every trajectory anyway: libm's `pow` in \
+             the step controller (125 instructions a call, 12.5 M a run) replaced by a division-free Newton fifth \
+             root within 2 ulp of it (about 60 a call), −6.8 M (0.67 %) at an equal trajectory; over 96 members \
+             (`--member K`) the two programs' step counts do not differ (mean 95 462 against 97 226, difference \
+             0.79 standard errors), nor do 64-member ensembles' statistics (every one within 1.06 standard \
+             errors). Measured and not kept: a cache of rasterised glyphs (12 thousand instructions: a figure's \
+             345 glyphs rarely repeat at one sub-pixel offset).\n\n\
              **What joint coordinates bought, measured.** The right-hand side fell from 2 946 to about 2 250 \
              instructions per evaluation (the constraint terms and the solve are gone; the closed-form poses with \
              their two `sin_cos`, Lagrange's sums and the 2×2 Cholesky came instead; the contact and friction \
@@ -724,22 +751,26 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              components take 93 814 steps and 735 337 evaluations, more than joint coordinates: at an equal norm the \
              new formulation is the cheaper one, and the undiluted norm is the honest one. At equal accuracy by \
              one trajectory (the first-rotation orbit error no larger than absolute coordinates' at 1e-7, before \
-             the rounding changes below) joint coordinates ran at rtol 2e-7 (the scenes' setting until section 5's rule over members moved it to 1.5e-7); over members 0-7 of seed 1 the 40-rotation run then takes on average \
+             the rounding changes below) joint coordinates ran at rtol 2e-7 (the scenes' setting, but for one session at 1.5e-7); over members 0-7 of seed 1 the 40-rotation run then takes on average \
              96 560 steps and 665 124 evaluations, against 109 717 and 761 770 at rtol 1e-7 and 72 499 and \
              559 289 for absolute coordinates at 1e-7 (first rotation: 14 170 evaluations against 12 048), so at \
              equal accuracy joint coordinates need about 19 % more evaluations and gain only per evaluation. \
              Against absolute coordinates at rtol 1e-7 (2 337 M) the standard run took 892 M at rtol 2e-7 \
-             (`--set run.rtol=2e-7 --set run.atol=2e-10`, the setting of every count of the kept optimisations since commit c0023e6) and takes \
-             950 M at the scenes' 1.5e-7 (93 606 steps, 643 101 evaluations; one trajectory each; on average over members joint coordinates take about 19 % more evaluations at that \
-             equal accuracy, 26 % at 1.5e-7, so per evaluation and per step are the fair measures), and the 800 M \
-             target is missed. What remains per evaluation (889): two `sincos` (about 75 each), the contact \
+             (`--set run.rtol=2e-7 --set run.atol=2e-10`, the setting of every count of the kept optimisations since commit c0023e6). \
+             With the fifth root and the search for onsets inside a step (section 5), which change every \
+             trajectory, it takes 928 M at the scenes' 2e-7 (90 646 steps, 629 166 evaluations; one \
+             trajectory; over members joint coordinates take 13-19 % more evaluations than absolute \
+             coordinates at equal accuracy, by the measurements here, so per evaluation and per step are the \
+             fair measures); the \
+             onset test with its search costs 7.1 M of it (78 instructions a step; the whole run probes the \
+             dense output 279 times), and the 800 M target is missed. What remains per evaluation (889 on the 892 M trajectory): two `sincos` (about 75 each), the contact \
              geometry with its `atan`, the wear lookup, Lagrange's sums and the laws; about 12 bounds checks \
              (24 instructions: the profile's larger share under the slice-indexing source lines is arithmetic that \
              the debug information files there) and about 110 loads and stores of values the registers cannot \
              hold; per attempt the integrator's 580; per step the wear update (880: about 10 sector edges of \
              the Hertz arc, each a division, two square roots and an `asin`, which cannot be cut without \
              changing the floating-point operations), the contact states at the step's midpoint (800) and the \
-             step controller's `powf` (about 125, see above). A standalone \
+             step controller's fifth root (about 60, see above). A standalone \
              slider-crank with a fixed-size state reached 633 M (issue 22), so what separates this code from the \
              target is its structure, not the formulation. These rounding changes (`sincos`, `atan`, `asin`, each \
              within 2 ulp of libm) moved the first-rotation orbit error of section 5 at rtol 2e-7 from 0.0080 to \
@@ -1031,6 +1062,7 @@ fn targets() -> String {
 mod tests {
     use super::*;
     use crate::analysis::significance::MedianInterval;
+    use crate::paper::studies::ensemble_tolerance::PairedMean;
 
     fn scene(rtol: f64, clearance_mm: f64) -> SceneSetting {
         SceneSetting {
@@ -1151,6 +1183,45 @@ mod tests {
             missing.contains("measurement is missing or damaged: invalid value for `data/")
                 && missing.contains("No tolerance is chosen"),
             "{missing}"
+        );
+    }
+
+    /// A CSV without the base rtol's rows (say, written before the scenes' rtol changed) is
+    /// named, not passed over in silence.
+    #[test]
+    fn ensemble_tolerance_findings_name_a_case_without_its_base_row() {
+        let mean = PairedMean {
+            mean: 0.5,
+            se: 0.01,
+            z: 0.0,
+        };
+        let row = |case: &str, rtol: f64| ToleranceRow {
+            case: case.into(),
+            rtol,
+            members: 32,
+            continuous: 32,
+            pressure_dominated: 0,
+            pw: mean,
+            sw: mean,
+            evaluations: 1e5,
+            wall_time: 1.0,
+        };
+        // The scenes at another rtol than the study's base: the base rows are still RTOLS[0]'s.
+        let scene = SceneSetting {
+            integration: Integration::adaptive(Method::Dopri5, 3.0 * RTOLS[0]),
+            clearance_m: 1e-4,
+        };
+        let complete = [row("standard", RTOLS[0]), row("standard", RTOLS[1])];
+        let text = ensemble_tolerance_findings(&complete, &scene);
+        assert!(
+            text.starts_with(&format!("Against rtol {:e}", RTOLS[0])),
+            "{text}"
+        );
+        let stale = [row("standard", RTOLS[0]), row("fast", RTOLS[1])];
+        let text = ensemble_tolerance_findings(&stale, &scene);
+        assert!(
+            text.contains("No findings: case fast has no row at the study's base rtol"),
+            "{text}"
         );
     }
 
