@@ -28,5 +28,7 @@ pub mod python;
 pub mod scene;
 pub mod simulation;
 pub mod sweep;
+#[cfg(test)]
+mod test_support;
 
 pub use error::{Error, Result};

@@ -393,13 +393,7 @@ mod tests {
     // quadrants 1 and 3: tried. The worst error seen at these points is 1.4 ulp.
     #[test]
     fn sincos_is_libm_within_two_ulp() {
-        let mut seed: u64 = 0x2545_f491_4f6c_dd1d;
-        let mut uniform = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut uniform = crate::test_support::uniform(0x2545_f491_4f6c_dd1d);
         let mut worst: f64 = 0.0;
         for i in 0..200_000 {
             // Half uniform on |x| ≤ 1e6 rad (a driver ~160 000 turns on), half on |x| ≤ 10
@@ -431,13 +425,10 @@ mod tests {
     // Fails with a digit of the kernel's coefficients changed (P[1] = -1.6e0): tried.
     #[test]
     fn direction_angle_is_atan2_to_an_ulp() {
-        let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut uniform = crate::test_support::uniform(0x9e37_79b9_7f4a_7c15);
         for i in 0..200_000 {
-            // xorshift: reproducible directions all round, of two lengths.
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            let angle = (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 * PI - PI;
+            // reproducible directions all round, of two lengths
+            let angle = uniform() * 2.0 * PI - PI;
             let length = if i % 2 == 0 { 1.0 } else { 1e-3 };
             let v = Vector2::new(angle.cos(), angle.sin()) * length;
             let (ours, libm) = (direction_angle(v), v.y.atan2(v.x));

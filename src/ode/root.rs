@@ -75,13 +75,7 @@ mod tests {
     // error seen is 1.4 ε at q = 5 (2 ε from powf itself) and 1 ε at q = 8.
     #[test]
     fn inverse_root_is_the_exact_root_within_two_ulp() {
-        let mut seed: u64 = 0x2545_f491_4f6c_dd1d;
-        let mut uniform = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut uniform = crate::test_support::uniform(0x2545_f491_4f6c_dd1d);
         for q in [5.0, 8.0] {
             let mut worst: f64 = 0.0;
             // Log-uniform over the error norms a run meets, [1e-12, 1e12].
