@@ -772,7 +772,13 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              changing the floating-point operations), the contact states at the step's midpoint (800) and the \
              step controller's fifth root (about 60, see above). A standalone \
              slider-crank with a fixed-size state reached 633 M (issue 22), so what separates this code from the \
-             target is its structure, not the formulation. These rounding changes (`sincos`, `atan`, `asin`, each \
+             target is its structure, not the formulation. Compiler settings, measured on 2026-11-26 with the \
+             same command, every output file of a recorded standard run `cmp`-identical to the default build's: \
+             `RUSTFLAGS=\"-C target-cpu=x86-64-v3\"` 780 M (−16 %; AVX2's three-operand forms drop register \
+             copies, which cost little time: 15 alternating whole-process runs, median paired time ratio 0.934, \
+             range 0.855-1.054), x86-64-v2 913 M, `codegen-units = 1` 921 M, fat LTO with it 924 M. None is the \
+             default: a v3 build stops with an illegal instruction on a processor without AVX2, and the others \
+             gain under 2 % for several times the build. These rounding changes (`sincos`, `atan`, `asin`, each \
              within 2 ulp of libm) moved the first-rotation orbit error of section 5 at rtol 2e-7 from 0.0080 to \
              0.0180 µm and at 1e-7 from 0.0110 to 0.0156 µm (measured with the same study before and after), so \
              its single-trajectory rule, which chose 2e-7 before, picked 1e-7: its choice between the two lies within what \
