@@ -242,9 +242,7 @@ impl Mechanism {
     /// Penetration δ (m) of clearance joint `k` at state `y` (coordinates, then velocities).
     #[inline]
     pub fn penetration(&self, state: &RunState, k: usize, y: &[f64]) -> f64 {
-        let n = self.coordinates();
-        self.contact_kinematics(state, k, &y[..n], &y[n..2 * n])
-            .delta
+        self.contact_event(state, k, y).value
     }
 
     /// Penetration δ (m) of clearance joint `k` and its rate δ̇ (m/s) at state `y`: the event

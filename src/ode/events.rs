@@ -63,28 +63,37 @@ impl Integrator {
                 g(index, t, scratch)
             };
             let (a, b) = (*start, end);
+            let free = a.value < 0.0;
+            // Across zero from where the step starts.
+            let across = |v: f64| if free { v >= 0.0 } else { v < 0.0 };
+            // Ends on one side of zero and a rate turning back towards it there: up from
+            // negative and back down (a graze if the maximum is non-negative), or down from
+            // non-negative and back up (a landing if the minimum is negative).
+            let turns = if free {
+                a.rate >= 0.0 && b.rate < 0.0
+            } else {
+                a.rate < 0.0 && b.rate >= 0.0
+            };
             // The bracket [t0, t1] of a crossing from negative to non-negative, with the values
             // at its ends.
-            let bracket = if a.value < 0.0 && b.value >= 0.0 {
+            let bracket = if free && b.value >= 0.0 {
                 Some((ta, a.value, tb, b.value))
-            } else if a.value < 0.0 && b.value < 0.0 && a.rate >= 0.0 && b.rate < 0.0 {
-                // Up from negative and back down: a graze if the maximum is non-negative.
-                (tangents_meet(ta, a, tb, b) >= 0.0)
+            } else if a.value >= 0.0 && b.value >= 0.0 || free && b.value < 0.0 {
+                (turns && across(tangents_meet(ta, a, tb, b)))
                     .then(|| {
-                        let t_max = locate_root(|t| on_dense(t).rate, ta, a.rate, tb, b.rate, tol);
-                        (t_max, on_dense(t_max).value)
+                        let t_ext = locate_root(|t| on_dense(t).rate, ta, a.rate, tb, b.rate, tol);
+                        (t_ext, on_dense(t_ext).value)
                     })
-                    .filter(|&(_, max)| max >= 0.0)
-                    .map(|(t_max, max)| (ta, a.value, t_max, max))
-            } else if a.value >= 0.0 && b.value >= 0.0 && a.rate < 0.0 && b.rate >= 0.0 {
-                // Down from non-negative and back up: a landing if the minimum is negative.
-                (tangents_meet(ta, a, tb, b) < 0.0)
-                    .then(|| {
-                        let t_min = locate_root(|t| on_dense(t).rate, ta, a.rate, tb, b.rate, tol);
-                        (t_min, on_dense(t_min).value)
+                    .filter(|&(_, ext)| across(ext))
+                    // The crossing from negative to non-negative: before a maximum, after a
+                    // minimum.
+                    .map(|(t_ext, ext)| {
+                        if free {
+                            (ta, a.value, t_ext, ext)
+                        } else {
+                            (t_ext, ext, tb, b.value)
+                        }
                     })
-                    .filter(|&(_, min)| min < 0.0)
-                    .map(|(t_min, min)| (t_min, min, tb, b.value))
             } else {
                 None
             };

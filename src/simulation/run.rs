@@ -449,19 +449,14 @@ impl Simulation {
                 ))
             }
         }
-        if c.gaps.iter().any(|g| !g.is_finite()) {
-            return Err(misfit(
-                "gaps",
-                format!("{:?}", c.gaps),
-                "finite penetrations (m)".into(),
-            ));
-        }
-        if c.gap_rates.iter().any(|g| !g.is_finite()) {
-            return Err(misfit(
-                "gap_rates",
-                format!("{:?}", c.gap_rates),
-                "finite penetration rates (m/s)".into(),
-            ));
+        let gaps = [
+            ("gaps", &c.gaps, "finite penetrations (m)"),
+            ("gap_rates", &c.gap_rates, "finite penetration rates (m/s)"),
+        ];
+        if let Some((field, values, expected)) =
+            (gaps.into_iter()).find(|(_, values, _)| values.iter().any(|g| !g.is_finite()))
+        {
+            return Err(misfit(field, format!("{values:?}"), expected.into()));
         }
         self.validate_output(c)
     }

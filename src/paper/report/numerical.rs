@@ -193,8 +193,8 @@ fn rule_verdict(rows: &[RuleRow], ours: &Integration) -> String {
             describe(ours)
         );
     }
-    let evaluations = |rtol: f64| (rows.iter()).find(|r| !r.absolute && r.integration.rtol == rtol);
-    let cost = match (chosen.and_then(evaluations), evaluations(ours.rtol)) {
+    let candidate = |rtol: f64| (rows.iter()).find(|r| !r.absolute && r.integration.rtol == rtol);
+    let cost = match (chosen.and_then(candidate), candidate(ours.rtol)) {
         (Some(new), Some(old)) if is_ours(old.integration.rtol) => {
             let change = new.evaluations / old.evaluations - 1.0;
             format!(
@@ -497,20 +497,18 @@ const TIGHT_SE: f64 = 1e-5;
 fn ensemble_tolerance_findings(rows: &[ToleranceRow], scene: &SceneSetting) -> String {
     let base = |case: &str| rows.iter().find(|r| r.case == case && r.rtol == RTOLS[0]);
     // Every row with its case's base row.
-    let mut paired = Vec::with_capacity(rows.len());
-    for r in rows {
-        match base(&r.case) {
-            Some(b) => paired.push((r, b)),
-            None => {
-                return format!(
+    let paired = rows.iter().map(|r| base(&r.case).map(|b| (r, b)).ok_or(r));
+    let paired = match paired.collect::<std::result::Result<Vec<_>, _>>() {
+        Ok(paired) => paired,
+        Err(r) => {
+            return format!(
                     "*No findings: case {} has no row at the study's base rtol {:e} in \
                      `data/{ENSEMBLE_TOLERANCE_FILE}` (written at another setting, or incomplete; rerun \
                      `cargo run --release --bin ensemble_tolerance`).*\n\n",
-                    r.case, RTOLS[0]
-                )
-            }
+                r.case, RTOLS[0]
+            )
         }
-    }
+    };
     let tight = |r: &ToleranceRow| r.pw.se < TIGHT_SE && r.sw.se < TIGHT_SE;
     let mut parts = Vec::new();
     let mut lost = Vec::new();
