@@ -4,28 +4,39 @@ use jointwear::io::progress::Silent;
 use jointwear::scene::{scene_path, SceneFile};
 use jointwear::simulation::ensemble::{self, EnsembleSettings};
 use jointwear::simulation::longlife::{predict, LongLifeSettings};
-use jointwear::simulation::simulate;
+use jointwear::simulation::{simulate, Scene};
 
 fn l2(a: &[f64]) -> f64 {
     a.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-/// Members of the brute-force ensemble of [`extrapolation_matches_brute_force`].
-const MEMBERS: usize = 4;
+/// Members of the brute-force ensemble of [`extrapolation_matches_brute_force`], and of its
+/// ensemble of predictions.
+const MEMBERS: usize = 8;
 
 /// 100 rotations of the standard scene with k/H accelerated to 5e-12 1/Pa (about 10 µm of wear
-/// on a 20 µm clearance, so the wear feeds back into the dynamics), against the mean profile of
-/// a [`MEMBERS`]-member brute-force ensemble: one brute-force trajectory is no reference, since
-/// the motion is chaotic and a single run can settle into either of two wear states (what
-/// made this test fail when a change of formulation moved the single run to the other state).
-/// The ensemble mean is the quantity both states contribute to; the extrapolated profile has
-/// its peak depth within 3.9 % and the L2 norm of its difference within 5.6 % of it (asserted
-/// with margin: 5 % and 10 %; the members' peaks spread by 1.4 %). Checked to fail: the
-/// extrapolated blocks' wear scaled by 1.2 in `longlife.rs` gives errors of 10.9 % and 15.5 %
-/// (scaled by 1.1, 4.3 % and 7.8 % still pass: the extrapolation's own 3.9 % shortfall hides
-/// it). Past
-/// the clearance (k/H = 1e-11: 36 µm in 100 rotations) one rotation no longer represents a
-/// block and the extrapolation is off by half: see the module documentation.
+/// on a 20 µm clearance, so the wear feeds back into the dynamics): the per-sector median
+/// profile of [`MEMBERS`] extrapolated predictions against that of [`MEMBERS`] brute-force
+/// members, from the same perturbed starts (seed 1, the default protocol).
+///
+/// Neither side is one trajectory. The motion is chaotic, a single run can settle into either
+/// of two wear states, and the rotations an extrapolation samples are as much a draw: one
+/// prediction against a brute-force mean missed its peak by 2.2 % to 7.5 % over six builds
+/// that differed only in rounding, so a test of one prediction failed on a change of rounding.
+/// Medians, not means: a rare brute-force member whirls round the worn bearing with forces
+/// near 1e6 N and ends 15 times deeper (2 of 176 members over seeds 1-22 of one build, none of
+/// 208 of the build before it; `jointwear run data/scenes/standard.toml --set
+/// clearance.0.wear.k_over_h_per_pa=5e-12 --rotations 100 --member 7 --seed 6` at the commit
+/// that wrote this is one), which one member in eight cannot move a median by.
+///
+/// Tolerances from the measured spread: this test with seeds 1-8 on two builds that differ
+/// only in rounding (16 draws) gave peak errors of 0.4-5.9 % (mean 3.0 %, sd 1.6 %: the
+/// extrapolation reads low) and L2 errors of 1.9-3.9 % (mean 2.7 %, sd 0.7 %); asserted at the
+/// mean plus about three sd, 8 % and 6 %. Checked to fail: the extrapolated blocks' wear
+/// scaled by 1.2 in `Simulation::add_wear` gives L2 errors of 14.7 % and 15.4 % (seeds 1 and 5),
+/// by 1.1, 7.5 % at both. Past the clearance (k/H = 1e-11: 36 µm in 100 rotations) one
+/// rotation no longer represents a block and the extrapolation is off by half: see the module
+/// documentation.
 #[test]
 fn extrapolation_matches_brute_force() {
     let mut f = SceneFile::read(scene_path("standard")).unwrap();
@@ -34,10 +45,22 @@ fn extrapolation_matches_brute_force() {
     f.run.record_rotations = 0;
     f.run.wear_snapshots.clear();
     let scene = f.build().unwrap();
+    let seed = 1;
     let ensemble = EnsembleSettings {
         members: MEMBERS,
-        seed: 1,
+        seed,
         ..EnsembleSettings::default()
+    };
+    // Per sector, the median over the profiles (the mean of the middle two).
+    let median = |profiles: &[Vec<f64>]| -> Vec<f64> {
+        (0..profiles[0].len())
+            .map(|i| {
+                let mut d: Vec<f64> = profiles.iter().map(|m| m[i]).collect();
+                d.sort_by(f64::total_cmp);
+                let h = d.len() / 2;
+                0.5 * (d[h - 1] + d[h])
+            })
+            .collect()
     };
     let members = ensemble::run(
         &scene,
@@ -46,42 +69,49 @@ fn extrapolation_matches_brute_force() {
         &Silent,
     )
     .unwrap();
-    let brute: Vec<f64> = (0..members[0].len())
-        .map(|i| members.iter().map(|m| m[i]).sum::<f64>() / MEMBERS as f64)
-        .collect();
+    let brute = median(&members);
     let settings = LongLifeSettings {
         rotations: 100,
         ..LongLifeSettings::default()
     };
-    let calls = std::sync::atomic::AtomicUsize::new(0);
-    let count = |_, _| {
-        calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    };
-    let life = predict(&scene, &settings, &count).unwrap();
-    let stage = life.snapshots.last().unwrap();
-    assert_eq!(stage.rotations, 100);
-    assert!(life.simulated < 60, "simulated {}", life.simulated);
-    assert_eq!(calls.into_inner(), life.history.len() - 1);
-    let predicted = &stage.depths[0];
+    let mut predictions = Vec::new();
+    for member in 0..MEMBERS {
+        let start = Scene {
+            mechanism: ensemble.perturbation.mechanism(&scene, seed, member),
+            ..scene.clone()
+        };
+        let calls = std::sync::atomic::AtomicUsize::new(0);
+        let count = |_, _| {
+            calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        };
+        let life = predict(&start, &settings, &count).unwrap();
+        let stage = life.snapshots.last().unwrap();
+        assert_eq!(stage.rotations, 100);
+        assert!(life.simulated < 60, "simulated {}", life.simulated);
+        assert_eq!(calls.into_inner(), life.history.len() - 1);
+        // Clearance growth is monotonic.
+        assert!(life.history.windows(2).all(|w| {
+            w[1].max_depth(0) >= w[0].max_depth(0) && w[1].rotations > w[0].rotations
+        }));
+        predictions.push(stage.depths[0].clone());
+    }
+    let predicted = median(&predictions);
     let max = |d: &[f64]| d.iter().cloned().fold(0.0, f64::max);
     let diff: Vec<f64> = predicted.iter().zip(&brute).map(|(a, b)| a - b).collect();
     let (peak_err, l2_err) = (
-        (max(predicted) - max(&brute)).abs() / max(&brute),
+        (max(&predicted) - max(&brute)).abs() / max(&brute),
         l2(&diff) / l2(&brute),
     );
-    let peaks: Vec<f64> = members.iter().map(|m| max(m) * 1e6).collect();
+    let peaks = |p: &[Vec<f64>]| -> Vec<f64> { p.iter().map(|m| max(m) * 1e6).collect() };
     eprintln!(
-        "brute mean max {:.3} µm (members {peaks:.3?}), predicted {:.3} µm, peak error \
-         {peak_err:.3}, L2 error {l2_err:.3}",
+        "brute median max {:.3} µm (members {:.3?}), predicted median max {:.3} µm (predictions \
+         {:.3?}), peak error {peak_err:.3}, L2 error {l2_err:.3}",
         max(&brute) * 1e6,
-        max(predicted) * 1e6
+        peaks(&members),
+        max(&predicted) * 1e6,
+        peaks(&predictions),
     );
-    assert!(peak_err < 0.05 && l2_err < 0.10);
-    // Clearance growth is monotonic.
-    assert!(life
-        .history
-        .windows(2)
-        .all(|w| w[1].max_depth(0) >= w[0].max_depth(0) && w[1].rotations > w[0].rotations));
+    assert!(peak_err < 0.08 && l2_err < 0.06);
 }
 
 #[test]

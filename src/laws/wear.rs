@@ -196,6 +196,9 @@ pub struct WearProfile {
     /// the first two: the spline reads four neighbours without wrapping an index.
     padded: Vec<f64>,
     width: f64,
+    /// `1 / width`: the lookup of every evaluation multiplies instead of dividing (a division
+    /// on the path from the contact angle to the force).
+    per_width: f64,
 }
 
 impl WearProfile {
@@ -204,6 +207,7 @@ impl WearProfile {
         WearProfile {
             padded: vec![0.0; sectors + 4],
             width: TAU / sectors as f64,
+            per_width: sectors as f64 / TAU,
         }
     }
 
@@ -252,7 +256,7 @@ impl WearProfile {
         // whose neighbours are padded[k..k + 4]. A cast, not `floor` (a libm call without
         // SSE4.1), through i32 as its saturating cast is a third of usize's; the `min` keeps
         // the slice in bounds whatever θ's rounding.
-        let u = wrap_angle(theta) / self.width + 0.5;
+        let u = wrap_angle(theta) * self.per_width + 0.5;
         let k = (u as i32 as usize).min(self.sectors());
         let t = u - k as f64;
         let p = &self.padded[k..k + 4];
@@ -261,7 +265,7 @@ impl WearProfile {
         let c2 = 2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3;
         let c3 = -p0 + 3.0 * (p1 - p2) + p3;
         let h = 0.5 * (2.0 * p1 + t * (c1 + t * (c2 + t * c3)));
-        let dh = 0.5 * (c1 + t * (2.0 * c2 + 3.0 * t * c3)) / self.width;
+        let dh = 0.5 * (c1 + t * (2.0 * c2 + 3.0 * t * c3)) * self.per_width;
         (h, dh)
     }
 

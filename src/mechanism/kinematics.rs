@@ -312,7 +312,9 @@ impl Mechanism {
         }
         let n = e / dist;
         let t = perp(n);
-        let theta = wrap_angle(direction_angle(n) - fb.phi);
+        // θ from e itself, not from n: its path to the force then waits for neither the
+        // square root nor the division.
+        let theta = wrap_angle(direction_angle(e) - fb.phi);
         let theta_rate = t.dot(&e_dot) / dist - wb;
         let (h, dh) = match cj.wear {
             Some(_) => state.joints[k].wear.depth_at(theta),

@@ -804,7 +804,7 @@ impl Tree {
                 }
             }
         }
-        let acc = cholesky_solve(&mut mass, rhs).ok_or_else(|| Error::Integration {
+        let acc = ldlt_solve(&mass, rhs).ok_or_else(|| Error::Integration {
             time: t,
             cause: "non-finite state: the step is too large for the contact stiffness".into(),
         })?;
@@ -841,33 +841,37 @@ fn chunk<const N: usize>(s: &[f64]) -> &[f64; N] {
         .expect("a state of the formulation's length")
 }
 
-/// Solves `A x = b` for the symmetric positive definite `A` given by its lower triangle
-/// (overwritten by its Cholesky factor); `None` if a pivot is not positive.
+/// Solves `A x = b` for the symmetric positive definite `A` given by its lower triangle, as
+/// `A = L D Lᵀ` with the pivots' reciprocals; `None` if a pivot is not positive. Neither a
+/// square root nor a division waits for `b`: the factors depend only on the poses, while `b`
+/// carries the contact forces, the end of the evaluation's longest chain of dependent
+/// operations, and meets only multiplications and additions.
 #[inline]
-fn cholesky_solve<const F: usize>(a: &mut [[f64; F]; F], mut b: [f64; F]) -> Option<[f64; F]> {
+fn ldlt_solve<const F: usize>(a: &[[f64; F]; F], mut b: [f64; F]) -> Option<[f64; F]> {
+    // `l[i][k]` (k < i) of the unit lower triangle, and each pivot's reciprocal.
+    let mut l = [[0.0; F]; F];
+    let (mut d, mut r) = ([0.0; F], [0.0; F]);
     for j in 0..F {
-        let d = a[j][j] - a[j][..j].iter().map(|x| x * x).sum::<f64>();
-        if d.is_nan() || d <= 0.0 {
+        let pivot = a[j][j] - (0..j).map(|k| l[j][k] * l[j][k] * d[k]).sum::<f64>();
+        if pivot.is_nan() || pivot <= 0.0 {
             return None;
         }
-        let d = d.sqrt();
-        a[j][j] = d;
+        (d[j], r[j]) = (pivot, 1.0 / pivot);
         for i in j + 1..F {
-            let dot: f64 = a[i][..j].iter().zip(&a[j][..j]).map(|(x, y)| x * y).sum();
-            a[i][j] = (a[i][j] - dot) / d;
+            let dot: f64 = (0..j).map(|k| l[i][k] * l[j][k] * d[k]).sum();
+            l[i][j] = (a[i][j] - dot) * r[j];
         }
     }
     for i in 0..F {
         for k in 0..i {
-            b[i] -= a[i][k] * b[k];
+            b[i] -= l[i][k] * b[k];
         }
-        b[i] /= a[i][i];
     }
     for i in (0..F).rev() {
+        b[i] *= r[i];
         for k in i + 1..F {
-            b[i] -= a[k][i] * b[k];
+            b[i] -= l[k][i] * b[k];
         }
-        b[i] /= a[i][i];
     }
     Some(b)
 }
