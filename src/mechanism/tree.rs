@@ -10,7 +10,7 @@
 //! the joint (`d u` the slide, on the body holding the line). With `J = ∂(r, φ)/∂z` and the
 //! acceleration `a` of the motion at `z̈ = 0` (centripetal, Coriolis and driver terms), the
 //! equations of motion are Lagrange's, `(Jᵀ M J) z̈ = Jᵀ (F − M a)`: a mass matrix of the size of
-//! the freedoms (at most [`MAX_TREE_FREEDOMS`]), solved by Cholesky. No constraint is
+//! the freedoms (at most [`MAX_TREE_FREEDOMS`]), solved as `L D Lᵀ`. No constraint is
 //! integrated, so there is nothing to stabilise and no drift. Clearance joints are the same
 //! force elements as in the absolute formulation (the same kinematics and laws).
 

@@ -741,7 +741,7 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              345 glyphs rarely repeat at one sub-pixel offset).\n\n\
              **What joint coordinates bought, measured.** The right-hand side fell from 2 946 to about 2 250 \
              instructions per evaluation (the constraint terms and the solve are gone; the closed-form poses with \
-             their two `sin_cos`, Lagrange's sums and the 2×2 Cholesky came instead; the contact and friction \
+             their two `sin_cos`, Lagrange's sums and a 2×2 Cholesky (now L D Lᵀ, below) came instead; the contact and friction \
              forces with the wear lookup, about 850, are unchanged). But the run takes 102 181 steps and 699 881 \
              evaluations against 68 792 and 532 379: the error norm is now the RMS over the 4 components that err, \
              not over 18 of which 10 (the crank's and the slider's prescribed coordinates) never do, so the same \
@@ -756,7 +756,7 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              Against absolute coordinates at rtol 1e-7 (2 337 M) the standard run took 892 M at rtol 2e-7 \
              (`--set run.rtol=2e-7 --set run.atol=2e-10`, the setting of every count of the kept optimisations since commit c0023e6). \
              With the fifth root and the search for onsets inside a step (section 5), which change every \
-             trajectory, it takes 928 M at the scenes' 2e-7 (90 646 steps, 629 166 evaluations; one \
+             trajectory, it took 928 M at the scenes' 2e-7 (90 646 steps, 629 166 evaluations; one \
              trajectory; over members joint coordinates take 13-19 % more evaluations than absolute \
              coordinates at equal accuracy, by the measurements here, so per evaluation and per step are the \
              fair measures); the \
@@ -794,6 +794,37 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              785 903 at 1e-7 (+23 %); over members 0-7, 645 763 and 715 311 at 2e-7 and 1.5e-7 against 568 978 \
              for absolute coordinates with their old norm at 1e-7 (section 5's bound): 13 % and 26 % more \
              evaluations.\n\n\
+             **Shorter dependency chains (2026-11-27).** The right-hand side's time is set less by its \
+             instruction count than by its longest chain of dependent operations (angles, poses, contact angle, \
+             wear lookup, penetration, force, Lagrange's solve), with divisions and square roots of 13-20 cycles \
+             each along it. Four rounding-level changes shorten that chain (not bit-identical): Lagrange's 2×2 \
+             system solved as L D Lᵀ with the pivots' reciprocals instead of by Cholesky (no square root; the \
+             factors depend only on the poses, so the forces meet only multiplications and additions); the \
+             contact angle taken from e itself instead of from e/|e| (it no longer waits for the square root \
+             and the division); the wear lookup multiplying by the sectors per radian instead of dividing by \
+             the sector width; the paper's hybrid elastic force at n = 1.5 folded into one expression, \
+             (π/8) E* √2 (3ΔR + 2δ) δ² / (ΔR + δ)^{3/2}, with one square root instead of two (tested against \
+             eq. 2's K times δ^1.5 to 1e-15). Measured as criterion's `rhs/standard` with the two bench programs \
+             alternated 8 times (1 s of measurement each; the host is shared): 157.3 → 133.9 ns, median paired \
+             ratio 0.848 (0.838-0.862). Each change left out in turn, against all four: 0.919 (L D Lᵀ), 0.938 \
+             (angle from e), 0.961 (hybrid fold), 0.983 (lookup; range 0.855-1.071, not resolved, kept as one \
+             division fewer on the chain). Instructions per evaluation fell only from 889.7 to 878.2. Tried and \
+             not kept: atan's (t − 1)/(t + 1) from the components so that its two divisions overlap (ratio \
+             1.009, 0.960-1.182), and eq. 3's division by the onset velocity taken out of the evaluation \
+             (emulated: ratio 1.079, no gain). The no-record standard run's one trajectory moved with the \
+             rounding to 119 565 steps and 844 486 evaluations, 1 210 M instructions (from 90 646, 629 166 and \
+             928 M), at the high end of what its members take: over members 0-15 of seed 1 (`--member m --seed \
+             1`) the median is 667 430 evaluations (590 716-1 325 019) against 670 619 (582 690-916 564) before. \
+             The process's count and time for the one trajectory measure the draw as much as the code, and on \
+             this draw the 800 M and 0.1 s targets are missed by more than before. Alternating the two programs \
+             (commit 3cf6f64 before, this one after): the 16-member ensemble (`jointwear run \
+             data/scenes/standard.toml --set run.record_rotations=0 --ensemble 16`, 8 runs each) took 1.657 s \
+             (1.501-1.762) against 1.854 s (1.745-2.010), median paired ratio 0.871 (0.821-1.000), although its \
+             members take 5 % more evaluations on average now; the no-record single run (10 each) 0.232 s \
+             against 0.218 s, ratio 1.103 (0.880-1.204), its trajectory taking 34 % more evaluations. The table \
+             above was recorded while the shared host ran slow: the unchanged `friction/modified` took 19.7 ns \
+             there against 14.1 ns in the full pass minutes before, and `rhs/standard` 166 ns against the \
+             134 ns of the paired runs.\n\n\
              **Wall time, paired.** Criterion medians of different days are not comparable on this shared host: \
              the unchanged `contact_force/hybrid` took 8.4 ns when the previous table was recorded and 12.1 ns on \
              2026-11-26. On that day, in one call alternating the two programs (15 runs each, not rerun by the \
