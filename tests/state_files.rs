@@ -61,7 +61,7 @@ fn edited_checkpoints_are_refused_naming_the_field() {
     let path = dir.join("edited.json");
     let ptr = |v: &mut Value, p: &str| v.pointer_mut(&format!("/checkpoint{p}")).unwrap().take();
     type Edit = fn(&mut Value);
-    let edits: [(&str, Edit); 13] = [
+    let edits: [(&str, Edit); 15] = [
         ("sampler.dy", |v| {
             v["sampler"]["dy"].as_array_mut().unwrap().pop();
         }),
@@ -85,6 +85,11 @@ fn edited_checkpoints_are_refused_naming_the_field() {
         // as an earlier version wrote it
         ("gap_rates", |v| {
             v.as_object_mut().unwrap().remove("gap_rates");
+        }),
+        // written under other arithmetic, or before the version was written
+        ("arithmetic", |v| v["arithmetic"] = 1.into()),
+        ("arithmetic", |v| {
+            v.as_object_mut().unwrap().remove("arithmetic");
         }),
     ];
     for (field, edit) in edits {

@@ -304,12 +304,13 @@ mod tests {
     }
 
     // The folded hybrid force is eq. 2's K times δ^1.5, over penetrations from a nanometre
-    // to the clearance and clearances of the scenes (0.02 to 0.5 mm). Fails with the √2
-    // left out of the folded constant, and with ΔR + δ's power 3/2 taken as 1/2: tried.
+    // to the clearance and clearances of the scenes (0.02 to 0.5 mm) and of a worn 0.5 mm
+    // joint (1 mm). Fails with the √2 left out of the folded constant, and with ΔR + δ's power
+    // 3/2 taken as 1/2: tried.
     #[test]
     fn folded_hybrid_force_is_eq2_stiffness_times_the_power() {
         let law = hybrid(0.9);
-        for dr in [2e-5, 2e-4, 5e-4] {
+        for dr in [2e-5, 2e-4, 5e-4, 1e-3] {
             for delta in [1e-9, 1e-8, 1e-7, 1e-6, 5e-6, 2e-5] {
                 assert_relative_eq!(
                     law.elastic_force(delta, dr),

@@ -196,8 +196,9 @@ pub struct WearProfile {
     /// the first two: the spline reads four neighbours without wrapping an index.
     padded: Vec<f64>,
     width: f64,
-    /// `1 / width`: the lookup of every evaluation multiplies instead of dividing (a division
-    /// on the path from the contact angle to the force).
+    /// Sectors per radian, `N / 2π` (`1 / width` to rounding): the lookup of every evaluation
+    /// multiplies instead of dividing (a division on the path from the contact angle to the
+    /// force).
     per_width: f64,
 }
 

@@ -853,7 +853,8 @@ fn ldlt_solve<const F: usize>(a: &[[f64; F]; F], mut b: [f64; F]) -> Option<[f64
     let (mut d, mut r) = ([0.0; F], [0.0; F]);
     for j in 0..F {
         let pivot = a[j][j] - (0..j).map(|k| l[j][k] * l[j][k] * d[k]).sum::<f64>();
-        if pivot.is_nan() || pivot <= 0.0 {
+        // (An infinite pivot too: its reciprocal would zero a row of a non-finite system.)
+        if pivot.is_nan() || pivot <= 0.0 || pivot.is_infinite() {
             return None;
         }
         (d[j], r[j]) = (pivot, 1.0 / pivot);
@@ -930,6 +931,45 @@ mod tests {
         // only the clearance bits (72 and above) differ from the standard's
         assert_eq!(tree.shape & ((1 << 72) - 1), SLIDER_CRANK & ((1 << 72) - 1));
         assert_ne!(tree.shape, SLIDER_CRANK);
+    }
+
+    // L D Lᵀ against a known solution for each size a tree has, and its refusals. Fails with
+    // the back substitution's reciprocal applied after the update (tried).
+    #[test]
+    fn ldlt_solves_symmetric_positive_definite_systems() {
+        use approx::assert_relative_eq;
+        // A = Bᵀ B + I for a fixed B, lower triangle only (the upper is never read: NaN).
+        fn system<const F: usize>() -> ([[f64; F]; F], [f64; F]) {
+            let b = |i: usize, j: usize| ((3 * i + 5 * j) % 7) as f64 - 2.5;
+            let mut a = [[f64::NAN; F]; F];
+            for i in 0..F {
+                for j in 0..=i {
+                    a[i][j] = (0..F).map(|k| b(k, i) * b(k, j)).sum::<f64>() + f64::from(i == j);
+                }
+            }
+            let x: [f64; F] = std::array::from_fn(|i| 1.0 - 0.75 * i as f64);
+            let rhs = std::array::from_fn(|i| {
+                (0..F)
+                    .map(|j| if j <= i { a[i][j] } else { a[j][i] } * x[j])
+                    .sum()
+            });
+            (a, rhs)
+        }
+        fn check<const F: usize>() {
+            let (a, rhs) = system::<F>();
+            let x = ldlt_solve(&a, rhs).unwrap();
+            for (i, xi) in x.iter().enumerate() {
+                assert_relative_eq!(*xi, 1.0 - 0.75 * i as f64, max_relative = 1e-12);
+            }
+        }
+        check::<1>();
+        check::<2>();
+        check::<3>();
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert_eq!(ldlt_solve(&[[bad]], [1.0]), None, "{bad}");
+        }
+        // Not positive definite: the second pivot is 1 − 4 < 0.
+        assert_eq!(ldlt_solve(&[[1.0, f64::NAN], [2.0, 1.0]], [1.0, 1.0]), None);
     }
 
     // Every joint a tree can hold survives its code. Fails with the slide's coordinate read

@@ -25,6 +25,8 @@ use std::path::Path;
 /// run bit for bit ([`super::Simulation::checkpoint`], [`super::Simulation::resume`]).
 #[derive(Clone, Serialize, Deserialize)]
 pub struct Checkpoint {
+    /// The [`ARITHMETIC`] of the program that wrote it.
+    pub(super) arithmetic: u32,
     /// Rotations completed.
     pub(super) rotation: u32,
     pub(super) end_rotation: Option<u32>,
@@ -46,6 +48,12 @@ pub struct Checkpoint {
     /// The outputs so far; `wall_time` is the wall time spent so far.
     pub(super) out: RunOutput,
 }
+
+/// The version of the floating-point operations a run performs. A change that moves runs by
+/// rounding alone (2: the right-hand side's shorter dependency chains of 2026-11-27) raises it,
+/// so that a checkpoint written before is refused rather than continued under other arithmetic,
+/// which would match neither program's uninterrupted run.
+pub const ARITHMETIC: u32 = 2;
 
 /// File name of a run's checkpoint in its output folder.
 pub const CHECKPOINT_FILE: &str = "checkpoint.json";
@@ -98,6 +106,21 @@ pub fn read_checkpoint(path: &Path, fingerprint: &str) -> Result<Checkpoint> {
             "the gaps' rates, which this version keeps to locate contact onsets inside a step: the \
              checkpoint was written by an earlier version, whose run this one would not continue \
              bit for bit (start over with --discard-checkpoint)",
+        ));
+    }
+    let arithmetic = file.checkpoint.get("arithmetic");
+    if arithmetic != Some(&ARITHMETIC.into()) {
+        return Err(Error::invalid(
+            "checkpoint.arithmetic",
+            arithmetic.map_or_else(
+                || format!("(absent from {})", path.display()),
+                |a| a.to_string(),
+            ),
+            format!(
+                "{ARITHMETIC}, the version of this program's floating-point operations: the \
+                 checkpoint was written by a version whose run this one would not continue bit \
+                 for bit (start over with --discard-checkpoint)"
+            ),
         ));
     }
     let sum = checksum(&file.checkpoint);

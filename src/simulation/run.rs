@@ -1,7 +1,7 @@
 //! A coupled run in progress ([`Simulation`]): after every accepted step it locates contact
 //! onsets (eq. 3's onset velocity), adds the step's Archard wear (eq. 9) and feeds the recorder.
 
-use super::checkpoint::Checkpoint;
+use super::checkpoint::{Checkpoint, ARITHMETIC};
 use super::record::{Sampler, Settler};
 use super::*;
 use crate::io::format::quantity;
@@ -199,6 +199,7 @@ impl Simulation {
         let mut out = self.out.clone();
         out.wall_time += self.clock.elapsed().as_secs_f64();
         Checkpoint {
+            arithmetic: ARITHMETIC,
             rotation: self.rotation,
             end_rotation: self.end_rotation,
             integrator: self.integrator.state(),
