@@ -15,7 +15,7 @@ fn l2(a: &[f64]) -> f64 {
 const MEMBERS: usize = 8;
 
 // The median helper takes the mean of the middle two.
-const _: () = assert!(MEMBERS >= 2 && MEMBERS % 2 == 0);
+const _: () = assert!(MEMBERS >= 2 && MEMBERS.is_multiple_of(2));
 
 /// 100 rotations of the standard scene with k/H accelerated to 5e-12 1/Pa (about 10 µm of wear
 /// on a 20 µm clearance, so the wear feeds back into the dynamics): the per-sector median

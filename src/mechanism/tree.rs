@@ -942,9 +942,9 @@ mod tests {
         fn system<const F: usize>() -> ([[f64; F]; F], [f64; F]) {
             let b = |i: usize, j: usize| ((3 * i + 5 * j) % 7) as f64 - 2.5;
             let mut a = [[f64::NAN; F]; F];
-            for i in 0..F {
-                for j in 0..=i {
-                    a[i][j] = (0..F).map(|k| b(k, i) * b(k, j)).sum::<f64>() + f64::from(i == j);
+            for (i, row) in a.iter_mut().enumerate() {
+                for (j, a_ij) in row.iter_mut().enumerate().take(i + 1) {
+                    *a_ij = (0..F).map(|k| b(k, i) * b(k, j)).sum::<f64>() + f64::from(i == j);
                 }
             }
             let x: [f64; F] = std::array::from_fn(|i| 1.0 - 0.75 * i as f64);
