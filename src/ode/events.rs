@@ -75,10 +75,11 @@ impl Integrator {
                 a.rate < 0.0 && b.rate >= 0.0
             };
             // The bracket [t0, t1] of a crossing from negative to non-negative, with the values
-            // at its ends.
+            // at its ends: between the ends, or beside an extremum when both lie on one side
+            // (a contact that ends within the step has neither).
             let bracket = if free && b.value >= 0.0 {
                 Some((ta, a.value, tb, b.value))
-            } else if a.value >= 0.0 && b.value >= 0.0 || free && b.value < 0.0 {
+            } else if !across(b.value) {
                 (turns && across(tangents_meet(ta, a, tb, b)))
                     .then(|| {
                         let t_ext = locate_root(|t| on_dense(t).rate, ta, a.rate, tb, b.rate, tol);
