@@ -37,6 +37,17 @@ pub enum Error {
         /// What went wrong, with the likely cause.
         cause: String,
     },
+    /// A run stopped where its model stops describing the mechanism (a worn bearing too steep
+    /// for the paper's gap, [`crate::simulation::MAX_ECCENTRICITY_SLOPE`]): what it computed
+    /// up to there holds, what follows would not.
+    Validity {
+        /// Simulated time of the stop (s).
+        time: f64,
+        /// The clearance joint, in the mechanism's order.
+        joint: usize,
+        /// What left the model, by how much, and what stays within it.
+        cause: String,
+    },
     /// Rendering a figure failed.
     Plot {
         /// The figure file.
@@ -68,6 +79,23 @@ impl Error {
             Error::Parse { path, message } => Error::Parse {
                 path,
                 message: format!("{} ({context})", message.trim_end()),
+            },
+            e => e,
+        }
+    }
+
+    /// The error of a run with `what: ` put before its cause (the ensemble member, the case
+    /// it ran), for the failures while running that carry one; others unchanged.
+    pub fn in_run(self, what: &str) -> Error {
+        match self {
+            Error::Integration { time, cause } => Error::Integration {
+                time,
+                cause: format!("{what}: {cause}"),
+            },
+            Error::Validity { time, joint, cause } => Error::Validity {
+                time,
+                joint,
+                cause: format!("{what}: {cause}"),
             },
             e => e,
         }
@@ -127,6 +155,14 @@ impl fmt::Display for Error {
             Error::Io { path, source } => write!(f, "{}: {source}", path.display()),
             Error::Integration { time, cause } => {
                 write!(f, "integration failed at t = {time:.6e} s: {cause}")
+            }
+            Error::Validity { time, cause, .. } => {
+                write!(
+                    f,
+                    "the run left its model at t = {time:.6e} s: {cause}; fewer rotations or a \
+                     smaller k/H stay within it, and `jointwear longlife` tells how many \
+                     rotations reach it"
+                )
             }
             Error::Plot { path, message } => {
                 write!(f, "cannot render {}: {message}", path.display())

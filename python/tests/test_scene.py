@@ -163,14 +163,26 @@ def test_a_bad_value_set_from_python_has_the_message_of_the_same_value_in_a_file
     assert str(d.value) == str(e.value).replace(str(STANDARD), "<dict>")
 
 
-def test_a_failure_while_running_is_a_simulation_error_with_the_programs_message(tmp_path, cli):
-    # k/H = 1e-6 1/Pa wears past a tenth of the bearing radius in the first rotation
-    path = short_file(tmp_path, **{"clearance.0.wear.k_over_h_per_pa": 1e-6})
+@pytest.mark.parametrize(
+    "k_over_h, cause",
+    [
+        # wears past a tenth of the bearing radius in the first rotation
+        (1e-6, "beyond the wear model's limit"),
+        # wears the bearing three times as steep as the paper's gap holds to in its first
+        # rotation, which stops at its end
+        (3e-9, "times as steep as its local clearance"),
+    ],
+)
+def test_a_failure_while_running_is_a_simulation_error_with_the_programs_message(
+    tmp_path, cli, k_over_h, cause
+):
+    path = short_file(tmp_path, **{"clearance.0.wear.k_over_h_per_pa": k_over_h})
     program = cli("run", path, "--out", tmp_path / "out")
     assert program.returncode == 1, program.stderr
     with pytest.raises(jointwear.SimulationError) as e:
         jointwear.Scene.load(path).run()
     assert isinstance(e.value, RuntimeError)
+    assert cause in str(e.value)
     assert program.stderr == f"error: {e.value}\n"
 
 

@@ -25,9 +25,11 @@ pub const HOLD_BLOCKS: usize = 2;
 pub const DEEPEST_MOVE_DEG: f64 = 20.0;
 
 /// Wear depth, as a fraction of the radial clearance, up to which the cycle jump was checked
-/// against simulating every rotation (`tests/longlife.rs`: 10 µm of wear on a 20 µm clearance,
-/// peak depth within 3.4 %; far past the clearance it is 57 % too deep).
-pub const VALIDATED_WEAR_RATIO: f64 = 0.5;
+/// against simulating every rotation (`tests/longlife.rs`: 1.2-1.4 µm of wear on a 20 µm
+/// clearance, the medians' peak depth 1.5-12.6 % high over 12 draws). Deeper wear cannot be
+/// checked so: the paper's gap stops holding at 2-4 µm of it
+/// ([`crate::simulation::MAX_ECCENTRICITY_SLOPE`]).
+pub const VALIDATED_WEAR_RATIO: f64 = 0.06;
 
 /// One change along the life of one joint, at the block that starts it.
 #[derive(Clone, Debug, PartialEq)]
@@ -263,6 +265,8 @@ mod tests {
             clearances: vec![2e-6],
             limits: vec![2e-6],
             reached: None,
+            steep: None,
+            steep_cause: String::new(),
             wall_time: 0.0,
         }
     }
@@ -306,9 +310,13 @@ mod tests {
                 },
             ]
         );
-        // 1.2 µm of wear in all: past half the 2 µm clearance from the block that passes 1 µm
+        // 1.2 µm of wear in all on a 2 µm clearance: past the validated share of it from the
+        // block that passes that depth
         let depth_after = |i: usize| 1000.0 * rates[..i].iter().sum::<f64>();
-        let first = (1..=rates.len()).find(|&i| depth_after(i) > 1e-6).unwrap();
+        let validated = VALIDATED_WEAR_RATIO * 2e-6;
+        let first = (1..=rates.len())
+            .find(|&i| depth_after(i) > validated)
+            .unwrap();
         assert_eq!(validated_until(&l, 0), Some(1000 * first as u64));
         // a steady life reports nothing
         let steady = life(&[1e-11; 10], &[0.98; 10], &[18; 10]);

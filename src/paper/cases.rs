@@ -522,13 +522,8 @@ impl Runs {
             .map(|&(k, m)| {
                 let scene = &scenes[k];
                 let out = run_member(scene, &scene.run, &ensemble, m, progress);
-                let out = out.map_err(|e| match e {
-                    Error::Integration { time, cause } => Error::Integration {
-                        time,
-                        cause: format!("{:?}, ensemble member {m}: {cause}", needs[k]),
-                    },
-                    e => e,
-                })?;
+                let out =
+                    out.map_err(|e| e.in_run(&format!("{:?}, ensemble member {m}", needs[k])))?;
                 let r = match needs[k] {
                     Need::Steady(_) => MemberResult::Steady(steady_member(scene, &out, m == 0)?),
                     _ => MemberResult::Wear(wear_member(out)),

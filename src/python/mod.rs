@@ -54,7 +54,9 @@ create_exception!(
 pub fn to_py_err(path: &Path, e: Error, input: bool) -> PyErr {
     let bad_input = exit_code(&e) == 2 || (input && matches!(e, Error::Io { .. }));
     let message = match e {
-        Error::Invalid { .. } | Error::Integration { .. } => format!("{}: {e}", path.display()),
+        Error::Invalid { .. } | Error::Integration { .. } | Error::Validity { .. } => {
+            format!("{}: {e}", path.display())
+        }
         _ => e.to_string(),
     };
     if bad_input {

@@ -407,13 +407,8 @@ pub fn run<T: Send>(
         .into_par_iter()
         .map(|m| {
             let out = run_member(scene, &scene.run, ensemble, m, progress);
-            let out = out.map_err(|e| match e {
-                Error::Integration { time, cause } => Error::Integration {
-                    time,
-                    cause: format!("ensemble member {m} (seed {}): {cause}", ensemble.seed),
-                },
-                e => e,
-            });
+            let out =
+                out.map_err(|e| e.in_run(&format!("ensemble member {m} (seed {})", ensemble.seed)));
             done.finish_one();
             out.map(|o| keep(m, o))
         })

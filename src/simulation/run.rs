@@ -173,6 +173,7 @@ impl Simulation {
             settings,
         };
         sim.sampler = end_rotation.map(|end| sim.recording_window(end));
+        sim.check_gap_slope()?;
         Ok(sim)
     }
 
@@ -627,6 +628,7 @@ impl Simulation {
             joint.wear.add_depths(inc, factor);
         }
         self.check_wear_depth()?;
+        self.check_gap_slope()?;
         let (t, z) = (self.integrator.t(), self.integrator.y().to_vec());
         (self.mechanism).absolute_state(t, &z, &mut self.y_abs);
         for (k, g) in self.gaps.iter_mut().enumerate() {
@@ -669,6 +671,7 @@ impl Simulation {
         self.accepted_step(boundary).map_err(|e| self.at_lock(e))?;
         if self.integrator.t() >= boundary {
             self.finish_rotation();
+            self.check_gap_slope()?;
         }
         Ok(())
     }
@@ -753,6 +756,41 @@ impl Simulation {
             let deepest = joint.wear.depths().iter().cloned().fold(0.0, f64::max);
             if deepest > wear_limit(&self.mechanism.clearance_joints[k]) {
                 return Err(self.wear_limit_error(k, deepest));
+            }
+        }
+        Ok(())
+    }
+
+    /// Stops a run whose worn profile is too steep for the paper's gap
+    /// ([`MAX_ECCENTRICITY_SLOPE`]).
+    fn check_gap_slope(&self) -> Result<()> {
+        let joints = self
+            .mechanism
+            .clearance_joints
+            .iter()
+            .zip(&self.state.joints);
+        for (k, (cj, joint)) in joints.enumerate().filter(|(_, (cj, _))| cj.wear.is_some()) {
+            let (ratio, angle) = joint.wear.steepest(cj.clearance());
+            if ratio > MAX_ECCENTRICITY_SLOPE {
+                let deepest = joint.wear.depths().iter().cloned().fold(0.0, f64::max);
+                return Err(Error::Validity {
+                    time: self.integrator.t(),
+                    joint: k,
+                    cause: format!(
+                        "the worn bearing of clearance joint `{}` is {:.3} times as steep as its \
+                         local clearance (|dh/dθ| / (c + h)) at {:.1} deg, with its deepest \
+                         wear {} on a radial clearance of {}: beyond the {} up to which the \
+                         paper's gap δ = |e| − c − h(θ) describes the worn bore, as past it the \
+                         normal force along e/|e| is not the gradient of an energy and feeds \
+                         the journal's motion (whirling runaways of 1e6 N seen past 1)",
+                        cj.name,
+                        ratio,
+                        angle.to_degrees(),
+                        quantity(deepest * 1e3, "mm"),
+                        quantity(cj.given_clearance * 1e3, "mm"),
+                        MAX_ECCENTRICITY_SLOPE,
+                    ),
+                });
             }
         }
         Ok(())

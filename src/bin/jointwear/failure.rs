@@ -47,7 +47,7 @@ impl Failure {
     fn new(path: &Path, e: Error, input: bool) -> Failure {
         let code = code(&e, input);
         let message = match e {
-            Error::Invalid { .. } | Error::Integration { .. } => {
+            Error::Invalid { .. } | Error::Integration { .. } | Error::Validity { .. } => {
                 format!("{}: {e}", path.display())
             }
             _ => e.to_string(),

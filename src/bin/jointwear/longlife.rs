@@ -98,7 +98,17 @@ pub fn longlife(
                 ""
             }
         ),
-        None => println!("  no joint reached its wear limit within {target} rotations"),
+        None if life.steep.is_none() => {
+            println!("  no joint reached its wear limit within {target} rotations")
+        }
+        None => {}
+    }
+    if let Some((at, _)) = life.steep {
+        println!(
+            "  stopped after {at} of the {target} rotations asked for, where the model stops: \
+             {}",
+            life.steep_cause
+        );
     }
     for j in &summary.joints {
         println!(
@@ -241,7 +251,8 @@ struct LongLifeSummary {
     rotations_asked: u64,
     settle_rotations: u32,
     max_change: f64,
-    /// Rotations predicted: the target, or where a joint reached its limit.
+    /// Rotations predicted: the target, or where a joint reached its limit or the model's
+    /// validity.
     rotations_predicted: u64,
     rotations_simulated: u64,
     /// Extrapolated blocks.
@@ -249,6 +260,9 @@ struct LongLifeSummary {
     wall_time_s: f64,
     /// `[rotations, joint name]` at which a joint reached its wear limit, if any did.
     limit_reached: Option<(u64, String)>,
+    /// `[rotations, joint name, cause]` after which a joint's worn bearing grew too steep for
+    /// the paper's gap, if one did: the prediction stops there, short of its target.
+    validity_stop: Option<(u64, String, String)>,
     joints: Vec<LongLifeJoint>,
 }
 
@@ -367,6 +381,10 @@ impl LongLifeSummary {
             blocks: life.history.len().saturating_sub(1),
             wall_time_s: life.wall_time,
             limit_reached: (life.reached).map(|(at, k)| (at, m.clearance_joints[k].name.clone())),
+            validity_stop: (life.steep).map(|(at, k)| {
+                let name = m.clearance_joints[k].name.clone();
+                (at, name, life.steep_cause.clone())
+            }),
             joints,
         }
     }
@@ -410,6 +428,8 @@ fn readme(title: &str, scene: &Scene) -> String {
          longlife_profiles.png: those profiles (µm), one panel per joint.\n\n\
          {SUMMARY_FILE}: the prediction as JSON: program; scene; the settings; rotations \
          predicted and simulated, blocks, wall_time_s; limit_reached ([rotations, joint] or \
+         null); validity_stop ([rotations, joint, cause] where a joint's worn bearing grew \
+         too steep for the paper's gap and the prediction stopped short of its target, or \
          null); joints (bodies, clearance_m as the scene gives it, wear_limit_m, \
          max_wear_depth_m, effective_clearance_m, validated_until_rotations: after how many \
          rotations the wear passes {validated} of the clearance, the regime tests/longlife.rs \
