@@ -253,16 +253,20 @@ fn shards_merge_into_the_whole_sweep() {
 fn longlife_writes_profiles_and_growth() {
     let dir = temp_dir("longlife");
     let out = dir.join("out");
-    let o = jointwear(&[
-        "longlife",
-        s(&scene_path("standard")),
-        "--rotations",
-        "5e4",
-        "--k-over-h",
-        "1e-15",
-        "--out",
-        s(&out),
-    ]);
+    let standard = scene_path("standard");
+    let longlife = |rotations: &str, out: &Path| {
+        let scene = s(&standard);
+        let args = [
+            "longlife",
+            scene,
+            "--rotations",
+            rotations,
+            "--k-over-h",
+            "1e-15",
+        ];
+        jointwear(&[&args[..], &["--out", s(out)]].concat())
+    };
+    let o = longlife("5e4", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout(&o).contains("50000 rotations predicted"));
     let (header, columns) = read_csv(&out.join("longlife_growth.csv")).unwrap();
@@ -345,16 +349,7 @@ fn longlife_writes_profiles_and_growth() {
     // A million rotations outgrow the paper's gap: the prediction stops short, says so, and
     // keeps what it predicted up to there (exit 0).
     let out = dir.join("stopped");
-    let o = jointwear(&[
-        "longlife",
-        s(&scene_path("standard")),
-        "--rotations",
-        "1e6",
-        "--k-over-h",
-        "1e-15",
-        "--out",
-        s(&out),
-    ]);
+    let o = longlife("1e6", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
         stdout(&o).contains("of the 1000000 rotations asked for, where the model stops"),
