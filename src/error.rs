@@ -38,8 +38,9 @@ pub enum Error {
         cause: String,
     },
     /// A run stopped where its model stops describing the mechanism (a worn bearing too steep
-    /// for the paper's gap, [`crate::simulation::MAX_ECCENTRICITY_SLOPE`]): what it computed
-    /// up to there holds, what follows would not.
+    /// for the paper's gap, [`crate::simulation::MAX_ECCENTRICITY_SLOPE`]). A run writes
+    /// nothing then, as for any failure; a long-life prediction stops there and keeps what it
+    /// predicted.
     Validity {
         /// Simulated time of the stop (s).
         time: f64,
@@ -160,8 +161,8 @@ impl fmt::Display for Error {
                 write!(
                     f,
                     "the run left its model at t = {time:.6e} s: {cause}; fewer rotations or a \
-                     smaller k/H stay within it, and `jointwear longlife` tells how many \
-                     rotations reach it"
+                     smaller k/H stay within it, `jointwear longlife` tells how many rotations \
+                     reach it"
                 )
             }
             Error::Plot { path, message } => {

@@ -363,7 +363,7 @@ fn longlife_writes_profiles_and_growth() {
     assert_eq!(stop[0], summary["rotations_predicted"]);
     assert_eq!(stop[1], "rod-slider");
     assert!(
-        stop[2].as_str().unwrap().contains("times as steep"),
+        stop[2].as_str().unwrap().contains("|dh/dθ| / (c + h) = "),
         "{stop:?}"
     );
     assert!(summary["rotations_predicted"].as_u64().unwrap() < 1_000_000);

@@ -198,7 +198,9 @@ fn runs_of_valid_random_scenes_are_finite_and_within_the_validity_limits() {
                     out.max_penetration_whole_run[0]
                 );
             }
-            Err(jointwear::Error::Integration { .. }) => failed += 1,
+            Err(jointwear::Error::Integration { .. } | jointwear::Error::Validity { .. }) => {
+                failed += 1
+            }
             Err(e) => panic!("case {case}: {e}"),
         }
     }

@@ -118,7 +118,7 @@ fn implausible_masses_moduli_and_lengths_are_refused_with_their_reason() {
 }
 
 #[test]
-fn hertz_laws_are_refused_at_tiny_clearances_and_elastic_foundation_wears_at_zero() {
+fn hertz_laws_are_refused_at_tiny_clearances_and_wear_at_zero() {
     for clearance_mm in [0.0, 9e-4] {
         let mut f = standard();
         f.clearance[0].clearance_mm = clearance_mm;
@@ -128,7 +128,7 @@ fn hertz_laws_are_refused_at_tiny_clearances_and_elastic_foundation_wears_at_zer
             "at least 1e-4 x the bearing radius (0.001 mm)",
             "wear.pressure",
             "pressure = \"elastic-foundation\"",
-            "down to zero clearance",
+            "down to tiny clearances",
         ] {
             assert!(msg.contains(n), "c = {clearance_mm} mm: lacks `{n}`: {msg}");
         }
@@ -145,10 +145,21 @@ fn hertz_laws_are_refused_at_tiny_clearances_and_elastic_foundation_wears_at_zer
     let mut f = standard();
     f.clearance[0].clearance_mm = 0.001;
     f.build().unwrap();
-    // At zero clearance the elastic-foundation pressure is finite and non-zero: 435 N wears.
+    // At zero clearance any uneven wear is steeper than the paper's gap describes: wear is
+    // refused there, naming the remedy.
     let mut f = standard();
     f.clearance[0].clearance_mm = 0.0;
     f.clearance[0].wear.as_mut().unwrap().pressure = PressureModel::ElasticFoundation;
+    let msg = refused(&f);
+    for n in [
+        "`clearance[0].wear.k_over_h_per_pa`",
+        "0 at a radial clearance of 0",
+        "give the joint a clearance, or no wear",
+    ] {
+        assert!(msg.contains(n), "lacks `{n}`: {msg}");
+    }
+    // Its elastic-foundation pressure is still finite and non-zero there.
+    f.clearance[0].wear.as_mut().unwrap().k_over_h_per_pa = 0.0;
     let scene = f.build().unwrap();
     let law = scene.mechanism.clearance_joints[0].wear.unwrap();
     let p = law.pressure(435.0, 1e-6, 0.0);

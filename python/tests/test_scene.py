@@ -168,9 +168,9 @@ def test_a_bad_value_set_from_python_has_the_message_of_the_same_value_in_a_file
     [
         # wears past a tenth of the bearing radius in the first rotation
         (1e-6, "beyond the wear model's limit"),
-        # wears the bearing three times as steep as the paper's gap holds to in its first
+        # wears the bearing ten times as steep as the paper's gap holds to in its first
         # rotation, which stops at its end
-        (3e-9, "times as steep as its local clearance"),
+        (3e-9, "above the 0.3 up to which the paper's gap"),
     ],
 )
 def test_a_failure_while_running_is_a_simulation_error_with_the_programs_message(

@@ -27,7 +27,7 @@ pub const DEEPEST_MOVE_DEG: f64 = 20.0;
 /// Wear depth, as a fraction of the radial clearance, up to which the cycle jump was checked
 /// against simulating every rotation (`tests/longlife.rs`: 1.2-1.4 µm of wear on a 20 µm
 /// clearance, the medians' peak depth 1.5-12.6 % high over 12 draws). Deeper wear cannot be
-/// checked so: the paper's gap stops holding at 2-4 µm of it
+/// checked so: the paper's gap stops holding at 2-3 µm of it
 /// ([`crate::simulation::MAX_ECCENTRICITY_SLOPE`]).
 pub const VALIDATED_WEAR_RATIO: f64 = 0.06;
 

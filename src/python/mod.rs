@@ -48,8 +48,8 @@ create_exception!(
 );
 
 /// The Python exception of library error `e` about the scene `path`, with the message the
-/// `jointwear` program prints for it: invalid values and integration failures prefixed with
-/// the scene's path, the others naming their file themselves. `input`: `e` arose reading the
+/// `jointwear` program prints for it: invalid values, integration failures and validity stops
+/// prefixed with the scene's path, the others naming their file themselves. `input`: `e` arose reading the
 /// scene, so a file that cannot be read is bad input, as in the program.
 pub fn to_py_err(path: &Path, e: Error, input: bool) -> PyErr {
     let bad_input = exit_code(&e) == 2 || (input && matches!(e, Error::Io { .. }));

@@ -362,7 +362,7 @@ impl SceneFile {
                     .is_some_and(|w| w.pressure == PressureModel::HertzLine),
                 "wear.pressure",
                 "pressure = \"elastic-foundation\" (the Winkler overlap model, valid for \
-                 conformal contact down to zero clearance)",
+                 conformal contact down to tiny clearances)",
             ),
         ];
         // mm over mm: the ratio of the numbers as written (1 µm in 10 mm is exactly 1e-4).
@@ -394,8 +394,19 @@ impl SceneFile {
                         "an integer in [8, 36000]",
                     ));
                 }
+                let k_over_h = check(&f("wear.k_over_h_per_pa"), w.k_over_h_per_pa, 0.0, 1e-6)?;
+                if c.clearance_mm == 0.0 && k_over_h > 0.0 {
+                    return Err(Error::invalid(
+                        f("wear.k_over_h_per_pa"),
+                        k_over_h,
+                        "0 at a radial clearance of 0: against no clearance any uneven wear is \
+                         steeper than the paper's gap describes (|dh/dθ| / (c + h) = |h′|/h, \
+                         above 0.3 after the first rotation whatever k/H; README, validity \
+                         limits); give the joint a clearance, or no wear",
+                    ));
+                }
                 let law = WearLaw {
-                    k_over_h: check(&f("wear.k_over_h_per_pa"), w.k_over_h_per_pa, 0.0, 1e-6)?,
+                    k_over_h,
                     pressure: w.pressure,
                     length: within(&f("wear.length_mm"), w.length_mm, &BEARING_LENGTH_MM)? * MM,
                     e_star,

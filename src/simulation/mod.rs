@@ -117,9 +117,10 @@ pub const MAX_WEAR_RATIO: f64 = 0.1;
 /// about half its square times c + h. Off that, the normal force is not the gradient of an
 /// energy and does work around the journal's orbits. Measured on the standard scene at
 /// k/H = 5e-12 1/Pa (energy accounting, per rotation, two members): that work is 1-3 % of
-/// the driver's up to 0.3, 5-9 % at 0.5-0.6, 30-100 % past 0.85, where 2 of 176 members ran
-/// away into a whirl of 1e6 N. The paper's runs end at 0.09 or less. A run stops past 0.3
-/// (checked at every rotation's end and after every extrapolated block).
+/// the driver's up to 0.3, 5-9 % at 0.5-0.6 and 30-100 % past 0.85; past 1, 2 of 176 members
+/// ran away into a whirl of 1e6 N. The paper's runs end at 0.17 or less. A run stops past 0.3
+/// (checked at every rotation's end; a long-life prediction's blocks stop short of it). The
+/// README's validity limits give the measurements in full.
 pub const MAX_ECCENTRICITY_SLOPE: f64 = 0.3;
 
 /// The deepest wear (m) the wear model describes in joint `cj` ([`MAX_WEAR_RATIO`]).

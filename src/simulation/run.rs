@@ -628,13 +628,13 @@ impl Simulation {
             joint.wear.add_depths(inc, factor);
         }
         self.check_wear_depth()?;
-        self.check_gap_slope()?;
         let (t, z) = (self.integrator.t(), self.integrator.y().to_vec());
         (self.mechanism).absolute_state(t, &z, &mut self.y_abs);
         for (k, g) in self.gaps.iter_mut().enumerate() {
             *g = self.mechanism.contact_event(&self.state, k, &self.y_abs);
         }
-        self.restart(t, &z)
+        self.restart(t, &z)?;
+        self.check_gap_slope()
     }
 
     /// Restarts the integrator at (t, z) after a discontinuity of the right-hand side.
@@ -771,21 +771,21 @@ impl Simulation {
             .zip(&self.state.joints);
         for (k, (cj, joint)) in joints.enumerate().filter(|(_, (cj, _))| cj.wear.is_some()) {
             let (ratio, angle) = joint.wear.steepest(cj.clearance());
-            if ratio > MAX_ECCENTRICITY_SLOPE {
+            // (a NaN profile does not pass)
+            if !(ratio <= MAX_ECCENTRICITY_SLOPE) {
                 let deepest = joint.wear.depths().iter().cloned().fold(0.0, f64::max);
                 return Err(Error::Validity {
                     time: self.integrator.t(),
                     joint: k,
                     cause: format!(
-                        "the worn bearing of clearance joint `{}` is {:.3} times as steep as its \
-                         local clearance (|dh/dθ| / (c + h)) at {:.1} deg, with its deepest \
-                         wear {} on a radial clearance of {}: beyond the {} up to which the \
-                         paper's gap δ = |e| − c − h(θ) describes the worn bore, as past it the \
-                         normal force along e/|e| is not the gradient of an energy and feeds \
-                         the journal's motion (whirling runaways of 1e6 N seen past 1)",
+                        "the worn bearing of clearance joint `{}` has |dh/dθ| / (c + h) = {:.4} \
+                         at {:.1} deg after simulated driver rotation {} (deepest wear {} on a radial \
+                         clearance of {}), above the {} up to which the paper's gap \
+                         δ = |e| − c − h(θ) describes the worn bore (README, validity limits)",
                         cj.name,
                         ratio,
                         angle.to_degrees(),
+                        self.rotation,
                         quantity(deepest * 1e3, "mm"),
                         quantity(cj.given_clearance * 1e3, "mm"),
                         MAX_ECCENTRICITY_SLOPE,

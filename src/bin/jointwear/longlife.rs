@@ -23,7 +23,8 @@ use serde::Serialize;
 use std::path::{Path, PathBuf};
 
 /// `longlife`: predicts the wear of the scene at `path` (k/H overridden if given) after
-/// `rotations`, or until a joint's wear reaches `until_mm` (default: its clearance).
+/// `rotations`, or until a joint's wear reaches `until_mm` (default: its clearance) or its worn
+/// bearing grows too steep for the paper's gap.
 pub fn longlife(
     path: &Path,
     rotations: f64,
