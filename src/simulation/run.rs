@@ -771,8 +771,7 @@ impl Simulation {
             .zip(&self.state.joints);
         for (k, (cj, joint)) in joints.enumerate().filter(|(_, (cj, _))| cj.wear.is_some()) {
             let (ratio, angle) = joint.wear.steepest(cj.clearance());
-            // (a NaN profile does not pass)
-            if !(ratio <= MAX_ECCENTRICITY_SLOPE) {
+            if ratio > MAX_ECCENTRICITY_SLOPE || ratio.is_nan() {
                 let deepest = joint.wear.depths().iter().cloned().fold(0.0, f64::max);
                 return Err(Error::Validity {
                     time: self.integrator.t(),
