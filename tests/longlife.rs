@@ -20,8 +20,9 @@ const MEMBERS: usize = 8;
 const _: () = assert!(MEMBERS >= 2 && MEMBERS.is_multiple_of(2));
 
 /// 80 rotations of the standard scene at its own k/H (1e-12 1/Pa, about 1.3 µm of wear, the
-/// worn bearing up to 0.21 as steep as its local clearance, below the 0.3 where the paper's gap
-/// stops: runs and predictions alike stop there, so a deeper regime cannot be checked): the
+/// members' |dh/dθ| / (c + h) 0.17-0.21 at the sector centres over the 12 draws below, under
+/// the 0.3 where the paper's gap stops: runs and predictions alike stop there, so a deeper
+/// regime cannot be checked): the
 /// per-sector median profile of [`MEMBERS`] extrapolated predictions against that of
 /// [`MEMBERS`] brute-force members (seed 1, the default protocol). Each prediction runs its
 /// member's mechanism, the journal pin shifted by the member's offset of at most 10 nm, from
