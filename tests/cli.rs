@@ -688,3 +688,45 @@ fn a_set_that_reverses_the_driver_is_noted() {
     assert!(stderr(&o).contains(note), "{}", stderr(&o));
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `longlife --member K --seed S` predicts member K's mechanism, as `tests/longlife.rs` does
+/// for its medians: bit for bit the library's prediction from
+/// `Perturbation::mechanism(scene, S, K)` with the command's snapshots, and not the scene's own.
+#[test]
+fn longlife_predicts_one_member_as_the_library_does() {
+    use jointwear::io::progress::Silent;
+    use jointwear::simulation::ensemble::Perturbation;
+    use jointwear::simulation::longlife::{predict, LongLifeSettings};
+    let dir = temp_dir("longlife_member");
+    let run = |extra: &[&str], out: &Path| {
+        let scene = scene_path("standard");
+        let args = ["longlife", s(&scene), "--rotations", "80", "--out", s(out)];
+        let o = jointwear(&[&args[..], extra].concat());
+        assert!(o.status.success(), "{}", stderr(&o));
+        json(&out.join("summary.json"))
+    };
+    let member = run(&["--member", "3", "--seed", "2"], &dir.join("member"));
+    let own = run(&[], &dir.join("own"));
+    let depth = |summary: &serde_json::Value| summary["joints"][0]["max_wear_depth_m"].clone();
+    assert_eq!(member["member"], serde_json::json!([3, 2]));
+    assert_eq!(own["member"], serde_json::Value::Null);
+    assert_ne!(depth(&member), depth(&own));
+    let mut scene = jointwear::scene::SceneFile::read(scene_path("standard"))
+        .unwrap()
+        .build()
+        .unwrap();
+    scene.mechanism = Perturbation::default().mechanism(&scene, 2, 3);
+    let settings = LongLifeSettings {
+        rotations: 80,
+        snapshots: vec![16, 32, 48, 64],
+        ..LongLifeSettings::default()
+    };
+    let life = predict(&scene, &settings, &Silent).unwrap();
+    let expected = life.snapshots.last().unwrap().max_depth(0);
+    assert_eq!(depth(&member).as_f64().unwrap(), expected);
+    // a member number beyond any ensemble is bad input
+    let o = jointwear(&["longlife", s(&scene_path("standard")), "--member", "10000"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--member"), "{}", stderr(&o));
+    fs::remove_dir_all(&dir).unwrap();
+}

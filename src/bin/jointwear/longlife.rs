@@ -13,6 +13,7 @@ use jointwear::io::output::{number, write_outputs, write_rows};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::progress_bar;
 use jointwear::scene::SceneFile;
+use jointwear::simulation::ensemble::{Perturbation, MAX_MEMBERS};
 use jointwear::simulation::folder::{
     body_name, conventions, joint_file, write_profiles, write_summary, PROGRAM, SUMMARY_FILE,
 };
@@ -22,18 +23,35 @@ use jointwear::Error;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
-/// `longlife`: predicts the wear of the scene at `path` (k/H overridden if given) after
-/// `rotations`, or until a joint's wear reaches `until_mm` (default: its clearance) or its worn
-/// bearing grows too steep for the paper's gap.
-pub fn longlife(
-    path: &Path,
-    rotations: f64,
-    k_over_h: Option<f64>,
-    max_change: f64,
-    settle: u32,
-    until_mm: Option<f64>,
-    out: Option<PathBuf>,
-) -> CliResult<()> {
+/// The options of `longlife`, as given.
+pub struct Options {
+    /// Rotations to predict.
+    pub rotations: f64,
+    /// k/H (1/Pa) of every worn joint instead of the scene's.
+    pub k_over_h: Option<f64>,
+    /// Largest depth change per block, as a fraction of the clearance.
+    pub max_change: f64,
+    /// Rotations simulated before the first block.
+    pub settle: u32,
+    /// Wear depth (mm) at which the prediction stops.
+    pub until_mm: Option<f64>,
+    /// `(member, seed)`: predict that ensemble member's mechanism instead of the scene's.
+    pub member: Option<(usize, u64)>,
+}
+
+/// `longlife`: predicts the wear of the scene at `path` (k/H overridden if given; member K's
+/// mechanism, its journal pin shifted by its offset of the default protocol, with `--member`)
+/// after `rotations`, or until a joint's wear reaches `until_mm` (default: its clearance) or
+/// its worn bearing grows too steep for the paper's gap.
+pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResult<()> {
+    let Options {
+        rotations,
+        k_over_h,
+        max_change,
+        settle,
+        until_mm,
+        member,
+    } = *options;
     let bad = |e| Failure::from(path, e);
     if !((1.0..=1e12).contains(&rotations) && rotations.fract() == 0.0) {
         return Err(bad(Error::invalid(
@@ -48,7 +66,17 @@ pub fn longlife(
             w.k_over_h_per_pa = k;
         }
     }
-    let scene = file.build().map_err(bad)?;
+    let mut scene = file.build().map_err(bad)?;
+    if let Some((m, seed)) = member {
+        if m >= MAX_MEMBERS {
+            return Err(bad(Error::invalid(
+                "--member",
+                m,
+                format!("a member number in [0, {}]", MAX_MEMBERS - 1),
+            )));
+        }
+        scene.mechanism = Perturbation::default().mechanism(&scene, seed, m);
+    }
     let dir = checked_out_dir(path, "longlife", out)?;
     let _claim = claim_out(path, &dir)?;
     let target = rotations as u64;
@@ -68,7 +96,13 @@ pub fn longlife(
     if let Some(k) = k_over_h {
         title.push_str(&format!(" --k-over-h {k:e}"));
     }
-    let summary = LongLifeSummary::new(path, &scene, &settings, &life);
+    if let Some((m, seed)) = member {
+        title.push_str(&format!(" --member {m} --seed {seed}"));
+    }
+    let summary = LongLifeSummary {
+        member,
+        ..LongLifeSummary::new(path, &scene, &settings, &life)
+    };
     write_outputs(&dir, &title, || {
         write_longlife(&scene, &life, &dir)?;
         write_summary(&dir, &summary, &readme(&title, &scene))
@@ -250,6 +284,8 @@ struct LongLifeSummary {
     scene: String,
     title: String,
     rotations_asked: u64,
+    /// `[member, seed]` of `--member`: the ensemble member whose mechanism was predicted.
+    member: Option<(usize, u64)>,
     settle_rotations: u32,
     max_change: f64,
     /// Rotations predicted: the target, or where a joint reached its limit or the model's
@@ -375,6 +411,7 @@ impl LongLifeSummary {
             scene: path.display().to_string(),
             title: scene.title.clone(),
             rotations_asked: settings.rotations,
+            member: None,
             settle_rotations: settings.settle_rotations,
             max_change: settings.max_change,
             rotations_predicted: last.map_or(0, |s| s.rotations),
@@ -427,7 +464,8 @@ fn readme(title: &str, scene: &Scene) -> String {
          \x20 angle_deg    sector centre in the bearing frame (deg)\n\
          \x20 rot<N>_m     depth worn into the bearing after N rotations (m)\n\
          longlife_profiles.png: those profiles (µm), one panel per joint.\n\n\
-         {SUMMARY_FILE}: the prediction as JSON: program; scene; the settings; rotations \
+         {SUMMARY_FILE}: the prediction as JSON: program; scene; the settings (member: [K, \
+         seed] with --member, the member whose mechanism was predicted, or null); rotations \
          predicted and simulated, blocks, wall_time_s; limit_reached ([rotations, joint] or \
          null); validity_stop ([rotations, joint, cause] where a joint's worn bearing grew \
          too steep for the paper's gap and the prediction stopped short of its target, or \

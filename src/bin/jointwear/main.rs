@@ -217,6 +217,15 @@ enum Command {
         /// for the paper's gap (|dh/dθ| / (c + h) > 0.3; the standard scene at 2-3 µm)
         #[arg(long, value_name = "DEPTH_MM")]
         until: Option<f64>,
+        /// Predict member K (0-based) of the ensemble of this --seed: the scene's mechanism
+        /// with the journal pin shifted by the member's offset of at most 10 nm (the default
+        /// protocol), from the assembled start; predictions of several members give the
+        /// spread of one prediction
+        #[arg(long, value_name = "K")]
+        member: Option<usize>,
+        /// Seed of the members' offsets
+        #[arg(long, default_value_t = DEFAULT_SEED, requires = "member")]
+        seed: u64,
         /// Output directory [default: out/<scene stem>/longlife]
         #[arg(long)]
         out: Option<PathBuf>,
@@ -331,7 +340,19 @@ fn main() -> ExitCode {
             settle,
             out,
             until,
-        } => longlife::longlife(&scene, rotations, k_over_h, max_change, settle, until, out),
+            member,
+            seed,
+        } => {
+            let options = longlife::Options {
+                rotations,
+                k_over_h,
+                max_change,
+                settle,
+                until_mm: until,
+                member: member.map(|m| (m, seed)),
+            };
+            longlife::longlife(&scene, &options, out)
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
