@@ -60,6 +60,10 @@ pub enum Error {
     Cancelled,
 }
 
+/// How the message of an [`Error::Validity`] begins, for a reader of saved messages (a
+/// study's failure column) that tells such stops from failures.
+pub const LEFT_MODEL: &str = "the run left its model";
+
 /// Library-wide result type.
 pub type Result<T> = std::result::Result<T, Error>;
 
@@ -160,7 +164,7 @@ impl fmt::Display for Error {
             Error::Validity { time, cause, .. } => {
                 write!(
                     f,
-                    "the run left its model at t = {time:.6e} s: {cause}; fewer rotations or a \
+                    "{LEFT_MODEL} at t = {time:.6e} s: {cause}; fewer rotations or a \
                      smaller k/H stay within it, `jointwear longlife` tells how many rotations \
                      reach it"
                 )

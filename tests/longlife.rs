@@ -139,7 +139,8 @@ fn realistic_coefficient_stops_where_the_gap_stops_holding_quickly() {
     };
     let life = predict(&scene, &settings, &Silent).unwrap();
     assert_eq!(life.reached, None);
-    let (at, joint) = life.steep.expect("the gap stops holding");
+    let stop = life.steep.expect("the gap stops holding");
+    let (at, joint) = (stop.rotations, stop.joint);
     assert_eq!(joint, 0);
     // 1000 times less wear per rotation than the scene's own k/H, which reaches it after about
     // 120 rotations (2.2 µm deep): some 120 000-260 000 rotations, by the blocks' draws.
@@ -148,9 +149,9 @@ fn realistic_coefficient_stops_where_the_gap_stops_holding_quickly() {
     assert_eq!(counts, vec![50_000, 100_000, at]);
     assert!(life.simulated < 200, "simulated {}", life.simulated);
     assert!(
-        life.steep_cause.contains("|dh/dθ| / (c + h) = "),
+        stop.cause.contains("|dh/dθ| / (c + h) = "),
         "{}",
-        life.steep_cause
+        stop.cause
     );
     // It stops at the first rotation or block that passes the bound, and not before.
     let c = life.clearances[0];

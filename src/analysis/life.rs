@@ -266,7 +266,6 @@ mod tests {
             limits: vec![2e-6],
             reached: None,
             steep: None,
-            steep_cause: String::new(),
             wall_time: 0.0,
         }
     }

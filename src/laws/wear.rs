@@ -270,6 +270,11 @@ impl WearProfile {
         (h, dh)
     }
 
+    /// The deepest sector depth (m), 0 for an unworn profile.
+    pub fn deepest(&self) -> f64 {
+        self.depths().iter().cloned().fold(0.0, f64::max)
+    }
+
     /// The steepest the profile gets against the local clearance it sits on: the largest
     /// |dh/dθ| / (c + h) of the spline [`WearProfile::depth_at`] at the sector centres and
     /// edges (between them the spline's slope is a quadratic; two points a sector catch its

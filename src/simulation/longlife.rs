@@ -36,7 +36,7 @@ use crate::io::format::quantity;
 use crate::io::progress::Progress;
 use crate::simulation::Scene;
 use crate::simulation::{
-    wear_limit, RunSettings, Simulation, MAX_ECCENTRICITY_SLOPE, MAX_WEAR_RATIO, OPEN_ENDED,
+    too_steep, wear_limit, RunSettings, Simulation, MAX_WEAR_RATIO, OPEN_ENDED,
 };
 use crate::{Error, Result};
 
@@ -112,6 +112,17 @@ pub struct Sample {
     pub impacts_per_rotation: f64,
 }
 
+/// A prediction's stop where its model stops holding ([`LongLife::steep`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ValidityStop {
+    /// Rotations predicted by then.
+    pub rotations: u64,
+    /// The clearance joint, in the mechanism's order.
+    pub joint: usize,
+    /// The run's account: how steep, where and how deep.
+    pub cause: String,
+}
+
 /// Result of [`predict`].
 #[derive(Clone, Debug)]
 pub struct LongLife {
@@ -130,14 +141,11 @@ pub struct LongLife {
     /// `(rotations, joint)` at which a joint's deepest wear first reached its limit; the
     /// prediction stops there. `None`: not within the rotations asked for.
     pub reached: Option<(u64, usize)>,
-    /// `(rotations, joint)` after which a joint's worn bearing had grown too steep for the
-    /// paper's gap ([`crate::simulation::MAX_ECCENTRICITY_SLOPE`]), at the end of a simulated
-    /// rotation or of an extrapolated block; the prediction stops there, short of its target,
-    /// as the wear that would follow is not the model's to predict. `steep_cause` says how
-    /// steep, where and how deep.
-    pub steep: Option<(u64, usize)>,
-    /// The run's account of [`LongLife::steep`], empty without it.
-    pub steep_cause: String,
+    /// Where a joint's worn bearing had grown too steep for the paper's gap
+    /// ([`crate::simulation::MAX_ECCENTRICITY_SLOPE`]), at the end of a simulated rotation;
+    /// the prediction stops there, short of its target, as the wear that would follow is not
+    /// the model's to predict. `None`: within it throughout.
+    pub steep: Option<ValidityStop>,
     /// Wall-clock time (s).
     pub wall_time: f64,
 }
@@ -274,15 +282,18 @@ pub fn predict(
             .position(|(d, l)| d.iter().any(|h| h >= l))
     };
     let mut reached = None;
-    // A stop at the gap's validity: the rotations done by then, the joint, the cause.
-    let mut steep: Option<(u64, usize, String)> = None;
+    let mut steep = None;
     // `simulate`, counting the rotations done; a stop at the gap's validity is `Ok(Err)`.
     let simulate_within = |sim: &mut Simulation, rotations: u32, done: &mut u64| {
         let start = sim.rotations_done();
         let result = simulate(sim, rotations);
         *done += u64::from(sim.rotations_done() - start);
         match result {
-            Err(Error::Validity { joint, cause, .. }) => Ok(Err((*done, joint, cause))),
+            Err(Error::Validity { joint, cause, .. }) => Ok(Err(ValidityStop {
+                rotations: *done,
+                joint,
+                cause,
+            })),
             r => r.map(Ok),
         }
     };
@@ -321,7 +332,7 @@ pub fn predict(
             .filter_map(|((joint, inc), (c, limit))| {
                 let depth = joint.wear.depths();
                 let per_rotation = inc.iter().cloned().fold(0.0, f64::max) / sample as f64;
-                let deepest = depth.iter().cloned().fold(0.0, f64::max);
+                let deepest = joint.wear.deepest();
                 // no sector may pass the limit within the block: the sample rotations that
                 // follow find the rotation at which one reaches it
                 let to_limit = depth
@@ -351,7 +362,7 @@ pub fn predict(
                 .all(|((cj, joint), inc)| {
                     let mut profile = joint.wear.clone();
                     profile.add_depths(inc, block as f64 / sample as f64);
-                    profile.steepest(cj.clearance()).0 <= MAX_ECCENTRICITY_SLOPE
+                    too_steep(cj, &profile).is_none()
                 })
         };
         let block = if within(block) {
@@ -369,12 +380,7 @@ pub fn predict(
             fits
         };
         if block > 0 {
-            match sim.add_wear(&increments, block as f64 / sample as f64) {
-                Err(Error::Validity { joint, cause, .. }) => {
-                    steep = Some((done + block, joint, cause))
-                }
-                r => r?,
-            }
+            sim.add_wear(&increments, block as f64 / sample as f64)?;
         }
         done += block;
         history.push(stage(&sim, done));
@@ -398,8 +404,7 @@ pub fn predict(
         snapshots,
         limits,
         reached,
-        steep: steep.as_ref().map(|(at, k, _)| (*at, *k)),
-        steep_cause: steep.map_or(String::new(), |(_, _, cause)| cause),
+        steep,
         simulated: sim.rotations_done() as u64,
         clearances,
         wall_time: clock.elapsed().as_secs_f64(),

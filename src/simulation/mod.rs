@@ -33,6 +33,7 @@ pub use checkpoint::Checkpoint;
 pub use run::Simulation;
 
 use crate::io::progress::{Progress, Silent};
+use crate::laws::wear::WearProfile;
 use crate::mechanism::{ClearanceJoint, Mechanism};
 use crate::ode::{Method, Stats, Tolerances};
 use crate::Result;
@@ -122,6 +123,13 @@ pub const MAX_WEAR_RATIO: f64 = 0.1;
 /// (checked at every rotation's end; a long-life prediction's blocks stop short of it). The
 /// README's validity limits give the measurements in full.
 pub const MAX_ECCENTRICITY_SLOPE: f64 = 0.3;
+
+/// `(|dh/dθ| / (c + h), angle in rad)` of `profile` worn into clearance joint `cj` when it
+/// passes [`MAX_ECCENTRICITY_SLOPE`] (a NaN profile passes it too); `None` within it.
+pub fn too_steep(cj: &ClearanceJoint, profile: &WearProfile) -> Option<(f64, f64)> {
+    let (ratio, angle) = profile.steepest(cj.clearance());
+    (ratio > MAX_ECCENTRICITY_SLOPE || ratio.is_nan()).then_some((ratio, angle))
+}
 
 /// The deepest wear (m) the wear model describes in joint `cj` ([`MAX_WEAR_RATIO`]).
 pub fn wear_limit(cj: &ClearanceJoint) -> f64 {

@@ -753,7 +753,7 @@ impl Simulation {
     /// Stops a run whose wear left the model's validity ([`MAX_WEAR_RATIO`]).
     fn check_wear_depth(&self) -> Result<()> {
         for (k, joint) in self.state.joints.iter().enumerate() {
-            let deepest = joint.wear.depths().iter().cloned().fold(0.0, f64::max);
+            let deepest = joint.wear.deepest();
             if deepest > wear_limit(&self.mechanism.clearance_joints[k]) {
                 return Err(self.wear_limit_error(k, deepest));
             }
@@ -770,9 +770,8 @@ impl Simulation {
             .iter()
             .zip(&self.state.joints);
         for (k, (cj, joint)) in joints.enumerate().filter(|(_, (cj, _))| cj.wear.is_some()) {
-            let (ratio, angle) = joint.wear.steepest(cj.clearance());
-            if ratio > MAX_ECCENTRICITY_SLOPE || ratio.is_nan() {
-                let deepest = joint.wear.depths().iter().cloned().fold(0.0, f64::max);
+            if let Some((ratio, angle)) = too_steep(cj, &joint.wear) {
+                let deepest = joint.wear.deepest();
                 return Err(Error::Validity {
                     time: self.integrator.t(),
                     joint: k,

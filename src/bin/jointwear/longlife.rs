@@ -99,10 +99,7 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
     if let Some((m, seed)) = member {
         title.push_str(&format!(" --member {m} --seed {seed}"));
     }
-    let summary = LongLifeSummary {
-        member,
-        ..LongLifeSummary::new(path, &scene, &settings, &life)
-    };
+    let summary = LongLifeSummary::new(path, &scene, &settings, member, &life);
     write_outputs(&dir, &title, || {
         write_longlife(&scene, &life, &dir)?;
         write_summary(&dir, &summary, &readme(&title, &scene))
@@ -138,11 +135,10 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
         }
         None => {}
     }
-    if let Some((at, _)) = life.steep {
+    if let Some(stop) = &life.steep {
         println!(
-            "  stopped after {at} of the {target} rotations asked for, where the model stops: \
-             {}",
-            life.steep_cause
+            "  stopped after {} of the {target} rotations asked for, where the model stops: {}",
+            stop.rotations, stop.cause
         );
     }
     for j in &summary.joints {
@@ -382,7 +378,13 @@ impl ChangeSummary {
 }
 
 impl LongLifeSummary {
-    fn new(path: &Path, scene: &Scene, settings: &LongLifeSettings, life: &LongLife) -> Self {
+    fn new(
+        path: &Path,
+        scene: &Scene,
+        settings: &LongLifeSettings,
+        member: Option<(usize, u64)>,
+        life: &LongLife,
+    ) -> Self {
         let m = &scene.mechanism;
         let last = life.history.last();
         let mut changes = changes(life);
@@ -411,7 +413,7 @@ impl LongLifeSummary {
             scene: path.display().to_string(),
             title: scene.title.clone(),
             rotations_asked: settings.rotations,
-            member: None,
+            member,
             settle_rotations: settings.settle_rotations,
             max_change: settings.max_change,
             rotations_predicted: last.map_or(0, |s| s.rotations),
@@ -419,9 +421,9 @@ impl LongLifeSummary {
             blocks: life.history.len().saturating_sub(1),
             wall_time_s: life.wall_time,
             limit_reached: (life.reached).map(|(at, k)| (at, m.clearance_joints[k].name.clone())),
-            validity_stop: (life.steep).map(|(at, k)| {
-                let name = m.clearance_joints[k].name.clone();
-                (at, name, life.steep_cause.clone())
+            validity_stop: (life.steep.as_ref()).map(|s| {
+                let name = m.clearance_joints[s.joint].name.clone();
+                (s.rotations, name, s.cause.clone())
             }),
             joints,
         }

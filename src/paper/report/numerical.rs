@@ -6,6 +6,7 @@
 
 use super::markdown::{csv_table, md_table};
 use crate::analysis::statistics::Distribution;
+use crate::error::LEFT_MODEL;
 use crate::io::output::{read_csv, read_rows};
 use crate::mechanism::JACOBIAN_STEP;
 use crate::ode::Method;
@@ -647,7 +648,7 @@ pub(super) fn stability_section(md: &mut String, stability: &[StabilityRow]) {
         .filter(|r| {
             r.failure
                 .as_deref()
-                .is_some_and(|f| f.contains("the run left its model"))
+                .is_some_and(|f| f.starts_with(LEFT_MODEL))
         })
         .map(|r| format!("`{}`", r.case))
         .collect();
