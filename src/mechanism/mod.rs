@@ -38,10 +38,10 @@
 //!
 //! A mechanism whose ideal joints form a tree rooted at the ground (its loops close only
 //! through clearance joints, as in the slider-crank) is integrated in joint coordinates
-//! (`tree`): one coordinate per ideal-joint freedom, no constraints, no drift. Otherwise (a
-//! closed loop of ideal joints, more than `MAX_TREE_FREEDOMS` freedoms, a slide on the driven
-//! body, or a body held only by clearance joints as in `two_clearance`) the run integrates the
-//! absolute coordinates above. Everything outside the integrator's state (events, wear, recording, outputs) sees
+//! (`tree`): one coordinate per ideal-joint freedom, no constraints, no drift; a body held only
+//! by clearance joints (the rod of `two_clearance`) floats, its position and angle three of
+//! them. Otherwise (a closed loop of ideal joints, more than `MAX_TREE_FREEDOMS` freedoms or
+//! four bodies, a slide on the driven body) the run integrates the absolute coordinates above. Everything outside the integrator's state (events, wear, recording, outputs) sees
 //! the absolute coordinates: [`Mechanism::absolute_state`] maps one to the other.
 
 mod assembly;
@@ -258,7 +258,8 @@ pub enum Formulation {
     /// stabilisation (eq. 10).
     Absolute,
     /// One coordinate per ideal-joint freedom of a tree-shaped linkage (at most
-    /// [`MAX_TREE_FREEDOMS`]), the driver prescribed.
+    /// [`MAX_TREE_FREEDOMS`]), three for a body held by clearance joints only, the driver
+    /// prescribed.
     JointCoordinates {
         /// Ideal-joint freedoms (coordinates).
         freedoms: usize,

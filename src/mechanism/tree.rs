@@ -3,7 +3,10 @@
 //! slider-crank), the run integrates one coordinate per ideal-joint freedom instead of three
 //! per body. The coordinate of a revolute joint is its child body's absolute angle (so that its
 //! error scale stays that of the angle, not of the turns of the parent), that of a
-//! translational joint the slide along its line; the driven body's angle is prescribed.
+//! translational joint the slide along its line; the driven body's angle is prescribed. A body
+//! that no ideal joint connects to the ground (held by clearance joints only, as the rod of
+//! `two_clearance`) floats: its centre of mass and angle are three coordinates, the absolute
+//! ones, and the bodies on its ideal joints hang from it.
 //!
 //! Each body's pose is closed-form in the coordinates, walking the tree from the ground:
 //! `r_C = r_P + A_P − A_C` with `A = R(φ) (l + d u)` the arm from a body's centre of mass to
@@ -21,12 +24,13 @@ use crate::{Error, Result};
 use nalgebra::Vector2;
 
 /// Most ideal-joint freedoms integrated in joint coordinates; a tree with more keeps the
-/// absolute coordinates. Every shipped tree scene has 2 (the slider-crank's rod angle and
-/// slider position; the four-bar's coupler and rocker angles).
-pub const MAX_TREE_FREEDOMS: usize = 3;
+/// absolute coordinates. The shipped tree scenes have 2 (the slider-crank's rod angle and
+/// slider position; the four-bar's coupler and rocker angles) and 4 (`two_clearance`: its
+/// floating rod's three and the slider's position).
+pub const MAX_TREE_FREEDOMS: usize = 4;
 
-/// Each body of a tree adds a freedom except the driven one.
-const MAX_BODIES: usize = MAX_TREE_FREEDOMS + 1;
+/// Most bodies of a tree in joint coordinates (a [`shape_code`] holds one link per body).
+const MAX_BODIES: usize = 4;
 
 /// How a body's angle follows from the coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,6 +41,9 @@ enum Angle {
     Driven,
     /// The parent's plus the link's constant `relative` (a translational joint).
     Fixed,
+    /// A floating body on the ground: coordinates `k` and `k + 1` are its centre of mass's
+    /// absolute position, `k + 2` its absolute angle.
+    Floating(usize),
 }
 
 /// A translational joint's slide: coordinate `k` along the link's unit direction `dir`, fixed
@@ -56,14 +63,15 @@ struct Joint {
 }
 
 impl Joint {
-    /// Eight bits: the angle's kind (0 driven, 1 free, 2 fixed) in bits 0-1 and its
-    /// coordinate in bits 2-3; whether there is a slide in bit 4, whether on the parent in
+    /// Eight bits: the angle's kind (0 driven, 1 free, 2 fixed, 3 floating) in bits 0-1 and
+    /// its (first) coordinate in bits 2-3; whether there is a slide in bit 4, whether on the parent in
     /// bit 5, its coordinate in bits 6-7 (coordinates are below [`MAX_TREE_FREEDOMS`] ≤ 4).
     const fn code(self) -> u128 {
         let angle = match self.angle {
             Angle::Driven => 0,
             Angle::Free(k) => 1 | (k << 2),
             Angle::Fixed => 2,
+            Angle::Floating(k) => 3 | (k << 2),
         };
         let slide = match self.slide {
             None => 0,
@@ -80,7 +88,8 @@ impl Joint {
             angle: match c & 3 {
                 0 => Angle::Driven,
                 1 => Angle::Free(k(2)),
-                _ => Angle::Fixed,
+                2 => Angle::Fixed,
+                _ => Angle::Floating(k(2)),
             },
             slide: if c & 16 != 0 {
                 Some(Slide {
@@ -133,9 +142,11 @@ pub(super) struct Tree {
 enum Walk {
     SliderCrank,
     FourBar,
+    TwoClearance,
     Listed1,
     Listed2,
     Listed3,
+    Listed4,
 }
 
 impl Walk {
@@ -145,7 +156,9 @@ impl Walk {
             2 if shape == SLIDER_CRANK => Walk::SliderCrank,
             2 if shape == FOUR_BAR => Walk::FourBar,
             2 => Walk::Listed2,
-            _ => Walk::Listed3,
+            3 => Walk::Listed3,
+            4 if shape == TWO_CLEARANCE => Walk::TwoClearance,
+            _ => Walk::Listed4,
         }
     }
 }
@@ -193,16 +206,27 @@ const CODED_CLEARANCES: usize = 6;
 const _: () = assert!(16 * MAX_BODIES <= 64 && MAX_BODIES < 8);
 const _: () = assert!(CODED_CLEARANCES < 15 && 76 + 8 * CODED_CLEARANCES <= 128);
 
+/// The driven crank's joint (to the ground).
+const DRIVEN: Joint = Joint {
+    angle: Angle::Driven,
+    slide: None,
+};
+
+/// A slider on a line fixed in the ground, its slide coordinate 0.
+const GROUND_SLIDE: Joint = Joint {
+    angle: Angle::Fixed,
+    slide: Some(Slide {
+        k: 0,
+        on_parent: true,
+    }),
+};
+
 /// A driven crank (body 0) on the ground and a second body (body 1) on the crank, with a
 /// third (body 2) on the ground: the last two move. One clearance joint, its journal on the
 /// second body and its bearing on the third.
 const fn crank_and_two(third: Joint, second: Joint) -> u128 {
-    let driven = Joint {
-        angle: Angle::Driven,
-        slide: None,
-    };
     shape_code(
-        &[(0, 1, driven), (0, 3, third), (1, 2, second)],
+        &[(0, 1, DRIVEN), (0, 3, third), (1, 2, second)],
         0b1100,
         &[(2, 3)],
     )
@@ -211,13 +235,7 @@ const fn crank_and_two(third: Joint, second: Joint) -> u128 {
 /// The standard slider-crank's shape (crank, rod, slider): the slider's line on the ground
 /// gives coordinate 0, the rod's angle coordinate 1.
 const SLIDER_CRANK: u128 = crank_and_two(
-    Joint {
-        angle: Angle::Fixed,
-        slide: Some(Slide {
-            k: 0,
-            on_parent: true,
-        }),
-    },
+    GROUND_SLIDE,
     Joint {
         angle: Angle::Free(1),
         slide: None,
@@ -237,6 +255,27 @@ const FOUR_BAR: u128 = crank_and_two(
     },
 );
 
+/// The shape of the slider-crank with clearance at both ends of its rod (`two_clearance`:
+/// crank, rod, slider): the driven crank and the slider on the ground (the slider's line on the
+/// ground gives coordinate 0), the rod floating (coordinates 1-3); clearance joints from the
+/// crank's journal to the rod's bearing and from the rod's journal to the slider's bearing.
+const TWO_CLEARANCE: u128 = shape_code(
+    &[
+        (0, 1, DRIVEN),
+        (0, 3, GROUND_SLIDE),
+        (
+            0,
+            2,
+            Joint {
+                angle: Angle::Floating(1),
+                slide: None,
+            },
+        ),
+    ],
+    0b1100,
+    &[(1, 2), (2, 3)],
+);
+
 /// Where the walk finds each link's parent and body, its joint, and which bodies move: read
 /// from the links, or constants of a [`shape_code`] that the compiler unrolls (the parents'
 /// frames then stay in registers, the ground's zeros drop out, and no joint kind is tested).
@@ -251,6 +290,9 @@ trait Shape: Copy {
     fn clearances(self, m: &Mechanism) -> usize;
     /// The bodies of clearance joint `k`'s journal and bearing.
     fn ends(self, k: usize, m: &Mechanism) -> (BodyIndex, BodyIndex);
+    /// How many bodies `m` has, with `S` body slots (the ground's too): `S − 1` for a known
+    /// shape; a listed one may leave slots empty (a floating body adds three freedoms).
+    fn bodies<const S: usize>(self, m: &Mechanism) -> usize;
 }
 
 /// The shape read at run time.
@@ -277,6 +319,10 @@ impl Shape for Listed {
     #[inline(always)]
     fn ends(self, k: usize, m: &Mechanism) -> (BodyIndex, BodyIndex) {
         m.clearance_ends(k)
+    }
+    #[inline(always)]
+    fn bodies<const S: usize>(self, m: &Mechanism) -> usize {
+        m.bodies.len()
     }
 }
 
@@ -309,6 +355,10 @@ impl<const CODE: u128> Shape for Known<CODE> {
         // Slot s holds body s − 1; slot 0 is the ground.
         let body = |s: u128| (s as usize).checked_sub(1);
         (body(c & 15), body((c >> 4) & 15))
+    }
+    #[inline(always)]
+    fn bodies<const S: usize>(self, _: &Mechanism) -> usize {
+        S - 1
     }
 }
 
@@ -350,9 +400,10 @@ pub(super) fn slot(b: BodyIndex) -> usize {
 
 /// Runs `$body` with the sizes of `$tree`'s walk bound to the constants `$f` (freedoms),
 /// `$c` (Jacobian columns: the driver's angle too when `$energy`, for its torque) and `$s`
-/// (body slots, the ground's first), and its [`Shape`] to `$shape`: sized at compile time
-/// for each number of freedoms (and so of bodies, one more), with the slider-crank's and the
-/// four-bar's shapes fixed (their own unrolled copies, without energy accounting).
+/// (body slots, the ground's first, as many as the freedoms' bodies can fill), and its
+/// [`Shape`] to `$shape`: sized at compile time for each number of freedoms, with the
+/// slider-crank's, the four-bar's and two_clearance's shapes fixed (their own unrolled copies,
+/// without energy accounting).
 macro_rules! sized_walk {
     ($tree:expr, $energy:expr, $f:ident, $c:ident, $s:ident, $shape:ident => $body:expr) => {{
         macro_rules! sized {
@@ -367,27 +418,31 @@ macro_rules! sized_walk {
         match ($tree.walk, $energy) {
             (Walk::SliderCrank, false) => sized!(2, 2, 4, Known::<SLIDER_CRANK>),
             (Walk::FourBar, false) => sized!(2, 2, 4, Known::<FOUR_BAR>),
+            (Walk::TwoClearance, false) => sized!(4, 4, 4, Known::<TWO_CLEARANCE>),
             (Walk::Listed1, false) => sized!(1, 1, 3, Listed),
             (Walk::Listed1, true) => sized!(1, 2, 3, Listed),
             (Walk::Listed2, false) => sized!(2, 2, 4, Listed),
             (Walk::Listed2 | Walk::SliderCrank | Walk::FourBar, true) => sized!(2, 3, 4, Listed),
             (Walk::Listed3, false) => sized!(3, 3, 5, Listed),
             (Walk::Listed3, true) => sized!(3, 4, 5, Listed),
+            (Walk::Listed4, false) => sized!(4, 4, 5, Listed),
+            (Walk::Listed4 | Walk::TwoClearance, true) => sized!(4, 5, 5, Listed),
         }
     }};
 }
 
 impl Tree {
     /// The tree of `m`'s ideal joints, if they form one rooted at the ground with the driven
-    /// body on a revolute joint and 1 to [`MAX_TREE_FREEDOMS`] freedoms.
+    /// body on a revolute joint and 1 to [`MAX_TREE_FREEDOMS`] freedoms; a body no ideal joint
+    /// connects to the ground floats on it, with the bodies hanging from it.
     pub(super) fn of(m: &Mechanism) -> Option<Tree> {
         let bodies = m.bodies.len();
         let joints = m.revolutes.len() + m.translationals.len();
-        if joints != bodies || bodies > MAX_BODIES {
+        if joints > bodies || bodies > MAX_BODIES {
             return None;
         }
-        // Breadth first from the ground: with as many joints as bodies, reaching every body
-        // means there is no loop.
+        // Breadth first from the ground, then from each body left over as a floating one: a
+        // joint that reaches a body reached before closes a loop.
         let mut reached: Vec<BodyIndex> = vec![None];
         let mut used = vec![false; joints];
         let mut links: Vec<Link> = Vec::new();
@@ -395,74 +450,99 @@ impl Tree {
         // Whether a body's position or angle depends on a freedom, by slot (ground first).
         let mut moving = 0u128;
         let mut next = 0;
-        while next < reached.len() {
-            let parent = reached[next];
-            next += 1;
-            for (j, flag) in used.iter_mut().enumerate() {
-                let (a, b) = match j.checked_sub(m.revolutes.len()) {
-                    None => (m.revolutes[j].a, m.revolutes[j].b),
-                    Some(i) => (m.translationals[i].a, m.translationals[i].b),
-                };
-                let (near, far, near_is_b) = match (a.body == parent, b.body == parent) {
-                    (true, false) => (a, b, false),
-                    (false, true) => (b, a, true),
-                    _ => continue,
-                };
-                if *flag {
-                    continue;
-                }
-                let child = far.body?;
-                if reached.contains(&Some(child)) {
-                    return None;
-                }
-                *flag = true;
-                reached.push(Some(child));
-                let driven = child == m.driver.body;
-                let (mut relative, mut dir) = (0.0, Vector2::zeros());
-                let (angle, slide) = match j.checked_sub(m.revolutes.len()) {
-                    None if driven => (Angle::Driven, None),
-                    None => (Angle::Free(freedoms), None),
-                    Some(_) if driven => return None,
-                    Some(i) => {
-                        let tj = &m.translationals[i];
-                        let on_parent = near_is_b;
-                        relative = if on_parent {
-                            tj.relative_angle
-                        } else {
-                            -tj.relative_angle
-                        };
-                        dir = perp(tj.normal);
-                        let slide = Slide {
-                            k: freedoms,
-                            on_parent,
-                        };
-                        (Angle::Fixed, Some(slide))
+        loop {
+            while next < reached.len() {
+                let parent = reached[next];
+                next += 1;
+                for (j, flag) in used.iter_mut().enumerate() {
+                    let (a, b) = match j.checked_sub(m.revolutes.len()) {
+                        None => (m.revolutes[j].a, m.revolutes[j].b),
+                        Some(i) => (m.translationals[i].a, m.translationals[i].b),
+                    };
+                    let (near, far, near_is_b) = match (a.body == parent, b.body == parent) {
+                        (true, false) => (a, b, false),
+                        (false, true) => (b, a, true),
+                        _ => continue,
+                    };
+                    if *flag {
+                        continue;
                     }
-                };
-                if !driven {
-                    freedoms += 1;
+                    let child = far.body?;
+                    if reached.contains(&Some(child)) {
+                        return None;
+                    }
+                    *flag = true;
+                    reached.push(Some(child));
+                    let driven = child == m.driver.body;
+                    let (mut relative, mut dir) = (0.0, Vector2::zeros());
+                    let (angle, slide) = match j.checked_sub(m.revolutes.len()) {
+                        None if driven => (Angle::Driven, None),
+                        None => (Angle::Free(freedoms), None),
+                        Some(_) if driven => return None,
+                        Some(i) => {
+                            let tj = &m.translationals[i];
+                            let on_parent = near_is_b;
+                            relative = if on_parent {
+                                tj.relative_angle
+                            } else {
+                                -tj.relative_angle
+                            };
+                            dir = perp(tj.normal);
+                            let slide = Slide {
+                                k: freedoms,
+                                on_parent,
+                            };
+                            (Angle::Fixed, Some(slide))
+                        }
+                    };
+                    if !driven {
+                        freedoms += 1;
+                    }
+                    if (moving >> slot(parent)) & 1 != 0
+                        || matches!(angle, Angle::Free(_))
+                        || slide.is_some()
+                    {
+                        moving |= 1 << (child + 1);
+                    }
+                    // The hot path's sincos of the angle the absolute state stores (the ground's
+                    // 0 plus the offset: +0, not −0, for a line in the block), as its readers take it.
+                    let relative_sc = sincos(0.0 + relative);
+                    links.push(Link {
+                        body: child,
+                        parent,
+                        joint: Joint { angle, slide },
+                        relative,
+                        relative_sc,
+                        ground_arm: rotate(relative_sc, far.local),
+                        on_parent: near.local,
+                        on_child: far.local,
+                        dir,
+                    });
                 }
-                if (moving >> slot(parent)) & 1 != 0
-                    || matches!(angle, Angle::Free(_))
-                    || slide.is_some()
-                {
-                    moving |= 1 << (child + 1);
-                }
-                // The hot path's sincos of the angle the absolute state stores (the ground's
-                // 0 plus the offset: +0, not −0, for a line in the block), as its readers take it.
-                let relative_sc = sincos(0.0 + relative);
-                links.push(Link {
-                    body: child,
-                    parent,
-                    joint: Joint { angle, slide },
-                    relative,
-                    relative_sc,
-                    ground_arm: rotate(relative_sc, far.local),
-                    on_parent: near.local,
-                    on_child: far.local,
-                    dir,
-                });
             }
+            let Some(body) = (0..bodies).find(|&b| !reached.contains(&Some(b))) else {
+                break;
+            };
+            if body == m.driver.body {
+                return None;
+            }
+            reached.push(Some(body));
+            moving |= 1 << (body + 1);
+            links.push(Link {
+                body,
+                parent: None,
+                joint: Joint {
+                    angle: Angle::Floating(freedoms),
+                    slide: None,
+                },
+                relative: 0.0,
+                relative_sc: sincos(0.0),
+                ground_arm: Vector2::zeros(),
+                on_parent: Vector2::zeros(),
+                on_child: Vector2::zeros(),
+                dir: Vector2::zeros(),
+            });
+            freedoms += 3;
         }
         let all = links.len() == bodies;
         let slots: Vec<_> = links
@@ -513,6 +593,7 @@ impl Tree {
                 // On the ground the angle is the constant relative one.
                 (phi, p.w, if ground { l.relative_sc } else { sincos(phi) })
             }
+            Angle::Floating(k) => (z[k + 2], zd[k + 2], sincos(z[k + 2])),
         };
         let mut c = Pose {
             f: Frame {
@@ -555,7 +636,10 @@ impl Tree {
                 vc += c.dir * dd + perp(c.dir) * (w * d);
             }
         }
-        (c.f.r, c.f.rd) = if ground {
+        (c.f.r, c.f.rd) = if let Angle::Floating(k) = joint.angle {
+            // On the ground at its centre of mass (`Tree::of`): no arms.
+            (Vector2::new(z[k], z[k + 1]), Vector2::new(zd[k], zd[k + 1]))
+        } else if ground {
             (c.arm_parent - c.arm_child, vp - vc)
         } else {
             (p.r + c.arm_parent - c.arm_child, p.rd + vp - vc)
@@ -609,6 +693,12 @@ impl Tree {
                     cj.r[j] -= pc * cj.phi[j];
                 }
             }
+            // On the ground at its centre of mass: a unit column per coordinate.
+            Angle::Floating(k) => {
+                cj.r[k].x = 1.0;
+                cj.r[k + 1].y = 1.0;
+                cj.phi[k + 2] = 1.0;
+            }
         }
         if let Some(s) = joint.slide {
             // The slide moves the joint along the line of its body: +U on the parent's
@@ -655,7 +745,7 @@ impl Tree {
         let mut frame = [Frame::GROUND; MAX_BODIES + 1];
         sized_walk!(self, false, F, _C, S, shape => {
             let (u, ud) = (chunk::<F>(z), chunk::<F>(&z[F..]));
-            Self::walk(shape, &self.links[..S - 1], #[inline(always)] |l, joint, ps, bs| {
+            Self::walk(shape, &self.links[..shape.bodies::<S>(m)], #[inline(always)] |l, joint, ps, bs| {
                 frame[bs] = Self::pose(m, l, joint, &frame[ps], ps == 0, t, u, ud).f;
             });
         });
@@ -695,6 +785,11 @@ impl Tree {
             match (l.joint.angle, l.joint.slide) {
                 (Angle::Free(k), _) => {
                     (z[k], z[f + k]) = (q[3 * l.body + 2], v[3 * l.body + 2]);
+                }
+                (Angle::Floating(k), _) => {
+                    let b = 3 * l.body;
+                    z[k..k + 3].copy_from_slice(&q[b..b + 3]);
+                    z[f + k..f + k + 3].copy_from_slice(&v[b..b + 3]);
                 }
                 (_, Some(s)) => {
                     // The line's body and point, and the sliding point.
@@ -741,8 +836,9 @@ impl Tree {
     }
 
     /// [`Tree::rhs`] for `F` freedoms, `C` Jacobian columns (`F`, or `F + 1` with the
-    /// driver's angle when energy accounting needs the driver torque) and `S = F + 2` body
-    /// slots (the ground, then one per body), and the tree's `shape`.
+    /// driver's angle when energy accounting needs the driver torque) and `S` body slots (the
+    /// ground, then one per body: `F + 2` but with a floating body, whose slots beyond the
+    /// bodies stay empty), and the tree's `shape`.
     #[inline]
     #[allow(clippy::too_many_arguments)]
     fn rhs_sized<const F: usize, const C: usize, const S: usize>(
@@ -756,20 +852,21 @@ impl Tree {
         gaps: &mut [EventValue],
     ) -> Result<()> {
         debug_assert_eq!(
-            (F, C, S),
+            (F, C),
             (
                 self.freedoms,
                 self.freedoms + usize::from(m.energy_accounting),
-                m.bodies.len() + 1
             )
         );
+        let n = shape.bodies::<S>(m);
+        debug_assert!(n < S && n == m.bodies.len());
         let (u, ud) = (chunk::<F>(z), chunk::<F>(&z[F..]));
         // Frames and Jacobians walking the tree, parents first; slot 0 stays the ground's.
         let mut frame = [Frame::GROUND; S];
         let mut jac = [Jacobian::<C>::ZERO; S];
         Self::walk(
             shape,
-            &self.links[..S - 1],
+            &self.links[..n],
             #[inline(always)]
             |l, joint, ps, bs| {
                 let (p, pj, ground) = (frame[ps], jac[ps], ps == 0);
@@ -784,13 +881,13 @@ impl Tree {
         let ends = |k| shape.ends(k, m);
         let gaps = &mut gaps[..shape.clearances(m)];
         let (p_normal, p_friction) = m
-            .applied_forces(state, ends, |b| frame[slot(b)], &mut force[1..], gaps)
+            .applied_forces(state, ends, |b| frame[slot(b)], &mut force[1..n + 1], gaps)
             .map_err(|(k, delta)| m.overload(t, k, delta))?;
         // Lagrange: mass matrix Jᵀ M J (lower triangle) and forces Jᵀ (F − M a), over the
         // bodies that move with the freedoms (the others add exact zeros).
         let mut mass = [[0.0; F]; F];
         let mut rhs = [0.0; F];
-        let bodies = &m.bodies[..S - 1];
+        let bodies = &m.bodies[..n];
         for s in 1..S {
             if !shape.moves(self.shape, s) {
                 continue;
@@ -891,6 +988,7 @@ mod tests {
         for (name, code, walk) in [
             ("standard", SLIDER_CRANK, Walk::SliderCrank),
             ("fourbar", FOUR_BAR, Walk::FourBar),
+            ("two_clearance", TWO_CLEARANCE, Walk::TwoClearance),
         ] {
             let scene = SceneFile::read(scene_path(name)).unwrap().build().unwrap();
             let tree = Tree::of(&scene.mechanism).unwrap();
@@ -914,6 +1012,8 @@ mod tests {
         );
         let fourbar = scene("fourbar").mechanism;
         assert_eq!(ends(Known::<FOUR_BAR>, &fourbar), ends(Listed, &fourbar));
+        let two = scene("two_clearance").mechanism;
+        assert_eq!(ends(Known::<TWO_CLEARANCE>, &two), ends(Listed, &two));
     }
 
     // The clearance joints are part of the shape: the standard slider-crank with its clearance
@@ -977,7 +1077,12 @@ mod tests {
     #[test]
     fn joint_codes_round_trip() {
         for k in 0..MAX_TREE_FREEDOMS {
-            for angle in [Angle::Driven, Angle::Free(k), Angle::Fixed] {
+            for angle in [
+                Angle::Driven,
+                Angle::Free(k),
+                Angle::Fixed,
+                Angle::Floating(k),
+            ] {
                 for slide in [None, Some((k, false)), Some((k, true))] {
                     let slide = slide.map(|(k, on_parent)| Slide { k, on_parent });
                     let joint = Joint { angle, slide };

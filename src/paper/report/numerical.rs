@@ -702,8 +702,9 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              The hot path is the right-hand side. The standard scene's ideal joints form a tree (its loop closes \
              through the clearance joint), so a run integrates it in joint coordinates (`mechanism/tree.rs`: the \
              rod's angle and the slider's position, the crank prescribed, Lagrange's equations with a 2×2 mass \
-             matrix, no constraint drift); other linkages (a closed loop of ideal joints, more than 3 freedoms, a body \
-             held only by clearance joints as in two_clearance) keep the absolute coordinates (`Mechanism::rhs`: \
+             matrix, no constraint drift; two_clearance's rod, held only by its two clearance joints, floats on three \
+             coordinates of its own); other linkages (a closed loop of ideal joints, more than 4 freedoms or 4 \
+             bodies) keep the absolute coordinates (`Mechanism::rhs`: \
              Baumgarte-stabilised constraints, the diagonal mass matrix, an unrolled LDLᵀ of the constraint system \
              after every equation fixing one coordinate is solved directly, a 2×2 system for the slider-crank). \
              `tests/formulations.rs` checks that both give the same body accelerations and powers, in and out of \

@@ -107,8 +107,8 @@ pub const BOUND: Integration = Integration {
     max_step: 1e-3,
 };
 
-/// Bodies [`absolute_coordinates`] adds to the standard scene: with two, its ideal joints have
-/// more freedoms (4) than joint coordinates take ([`crate::mechanism::MAX_TREE_FREEDOMS`]).
+/// Bodies [`absolute_coordinates`] adds to the standard scene: with two it has 5 bodies, more
+/// than joint coordinates take (4).
 const INERT_BODIES: usize = 2;
 
 /// The standard scene integrated in absolute coordinates with the error norm it had before
