@@ -520,12 +520,15 @@ impl Tree {
                     });
                 }
             }
-            let Some(body) = (0..bodies).find(|&b| !reached.contains(&Some(b))) else {
+            // (Not the driven body: it may hang from a floating one, and the driver turns it
+            // about a pin, which a floating body does not have.)
+            let unreached = |b: &usize| !reached.contains(&Some(*b));
+            let Some(body) = (0..bodies).filter(unreached).find(|&b| b != m.driver.body) else {
+                if unreached(&m.driver.body) {
+                    return None;
+                }
                 break;
             };
-            if body == m.driver.body {
-                return None;
-            }
             reached.push(Some(body));
             moving |= 1 << (body + 1);
             links.push(Link {
@@ -544,7 +547,8 @@ impl Tree {
             });
             freedoms += 3;
         }
-        let all = links.len() == bodies;
+        // (A joint of a body to itself is never walked.)
+        let all = links.len() == bodies && used.iter().all(|&u| u);
         let slots: Vec<_> = links
             .iter()
             .map(|l| (slot(l.parent), l.body + 1, l.joint))
@@ -1031,6 +1035,19 @@ mod tests {
         // only the clearance bits (72 and above) differ from the standard's
         assert_eq!(tree.shape & ((1 << 72) - 1), SLIDER_CRANK & ((1 << 72) - 1));
         assert_ne!(tree.shape, SLIDER_CRANK);
+    }
+
+    // An ideal joint of a body to itself is walked from neither side; with it the joints do
+    // not form a tree (the assembly refuses the scene). Fails without the check that every
+    // joint was walked: tried.
+    #[test]
+    fn a_joint_of_a_body_to_itself_is_not_a_tree() {
+        let mut f = SceneFile::read(scene_path("two_clearance")).unwrap();
+        let mut pin = f.revolute[0].clone();
+        (pin.a, pin.b) = ("rod.A".into(), "rod.B".into());
+        f.revolute.push(pin);
+        let scene = f.build().unwrap();
+        assert_eq!(Tree::of(&scene.mechanism), None);
     }
 
     // L D Lᵀ against a known solution for each size a tree has, and its refusals. Fails with

@@ -219,15 +219,15 @@ pub struct Integrator {
 
 /// Calls `$f::<N, C>` with the state's length `N` and the controlled count `C` as constants
 /// for the shapes of the shipped scenes, where the loops over components then unroll: joint
-/// coordinates of a two-freedom tree and absolute coordinates of three bodies, each without
+/// coordinates of a two-freedom tree and of a four-freedom one (`two_clearance`), each without
 /// and with the three energy integrals; `<0, 0>` (lengths read at run time) otherwise.
 macro_rules! sized {
     ($self:ident . $f:ident ( $($arg:expr),* )) => {
         match ($self.s.y.len(), $self.n_controlled) {
             (4, 4) => $self.$f::<4, 4>($($arg),*),
             (7, 4) => $self.$f::<7, 4>($($arg),*),
-            (18, 18) => $self.$f::<18, 18>($($arg),*),
-            (21, 18) => $self.$f::<21, 18>($($arg),*),
+            (8, 8) => $self.$f::<8, 8>($($arg),*),
+            (11, 8) => $self.$f::<11, 8>($($arg),*),
             _ => $self.$f::<0, 0>($($arg),*),
         }
     };

@@ -717,7 +717,7 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              −12.4 %, every output bit-identical); each CSV number formatted once into a reused buffer instead of \
              twice into two fresh strings (the standard run with its time series: 2 961 M → 2 722 M, −8 %, files \
              byte-identical); the contact-onset test reading the gaps at a step's end from the right-hand side's \
-             last evaluation there instead of computing them again (two_clearance, absolute coordinates, \
+             last evaluation there instead of computing them again (two_clearance, then in absolute coordinates, \
              2 945 M → 2 888 M, bit-identical); joint coordinates for trees (standard 2 337 M → 2 332 M with the \
              two items below; four-bar 2 047 M → 2 004 M); the I controller skipping the PI factor's `powf`, and the \
              poses written in place (standard 2 417 M → 2 332 M together). Then, from 1 990 M (one trajectory of \
@@ -736,8 +736,8 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              files), −32 M (a cache of rasterised texts saved 2.2 M more and was removed as not worth its \
              code). Together: 1 990 M → 1 228 M (88 249 \
              steps, 599 745 evaluations: 1 264 instructions per evaluation, 1 200 per attempt, 885 per step for \
-             wear, 59 M of outputs); fourbar 1 739 M → 1 227 M; two_clearance (absolute coordinates, three \
-             bodies) 2 790 M → 2 340 M. Then, from commit 12befa0 and with every output bit-identical (`cmp` of \
+             wear, 59 M of outputs); fourbar 1 739 M → 1 227 M; two_clearance (then in absolute coordinates, \
+             three bodies) 2 790 M → 2 340 M. Then, from commit 12befa0 and with every output bit-identical (`cmp` of \
              every file of the standard, fourbar, two_clearance, clearance_0.2mm, clearance_0.5mm, speed_30rpm \
              and speed_600rpm runs): `sincos`'s octant converted through a signed integer (one instruction \
              instead of about twenty; the same integer below 2³⁰ rad), 1 264 → 1 240 instructions per \
@@ -859,10 +859,7 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              data/scenes/standard.toml --set run.record_rotations=0 --ensemble 16`, 8 runs each) took 1.657 s \
              (1.501-1.762) against 1.854 s (1.745-2.010), median paired ratio 0.871 (0.821-1.000), although its \
              members take 5 % more evaluations on average now; the no-record single run (10 each) 0.232 s \
-             against 0.218 s, ratio 1.103 (0.880-1.204), its trajectory taking 34 % more evaluations. The table \
-             above was recorded while the shared host ran slow: the unchanged `friction/modified` took 19.7 ns \
-             there against 14.1 ns in the full pass minutes before, and `rhs/standard` 166 ns against the \
-             134 ns of the paired runs.\n\n\
+             against 0.218 s, ratio 1.103 (0.880-1.204), its trajectory taking 34 % more evaluations.\n\n\
              **Wall time, paired.** Criterion medians of different days are not comparable on this shared host: \
              the unchanged `contact_force/hybrid` took 8.4 ns when the previous table was recorded and 12.1 ns on \
              2026-11-26. On that day, in one call alternating the two programs (15 runs each, not rerun by the \
@@ -876,9 +873,50 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              `rhs/standard` times the right-hand side a run integrates (joint coordinates) since 2026-11-26; \
              before, it timed the absolute formulation (337 ns in the previous table), which is now \
              `rhs/standard_absolute`. That one measured 441-452 ns on 2026-11-26 against 337 ns on 12befa0's \
-             table; not explained: its instruction count did not grow (two_clearance, which integrates it, \
+             table; not explained: its instruction count did not grow (two_clearance, which integrated it then, \
              fell 0.6 %), and whole two_clearance runs of both programs, alternated 8 times, took the same \
-             time (medians 0.508 and 0.509 s).\n\n",
+             time (medians 0.508 and 0.509 s).\n\n\
+             **On an idle host (2026-11-27).** The shared host of the measurements above ran up to twice as \
+             slow as an idle one. On an idle 2-core AMD EPYC host, timed by hand (`/usr/bin/time`, 8-15 runs \
+             each, the program of this report's commit or one with bit-identical outputs): the no-record standard \
+             process took 0.13 s (0.127-0.141 s; its one trajectory of 844 486 evaluations, 1 254 M \
+             instructions), its 16-member ensemble 0.86-0.92 s (1.61-1.73 s of CPU), the default `report` \
+             26.0 s (47.4 s of CPU; the 40 s target met), `scripts/test.sh` with its programs already built \
+             124 s (the 8 min target met). The 0.1 s and 0.6 s targets and the 800 M count are missed. That \
+             count measures one chaotic draw: over members 0-15 of seed 1 (`valgrind --tool=callgrind \
+             target/release/jointwear run data/scenes/standard.toml --set run.record_rotations=0 --member m \
+             --seed 1`) the process takes median 1 003 M instructions (908-1 891 M) for median 667 430 \
+             evaluations (590 716-1 325 019), about 117 M plus 1 340 per evaluation (the line through the \
+             members of the fewest and the most evaluations; steps and their wear work grow in proportion), so 800 M for the median member \
+             would need about 1 020 per evaluation, 24 % fewer. Where the time goes (a sampling profile, \
+             `perf record -e cpu-clock`, member 3): the right-hand side 54 %, the wear update 10 %, the wear's \
+             contact states at the step midpoints 8.5 %, the integrator's stage sums, error norm and step \
+             control 9.5 %, outputs and start-up the rest. Tried on that host and not kept: the AVX2 build \
+             (`RUSTFLAGS=\"-C target-cpu=x86-64-v3\"`, 16 % fewer instructions, outputs `cmp`-identical) took as \
+             long, median paired time ratio 1.024 (0.968-1.038, 15 alternating runs), as the evaluation waits \
+             on its chain of dependent divisions, square roots and loads rather than on issuing instructions; \
+             the wear update's `asin` without its branch (bit-identical), ratio 1.001 (0.992-1.019); the step \
+             controller's largest growth 2 instead of 5, 15 % more evaluations over members 0-15 (mean 831 312 \
+             against 721 787), its safety factor 0.8 instead of 0.9, 2.6 % more, the largest growth 10, 0.2 % \
+             more. What is left at this cost per evaluation is their number: at rtol 1e-6, the loosest \
+             tolerance whose ensemble statistics stay within sampling (section 5) but not the scenes' setting, \
+             which section 5's rule chooses by accuracy, the single run took 0.08-0.09 s and the ensemble \
+             0.71 s (1.30 s of CPU), so even that misses the ensemble target.\n\n\
+             **A body held by clearance joints only (2026-11-27).** two_clearance's rod hangs on its two \
+             clearance joints, which kept that scene in absolute coordinates; it now floats in joint \
+             coordinates, its centre of mass and angle three of the four coordinates with the slider's \
+             position (`mechanism/tree.rs`, its shape unrolled like the slider-crank's). At the scene's rtol \
+             1e-8, 8 rotations without recording (`jointwear run data/scenes/two_clearance.toml --set \
+             run.record_rotations=0`): 741 M instructions against 862 M, in 259 638 evaluations against \
+             217 744 (the error norm over the 8 components that err instead of 18), 2 855 instructions per \
+             evaluation against 3 958, of which the integrator's loops fixed at compile time for its state of \
+             8 components (instead of the 18 of absolute coordinates of three bodies, a shape no shipped scene \
+             has now) saved 57 M; wall time 0.084 s against 0.092 s, median paired ratio 0.906 (0.804-0.933, \
+             15 alternating runs). \
+             32-member ensembles agree (Welch's |t| at most 0.27 on both joints' deepest wear and its angle); \
+             the whole-run maximum penetration, read at the accepted steps' ends, differs by 3.6 nm of \
+             12.26 µm, both within 8 nm of the value at rtol 1e-10. The slider-crank's and the four-bar's \
+             outputs are bit-identical to before (fourbar 935.8 M → 937.1 M).\n\n",
         );
     md.push_str("How run time grows with simulated rotations and with clearance (`cargo run --release --bin scaling`):\n\n");
     csv_table(md, "scaling.csv", "cargo run --release --bin scaling");
