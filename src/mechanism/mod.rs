@@ -261,8 +261,10 @@ pub enum Formulation {
     /// [`MAX_TREE_FREEDOMS`]), three for a body held by clearance joints only, the driver
     /// prescribed.
     JointCoordinates {
-        /// Ideal-joint freedoms (coordinates).
+        /// Ideal-joint freedoms (coordinates), a floating body's three included.
         freedoms: usize,
+        /// Bodies held by clearance joints only, floating on three coordinates each.
+        floating: usize,
     },
 }
 
@@ -274,10 +276,21 @@ impl std::fmt::Display for Formulation {
                 "absolute coordinates (3 per body), ideal joints as Baumgarte-stabilised \
                  constraints"
             ),
-            Formulation::JointCoordinates { freedoms } => write!(
+            Formulation::JointCoordinates {
+                freedoms,
+                floating: 0,
+            } => write!(
                 f,
                 "joint coordinates ({freedoms} for the tree of ideal joints, the driver \
                  prescribed)"
+            ),
+            Formulation::JointCoordinates { freedoms, floating } => write!(
+                f,
+                "joint coordinates ({freedoms} for the tree of ideal joints, {} of them the \
+                 position and angle of the {floating} {} held by clearance joints only, the \
+                 driver prescribed)",
+                3 * floating,
+                if *floating == 1 { "body" } else { "bodies" }
             ),
         }
     }
@@ -368,6 +381,7 @@ impl Mechanism {
             .as_ref()
             .map_or(Formulation::Absolute, |t| Formulation::JointCoordinates {
                 freedoms: t.freedoms(),
+                floating: t.floating(),
             })
     }
 

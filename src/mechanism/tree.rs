@@ -570,6 +570,13 @@ impl Tree {
         self.freedoms
     }
 
+    /// Number of floating bodies (three coordinates each).
+    pub(super) fn floating(&self) -> usize {
+        (self.links.iter())
+            .filter(|l| matches!(l.joint.angle, Angle::Floating(_)))
+            .count()
+    }
+
     /// The pose and velocity of link `l`'s body, whose joint is `joint`, at time `t`,
     /// coordinates `z` and rates `zd`, from its parent's frame `p` (the ground's if `ground`:
     /// its zeros are left out).
@@ -997,6 +1004,11 @@ mod tests {
             let scene = SceneFile::read(scene_path(name)).unwrap().build().unwrap();
             let tree = Tree::of(&scene.mechanism).unwrap();
             assert_eq!((tree.shape, tree.walk), (code, walk), "{name}");
+            assert_eq!(
+                tree.floating(),
+                usize::from(code == TWO_CLEARANCE),
+                "{name}"
+            );
         }
     }
 
