@@ -335,7 +335,8 @@ pub struct RunOutput {
     /// Integrator work counters of the whole run.
     pub stats: Stats,
     /// Largest penetration of each joint at the accepted step ends of the whole run (m): the
-    /// start-up transient and settling included, unlike the recorded rotations' statistics.
+    /// start-up transient and settling included, unlike the recorded rotations' statistics; a
+    /// peak between two step ends reads low by up to the integration error (README, windows).
     pub max_penetration_whole_run: Vec<f64>,
     /// Contact onsets of each joint.
     pub impacts: Vec<u64>,
