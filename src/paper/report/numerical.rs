@@ -669,7 +669,7 @@ pub(super) fn stability_section(md: &mut String, stability: &[StabilityRow]) {
          refused; the paper's single runs end at 0.17 or less (standard 0.099, 30 r/min 0.169), \
          the standard scene reaches the bound at 2-3 µm of wear (10-16 % of its clearance). \
          The deepest overlap max_φ (e·u(φ) − c − h(φ)) with the force along its normal is \
-         conservative and was prototyped (commit 09720c0, branch `envelope`), not kept: the \
+         conservative and was prototyped on 2026-11-27 but not kept, nor its branch: the \
          journal bridges narrow wear grooves on two rims, its contact angle jumps between them \
          and the integrator crawls (that member's 100 rotations: 147 s against 3 s).\n\n",
         if stopped.is_empty() {
