@@ -906,7 +906,13 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              more. What is left at this cost per evaluation is their number: at rtol 1e-6, the loosest \
              tolerance whose ensemble statistics stay within sampling (section 5) but not the scenes' setting, \
              which section 5's rule chooses by accuracy, the single run took 0.08-0.09 s and the ensemble \
-             0.71 s (1.30 s of CPU), so even that misses the ensemble target.\n\n\
+             0.71 s (1.30 s of CPU), so even that misses the ensemble target. The largest single link of the \
+             evaluation's chain is the contact angle's `atan` (its octant's division, the reduction's \
+             (t − 1)/(t + 1) and its rational kernel's division in series): with it replaced by a cheap \
+             expression of e (wrong physics, a bound only), `rhs/standard` took 74.3 ns against 95.7 ns \
+             (4 alternating criterion runs of 2 s each), so no `atan` can save more than 22 % of the \
+             evaluation; one with a single division on the chain (a table of atan(c_i), the reduced \
+             argument (e_y − c_i e_x)/(e_x + c_i e_y)) is the next candidate, not tried.\n\n\
              **A body held by clearance joints only (2026-11-27).** two_clearance's rod hangs on its two \
              clearance joints, which kept that scene in absolute coordinates; it now floats in joint \
              coordinates, its centre of mass and angle three of the four coordinates with the slider's \
