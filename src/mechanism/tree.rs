@@ -619,10 +619,11 @@ impl Tree {
             } else {
                 rotate(p.sc, l.on_parent)
             },
-            arm_child: if ground && joint.angle == Angle::Fixed {
-                l.ground_arm
-            } else {
-                rotate(sc, l.on_child)
+            arm_child: match joint.angle {
+                Angle::Fixed if ground => l.ground_arm,
+                // On its centre of mass (`Tree::of`).
+                Angle::Floating(_) => Vector2::zeros(),
+                _ => rotate(sc, l.on_child),
             },
             dir: Vector2::zeros(),
         };

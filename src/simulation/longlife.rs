@@ -358,7 +358,6 @@ pub fn predict(
             let m = sim.mechanism();
             (m.clearance_joints.iter().zip(&sim.state().joints))
                 .zip(&increments)
-                .filter(|((cj, _), _)| cj.wear.is_some())
                 .all(|((cj, joint), inc)| {
                     let mut profile = joint.wear.clone();
                     profile.add_depths(inc, block as f64 / sample as f64);

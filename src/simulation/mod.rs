@@ -125,8 +125,10 @@ pub const MAX_WEAR_RATIO: f64 = 0.1;
 pub const MAX_ECCENTRICITY_SLOPE: f64 = 0.3;
 
 /// `(|dh/dθ| / (c + h), angle in rad)` of `profile` worn into clearance joint `cj` when it
-/// passes [`MAX_ECCENTRICITY_SLOPE`] (a NaN profile passes it too); `None` within it.
+/// passes [`MAX_ECCENTRICITY_SLOPE`] (a NaN profile passes it too); `None` within it, and for
+/// a joint that does not wear.
 pub fn too_steep(cj: &ClearanceJoint, profile: &WearProfile) -> Option<(f64, f64)> {
+    cj.wear.as_ref()?;
     let (ratio, angle) = profile.steepest(cj.clearance());
     (ratio > MAX_ECCENTRICITY_SLOPE || ratio.is_nan()).then_some((ratio, angle))
 }

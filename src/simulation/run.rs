@@ -769,7 +769,7 @@ impl Simulation {
             .clearance_joints
             .iter()
             .zip(&self.state.joints);
-        for (k, (cj, joint)) in joints.enumerate().filter(|(_, (cj, _))| cj.wear.is_some()) {
+        for (k, (cj, joint)) in joints.enumerate() {
             if let Some((ratio, angle)) = too_steep(cj, &joint.wear) {
                 let deepest = joint.wear.deepest();
                 return Err(Error::Validity {

@@ -918,8 +918,8 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              coordinates, its centre of mass and angle three of the four coordinates with the slider's \
              position (`mechanism/tree.rs`, its shape unrolled like the slider-crank's). At the scene's rtol \
              1e-8, 8 rotations without recording (`jointwear run data/scenes/two_clearance.toml --set \
-             run.record_rotations=0`): 741 M instructions against 862 M, in 259 638 evaluations against \
-             217 744 (the error norm over the 8 components that err instead of 18), 2 855 instructions per \
+             run.record_rotations=0`): 737 M instructions against 862 M, in 259 638 evaluations against \
+             217 744 (the error norm over the 8 components that err instead of 18), 2 840 instructions per \
              evaluation against 3 958, of which the integrator's loops fixed at compile time for its state of \
              8 components (instead of the 18 of absolute coordinates of three bodies, a shape no shipped scene \
              has now) saved 57 M; wall time 0.084 s against 0.092 s, median paired ratio 0.906 (0.804-0.933, \
