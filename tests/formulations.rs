@@ -305,6 +305,20 @@ fn the_absolute_state_round_trips_through_joint_coordinates() {
     }
 }
 
+// A closed loop of ideal joints (the four-bar) with a flail floating on a clearance pin: the
+// loop check of `Tree::of` and its bound of 4 freedoms (the flail's 3 and 2 of the loop with
+// its closing joint dropped) both refuse it. Fails when the closing joint is passed over as
+// walked (`*flag = true; continue` for the `return None` after `reached.contains`) and the
+// bound is 5: tried (`Some(5)`); with the bound at 4 the loop check alone is not exercised.
+#[test]
+fn a_closed_loop_of_ideal_joints_stays_in_absolute_coordinates() {
+    let scene = SceneFile::read(test_scene("fourbar_flail"))
+        .unwrap()
+        .build()
+        .unwrap();
+    assert_eq!(joint_freedoms(&scene.mechanism), None);
+}
+
 // One rotation of every tree, and of the standard scene in absolute coordinates (two inert
 // pinned bodies take it beyond the trees' bodies), balances the driver's work against the
 // mechanical energy and the contact losses.

@@ -911,8 +911,36 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              (t − 1)/(t + 1) and its rational kernel's division in series): with it replaced by a cheap \
              expression of e (wrong physics, a bound only), `rhs/standard` took 74.3 ns against 95.7 ns \
              (4 alternating criterion runs of 2 s each), so no `atan` can save more than 22 % of the \
-             evaluation; one with a single division on the chain (a table of atan(c_i), the reduced \
-             argument (e_y − c_i e_x)/(e_x + c_i e_y)) is the next candidate, not tried.\n\n\
+             evaluation. One with a single division on the chain, tried and not kept: the octant's t = s/b \
+             (s ≤ b) placed by eight comparisons with the segment edges (2k + 1)/16 (independent, summed), \
+             atan t = atan(j/8) + atan r with r = (s − c b)/(b + c s), c = j/8, |r| ≤ 1/16, and r's Taylor \
+             series to r¹³ (Estrin's scheme), the base angles by octant in two parts; within 2 ulp of libm \
+             like the kernel it replaced (4 million directions, half at the segment edges), but \
+             `rhs/standard` took 106.8 ns against 95.7 ns (criterion, one run each, +11.5 %, interval \
+             +11.1 to +11.8 %): the comparisons, their sum and its conversion to a centre now precede the \
+             division on the chain and cost more than the two divisions they remove.\n\n\
+             **Closed loops of ideal joints: coordinate partitioning, measured and not kept \
+             (2026-11-27).** Every shipped scene is a tree of ideal joints (the four-bar's loop closes \
+             through its clearance joint), so only a linkage with a closed loop of ideal joints runs in \
+             absolute coordinates with Baumgarte's constraints. For such a loop `cargo run --release \
+             --example partitioning` measures coordinate partitioning (Wehage and Haug: only the \
+             independent coordinates are integrated, chosen by full pivoting on the constraint Jacobian; \
+             every evaluation closes the dependent ones by Newton's method and the velocity constraints) on \
+             `tests/scenes/fourbar_flail.toml`, the four-bar of ideal joints with a flail on a clearance pin \
+             of the coupler (12 coordinates, 9 constraint rows; the flail's 3 are the independent ones). Both \
+             integrate the same ODE over one crank rotation (eq. 3's onset velocity held at 0.1 m/s, no \
+             wear), Dopri5 at atol = 10⁻³ rtol; the error is the largest distance of the flail's centre of \
+             mass from an absolute-coordinate integration at rtol 1e-12, sampled every 0.1 ms. At one rtol \
+             partitioning takes 24-40 % more evaluations (its error norm runs over 6 components instead of \
+             24) and is as accurate or more; at about equal errors it takes 23 708 evaluations (rtol 1e-7, \
+             4.7 nm) against 21 918 (absolute at 3e-8, 4.4 nm), 29 480 (3e-8, 1.5 nm) against 32 952 (3e-9, \
+             2.1 nm), and 56 234 against 40 188 at 1e-9 (0.1 nm both): from 10 % fewer to 40 % more \
+             (one trajectory with 14 contact onsets, so errors scatter by up to 3 times between neighbouring \
+             tolerances). Each of its evaluations is an absolute one (the forces and the constrained \
+             accelerations at the closed state) plus 2.7 Newton iterations on average, each at least the \
+             constraint rows and a solve with the 9 × 9 dependent block, and a velocity solve: it cannot \
+             pay here. (The prototype's own times, 3.8-4.0 µs per evaluation against 0.33-0.35 µs, include \
+             the library's allocating diagnostics it calls and are an upper bound only.)\n\n\
              **A body held by clearance joints only (2026-11-27).** two_clearance's rod hangs on its two \
              clearance joints, which kept that scene in absolute coordinates; it now floats in joint \
              coordinates, its centre of mass and angle three of the four coordinates with the slider's \
