@@ -326,7 +326,14 @@ fn an_interrupted_run_says_so_and_exits_130() {
     // 5 000 rotations: still simulating when the signal comes (about 1.1e7 steps, tens of
     // seconds), and within run.max_steps, so that the crawl guard does not end the run first
     // (with 100 000 rotations it did, at 2e5 steps, once a run of them took under 0.5 s).
-    let scene = short_standard(&dir, "long.toml", 5_000, &[]);
+    // k/H a thousandth of the scene's: at its own the groove passes the gap's validity bound
+    // within about 130-200 rotations, under 0.5 s, and the run stops there (exit 1) first.
+    let scene = short_standard(
+        &dir,
+        "long.toml",
+        5_000,
+        &[("k_over_h_per_pa = 1e-12", "k_over_h_per_pa = 1e-15")],
+    );
     let out = dir.join("out");
     let child = std::process::Command::new(env!("CARGO_BIN_EXE_jointwear"))
         .args(["run", s(&scene), "--out", s(&out)])

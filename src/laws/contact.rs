@@ -189,13 +189,25 @@ impl ContactLaw {
     /// Elastic part F_e (N) at penetration `delta` ≥ 0 (m) and local clearance `delta_r` (m).
     #[inline(always)]
     pub fn elastic_force(&self, delta: f64, delta_r: f64) -> f64 {
+        self.elastic_force_spanning(delta, delta_r, delta_r + delta)
+    }
+
+    /// [`ContactLaw::elastic_force`] given `span = ΔR + δ` (m), which is the distance of the
+    /// centres |e| (`δ = |e| − ΔR`): the kinematics has it before the wear depth that δ waits
+    /// for, so the hybrid law's `span^{3/2}` and its reciprocal are off the force's path.
+    #[inline(always)]
+    pub fn elastic_force_spanning(&self, delta: f64, delta_r: f64, span: f64) -> f64 {
         match self.stiffness {
             // Eq. 2 times δ^1.5 folded into (π/8) E* √2 (3ΔR + 2δ) δ² / (ΔR + δ)^{3/2}: one
-            // square root instead of two, and none waiting for a division.
+            // square root instead of two, and neither it nor the division waits for δ.
             StiffnessLaw::Hybrid if self.exponent == 1.5 => {
-                let b = delta_r + delta;
-                Self::HYBRID_FACTOR * self.e_star * (3.0 * delta_r + 2.0 * delta) * delta * delta
-                    / (b * b.sqrt())
+                let per_span = 1.0 / (span * span.sqrt());
+                Self::HYBRID_FACTOR
+                    * self.e_star
+                    * (3.0 * delta_r + 2.0 * delta)
+                    * delta
+                    * delta
+                    * per_span
             }
             StiffnessLaw::Hybrid | StiffnessLaw::Hertz => {
                 self.power_law_stiffness(delta, delta_r) * self.power(delta)
@@ -214,11 +226,26 @@ impl ContactLaw {
     /// velocity captured at the onset of this contact, `impact_velocity` (m/s).
     #[inline]
     pub fn force(&self, delta: f64, delta_dot: f64, impact_velocity: f64, delta_r: f64) -> f64 {
+        self.force_spanning(delta, delta_dot, impact_velocity, delta_r, delta_r + delta)
+    }
+
+    /// [`ContactLaw::force`] given `span = ΔR + δ` (m), the distance of the centres
+    /// ([`ContactLaw::elastic_force_spanning`]).
+    #[inline(always)]
+    pub fn force_spanning(
+        &self,
+        delta: f64,
+        delta_dot: f64,
+        impact_velocity: f64,
+        delta_r: f64,
+        span: f64,
+    ) -> f64 {
         if delta < 0.0 {
             return 0.0;
         }
-        let v0 = impact_velocity.max(self.grazing_velocity);
-        let f = self.elastic_force(delta, delta_r) * (1.0 + self.damping_factor * delta_dot / v0);
+        // χ / δ̇⁻ waits only for the onset velocity, not for δ̇.
+        let per_onset = self.damping_factor / impact_velocity.max(self.grazing_velocity);
+        let f = self.elastic_force_spanning(delta, delta_r, span) * (1.0 + delta_dot * per_onset);
         f.max(0.0)
     }
     /// `δ^n` with a fast path for the usual n = 1.5.

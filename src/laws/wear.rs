@@ -265,7 +265,8 @@ impl WearProfile {
         let c1 = p2 - p0;
         let c2 = 2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3;
         let c3 = -p0 + 3.0 * (p1 - p2) + p3;
-        let h = 0.5 * (2.0 * p1 + t * (c1 + t * (c2 + t * c3)));
+        // Estrin's pairs: h waits for t² and one product-sum, not three (Horner's).
+        let h = 0.5 * ((2.0 * p1 + t * c1) + t * t * (c2 + t * c3));
         let dh = 0.5 * (c1 + t * (2.0 * c2 + 3.0 * t * c3)) * self.per_width;
         (h, dh)
     }

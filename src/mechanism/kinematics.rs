@@ -25,6 +25,9 @@ pub struct ContactState {
     pub delta_dot: f64,
     /// Local radial clearance including wear, c + h(θ) (m).
     pub local_clearance: f64,
+    /// Distance of the centres |e| (m): `local_clearance + delta`, known before the wear
+    /// depth.
+    pub distance: f64,
     /// Relative tangential (sliding) velocity (m/s).
     pub v_t: f64,
     /// Normal force magnitude (N), ≥ 0.
@@ -65,10 +68,14 @@ fn atan_kernel(t: f64) -> f64 {
         4.853_903_996_359_137e2,
         1.945_506_571_482_614e2,
     ];
+    // Estrin's scheme: the pairs wait only for z, z² and z⁴, not for each other (Horner's
+    // five dependent steps were on the contact force's path).
     let z = t * t;
-    let p = (((P[0] * z + P[1]) * z + P[2]) * z + P[3]) * z + P[4];
-    let q = ((((z + Q[0]) * z + Q[1]) * z + Q[2]) * z + Q[3]) * z + Q[4];
-    t + t * z * p / q
+    let (z2, tz) = (z * z, t * z);
+    let z4 = z2 * z2;
+    let p = (P[3] * z + P[4]) + z2 * (P[1] * z + P[2]) + z4 * P[0];
+    let q = (Q[3] * z + Q[4]) + z2 * (Q[1] * z + Q[2]) + z4 * (z + Q[0]);
+    t + tz * p / q
 }
 
 /// The angle of `v` from the x axis in (−π, π] (rad): `v.y.atan2(v.x)` to an ulp, at a
@@ -328,6 +335,7 @@ impl Mechanism {
             delta: dist - c - h,
             delta_dot: e_rate - dh * theta_rate,
             local_clearance: c + h,
+            distance: dist,
             v_t: t.dot(&e_dot) + wj * cj.r_journal - wb * cj.r_bearing,
             f_n: 0.0,
             f_t: 0.0,
@@ -352,11 +360,12 @@ impl Mechanism {
     ) -> ContactState {
         let cj = &self.clearance_joints[k];
         if cs.in_contact() {
-            cs.f_n = cj.contact.force(
+            cs.f_n = cj.contact.force_spanning(
                 cs.delta,
                 cs.delta_dot,
                 state.joints[k].onset_velocity,
                 cs.local_clearance,
+                cs.distance,
             );
             if cj.friction != FrictionModel::None {
                 cs.f_t = cj.friction.force(cs.f_n, cs.v_t);
