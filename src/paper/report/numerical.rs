@@ -263,7 +263,10 @@ fn default_tolerance(
          peak-force error at most {FORCE_BOUND:e}: {}. Pairing each member with its own bound removes what a \
          member's start does to both errors, so it asks more precisely on the same members than comparing the \
          two medians, the rule before (which picks {}); the paired rule was announced (issue 22's closing note of 2026-11-26) before \
-         its result was known. With the median ratio's distribution-free interval (sign test: order statistics of the members' \
+         its result was known. It used 128 members until 2026-11-27, whose pick moved between 2e-7 and \
+         1.5e-7 with rounding-level changes (their median ratio at 2e-7 0.953 before the contact evaluation's \
+         shorter chains of that day, 1.028 after); the same rule over 512 members, raised after that move, \
+         picks 1.5e-7 with either rounding (1.039 and 1.054 at 2e-7). With the median ratio's distribution-free interval (sign test: order statistics of the members' \
          ratios, exact coverage {:.1} %), the rule picks {} when the interval's upper end must be at most 1 \
          (strict) and {} when its lower end must (lenient): {settled}. Per setting, the mean first-rotation \
          evaluations, the errors as median (quartiles; range), and the members' ratios to their own bound as \
@@ -931,16 +934,44 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              integrate the same ODE over one crank rotation (eq. 3's onset velocity held at 0.1 m/s, no \
              wear), Dopri5 at atol = 10⁻³ rtol; the error is the largest distance of the flail's centre of \
              mass from an absolute-coordinate integration at rtol 1e-12, sampled every 0.1 ms. At one rtol \
-             partitioning takes 24-40 % more evaluations (its error norm runs over 6 components instead of \
-             24) and is as accurate or more; at about equal errors it takes 23 708 evaluations (rtol 1e-7, \
-             4.7 nm) against 21 918 (absolute at 3e-8, 4.4 nm), 29 480 (3e-8, 1.5 nm) against 32 952 (3e-9, \
-             2.1 nm), and 56 234 against 40 188 at 1e-9 (0.1 nm both): from 10 % fewer to 40 % more \
-             (one trajectory with 14 contact onsets, so errors scatter by up to 3 times between neighbouring \
-             tolerances). Each of its evaluations is an absolute one (the forces and the constrained \
+             partitioning takes 26-40 % more evaluations (its error norm runs over 6 components instead of \
+             24) and is about as accurate: at equal errors it takes 29 504 evaluations against 21 924 (both at \
+             rtol 3e-8, 3.1 and 3.0 nm), 36 302 against 26 358 (1e-8, 2.1 nm both) and 19 514 against \
+             14 964 (3e-7, 69 and 88 nm), 30-38 % more. One trajectory with 14 contact onsets: its errors \
+             scatter by up to 3 times between neighbouring tolerances, and with the rounding of the contact \
+             evaluation before the shorter chains below the same comparison ranged from 10 % fewer to 40 % \
+             more evaluations. Each of its evaluations is an absolute one (the forces and the constrained \
              accelerations at the closed state) plus 2.7 Newton iterations on average, each at least the \
              constraint rows and a solve with the 9 × 9 dependent block, and a velocity solve: it cannot \
-             pay here. (The prototype's own times, 3.8-4.0 µs per evaluation against 0.33-0.35 µs, include \
+             pay here. (The prototype's own times, 3.6-3.9 µs per evaluation against 0.31-0.32 µs, include \
              the library's allocating diagnostics it calls and are an upper bound only.)\n\n\
+             **Shorter chains in the contact evaluation (2026-11-27, kept).** The evaluation waits on its \
+             chain from the coordinates to the contact force, so four changes shorten that chain, each exact in \
+             real arithmetic: the hybrid law's (ΔR + δ)^{3/2} is taken from the centres' distance |e|, which \
+             equals ΔR + δ and is known before the wear depth that δ waits for (`ContactLaw::force_spanning`), \
+             so its square root and division leave the chain; eq. 3's χ/δ̇⁻ is formed from the onset velocity \
+             before δ̇ arrives; the contact angle's `atan` kernel and the wear profile's spline evaluate their \
+             polynomials by Estrin's scheme instead of Horner's (the `atan` still within 2 ulp of libm, its \
+             unit test). `rhs/standard` 95.7 → 86.5 ns (criterion, two runs each); whole runs of members 0-15 \
+             of seed 1 at the then rtol 2e-7, 137.6-138.5 against 146.9-148.7 ns per evaluation (the runs' own \
+             wall times, two alternations): −6.6 %. Tried with them and not kept, each within criterion's \
+             noise of about 1 ns: `sincos` by Estrin's scheme (87.4 against 87.9-89.2 ns), one reciprocal of \
+             |e| for the normal and the angle's rate (87.6-88.2 ns), the elastic force's products reordered \
+             (86.5-87.5 ns). They change rounding, so every trajectory moved; the golden tests pass without \
+             re-recording. They also moved section 5's rule, then over 128 members, from 2e-7 to 1.5e-7 \
+             (median ratio at 2e-7 0.953 → 1.028); over 512 members the old rounding gives 1.039 at 2e-7 too, \
+             so the earlier 2e-7 was the 128 members' sampling: the rule now uses 512 members and the scenes \
+             run at 1.5e-7. Net, at the scenes' accuracy: over members 0-31 of seed 1 \
+             (`jointwear run data/scenes/standard.toml --set run.record_rotations=0 --member m --seed 1`) the \
+             40-rotation run takes median 773 423 evaluations at 1.5e-7 against 739 140 at 2e-7 before \
+             (+4.6 %; ranges 634 544-1 079 929 and 638 406-1 297 657), and the 16-member ensemble (`--ensemble \
+             16`) 0.83-0.85 s (1.62-1.67 s of CPU) against 0.86-0.88 s (1.60-1.66 s) for the program before at \
+             its 2e-7 (4 alternating runs each): the cost per evaluation saved about pays for the tighter \
+             tolerance, and the 0.6 s target stays missed. The unperturbed default trajectory is a high draw \
+             now: 1 711 686 evaluations (221 589 steps, 63 695 rejected) against 844 486 before, more than any \
+             of the 32 members (largest 1 079 929), so its process takes 0.24 s (`process/run_standard_40`) and \
+             2 456 M instructions (`valgrind --tool=callgrind`), against 1 169 M for the median member (18, \
+             773 423 evaluations).\n\n\
              **A body held by clearance joints only (2026-11-27).** two_clearance's rod hangs on its two \
              clearance joints, which kept that scene in absolute coordinates; it now floats in joint \
              coordinates, its centre of mass and angle three of the four coordinates with the slider's \
