@@ -62,7 +62,8 @@ struct Partitioned<'a> {
     ws: Workspace,
     independent: Vec<usize>,
     dependent: Vec<usize>,
-    /// The closed absolute state of the last evaluation: Newton's first guess.
+    /// The closed absolute state of the last evaluation: Newton's first guess (so an evaluation
+    /// depends on the one before at the level of [`NEWTON_TOLERANCE`]).
     y: Vec<f64>,
     newton_iterations: u64,
     evaluations: u64,
@@ -87,6 +88,7 @@ impl Partitioned<'_> {
             self.y[n + i] = z[f + k];
         }
         let dependent = self.dependent.clone();
+        let mut converged = false;
         for _ in 0..20 {
             let q = self.y[..n].to_vec();
             let phi = DVector::from_vec(self.m.constraint_vector(&mut self.ws, t, &q));
@@ -100,8 +102,16 @@ impl Partitioned<'_> {
                 self.y[i] -= step[k];
             }
             if step.amax() <= NEWTON_TOLERANCE {
+                converged = true;
                 break;
             }
+        }
+        if !converged {
+            return Err(jointwear::Error::invalid(
+                "Newton's method on the position constraints",
+                "no convergence in 20 iterations",
+                format!("a correction below {NEWTON_TOLERANCE:e}"),
+            ));
         }
         // Φ_q q̇ = −Φ_t; Φ is linear in t (the driver's constant speed), so the central
         // difference of Φ over ±1 ms is its exact rate up to rounding.

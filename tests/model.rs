@@ -479,3 +479,46 @@ fn fastest_eigenvalue_in_contact_is_the_linearised_contact_oscillator() {
         );
     }
 }
+
+/// The force the kinematics computes (the hybrid law's (ΔR + δ)^{3/2} from the centres'
+/// distance |e|, `ContactLaw::force_spanning`) is [`jointwear::laws::contact::ContactLaw::force`]
+/// of the same δ, δ̇ and local clearance, on a worn bearing, to rounding. Fails when the
+/// kinematics passes the local clearance c + h as the span instead of |e|: tried.
+#[test]
+fn the_kinematics_force_is_the_contact_law_of_its_penetration() {
+    let mut file = free_journal([0.0, -9.81], 0.9);
+    file.clearance[0].wear = Some(jointwear::scene::WearSpec {
+        k_over_h_per_pa: 1e-12,
+        pressure: PressureModel::HertzLine,
+        length_mm: 20.0,
+        sectors: 360,
+    });
+    let scene = file.build().unwrap();
+    let m = &scene.mechanism;
+    let mut state = m.initial_state();
+    state.joints[0].onset_velocity = 0.05;
+    // A worn bearing: depths of 0.2-1.8 µm varying round it.
+    let sectors = state.joints[0].wear.depths().len();
+    let depths: Vec<f64> = (0..sectors)
+        .map(|i| 1e-6 * (1.0 + 0.8 * (TAU * i as f64 / sectors as f64).sin()))
+        .collect();
+    assert!(state.joints[0].wear.set_depths(&depths));
+    let cj = &m.clearance_joints[0];
+    let mut pressed = 0;
+    for k in 0..24 {
+        let angle = TAU * k as f64 / 24.0;
+        let mut y = vec![0.0; m.state_len()];
+        // 3 µm beyond the unworn clearance: in contact wherever the wear is under 3 µm.
+        let r = CLEARANCE + 3e-6;
+        (y[JX], y[JX + 1]) = (r * angle.cos(), r * angle.sin());
+        (y[N + JX], y[N + JX + 1]) = (-0.01 * angle.sin(), 0.02 * angle.cos());
+        let n = m.coordinates();
+        let cs = m.contact_state(&state, 0, &y[..n], &y[n..2 * n]);
+        let law = cj
+            .contact
+            .force(cs.delta, cs.delta_dot, 0.05, cs.local_clearance);
+        approx::assert_relative_eq!(cs.f_n, law, max_relative = 1e-12);
+        pressed += usize::from(cs.f_n > 0.0);
+    }
+    assert_eq!(pressed, 24);
+}

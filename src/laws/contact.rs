@@ -194,7 +194,10 @@ impl ContactLaw {
 
     /// [`ContactLaw::elastic_force`] given `span = ΔR + δ` (m), which is the distance of the
     /// centres |e| (`δ = |e| − ΔR`): the kinematics has it before the wear depth that δ waits
-    /// for, so the hybrid law's `span^{3/2}` and its reciprocal are off the force's path.
+    /// for, so the hybrid law's `span^{3/2}` and its reciprocal are off the force's path. The
+    /// caller vouches for `span`: only the hybrid law at n = 1.5 reads it (the others ignore it),
+    /// and a wrong one changes that force silently (`tests/model.rs` checks the kinematics'
+    /// force against [`ContactLaw::force`]).
     #[inline(always)]
     pub fn elastic_force_spanning(&self, delta: f64, delta_r: f64, span: f64) -> f64 {
         match self.stiffness {

@@ -372,10 +372,10 @@ pub const FORCE_BOUND: f64 = 1e-4;
 /// members ([`super::tolerance_rule`]). Over its 512 members the median ratio of a member's
 /// first-rotation orbit error to its own bound's is 1.054 at 2e-7 (interval 0.972-1.109) and
 /// 0.833 at 1.5e-7 (0.757-0.898): the rule picks 1.5e-7, and so does the interval's upper end;
-/// its lower end would allow 2e-7. With 128 members the pick moved with rounding-level changes
-/// (2e-7 from the onset search inside a step, 2026-11-26, until the contact evaluation's
-/// shorter chains of 2026-11-27; 1.5e-7 for one session before and after); 512 pick 1.5e-7
-/// with either rounding. 1.5e-7 takes about 5-10 % more evaluations per 40-rotation run than
+/// its lower end would allow 2e-7, so the members do not settle the choice. With 128 members
+/// the pick moved with rounding-level changes (1.5e-7 for one session before the onset search
+/// inside a step, 2026-11-26; 2e-7 from then until the contact evaluation's shorter chains of
+/// 2026-11-27; 1.5e-7 after them); 512 pick 1.5e-7 with either rounding. 1.5e-7 takes about 5-10 % more evaluations per 40-rotation run than
 /// 2e-7 (paper.md sections 5 and 7 state the pick from `data/work_precision_members.csv`).
 pub const SCENE_RTOL: f64 = 1.5e-7;
 
