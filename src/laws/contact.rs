@@ -199,7 +199,7 @@ impl ContactLaw {
     /// and a wrong one changes that force silently (`tests/model.rs` checks the kinematics'
     /// force against [`ContactLaw::force`]).
     #[inline(always)]
-    pub fn elastic_force_spanning(&self, delta: f64, delta_r: f64, span: f64) -> f64 {
+    fn elastic_force_spanning(&self, delta: f64, delta_r: f64, span: f64) -> f64 {
         match self.stiffness {
             // Eq. 2 times δ^1.5 folded into (π/8) E* √2 (3ΔR + 2δ) δ² / (ΔR + δ)^{3/2}: one
             // square root instead of two, and neither it nor the division waits for δ.
@@ -235,7 +235,7 @@ impl ContactLaw {
     /// [`ContactLaw::force`] given `span = ΔR + δ` (m), the distance of the centres
     /// ([`ContactLaw::elastic_force_spanning`]).
     #[inline(always)]
-    pub fn force_spanning(
+    pub(crate) fn force_spanning(
         &self,
         delta: f64,
         delta_dot: f64,

@@ -946,7 +946,7 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              more evaluations. Each of its evaluations is an absolute one (the forces and the constrained \
              accelerations at the closed state) plus 2.7 Newton iterations on average, each at least the \
              constraint rows and a solve with the 9 × 9 dependent block, and a velocity solve: it cannot \
-             pay here. (The prototype's own times, 3.6-3.9 µs per evaluation against 0.31-0.32 µs, include \
+             pay here. (The prototype's own times, 3.5-3.8 µs per evaluation against 0.32-0.34 µs, include \
              the library's allocating diagnostics it calls and are an upper bound only.)\n\n\
              **Shorter chains in the contact evaluation (2026-11-27, kept).** The evaluation waits on its \
              chain from the coordinates to the contact force, so four changes shorten that chain, each exact in \
