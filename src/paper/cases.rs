@@ -357,7 +357,11 @@ fn steady_scene(name: &str, modify: &dyn Fn(&mut SceneFile)) -> Result<Scene> {
 
 /// A case scene set up for a wear run: its rotations without time series, `history` profiles
 /// saved per rotation.
-fn wear_scene(name: &str, history: u32, modify: &dyn Fn(&mut SceneFile)) -> Result<Scene> {
+pub(crate) fn wear_scene(
+    name: &str,
+    history: u32,
+    modify: &dyn Fn(&mut SceneFile),
+) -> Result<Scene> {
     let mut file = SceneFile::read(scene_path(name))?;
     modify(&mut file);
     file.run.record_rotations = 0;

@@ -155,7 +155,7 @@ pub fn header(name: &str) -> String {
         ("mu_d", "μ_d"),
         ("v_s_m_s", "v_s (m/s)"),
     ];
-    const UNITS: [(&str, &str); 11] = [
+    const UNITS: [(&str, &str); 12] = [
         ("_per_pa", "1/Pa"),
         ("_m_s2", "m/s²"),
         ("_m_s", "m/s"),
@@ -167,6 +167,7 @@ pub fn header(name: &str) -> String {
         ("_deg", "deg"),
         ("_rel", "relative"),
         ("_n", "N"),
+        ("_m", "m"),
     ];
     if name.contains('.') {
         return name.to_owned();

@@ -20,6 +20,7 @@ mod figures;
 mod markdown;
 mod numerical;
 mod perturbation;
+mod sectors;
 mod table2;
 mod table3;
 mod text;

@@ -446,6 +446,7 @@ pub(super) fn work_precision_section(
         &["result", "paper", "integrations it holds for", "finding"],
         &rows,
     );
+    super::sectors::sector_resolution(md);
 }
 
 /// Table 3's ensembles at looser tolerances (`data/ensemble_tolerance.csv`): the table and

@@ -5,8 +5,8 @@
 //! ([`tolerance_rule`]), and whether stiff and extreme cases run to completion
 //! ([`stability`](mod@stability)), and what each contact law does to one impact
 //! ([`contact_laws`]), and how much the predicted wear depends on the contact law
-//! ([`contact_law_wear`]). Each study writes `data/<study>.csv` (and a figure where it
-//! has one) atomically and returns what it measured, which the report (sections 5 and 6 of
+//! ([`contact_law_wear`]) and on the bearing's sector count ([`sector_resolution`]). Each
+//! study writes `data/<study>.csv` (and a figure where it has one) atomically and returns what it measured, which the report (sections 5 and 6 of
 //! `paper.md`) reads; the `src/bin/` programs only call them.
 //!
 //! Owns: the studies' shared notion of an integration setting ([`Integration`]).
@@ -16,6 +16,7 @@ pub mod contact_law_wear;
 pub mod contact_laws;
 pub mod ensemble_tolerance;
 pub mod integration;
+pub mod sector_resolution;
 pub mod stability;
 pub mod tolerance_rule;
 pub mod work_precision;

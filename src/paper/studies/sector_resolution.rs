@@ -1,0 +1,236 @@
+//! How the predicted wear depends on how finely the bearing is divided (eq. 9's sectors).
+//!
+//! ```text
+//! h_i = h_(i−1) + k P_i Δs_i / H      (9), per sector of width 2π/N
+//! ```
+//! Each sector holds the mean depth over its width, so a wear scar narrower than a few
+//! sectors is read shallower than it is, and its slope (which the gap's validity bound
+//! watches) is smoothed away. The scenes divide the bearing into 360 sectors (a calibration
+//! setting, `paper.md` section 4). This study reruns the wear cases' 40 rotations with
+//! [`SECTOR_COUNTS`] sectors, [`SECTOR_MEMBERS`] members each (seed 1, the default
+//! perturbation), and records per count the deepest sector's depth over the members that
+//! stayed within the gap's validity bound, where that deepest region lies and how wide it is,
+//! and how many members left the bound (and the earliest rotation one did). The 30 r/min
+//! case's scar is about two degrees wide (a Hertz half-angle under one degree at its small
+//! load), the standard case's tens of degrees: the first is what the sector width limits.
+//! Writes `data/sector_resolution.csv`; the report's section 5 reads it.
+
+use crate::analysis::statistics::Distribution;
+use crate::io::output::{read_rows, write_rows};
+use crate::io::progress::{Counter, Progress};
+use crate::paper::cases::{wear_member, wear_scene, WearMember};
+use crate::paper::figures::output_path;
+use crate::simulation::ensemble::{run_member, EnsembleSettings};
+use crate::{Error, Result};
+use rayon::prelude::*;
+
+/// Sector counts compared (sector widths 4° to 0.125°); the scenes' own is 360.
+pub const SECTOR_COUNTS: [usize; 7] = [90, 180, 360, 720, 1080, 1440, 2880];
+
+/// The wear cases of the paper's wear figures (5, 6, 10, 11, 14, 15).
+pub const SECTOR_CASES: [&str; 5] = [
+    "standard",
+    "clearance_0.2mm",
+    "clearance_0.5mm",
+    "speed_30rpm",
+    "speed_600rpm",
+];
+
+/// Members per case and count: the standard case's deepest depth spreads by about 6 % between
+/// members, so the mean of 8 is known to about 2 %; the 30 r/min members agree to 1e-4. A
+/// count's dependence is judged against that standard error (the report's section 5).
+pub const SECTOR_MEMBERS: usize = 8;
+
+/// File of the study under `data/`.
+pub const SECTOR_RESOLUTION_FILE: &str = "sector_resolution.csv";
+
+/// Columns of [`SECTOR_RESOLUTION_FILE`].
+pub const SECTOR_RESOLUTION_HEADER: [&str; 11] = [
+    "case",
+    "sectors",
+    "members",
+    "within_validity",
+    "earliest_validity_stop_rotation",
+    "deepest_mean_m",
+    "deepest_sd_m",
+    "deepest_region_deg",
+    "deepest_region_width_deg",
+    "evaluations_per_member",
+    "wall_time_s",
+];
+
+/// One case at one sector count: a row of [`SECTOR_RESOLUTION_FILE`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SectorRow {
+    /// Case scene.
+    pub case: String,
+    /// Sectors of the bearing profile.
+    pub sectors: usize,
+    /// Members run.
+    pub members: usize,
+    /// Members that ran all rotations within the gap's validity bound.
+    pub within: usize,
+    /// The earliest driver rotation at which a member left the bound (`None`: none did).
+    pub earliest_stop: Option<u32>,
+    /// Deepest sector depth at the end (m): mean over the members within the bound.
+    pub deepest_mean: f64,
+    /// Its standard deviation over those members (m).
+    pub deepest_sd: f64,
+    /// Angle of the deepest wear region (deg), circular mean over those members.
+    pub region_deg: f64,
+    /// Width of the deepest wear region at half its prominence (deg), mean over them.
+    pub region_width_deg: f64,
+    /// Mean right-hand-side evaluations of those members.
+    pub evaluations: f64,
+    /// Wall time of the members within the bound (s, summed; the rows share the cores).
+    pub wall_time: f64,
+}
+
+impl SectorRow {
+    /// The row as written, in the order of [`SECTOR_RESOLUTION_HEADER`].
+    fn fields(&self) -> Vec<String> {
+        vec![
+            self.case.clone(),
+            self.sectors.to_string(),
+            self.members.to_string(),
+            self.within.to_string(),
+            self.earliest_stop.map_or(String::new(), |r| r.to_string()),
+            finite(self.deepest_mean, |v| format!("{v:.4e}")),
+            finite(self.deepest_sd, |v| format!("{v:.2e}")),
+            finite(self.region_deg, |v| format!("{v:.1}")),
+            finite(self.region_width_deg, |v| format!("{v:.2}")),
+            finite(self.evaluations, |v| format!("{v:.0}")),
+            format!("{:.2}", self.wall_time),
+        ]
+    }
+
+    /// A row as [`SectorRow::fields`] wrote it; `None` if a field does not parse.
+    fn parse(f: &[String]) -> Option<SectorRow> {
+        // An empty statistic is one of no member (every member left the bound).
+        let x = |i: usize| match f.get(i)?.as_str() {
+            "" => Some(f64::NAN),
+            s => s.parse::<f64>().ok(),
+        };
+        let count = |i: usize| f.get(i)?.parse::<usize>().ok();
+        let earliest_stop = match f.get(4)?.as_str() {
+            "" => None,
+            s => Some(s.parse::<u32>().ok()?),
+        };
+        Some(SectorRow {
+            case: f.first()?.clone(),
+            sectors: count(1)?,
+            members: count(2)?,
+            within: count(3)?,
+            earliest_stop,
+            deepest_mean: x(5)?,
+            deepest_sd: x(6)?,
+            region_deg: x(7)?,
+            region_width_deg: x(8)?,
+            evaluations: x(9)?,
+            wall_time: x(10)?,
+        })
+    }
+}
+
+/// `v` formatted by `format`, or an empty field if it is not finite (a statistic of no member).
+fn finite(v: f64, format: impl Fn(f64) -> String) -> String {
+    if v.is_finite() {
+        format(v)
+    } else {
+        String::new()
+    }
+}
+
+/// The rows an earlier run of the study wrote; `None` if the file is missing or not of this
+/// study's columns.
+pub fn read_sector_resolution() -> Option<Vec<SectorRow>> {
+    let (header, rows) = read_rows(&output_path("data", SECTOR_RESOLUTION_FILE)).ok()?;
+    if header != SECTOR_RESOLUTION_HEADER {
+        return None;
+    }
+    rows.iter().map(|r| SectorRow::parse(r)).collect()
+}
+
+/// What one member ended with: its wear, evaluations and wall time, or the rotation at which
+/// it left the gap's validity bound.
+type MemberEnd = std::result::Result<(WearMember, u64, f64), u32>;
+
+/// Runs the study, telling `progress` the members finished, and writes its CSV. A member that
+/// leaves the gap's validity bound is counted, not averaged; any other failure stops the study.
+pub fn sector_resolution(progress: &dyn Progress) -> Result<Vec<SectorRow>> {
+    let ensemble = EnsembleSettings {
+        members: SECTOR_MEMBERS,
+        ..EnsembleSettings::default()
+    };
+    let scenes = SECTOR_CASES
+        .iter()
+        .flat_map(|&case| SECTOR_COUNTS.iter().map(move |&n| (case, n)))
+        .map(|(case, n)| {
+            let scene = wear_scene(case, 0, &|f| {
+                for c in &mut f.clearance {
+                    if let Some(w) = &mut c.wear {
+                        w.sectors = n;
+                    }
+                }
+            })?;
+            Ok((case, n, scene))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let jobs: Vec<(usize, usize)> = (0..scenes.len())
+        .flat_map(|k| (0..SECTOR_MEMBERS).map(move |m| (k, m)))
+        .collect();
+    let done = Counter::new(progress, jobs.len());
+    let ends = jobs
+        .par_iter()
+        .map(|&(k, m)| {
+            let (case, n, scene) = &scenes[k];
+            let end = match run_member(scene, &scene.run, &ensemble, m, progress) {
+                Ok(out) => {
+                    let (evaluations, wall) = (out.stats.evaluations, out.wall_time);
+                    Ok((wear_member(out), evaluations, wall))
+                }
+                Err(Error::Validity { time, .. }) => Err((time / scene.period()).round() as u32),
+                Err(e) => return Err(e.in_run(&format!("{case} at {n} sectors, member {m}"))),
+            };
+            done.finish_one();
+            Ok(end)
+        })
+        .collect::<Result<Vec<MemberEnd>>>()?;
+    let rows: Vec<SectorRow> = scenes
+        .iter()
+        .zip(ends.chunks(SECTOR_MEMBERS))
+        .map(|((case, n, _), ends)| row(case, *n, ends))
+        .collect();
+    write_rows(
+        &output_path("data", SECTOR_RESOLUTION_FILE),
+        &SECTOR_RESOLUTION_HEADER,
+        rows.iter().map(SectorRow::fields),
+    )?;
+    Ok(rows)
+}
+
+/// The row of `case` at `sectors` from its members' ends.
+fn row(case: &str, sectors: usize, ends: &[MemberEnd]) -> SectorRow {
+    let within: Vec<&(WearMember, u64, f64)> =
+        ends.iter().filter_map(|e| e.as_ref().ok()).collect();
+    let deepest = Distribution::of(within.iter().map(|(w, ..)| w.max_depth()));
+    let first = |w: &WearMember| w.regions.first().cloned();
+    let regions: Vec<_> = within.iter().filter_map(|(w, ..)| first(w)).collect();
+    // NaN over no member: written as an empty field.
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let widths: Vec<f64> = regions.iter().map(|r| r.width_deg).collect();
+    let evaluations: Vec<f64> = within.iter().map(|(_, e, _)| *e as f64).collect();
+    SectorRow {
+        case: case.to_string(),
+        sectors,
+        members: ends.len(),
+        within: within.len(),
+        earliest_stop: ends.iter().filter_map(|e| e.as_ref().err()).min().copied(),
+        deepest_mean: deepest.mean,
+        deepest_sd: deepest.sd,
+        region_deg: Distribution::of_angles_deg(regions.iter().map(|r| r.angle_deg)).mean,
+        region_width_deg: mean(&widths),
+        evaluations: mean(&evaluations),
+        wall_time: within.iter().fold(0.0, |sum, (.., w)| sum + w),
+    }
+}
