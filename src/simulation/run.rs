@@ -563,6 +563,11 @@ impl Simulation {
         &self.out.impacts
     }
 
+    /// The integrator's counts so far: accepted steps, rejected attempts, evaluations.
+    pub fn stats(&self) -> Stats {
+        self.integrator.stats()
+    }
+
     /// Driver rotations completed.
     pub fn rotations_done(&self) -> u32 {
         self.rotation

@@ -1,0 +1,153 @@
+//! What the accepted steps of a standard 40-rotation run look like, per 10 rotations:
+//! `cargo run --release --example step_anatomy [-- MEMBER SEED]` (no arguments: the
+//! unperturbed default trajectory; else ensemble member MEMBER of seed SEED, as
+//! `jointwear run --member MEMBER --seed SEED` runs it).
+//!
+//! At every accepted step's end it reads the journal's contact (angle θ in the bearing's
+//! frame, penetration δ, sliding speed v_t, normal force F_n), the attempts rejected before
+//! the step, and the normal velocity δ̇⁻ of the last contact onset, which eq. 3's damping
+//! divides by for as long as that contact lasts (floored by the scene's grazing velocity). The wear profile is a Catmull-Rom spline through the sector centres, C¹
+//! only: its second derivative jumps at every centre, so a step over which θ crosses a centre
+//! integrates a kink. The table says how often steps cross one, how many rejections such steps
+//! and the others see, and how long the steps are; the last line gives the final profile's
+//! roughness on the sector scale, the median of |h_(i−1) − 2h_i + h_(i+1)|.
+
+use jointwear::scene::SceneFile;
+use jointwear::simulation::ensemble::{member_simulation, EnsembleSettings};
+use jointwear::simulation::Simulation;
+use std::f64::consts::TAU;
+
+/// Rotations per row of the table.
+const WINDOW: usize = 10;
+
+/// The standard scene's stiction velocity v_s (m/s, eq. 4): a contact sliding slower than it
+/// is in the law's steep, sticking branch.
+const V_S: f64 = 1e-4;
+
+/// What the steps of one window measured.
+#[derive(Default)]
+struct Window {
+    steps: Vec<f64>,
+    rejected: u64,
+    crossing_steps: u64,
+    crossing_rejected: u64,
+    angle_moves: Vec<f64>,
+    penetrations: Vec<f64>,
+    forces: Vec<f64>,
+    sticking: u64,
+    /// δ̇⁻ held at the window's end (m/s).
+    onset_velocity: f64,
+    /// Contact onsets of the run up to the window's end.
+    onsets: u64,
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<u64> = std::env::args()
+        .skip(1)
+        .map(|a| a.parse())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("arguments are MEMBER SEED (two integers): {e}"))?;
+    let mut file = SceneFile::read("data/scenes/standard.toml")?;
+    file.run.record_rotations = 0;
+    let scene = file.build()?;
+    let mut sim = match args[..] {
+        [] => Simulation::start(&scene)?,
+        [member, seed] => {
+            let member = member as usize;
+            let ensemble = EnsembleSettings {
+                members: member + 1,
+                seed,
+                ..EnsembleSettings::default()
+            };
+            member_simulation(&scene, &scene.run, &ensemble, member)?
+        }
+        _ => return Err("arguments are MEMBER SEED, or none".into()),
+    };
+    let m = sim.mechanism().clone();
+    let (n, period) = (m.coordinates(), scene.period());
+    let width = TAU / sim.state().joints[0].wear.depths().len() as f64;
+    let mut y = vec![0.0; m.state_len()];
+    let mut windows: Vec<Window> = Vec::new();
+    // The contact angle at the last step's end, unwrapped, in sector widths less a half, so
+    // that its floor changes where θ crosses a sector centre.
+    let mut last: Option<f64> = None;
+    while !sim.is_finished() {
+        let (t0, rejected) = (sim.time(), sim.stats().rejected);
+        sim.advance_step()?;
+        sim.y_into(&mut y);
+        let c = m.contact_state(sim.state(), 0, &y[..n], &y[n..2 * n]);
+        let k = (t0 / period) as usize / WINDOW;
+        if windows.len() <= k {
+            windows.resize_with(k + 1, Window::default);
+        }
+        let w = &mut windows[k];
+        let rejected = sim.stats().rejected - rejected;
+        w.steps.push(sim.time() - t0);
+        w.rejected += rejected;
+        let u = c.theta / width - 0.5;
+        if let Some(prev) = last {
+            // θ wraps at 2π: the move is the shorter way round.
+            let turn = TAU / width;
+            let du = (u - prev + 0.5 * turn).rem_euclid(turn) - 0.5 * turn;
+            if (prev + du).floor() != prev.floor() {
+                w.crossing_steps += 1;
+                w.crossing_rejected += rejected;
+            }
+            w.angle_moves.push(du.abs() * width.to_degrees());
+        }
+        last = Some(u);
+        w.penetrations.push(c.delta);
+        w.forces.push(c.f_n);
+        w.sticking += u64::from(c.in_contact() && c.v_t.abs() < V_S);
+        w.onset_velocity = sim.state().joints[0].onset_velocity;
+        w.onsets = sim.contact_onsets()[0];
+    }
+    let stats = sim.stats();
+    println!(
+        "{} steps, {} rejected, {} evaluations",
+        stats.steps, stats.rejected, stats.evaluations
+    );
+    println!(
+        "rotations | steps | median step (us) | rejected/attempts | steps crossing a centre | \
+         rejections per crossing step | per other step | median |dtheta| (deg) | median delta (um) | \
+         median F_n (N) | in contact below v_s | onset velocity held at the end (mm/s) | onsets so far"
+    );
+    for (k, w) in windows.iter_mut().enumerate() {
+        let steps = w.steps.len() as u64;
+        let other = steps - w.crossing_steps;
+        println!(
+            "{:>3}-{:<3} | {steps:>6} | {:>6.2} | {:.3} | {:.2} | {:.3} | {:.3} | {:.3} | {:.3} | {:.0} | {} | {:.3} | {}",
+            k * WINDOW,
+            (k + 1) * WINDOW,
+            median(&mut w.steps) * 1e6,
+            w.rejected as f64 / (steps + w.rejected) as f64,
+            w.crossing_steps as f64 / steps as f64,
+            w.crossing_rejected as f64 / w.crossing_steps.max(1) as f64,
+            (w.rejected - w.crossing_rejected) as f64 / other.max(1) as f64,
+            median(&mut w.angle_moves),
+            median(&mut w.penetrations) * 1e6,
+            median(&mut w.forces),
+            w.sticking,
+            w.onset_velocity * 1e3,
+            w.onsets,
+        );
+    }
+    let h = sim.state().joints[0].wear.depths();
+    let mut second: Vec<f64> = (0..h.len())
+        .map(|i| {
+            let at = |j: usize| h[(j + h.len()) % h.len()];
+            (at(i + h.len() - 1) - 2.0 * h[i] + at(i + 1)).abs()
+        })
+        .collect();
+    println!(
+        "final profile: deepest {:.4} um, median |second difference| {:.3} nm",
+        sim.state().joints[0].wear.deepest() * 1e6,
+        median(&mut second) * 1e9
+    );
+    Ok(())
+}
