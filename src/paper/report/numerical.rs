@@ -1010,11 +1010,25 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              test fails, and the issue requires it to pass without re-recording. The sector study in section 5 \
              shows the same cost from the other side: finer sectors mean more centres crossed, and a standard member \
              takes 630 310 evaluations at 90 sectors, 786 863 at 360 and 1 467 767 at 2880. \
-             (ii) Two ensemble members in one thread: two independent evaluations back to back take 179.3 ns \
-             against 89.6-91.1 ns for one in a dependent chain (criterion; `rhs/standard`, independent calls, \
-             87.8 ns): the processor overlaps nothing across calls, as one evaluation is longer than its \
-             out-of-order window. Interleaving would need the evaluation itself written for two lanes (its contact \
-             chain in SIMD pairs), a rewrite not attempted. \
+             (ii) Several ensemble members in one evaluation: two independent evaluations back to back take \
+             179.3 ns against 89.6-91.1 ns for one in a dependent chain (criterion; `rhs/standard`, independent \
+             calls, 87.8 ns): the processor overlaps nothing across calls, as one evaluation is longer than its \
+             out-of-order window. Members must share the evaluation itself. `cargo run --release --example lanes` \
+             writes the standard scene's right-hand side once for L members side by side (every operation lane \
+             by lane on `[f64; L]`, every branch a selection; the compiler emits packed SSE2 instructions), checks \
+             its accelerations against the library's `Mechanism::rhs` at four members' states (to 1e-8; they \
+             agree to about 1e-10) and each lane's bits against its member evaluated alone, and times L dependent \
+             chains: 64.6-65.7 ns per member evaluation with one lane, 38.8-39.7 with two (1.65-1.67 times the \
+             throughput), 29.4-30.1 with four (2.16-2.20 times; five runs). At the library's 85-88 ns per \
+             evaluation and about 50 ns per evaluation of integrator, wear and event work, that would take a \
+             member from about 138 to 103 ns per evaluation with two lanes and 90 with four, before any of the \
+             integrator's stage arithmetic (also member by member) is shared, and the 16-member ensemble from \
+             0.84 s to about 0.63 and 0.55 s: the one change measured here that could reach the issue's 0.6 s. \
+             Not built: it needs the tree formulation's evaluation written for lanes (its shapes, the contact and \
+             friction laws, the wear profile), an integrator that advances L members attempt by attempt (each \
+             member its own step size, its rejections, events and wear between attempts as now) and the ensemble \
+             runner feeding it, with every member's output bit-identical to its run alone, which the prototype \
+             shows is possible. \
              (iii) Why the default trajectory costs twice the median member: eq. 3's damping divides by the \
              normal velocity δ̇⁻ of the contact's onset (floored at the scene's grazing velocity, 1 mm/s), and in \
              continuous contact that one value holds for as long as the contact lasts. The default trajectory's \

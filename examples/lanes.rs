@@ -1,0 +1,448 @@
+//! Several ensemble members in one evaluation, measured: `cargo run --release --example lanes`.
+//!
+//! One evaluation of the standard scene waits on a chain of dependent operations (sines of
+//! the two angles, the contact angle's arctangent, the wear profile, the contact force, the
+//! solve), and two evaluations run back to back do not overlap: one is longer than the
+//! processor's out-of-order window (`rhs/standard`, 88 ns; two independent ones, 179 ns). The
+//! way to fill the idle slots is to evaluate members side by side, each operation on a pair
+//! (or quadruple) of members at once. This standalone prototype writes the scene's right-hand
+//! side once for `L` members: the crank driven, the rod's angle φ and the slider's position x
+//! free, the hybrid law (eq. 1-3, its elastic term as the library folds it) at the rod-slider
+//! pin, the modified Coulomb friction (eq. 4), a Catmull-Rom wear profile of 360 sectors, the
+//! contact angle by a Cephes arctangent and the angles' sines by Cephes' `sincos`, as the
+//! library computes them. Every operation is lane by lane on `[f64; L]` and every branch a
+//! selection, so that the compiler can emit packed instructions. It times `L` chains of
+//! evaluations in which each member's next state waits for its last derivative (as the stages
+//! of a Runge-Kutta step do) and reports ns per member evaluation, and checks that each lane
+//! gives the bits of the one-lane evaluation of its state: lanes change the cost, not the
+//! numbers. Its accelerations are checked against the library's (`Mechanism::rhs`, absolute
+//! coordinates) at each member's state, to 1e-8: it is the library's model, without the
+//! library's generality (any tree, any law, event values and energy terms).
+
+use jointwear::scene::SceneFile;
+use std::array::from_fn;
+use std::f64::consts::{FRAC_2_PI, FRAC_PI_2, FRAC_PI_4, PI, TAU};
+use std::hint::black_box;
+use std::time::Instant;
+
+/// `L` members' values of one quantity.
+type V<const L: usize> = [f64; L];
+
+/// Crank length (m), rod length and its centre of mass from the crank pin (m).
+const CRANK: f64 = 0.05;
+const ROD: f64 = 0.12;
+const ROD_CG: f64 = 0.06;
+/// Rod and slider masses (kg), rod inertia (kg m²), gravity (m/s²).
+const ROD_MASS: f64 = 0.21;
+const ROD_INERTIA: f64 = 0.001;
+const SLIDER_MASS: f64 = 0.14;
+const GRAVITY: f64 = 9.81;
+/// Crank speed (rad/s): −2000 r/min.
+const OMEGA: f64 = -2000.0 * TAU / 60.0;
+/// Radial clearance (m), journal radius (m), compound modulus (Pa).
+const CLEARANCE: f64 = 2e-5;
+const R_JOURNAL: f64 = 0.00998;
+const E_STAR: f64 = 207e9 / (2.0 * (1.0 - 0.3 * 0.3));
+/// The hybrid law's folded factor ((π/8)·√2) and eq. 3's χ (the paper's law at c_e = 0.9).
+const HYBRID: f64 = PI / 8.0 * std::f64::consts::SQRT_2;
+/// (e^0.2 written out: `exp` is not a const fn.)
+const CHI: f64 = 0.75 * (1.0 - 0.9 * 0.9) * 1.221_402_758_160_170_3;
+/// Eq. 4: μ_s, μ_d, v_s, v_d.
+const MU_S: f64 = 0.015;
+const MU_D: f64 = 0.01;
+const V_S: f64 = 1e-4;
+const V_D: f64 = 1e-3;
+/// Sectors of the wear profile.
+const SECTORS: usize = 360;
+
+/// One member's wear profile: its sector depths padded with two on each side.
+struct Profile {
+    padded: Vec<f64>,
+}
+
+impl Profile {
+    /// A worn profile: two scars of `depth` (m), shifted by `shift` sectors.
+    fn worn(depth: f64, shift: usize) -> Profile {
+        let h: Vec<f64> = (0..SECTORS)
+            .map(|i| {
+                let a = ((i + shift) % SECTORS) as f64 * TAU / SECTORS as f64;
+                depth * (0.6 + 0.4 * (a - PI).cos()).max(0.0) * (1.0 + 0.01 * (7.0 * a).sin())
+            })
+            .collect();
+        let mut padded = vec![h[SECTORS - 2], h[SECTORS - 1]];
+        padded.extend_from_slice(&h);
+        padded.extend_from_slice(&[h[0], h[1]]);
+        Profile { padded }
+    }
+}
+
+/// Lane-wise selection: `a` where `c`, else `b`.
+#[inline(always)]
+fn select<const L: usize>(c: [bool; L], a: V<L>, b: V<L>) -> V<L> {
+    from_fn(|i| if c[i] { a[i] } else { b[i] })
+}
+
+/// Cephes `sincos` lane by lane (the library's reduction, the octant through i32: the
+/// prototype's angles stay far below 2³¹ octants).
+#[inline(always)]
+fn sincos<const L: usize>(x: V<L>) -> (V<L>, V<L>) {
+    const DP: [f64; 3] = [
+        7.853_981_256_484_985e-1,
+        3.774_894_707_930_798e-8,
+        2.695_151_429_079_059_5e-15,
+    ];
+    const SIN: [f64; 6] = [
+        1.589_623_015_765_465_7e-10,
+        -2.505_074_776_285_780_7e-8,
+        2.755_731_362_138_572e-6,
+        -1.984_126_982_958_954e-4,
+        8.333_333_333_322_118e-3,
+        -1.666_666_666_666_663e-1,
+    ];
+    const COS: [f64; 6] = [
+        -1.135_853_652_138_768_2e-11,
+        2.087_570_084_197_473e-9,
+        -2.755_731_417_929_674e-7,
+        2.480_158_728_885_170_5e-5,
+        -1.388_888_888_887_305_6e-3,
+        4.166_666_666_666_659e-2,
+    ];
+    let ax: V<L> = from_fn(|i| x[i].abs());
+    let j: [i32; L] = from_fn(|i| {
+        let j = (ax[i] * FRAC_2_PI * 2.0) as i32;
+        j + (j & 1)
+    });
+    let z: V<L> = from_fn(|i| {
+        let y = j[i] as f64;
+        ((ax[i] - y * DP[0]) - y * DP[1]) - y * DP[2]
+    });
+    let zz: V<L> = from_fn(|i| z[i] * z[i]);
+    let poly = |c: [f64; 6], i: usize| {
+        let zz = zz[i];
+        ((((c[0] * zz + c[1]) * zz + c[2]) * zz + c[3]) * zz + c[4]) * zz + c[5]
+    };
+    let s: V<L> = from_fn(|i| z[i] + z[i] * zz[i] * poly(SIN, i));
+    let c: V<L> = from_fn(|i| 1.0 - 0.5 * zz[i] + zz[i] * zz[i] * poly(COS, i));
+    let q: [i32; L] = from_fn(|i| j[i] >> 1);
+    let swap: [bool; L] = from_fn(|i| q[i] & 1 != 0);
+    let (sin, cos) = (select(swap, c, s), select(swap, s, c));
+    let sin_negative: [bool; L] = from_fn(|i| (q[i] & 2 != 0) != (x[i] < 0.0));
+    let cos_negative: [bool; L] = from_fn(|i| (q[i] + 1) & 2 != 0);
+    (
+        from_fn(|i| if sin_negative[i] { -sin[i] } else { sin[i] }),
+        from_fn(|i| if cos_negative[i] { -cos[i] } else { cos[i] }),
+    )
+}
+
+/// Cephes' arctangent kernel on |t| ≤ 0.66, by Estrin's scheme as in the library.
+#[inline(always)]
+fn atan_kernel<const L: usize>(t: V<L>) -> V<L> {
+    const P: [f64; 5] = [
+        -8.750_608_600_031_904e-1,
+        -1.615_753_718_733_365_2e1,
+        -7.500_855_792_314_705e1,
+        -1.228_866_684_490_136_2e2,
+        -6.485_021_904_942_025e1,
+    ];
+    const Q: [f64; 5] = [
+        2.485_846_490_142_306e1,
+        1.650_270_098_316_988_5e2,
+        4.328_810_604_912_903e2,
+        4.853_903_996_359_137e2,
+        1.945_506_571_482_614e2,
+    ];
+    from_fn(|i| {
+        let t = t[i];
+        let z = t * t;
+        let (z2, tz) = (z * z, t * z);
+        let z4 = z2 * z2;
+        let p = (P[3] * z + P[4]) + z2 * (P[1] * z + P[2]) + z4 * P[0];
+        let q = (Q[3] * z + Q[4]) + z2 * (Q[1] * z + Q[2]) + z4 * (z + Q[0]);
+        t + tz * p / q
+    })
+}
+
+/// The angle of (x, y) in (−π, π], branch-free: one division picks t or (t − 1)/(t + 1).
+#[inline(always)]
+fn direction_angle<const L: usize>(x: V<L>, y: V<L>) -> V<L> {
+    const LOW: f64 = 6.123_233_995_736_766e-17;
+    let (ax, ay): (V<L>, V<L>) = (from_fn(|i| x[i].abs()), from_fn(|i| y[i].abs()));
+    let steep: [bool; L] = from_fn(|i| ay[i] > ax[i]);
+    let t: V<L> = from_fn(|i| {
+        let (num, den) = if steep[i] {
+            (ax[i], ay[i])
+        } else {
+            (ay[i], ax[i])
+        };
+        num / den
+    });
+    let big: [bool; L] = from_fn(|i| t[i] > 0.66);
+    let arg: V<L> = from_fn(|i| {
+        let b = if big[i] { 1.0 } else { 0.0 };
+        (t[i] - b) / (1.0 + b * t[i])
+    });
+    let k = atan_kernel(arg);
+    from_fn(|i| {
+        let mut a = if big[i] {
+            FRAC_PI_4 + (k[i] + 0.5 * LOW)
+        } else {
+            k[i]
+        };
+        if steep[i] {
+            a = FRAC_PI_2 - a + LOW;
+        }
+        if x[i] < 0.0 {
+            a = PI - a + 2.0 * LOW;
+        }
+        if y[i] < 0.0 {
+            -a
+        } else {
+            a
+        }
+    })
+}
+
+/// Eq. 4's μ of one speed.
+#[inline(always)]
+fn friction(v: f64) -> f64 {
+    let v = v.abs();
+    if v > V_D {
+        MU_D
+    } else if v < V_S {
+        MU_S * (FRAC_PI_2 * v / V_S).sin()
+    } else {
+        0.5 * (MU_S + MU_D) + 0.5 * (MU_S - MU_D) * (PI * (v - V_S) / (V_D - V_S)).cos()
+    }
+}
+
+/// `dz = f(t, z)` for `L` members, `z = (φ, x, φ̇, ẋ)` each, member `i` with its own time,
+/// profile and onset velocity.
+#[inline(always)]
+fn rhs<const L: usize>(
+    t: &V<L>,
+    z: &[V<L>; 4],
+    profiles: &[&Profile; L],
+    onset: &V<L>,
+    dz: &mut [V<L>; 4],
+) {
+    let [phi, x, w, xd] = *z;
+    let (s1, c1) = sincos::<L>(from_fn(|i| OMEGA * t[i]));
+    let (s2, c2) = sincos(phi);
+    // Crank pin A, journal B on the rod, bearing centre C on the slider.
+    let (ax, ay): (V<L>, V<L>) = (from_fn(|i| CRANK * c1[i]), from_fn(|i| CRANK * s1[i]));
+    let (vax, vay): (V<L>, V<L>) = (from_fn(|i| -OMEGA * ay[i]), from_fn(|i| OMEGA * ax[i]));
+    let ex: V<L> = from_fn(|i| ax[i] + ROD * c2[i] - x[i]);
+    let ey: V<L> = from_fn(|i| ay[i] + ROD * s2[i]);
+    let edx: V<L> = from_fn(|i| vax[i] - ROD * w[i] * s2[i] - xd[i]);
+    let edy: V<L> = from_fn(|i| vay[i] + ROD * w[i] * c2[i]);
+    let dist: V<L> = from_fn(|i| (ex[i] * ex[i] + ey[i] * ey[i]).sqrt());
+    let inv: V<L> = from_fn(|i| 1.0 / dist[i]);
+    let (nx, ny): (V<L>, V<L>) = (from_fn(|i| ex[i] * inv[i]), from_fn(|i| ey[i] * inv[i]));
+    // The contact angle on the slider (angle 0), wrapped to [0, 2π).
+    let theta0 = direction_angle(ex, ey);
+    let theta: V<L> = from_fn(|i| {
+        if theta0[i] < 0.0 {
+            theta0[i] + TAU
+        } else {
+            theta0[i]
+        }
+    });
+    let tdot: V<L> = from_fn(|i| (nx[i] * edy[i] - ny[i] * edx[i]) * inv[i]);
+    // The wear profile: a Catmull-Rom spline between sector centres.
+    let per_width = SECTORS as f64 / TAU;
+    let u: V<L> = from_fn(|i| theta[i] * per_width + 0.5);
+    let k: [usize; L] = from_fn(|i| (u[i] as i32 as usize).min(SECTORS));
+    let (mut h, mut dh) = ([0.0; L], [0.0; L]);
+    for i in 0..L {
+        let p = &profiles[i].padded[k[i]..k[i] + 4];
+        let tt = u[i] - k[i] as f64;
+        let c1 = p[2] - p[0];
+        let c2 = 2.0 * p[0] - 5.0 * p[1] + 4.0 * p[2] - p[3];
+        let c3 = -p[0] + 3.0 * (p[1] - p[2]) + p[3];
+        h[i] = 0.5 * ((2.0 * p[1] + tt * c1) + tt * tt * (c2 + tt * c3));
+        dh[i] = 0.5 * (c1 + tt * (2.0 * c2 + 3.0 * tt * c3)) * per_width;
+    }
+    let delta: V<L> = from_fn(|i| dist[i] - CLEARANCE - h[i]);
+    let delta_dot: V<L> = from_fn(|i| nx[i] * edx[i] + ny[i] * edy[i] - dh[i] * tdot[i]);
+    // Eq. 1-3, the elastic term folded as the library does, the span from |e|.
+    let fnormal: V<L> = from_fn(|i| {
+        let (d, span) = (delta[i], dist[i]);
+        let elastic =
+            HYBRID * E_STAR * (3.0 * (CLEARANCE + h[i]) + 2.0 * d) * d * d / (span * span.sqrt());
+        let per_onset = CHI / onset[i].max(1e-3);
+        let f = (elastic * (1.0 + delta_dot[i] * per_onset)).max(0.0);
+        if d > 0.0 {
+            f
+        } else {
+            0.0
+        }
+    });
+    let vt: V<L> = from_fn(|i| nx[i] * edy[i] - ny[i] * edx[i] + w[i] * R_JOURNAL);
+    // Eq. 4: one test for all lanes sliding fast, the usual case.
+    let mu: V<L> = if vt.iter().all(|v| v.abs() > V_D) {
+        [MU_D; L]
+    } else {
+        from_fn(|i| friction(vt[i]))
+    };
+    let ft: V<L> = from_fn(|i| -mu[i] * fnormal[i] * vt[i].signum());
+    // Force on the journal: −F_n n + F_t t; the slider takes the opposite.
+    let fx: V<L> = from_fn(|i| -fnormal[i] * nx[i] - ft[i] * ny[i]);
+    let fy: V<L> = from_fn(|i| -fnormal[i] * ny[i] + ft[i] * nx[i]);
+    // Lagrange over (φ, x): the rod's centre and journal move with φ, the slider with x.
+    let (jx, jy): (V<L>, V<L>) = (from_fn(|i| -ROD_CG * s2[i]), from_fn(|i| ROD_CG * c2[i]));
+    let mass11: V<L> = from_fn(|i| ROD_MASS * (jx[i] * jx[i] + jy[i] * jy[i]) + ROD_INERTIA);
+    let rhs1: V<L> = from_fn(|i| {
+        // The rod centre's acceleration at φ̈ = 0: the crank pin's and the rod's spin.
+        let arx = -OMEGA * OMEGA * ax[i] - ROD_CG * w[i] * w[i] * c2[i];
+        let ary = -OMEGA * OMEGA * ay[i] - ROD_CG * w[i] * w[i] * s2[i];
+        let gx = -ROD_MASS * arx;
+        let gy = -ROD_MASS * (GRAVITY + ary);
+        jx[i] * gx + jy[i] * gy + 2.0 * (jx[i] * fx[i] + jy[i] * fy[i]) + ft[i] * R_JOURNAL
+    });
+    let rhs2: V<L> = from_fn(|i| -fx[i]);
+    // L D Lᵀ of the 2 × 2 mass matrix (its off-diagonal is zero here, but formed).
+    let l21: V<L> = from_fn(|i| (jx[i] * 0.0 + jy[i] * 0.0) / mass11[i]);
+    let d2: V<L> = from_fn(|i| SLIDER_MASS - l21[i] * l21[i] * mass11[i]);
+    let acc2: V<L> = from_fn(|i| (rhs2[i] - l21[i] * rhs1[i]) / d2[i]);
+    let acc1: V<L> = from_fn(|i| rhs1[i] / mass11[i] - l21[i] * acc2[i]);
+    *dz = [w, xd, acc1, acc2];
+}
+
+/// Member `m`'s state in contact: the rod at crank angle `a`, the journal pressed 2.7 µm into
+/// the bearing at 185° with a small sliding rate.
+fn state(m: usize) -> (f64, [f64; 4]) {
+    let t = 0.0017 * (m + 1) as f64;
+    let a = OMEGA * t;
+    let (ax, ay) = (CRANK * a.cos(), CRANK * a.sin());
+    let phi = (-ay / ROD).asin();
+    let bx = ax + ROD * phi.cos();
+    let gap = CLEARANCE + 2.7e-6;
+    let x = bx - gap * (185f64.to_radians()).cos();
+    (t, [phi, x, 0.3 * (m as f64 - 1.5), 0.5])
+}
+
+/// Member `m`'s onset velocity (m/s).
+fn onset(m: usize) -> f64 {
+    3e-3 + 1e-3 * m as f64
+}
+
+/// ns per member evaluation of `L` dependent chains, best of five runs of `n` evaluations
+/// each, and the last derivatives.
+fn time<const L: usize>(profiles: &[Profile], first: usize, n: usize) -> (f64, [V<L>; 4]) {
+    let members: [usize; L] = from_fn(|i| first + i);
+    let t: V<L> = from_fn(|i| state(members[i]).0);
+    let z0: [V<L>; 4] = from_fn(|c| from_fn(|i| state(members[i]).1[c]));
+    let prof: [&Profile; L] = from_fn(|i| &profiles[members[i] % profiles.len()]);
+    let onset: V<L> = from_fn(|i| onset(members[i]));
+    let mut dz = [[0.0; L]; 4];
+    let mut best = f64::INFINITY;
+    for _ in 0..5 {
+        let mut z = z0;
+        let clock = Instant::now();
+        for _ in 0..n {
+            rhs(&t, black_box(&z), &prof, &onset, &mut dz);
+            // The next state waits for this derivative and equals z0 to the bit.
+            z = from_fn(|c| from_fn(|i| z0[c][i] + 1e-300 * dz[c][i]));
+        }
+        best = best.min(clock.elapsed().as_secs_f64() * 1e9 / (n * L) as f64);
+    }
+    (best, dz)
+}
+
+/// The library's accelerations of the rod's angle and the slider's position at member `m`'s
+/// state, from its absolute formulation (`Mechanism::rhs`; at a state that closes the ideal
+/// joints exactly, Baumgarte's terms vanish to rounding).
+fn library(
+    m: usize,
+    profile: &Profile,
+    onset: f64,
+) -> Result<(f64, f64), Box<dyn std::error::Error>> {
+    let scene = SceneFile::read("data/scenes/standard.toml")?.build()?;
+    let mech = &scene.mechanism;
+    let (t, [phi, x, w, xd]) = state(m);
+    let mut run = mech.initial_state();
+    if !run.joints[0]
+        .wear
+        .set_depths(&profile.padded[2..SECTORS + 2])
+    {
+        return Err("the profile does not fit the scene's".into());
+    }
+    run.joints[0].onset_velocity = onset;
+    let a = OMEGA * t;
+    let (s1, c1, s2, c2) = (a.sin(), a.cos(), phi.sin(), phi.cos());
+    let (ax, ay) = (CRANK * c1, CRANK * s1);
+    let (vax, vay) = (-OMEGA * ay, OMEGA * ax);
+    // Crank, rod and slider: (x, y, angle) each, then their rates.
+    let q = [
+        0.5 * ax,
+        0.5 * ay,
+        a,
+        ax + ROD_CG * c2,
+        ay + ROD_CG * s2,
+        phi,
+        x,
+        0.0,
+        0.0,
+    ];
+    let v = [
+        0.5 * vax,
+        0.5 * vay,
+        OMEGA,
+        vax - ROD_CG * w * s2,
+        vay + ROD_CG * w * c2,
+        w,
+        xd,
+        0.0,
+        0.0,
+    ];
+    let mut y = vec![0.0; mech.state_len()];
+    y[..9].copy_from_slice(&q);
+    y[9..18].copy_from_slice(&v);
+    let mut dy = vec![0.0; y.len()];
+    mech.rhs(&run, &mut mech.workspace(), t, &y, &mut dy)?;
+    Ok((dy[9 + 5], dy[9 + 6]))
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let profiles: Vec<Profile> = (0..4).map(|m| Profile::worn(6e-7, 7 * m)).collect();
+    let n = 2_000_000;
+    let (one, _) = time::<1>(&profiles, 0, n);
+    let (two, dz2) = time::<2>(&profiles, 0, n);
+    let (four, dz4) = time::<4>(&profiles, 0, n);
+    // Each lane gives the bits of its member evaluated alone.
+    for m in 0..4 {
+        let (_, alone) = time::<1>(&profiles, m, 1);
+        for c in 0..4 {
+            assert_eq!(
+                alone[c][0].to_bits(),
+                dz4[c][m].to_bits(),
+                "member {m}, {c}"
+            );
+            if m < 2 {
+                assert_eq!(
+                    alone[c][0].to_bits(),
+                    dz2[c][m].to_bits(),
+                    "member {m}, {c}"
+                );
+            }
+        }
+    }
+    for m in 0..4 {
+        let (_, d) = time::<1>(&profiles, m, 1);
+        let (phi_dd, x_dd) = library(m, &profiles[m], onset(m))?;
+        // The same model to rounding: the library's absolute formulation closes the ideal
+        // joints to about 1e-15 m, which moves the contact force by a few parts in 1e11.
+        approx::assert_relative_eq!(d[2][0], phi_dd, max_relative = 1e-8);
+        approx::assert_relative_eq!(d[3][0], x_dd, max_relative = 1e-8);
+        println!(
+            "member {m}: phi'' {:.9e} rad/s2 (library {phi_dd:.9e}), x'' {:.9e} m/s2 (library {x_dd:.9e})",
+            d[2][0], d[3][0]
+        );
+    }
+    println!("ns per member evaluation, best of 5 x {n} dependent evaluations per lane:");
+    println!("  1 lane:  {one:.1}");
+    println!("  2 lanes: {two:.1} ({:.2}x the throughput)", one / two);
+    println!("  4 lanes: {four:.1} ({:.2}x the throughput)", one / four);
+    println!("each lane bit-identical to its member evaluated alone: yes");
+    Ok(())
+}
