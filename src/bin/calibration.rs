@@ -6,8 +6,9 @@ use jointwear::paper::calibration::FACTORIAL_GROUP;
 
 fn main() {
     let bar = progress_bar(0, "parameter sets");
-    let ranked = exit_on_error(jointwear::paper::calibration::study(&bar));
+    let study = exit_on_error(jointwear::paper::calibration::study(&bar));
     bar.finish_and_clear();
+    let ranked = &study.ranked;
     println!("best parameter sets (lower score is better; * = admissible, friction present):");
     // the scene takes the best admissible set of the factorial (one-at-a-time rows measure sensitivity)
     let best_admissible = ranked
@@ -20,6 +21,12 @@ fn main() {
             m.score,
             if p.counter_clockwise { "ccw" } else { "cw" }, p.mu_d, p.v_s, p.pressure, p.grazing, p.k_over_h, p.length_mm,
             p.sectors, m.region_angles, m.region_error_deg, m.largest_at_180, m.modes_matched, m.dominance_matched, m.concordance_rms, m.low_speed_angle
+        );
+    }
+    for (group, p, why) in &study.failed {
+        println!(
+            "left the model ({group}, mu_d {} v_s {} {:?} grazing {} k/H {:e} L {} sectors {}): {why}",
+            p.mu_d, p.v_s, p.pressure, p.grazing, p.k_over_h, p.length_mm, p.sectors
         );
     }
 }

@@ -6,12 +6,12 @@
 use super::markdown::md_table;
 use crate::io::output::read_rows;
 use crate::paper::calibration::{
-    FACTORIAL_GROUP, GROUP_COLUMN, SCORE_ANGLE_DEG, SCORE_COLUMN, SCORE_CONCORDANCE,
-    SCORE_DEEPEST_MISPLACED,
+    Params, FACTORIAL_GROUP, FAILURE_COLUMN, GROUP_COLUMN, SCORE_ANGLE_DEG, SCORE_COLUMN,
+    SCORE_CONCORDANCE, SCORE_DEEPEST_MISPLACED,
 };
 use crate::paper::cases::CASES;
 use crate::paper::figures::output_path;
-use crate::paper::format::{friction_name, pressure_name, sci};
+use crate::paper::format::{cell, friction_name, pressure_name, sci};
 use crate::scene::{scene_path, MethodSpec, SceneFile};
 use std::fmt::Write as _;
 
@@ -136,8 +136,11 @@ pub(super) fn table2_section() -> String {
                     key(a).total_cmp(&key(b))
                 });
             }
-            // every column but the row index
-            let keep: Vec<&str> = header.iter().skip(1).map(String::as_str).collect();
+            // every column but the row index and the failure (listed below the tables)
+            let keep: Vec<&str> = (header.iter().skip(1))
+                .map(String::as_str)
+                .filter(|h| *h != FAILURE_COLUMN)
+                .collect();
             let idx: Vec<Option<usize>> = keep.iter().map(|k| col(k)).collect();
             let pick = |r: &Vec<String>| {
                 idx.iter()
@@ -153,6 +156,30 @@ pub(super) fn table2_section() -> String {
                 .map(pick)
                 .collect();
             md_table(&mut md, &keep, &oat);
+            let failed: Vec<String> = col(FAILURE_COLUMN)
+                .map(|f| {
+                    let set = |r: &Vec<String>| {
+                        let cell = |name: &str| col(name).and_then(|i| r.get(i)).cloned();
+                        let (g, i) = (cell(GROUP_COLUMN), cell("index"));
+                        format!("set {} ({})", i.unwrap_or_default(), g.unwrap_or_default())
+                    };
+                    (rows.iter())
+                        .filter(|r| r.get(f).is_some_and(|why| !why.is_empty()))
+                        .map(|r| format!("- {}: {}", set(r), r[f]))
+                        .collect()
+                })
+                .unwrap_or_default();
+            if let Some(text) = scene_set_against_noise(&header, &rows, scene.as_ref().ok()) {
+                md.push_str(&text);
+            }
+            if !failed.is_empty() {
+                let _ = write!(
+                    md,
+                    "Sets whose runs left the model, with no score (missing from the ranking, not last in \
+                     it):\n\n{}\n\n",
+                    failed.join("\n")
+                );
+            }
             md.push_str("![calibration](figures/calibration.png)\n\n");
         }
         Err(_) => md.push_str(
@@ -160,4 +187,135 @@ pub(super) fn table2_section() -> String {
         ),
     }
     md
+}
+
+/// Where the scenes' own set stands in the calibration (`header`, `rows` of
+/// `data/calibration.csv`; `scene`, the standard scene's file): its score against the best
+/// admissible factorial set's, and the spread of the one-at-a-time rows, each one parameter
+/// away from the scenes' set, which is the noise of one trajectory's score. `None` if a
+/// column or the scenes' row is missing.
+fn scene_set_against_noise(
+    header: &[String],
+    rows: &[Vec<String>],
+    scene: Option<&SceneFile>,
+) -> Option<String> {
+    let col = |name: &str| header.iter().position(|h| h == name);
+    let (group, score) = (col(GROUP_COLUMN)?, col(SCORE_COLUMN)?);
+    let (rotation, mu, v_s, pressure, admissible) = (
+        col("rotation")?,
+        col("mu_d")?,
+        col("v_s_m_s")?,
+        col("pressure")?,
+        col("admissible")?,
+    );
+    let p = Params::of_scene(scene?);
+    let num = |r: &Vec<String>, i: usize| r.get(i)?.parse::<f64>().ok();
+    let factorial = || {
+        rows.iter()
+            .filter(|r| r[group] == FACTORIAL_GROUP && r[admissible] == "true")
+            .filter_map(|r| Some((r, num(r, score)?)))
+    };
+    let own = factorial().find(|(r, _)| {
+        r[rotation] == if p.counter_clockwise { "ccw" } else { "cw" }
+            && num(r, mu) == Some(p.mu_d)
+            && num(r, v_s) == Some(p.v_s)
+            && r[pressure] == format!("{:?}", p.pressure)
+    })?;
+    let (best, best_score) = factorial().min_by(|a, b| a.1.total_cmp(&b.1))?;
+    let oat: Vec<f64> = (rows.iter())
+        .filter(|r| r[group] != FACTORIAL_GROUP)
+        .filter_map(|r| num(r, score))
+        .collect();
+    let (lo, hi) = (
+        oat.iter().copied().fold(f64::INFINITY, f64::min),
+        oat.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    );
+    if oat.is_empty() {
+        return None;
+    }
+    let spread = (hi.max(own.1) - lo.min(own.1)).max(0.0);
+    let within = factorial()
+        .filter(|(_, s)| *s <= best_score + spread)
+        .count();
+    let describe = |r: &Vec<String>| {
+        format!(
+            "{}, μ_d {}, v_s {} m/s, {}",
+            r[rotation],
+            r[mu],
+            r[v_s],
+            cell(&r[pressure])
+        )
+    };
+    Some(format!(
+        "**The scenes' set against the score's noise.** Each set is scored on one trajectory per case, and \
+         the motion is chaotic. The scenes' set ({}) scores {:.3} in this run; the best admissible factorial \
+         set ({}) {:.3}. The one-at-a-time rows, each one parameter away from the scenes' set (grazing floor, \
+         k/H, length, sector count), score {:.3}-{:.3}: with the \
+         scenes' own row, one trajectory's score moves by {:.2} units with no change that matters, and {} of \
+         the admissible factorial sets lie within that of the best. The ranking within it is noise (it has \
+         moved with rounding changes between runs of this study), so the scenes keep the set the study first \
+         chose; ranking sets within that spread would need each scored over an ensemble.\n\n",
+        describe(own.0),
+        own.1,
+        describe(best),
+        best_score,
+        lo,
+        hi,
+        spread,
+        within,
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The scenes' row is found by its parameters, the noise is the spread of the
+    /// one-at-a-time rows with it, and the sets within that of the best are counted. Fails with
+    /// the scenes' own row left out of the spread (2.00 units and 1 set: tried).
+    #[test]
+    fn the_scenes_set_is_judged_against_the_one_at_a_time_spread() {
+        let header: Vec<String> = [
+            "group",
+            "rotation",
+            "mu_d",
+            "v_s_m_s",
+            "pressure",
+            "admissible",
+            "score",
+        ]
+        .map(String::from)
+        .to_vec();
+        let row = |g: &str, rot: &str, mu: &str, p: &str, ok: &str, score: &str| {
+            [g, rot, mu, "0.0001", p, ok, score]
+                .map(String::from)
+                .to_vec()
+        };
+        let rows = vec![
+            row("factorial", "cw", "0.01", "HertzLine", "true", "12"),
+            row(
+                "factorial",
+                "cw",
+                "0.01",
+                "ElasticFoundation",
+                "true",
+                "8.5",
+            ),
+            row("factorial", "ccw", "0.01", "HertzLine", "true", "11.4"),
+            row("factorial", "cw", "0", "HertzLine", "false", "1"),
+            row("grazing", "cw", "0.01", "HertzLine", "true", "9"),
+            row("sectors", "cw", "0.01", "HertzLine", "true", "11"),
+        ];
+        let scene = SceneFile::read(scene_path(CASES.standard.scene)).unwrap();
+        let text = scene_set_against_noise(&header, &rows, Some(&scene)).unwrap();
+        assert!(
+            text.contains("Hertz line contact) scores 12.000")
+                && text.contains("elastic foundation) 8.500")
+                && text.contains("score 9.000-11.000")
+                && text.contains("moves by 3.00 units")
+                && text.contains("2 of the admissible factorial sets"),
+            "{text}"
+        );
+        assert!(scene_set_against_noise(&header, &rows[1..], Some(&scene)).is_none());
+    }
 }

@@ -5,7 +5,7 @@ use super::verdict::MEMBER_MAJORITY;
 use crate::analysis::regions::Region;
 use crate::analysis::CONTINUOUS_CONTACT_FRACTION;
 use crate::io::output::read_rows;
-use crate::paper::calibration::{Params, FACTORIAL_GROUP, GROUP_COLUMN};
+use crate::paper::calibration::{Params, FACTORIAL_GROUP, FAILURE_COLUMN, GROUP_COLUMN};
 use crate::paper::cases::{Case, CASES};
 use crate::paper::figures::output_path;
 use crate::paper::format::{sci, sig, sig_n};
@@ -156,7 +156,7 @@ pub(super) struct CalibrationFindings {
     pub modes_calibrated: (usize, usize),
     /// The same for the sets with the largest μ_d.
     pub modes_max_mu: (usize, usize),
-    /// Admissible sets (factorial and one-at-a-time: every unknown tried).
+    /// Admissible sets that ran (factorial and one-at-a-time: every unknown tried).
     pub admissible: usize,
     /// Of them, those whose deepest region lies within the golden tolerance of the paper's.
     pub deepest_as_paper: usize,
@@ -179,7 +179,12 @@ pub(super) fn calibration_findings(low_speed: &PeakClaim) -> Option<CalibrationF
         col("low_speed_angle_deg")?,
     );
     let num = |r: &Vec<String>, i: usize| r.get(i).and_then(|v| v.parse::<f64>().ok());
-    let admissible: Vec<&Vec<String>> = rows.iter().filter(|r| r[ok] == "true").collect();
+    // A set that left the model has no metrics: it is neither a match nor a miss.
+    let failure = col(FAILURE_COLUMN)?;
+    let admissible: Vec<&Vec<String>> = rows
+        .iter()
+        .filter(|r| r[ok] == "true" && r[failure].is_empty())
+        .collect();
     let factorial = || admissible.iter().filter(|r| r[group] == FACTORIAL_GROUP);
     let calibrated_mu_d =
         Params::of_scene(&SceneFile::read(scene_path(CASES.standard.scene)).ok()?).mu_d;
@@ -248,7 +253,7 @@ fn calibration_sentences(
             range(f.modes_calibrated)
         ),
         format!(
-            " Across the {} admissible calibration sets (every unknown of section 4 tried), the deepest region lies \
+            " Across the {} admissible calibration sets that ran (every unknown of section 4 tried), the deepest region lies \
              within {} deg of {} deg in {} and the 30 r/min wear within {} deg of {} deg in {}.",
             f.admissible,
             standard.angle_tolerance_deg,
