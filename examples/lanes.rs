@@ -2,24 +2,31 @@
 //!
 //! One evaluation of the standard scene waits on a chain of dependent operations (sines of
 //! the two angles, the contact angle's arctangent, the wear profile, the contact force, the
-//! solve), and two evaluations run back to back do not overlap: one is longer than the
-//! processor's out-of-order window (`rhs/standard`, 88 ns; two independent ones, 179 ns). The
-//! way to fill the idle slots is to evaluate members side by side, each operation on a pair
-//! (or quadruple) of members at once. This standalone prototype writes the scene's right-hand
-//! side once for `L` members: the crank driven, the rod's angle φ and the slider's position x
-//! free, the hybrid law (eq. 1-3, its elastic term as the library folds it) at the rod-slider
-//! pin, the modified Coulomb friction (eq. 4), a Catmull-Rom wear profile of 360 sectors, the
-//! contact angle by a Cephes arctangent and the angles' sines by Cephes' `sincos`, as the
-//! library computes them. Every operation is lane by lane on `[f64; L]` and every branch a
-//! selection, so that the compiler can emit packed instructions. It times `L` chains of
-//! evaluations in which each member's next state waits for its last derivative (as the stages
-//! of a Runge-Kutta step do) and reports ns per member evaluation, and checks that each lane
-//! gives the bits of the one-lane evaluation of its state: lanes change the cost, not the
-//! numbers. Its accelerations are checked against the library's (`Mechanism::rhs`, absolute
-//! coordinates) at each member's state, to 1e-8: it is the library's model, without the
-//! library's generality (any tree, any law, event values and energy terms).
+//! solve), and two evaluations in a row do not overlap: one is longer than the processor's
+//! out-of-order window (the program times that too). The way to fill the idle slots is to
+//! evaluate members side by side, each operation on a pair (or quadruple) of members at once.
+//! This standalone prototype writes the scene's right-hand side once for `L` members: the
+//! crank driven, the rod's angle φ and the slider's position x free, the hybrid law (eq. 1-3,
+//! its elastic term as the library folds it) at the rod-slider pin, the modified Coulomb
+//! friction (eq. 4), the Catmull-Rom wear profile, the contact angle by a Cephes arctangent
+//! and the angles' sines by Cephes' `sincos`, as the library computes them. Every operation is
+//! lane by lane on `[f64; L]` and every branch a selection, so that the compiler can emit
+//! packed instructions.
+//!
+//! Its inputs are [`SAMPLES`] states of runs of members 0-3 (seed 1): free flight, impacts and
+//! continuous contact on worn profiles, contact angles all round the bearing. At each it checks
+//! the accelerations against the library's (`Mechanism::rhs`, absolute coordinates, to 1e-8:
+//! it is the library's model without the library's generality, any tree, any law, event values
+//! and energy terms) and each lane's bits, with the lanes holding states of different regimes,
+//! against the one-lane evaluation of its state: lanes change the cost, not the numbers. It
+//! then times `L` chains of evaluations in which each member's next state waits for its last
+//! derivative (as the stages of a Runge-Kutta step do), every input through `black_box`, and
+//! reports ns per member evaluation.
 
-use jointwear::scene::SceneFile;
+use jointwear::mechanism::RunState;
+use jointwear::scene::{scene_path, SceneFile};
+use jointwear::simulation::ensemble::{member_simulation, EnsembleSettings};
+use jointwear::simulation::Scene;
 use std::array::from_fn;
 use std::f64::consts::{FRAC_2_PI, FRAC_PI_2, FRAC_PI_4, PI, TAU};
 use std::hint::black_box;
@@ -54,6 +61,8 @@ const V_S: f64 = 1e-4;
 const V_D: f64 = 1e-3;
 /// Sectors of the wear profile.
 const SECTORS: usize = 360;
+/// States sampled from runs (a multiple of 4).
+const SAMPLES: usize = 32;
 
 /// One member's wear profile: its sector depths padded with two on each side.
 struct Profile {
@@ -61,17 +70,12 @@ struct Profile {
 }
 
 impl Profile {
-    /// A worn profile: two scars of `depth` (m), shifted by `shift` sectors.
-    fn worn(depth: f64, shift: usize) -> Profile {
-        let h: Vec<f64> = (0..SECTORS)
-            .map(|i| {
-                let a = ((i + shift) % SECTORS) as f64 * TAU / SECTORS as f64;
-                depth * (0.6 + 0.4 * (a - PI).cos()).max(0.0) * (1.0 + 0.01 * (7.0 * a).sin())
-            })
-            .collect();
-        let mut padded = vec![h[SECTORS - 2], h[SECTORS - 1]];
-        padded.extend_from_slice(&h);
-        padded.extend_from_slice(&[h[0], h[1]]);
+    /// The profile of `depths`, one per sector.
+    fn of_depths(depths: &[f64]) -> Profile {
+        let n = depths.len();
+        let mut padded = vec![depths[n - 2], depths[n - 1]];
+        padded.extend_from_slice(depths);
+        padded.extend_from_slice(&[depths[0], depths[1]]);
         Profile { padded }
     }
 }
@@ -308,39 +312,74 @@ fn rhs<const L: usize>(
     *dz = [w, xd, acc1, acc2];
 }
 
-/// Member `m`'s state in contact: the rod at crank angle `a`, the journal pressed 2.7 µm into
-/// the bearing at 185° with a small sliding rate.
-fn state(m: usize) -> (f64, [f64; 4]) {
-    let t = 0.0017 * (m + 1) as f64;
-    let a = OMEGA * t;
-    let (ax, ay) = (CRANK * a.cos(), CRANK * a.sin());
-    let phi = (-ay / ROD).asin();
-    let bx = ax + ROD * phi.cos();
-    let gap = CLEARANCE + 2.7e-6;
-    let x = bx - gap * (185f64.to_radians()).cos();
-    (t, [phi, x, 0.3 * (m as f64 - 1.5), 0.5])
+/// One state of a run of the standard scene: time, the prototype's (φ, x, φ̇, ẋ), the worn
+/// profile, eq. 3's held onset velocity, and the library's own state and run state there.
+struct Sample {
+    t: f64,
+    z: [f64; 4],
+    profile: Profile,
+    onset: f64,
+    y: Vec<f64>,
+    run: RunState,
 }
 
-/// Member `m`'s onset velocity (m/s).
-fn onset(m: usize) -> f64 {
-    3e-3 + 1e-3 * m as f64
+/// [`SAMPLES`] states from runs of members 0-3 of seed 1: per member, times spread over its
+/// first rotation (free flight, impacts, onsets below the grazing floor) and later ones
+/// (continuous contact on a worn bearing), at contact angles all round the bearing.
+fn samples(scene: &Scene) -> Result<Vec<Sample>, Box<dyn std::error::Error>> {
+    let period = scene.period();
+    let mut out = Vec::new();
+    for member in 0..4 {
+        let ensemble = EnsembleSettings {
+            members: 4,
+            seed: 1,
+            ..EnsembleSettings::default()
+        };
+        let mut sim = member_simulation(scene, &scene.run, &ensemble, member)?;
+        let mut y = vec![0.0; scene.mechanism.state_len()];
+        for k in 0..SAMPLES / 4 {
+            let at =
+                (0.05 + 0.17 * k as f64 + 0.9 * (k / 4) as f64 + 0.04 * member as f64) * period;
+            while sim.time() < at {
+                sim.advance_step()?;
+            }
+            sim.y_into(&mut y);
+            let joint = &sim.state().joints[0];
+            out.push(Sample {
+                t: sim.time(),
+                z: [y[5], y[6], y[9 + 5], y[9 + 6]],
+                profile: Profile::of_depths(joint.wear.depths()),
+                onset: joint.onset_velocity,
+                y: y.clone(),
+                run: sim.state().clone(),
+            });
+        }
+    }
+    Ok(out)
 }
 
-/// ns per member evaluation of `L` dependent chains, best of five runs of `n` evaluations
-/// each, and the last derivatives.
-fn time<const L: usize>(profiles: &[Profile], first: usize, n: usize) -> (f64, [V<L>; 4]) {
-    let members: [usize; L] = from_fn(|i| first + i);
-    let t: V<L> = from_fn(|i| state(members[i]).0);
-    let z0: [V<L>; 4] = from_fn(|c| from_fn(|i| state(members[i]).1[c]));
-    let prof: [&Profile; L] = from_fn(|i| &profiles[members[i] % profiles.len()]);
-    let onset: V<L> = from_fn(|i| onset(members[i]));
+/// ns per member evaluation of `L` dependent chains started at `samples[first..first + L]`,
+/// best of five runs of `n` evaluations each, and the last derivatives. Every input of the
+/// evaluation goes through `black_box`, so that none of its work is hoisted out of the loop.
+fn time<const L: usize>(samples: &[Sample], first: usize, n: usize) -> (f64, [V<L>; 4]) {
+    let s: [&Sample; L] = from_fn(|i| &samples[(first + i) % samples.len()]);
+    let t: V<L> = from_fn(|i| s[i].t);
+    let z0: [V<L>; 4] = from_fn(|c| from_fn(|i| s[i].z[c]));
+    let prof: [&Profile; L] = from_fn(|i| &s[i].profile);
+    let onset: V<L> = from_fn(|i| s[i].onset);
     let mut dz = [[0.0; L]; 4];
     let mut best = f64::INFINITY;
     for _ in 0..5 {
         let mut z = z0;
         let clock = Instant::now();
         for _ in 0..n {
-            rhs(&t, black_box(&z), &prof, &onset, &mut dz);
+            rhs(
+                black_box(&t),
+                black_box(&z),
+                &prof,
+                black_box(&onset),
+                &mut dz,
+            );
             // The next state waits for this derivative and equals z0 to the bit.
             z = from_fn(|c| from_fn(|i| z0[c][i] + 1e-300 * dz[c][i]));
         }
@@ -349,100 +388,125 @@ fn time<const L: usize>(profiles: &[Profile], first: usize, n: usize) -> (f64, [
     (best, dz)
 }
 
-/// The library's accelerations of the rod's angle and the slider's position at member `m`'s
-/// state, from its absolute formulation (`Mechanism::rhs`; at a state that closes the ideal
-/// joints exactly, Baumgarte's terms vanish to rounding).
-fn library(
-    m: usize,
-    profile: &Profile,
-    onset: f64,
-) -> Result<(f64, f64), Box<dyn std::error::Error>> {
-    let scene = SceneFile::read("data/scenes/standard.toml")?.build()?;
-    let mech = &scene.mechanism;
-    let (t, [phi, x, w, xd]) = state(m);
-    let mut run = mech.initial_state();
-    if !run.joints[0]
-        .wear
-        .set_depths(&profile.padded[2..SECTORS + 2])
-    {
-        return Err("the profile does not fit the scene's".into());
+/// ns per member evaluation of two one-lane chains evaluated one after the other in the same
+/// loop (independent of each other): whether the processor overlaps consecutive evaluations.
+fn time_two_in_a_row(samples: &[Sample], n: usize) -> f64 {
+    let (a, b) = (&samples[0], &samples[samples.len() / 2]);
+    let (za0, zb0) = (a.z.map(|v| [v]), b.z.map(|v| [v]));
+    let (mut za, mut zb) = (za0, zb0);
+    let (mut da, mut db) = ([[0.0; 1]; 4], [[0.0; 1]; 4]);
+    let mut best = f64::INFINITY;
+    for _ in 0..5 {
+        let clock = Instant::now();
+        for _ in 0..n {
+            rhs(
+                black_box(&[a.t]),
+                black_box(&za),
+                &[&a.profile],
+                black_box(&[a.onset]),
+                &mut da,
+            );
+            rhs(
+                black_box(&[b.t]),
+                black_box(&zb),
+                &[&b.profile],
+                black_box(&[b.onset]),
+                &mut db,
+            );
+            za = from_fn(|c| [za0[c][0] + 1e-300 * da[c][0]]);
+            zb = from_fn(|c| [zb0[c][0] + 1e-300 * db[c][0]]);
+        }
+        best = best.min(clock.elapsed().as_secs_f64() * 1e9 / (2 * n) as f64);
     }
-    run.joints[0].onset_velocity = onset;
-    let a = OMEGA * t;
-    let (s1, c1, s2, c2) = (a.sin(), a.cos(), phi.sin(), phi.cos());
-    let (ax, ay) = (CRANK * c1, CRANK * s1);
-    let (vax, vay) = (-OMEGA * ay, OMEGA * ax);
-    // Crank, rod and slider: (x, y, angle) each, then their rates.
-    let q = [
-        0.5 * ax,
-        0.5 * ay,
-        a,
-        ax + ROD_CG * c2,
-        ay + ROD_CG * s2,
-        phi,
-        x,
-        0.0,
-        0.0,
-    ];
-    let v = [
-        0.5 * vax,
-        0.5 * vay,
-        OMEGA,
-        vax - ROD_CG * w * s2,
-        vay + ROD_CG * w * c2,
-        w,
-        xd,
-        0.0,
-        0.0,
-    ];
-    let mut y = vec![0.0; mech.state_len()];
-    y[..9].copy_from_slice(&q);
-    y[9..18].copy_from_slice(&v);
-    let mut dy = vec![0.0; y.len()];
-    mech.rhs(&run, &mut mech.workspace(), t, &y, &mut dy)?;
+    best
+}
+
+/// The library's accelerations of the rod's angle and the slider's position at `s`, from its
+/// absolute formulation (`Mechanism::rhs`; at a state of a run in joint coordinates the ideal
+/// joints close to rounding, so Baumgarte's terms vanish to rounding).
+fn library(scene: &Scene, s: &Sample) -> Result<(f64, f64), Box<dyn std::error::Error>> {
+    let mech = &scene.mechanism;
+    let mut dy = vec![0.0; s.y.len()];
+    mech.rhs(&s.run, &mut mech.workspace(), s.t, &s.y, &mut dy)?;
     Ok((dy[9 + 5], dy[9 + 6]))
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let profiles: Vec<Profile> = (0..4).map(|m| Profile::worn(6e-7, 7 * m)).collect();
-    let n = 2_000_000;
-    let (one, _) = time::<1>(&profiles, 0, n);
-    let (two, dz2) = time::<2>(&profiles, 0, n);
-    let (four, dz4) = time::<4>(&profiles, 0, n);
-    // Each lane gives the bits of its member evaluated alone.
-    for m in 0..4 {
-        let (_, alone) = time::<1>(&profiles, m, 1);
+    let mut file = SceneFile::read(scene_path("standard"))?;
+    file.run.record_rotations = 0;
+    let scene = file.build()?;
+    let samples = samples(&scene)?;
+    // The prototype against the library, and each lane against its state evaluated alone,
+    // over every sample with the lanes mixing states of different regimes.
+    let mut worst: f64 = 0.0;
+    let mut contact = 0;
+    for (k, s) in samples.iter().enumerate() {
+        let (_, alone) = time::<1>(&samples, k, 1);
+        let (phi_dd, x_dd) = library(&scene, s)?;
+        // The same model to rounding: the library's absolute formulation closes the ideal
+        // joints to about 1e-15 m, which moves a contact force by parts in 1e10.
+        let scale = phi_dd.abs().max(1.0);
+        let (e1, e2) = (
+            (alone[2][0] - phi_dd).abs() / scale,
+            (alone[3][0] - x_dd).abs() / x_dd.abs().max(1.0),
+        );
+        worst = worst.max(e1).max(e2);
+        if worst > 1e-8 {
+            return Err(format!(
+                "sample {k}: the prototype's accelerations ({:e}, {:e}) differ from the library's ({phi_dd:e}, {x_dd:e})",
+                alone[2][0], alone[3][0]
+            )
+            .into());
+        }
+        contact += usize::from(x_dd.abs() > 1e3);
+        let (_, four) = time::<4>(&samples, k, 1);
+        let (_, two) = time::<2>(&samples, k, 1);
         for c in 0..4 {
-            assert_eq!(
-                alone[c][0].to_bits(),
-                dz4[c][m].to_bits(),
-                "member {m}, {c}"
-            );
-            if m < 2 {
-                assert_eq!(
-                    alone[c][0].to_bits(),
-                    dz2[c][m].to_bits(),
-                    "member {m}, {c}"
+            if alone[c][0].to_bits() != four[c][0].to_bits()
+                || alone[c][0].to_bits() != two[c][0].to_bits()
+            {
+                return Err(
+                    format!("sample {k}: a lane's bits differ from the state alone").into(),
                 );
             }
         }
     }
-    for m in 0..4 {
-        let (_, d) = time::<1>(&profiles, m, 1);
-        let (phi_dd, x_dd) = library(m, &profiles[m], onset(m))?;
-        // The same model to rounding: the library's absolute formulation closes the ideal
-        // joints to about 1e-15 m, which moves the contact force by a few parts in 1e11.
-        approx::assert_relative_eq!(d[2][0], phi_dd, max_relative = 1e-8);
-        approx::assert_relative_eq!(d[3][0], x_dd, max_relative = 1e-8);
-        println!(
-            "member {m}: phi'' {:.9e} rad/s2 (library {phi_dd:.9e}), x'' {:.9e} m/s2 (library {x_dd:.9e})",
-            d[2][0], d[3][0]
-        );
-    }
-    println!("ns per member evaluation, best of 5 x {n} dependent evaluations per lane:");
-    println!("  1 lane:  {one:.1}");
-    println!("  2 lanes: {two:.1} ({:.2}x the throughput)", one / two);
-    println!("  4 lanes: {four:.1} ({:.2}x the throughput)", one / four);
-    println!("each lane bit-identical to its member evaluated alone: yes");
+    let angles: Vec<f64> = samples
+        .iter()
+        .map(|s| {
+            let (ex, ey) = (
+                s.y[3] + ROD_CG * s.z[0].cos() - s.z[1],
+                s.y[4] + ROD_CG * s.z[0].sin(),
+            );
+            ey.atan2(ex).to_degrees()
+        })
+        .collect();
+    println!(
+        "{} states of members 0-3 (seed 1), times {:.4}-{:.4} s, contact angles {:.0} to {:.0} deg; {} pressing hard \
+         (|x''| > 1e3 m/s2)",
+        samples.len(),
+        samples.iter().map(|s| s.t).fold(f64::INFINITY, f64::min),
+        samples.iter().map(|s| s.t).fold(0.0, f64::max),
+        angles.iter().cloned().fold(f64::INFINITY, f64::min),
+        angles.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+        contact,
+    );
+    println!("largest relative difference from the library's accelerations: {worst:.1e}; every lane bit-identical to its state alone");
+    let n = 2_000_000;
+    let one = time::<1>(&samples, 0, n).0;
+    let in_a_row = time_two_in_a_row(&samples, n);
+    let two = time::<2>(&samples, 0, n).0;
+    let four = time::<4>(&samples, 0, n).0;
+    println!("ns per member evaluation, best of 5 x {n} dependent evaluations per chain:");
+    println!("  1 lane:                                 {one:.1}");
+    println!("  1 lane, two members one after the other: {in_a_row:.1}");
+    println!(
+        "  2 lanes:                                {two:.1} ({:.2}x the throughput)",
+        one / two
+    );
+    println!(
+        "  4 lanes:                                {four:.1} ({:.2}x the throughput)",
+        one / four
+    );
     Ok(())
 }

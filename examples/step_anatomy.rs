@@ -12,17 +12,14 @@
 //! and the others see, and how long the steps are; the last line gives the final profile's
 //! roughness on the sector scale, the median of |h_(i−1) − 2h_i + h_(i+1)|.
 
-use jointwear::scene::SceneFile;
+use jointwear::laws::friction::FrictionModel;
+use jointwear::scene::{scene_path, SceneFile};
 use jointwear::simulation::ensemble::{member_simulation, EnsembleSettings};
 use jointwear::simulation::Simulation;
 use std::f64::consts::TAU;
 
 /// Rotations per row of the table.
 const WINDOW: usize = 10;
-
-/// The standard scene's stiction velocity v_s (m/s, eq. 4): a contact sliding slower than it
-/// is in the law's steep, sticking branch.
-const V_S: f64 = 1e-4;
 
 /// What the steps of one window measured.
 #[derive(Default)]
@@ -52,7 +49,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|a| a.parse())
         .collect::<Result<_, _>>()
         .map_err(|e| format!("arguments are MEMBER SEED (two integers): {e}"))?;
-    let mut file = SceneFile::read("data/scenes/standard.toml")?;
+    let mut file = SceneFile::read(scene_path("standard"))?;
+    // Eq. 4's stiction velocity: a contact sliding slower is in the law's steep branch.
+    let v_s = match file.clearance[0].friction {
+        FrictionModel::Modified { v_s, .. } => v_s,
+        _ => 0.0,
+    };
     file.run.record_rotations = 0;
     let scene = file.build()?;
     let mut sim = match args[..] {
@@ -76,6 +78,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // The contact angle at the last step's end, unwrapped, in sector widths less a half, so
     // that its floor changes where θ crosses a sector centre.
     let mut last: Option<f64> = None;
+    // Each contact onset: its number, the driver rotation it fell in, its δ̇⁻.
+    let mut onsets: Vec<(u64, usize, f64)> = Vec::new();
     while !sim.is_finished() {
         let (t0, rejected) = (sim.time(), sim.stats().rejected);
         sim.advance_step()?;
@@ -103,9 +107,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         last = Some(u);
         w.penetrations.push(c.delta);
         w.forces.push(c.f_n);
-        w.sticking += u64::from(c.in_contact() && c.v_t.abs() < V_S);
+        w.sticking += u64::from(c.in_contact() && c.v_t.abs() < v_s);
         w.onset_velocity = sim.state().joints[0].onset_velocity;
         w.onsets = sim.contact_onsets()[0];
+        if onsets.last().map_or(0, |o| o.0) != w.onsets {
+            let rotation = (sim.time() / period) as usize + 1;
+            onsets.push((w.onsets, rotation, w.onset_velocity));
+        }
     }
     let stats = sim.stats();
     println!(
@@ -115,7 +123,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "rotations | steps | median step (us) | rejected/attempts | steps crossing a centre | \
          rejections per crossing step | per other step | median |dtheta| (deg) | median delta (um) | \
-         median F_n (N) | in contact below v_s | onset velocity held at the end (mm/s) | onsets so far"
+         median F_n (N) | steps in contact below v_s | onset velocity held at the end (mm/s) | onsets so far"
     );
     for (k, w) in windows.iter_mut().enumerate() {
         let steps = w.steps.len() as u64;
@@ -135,6 +143,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             w.sticking,
             w.onset_velocity * 1e3,
             w.onsets,
+        );
+    }
+    for (n, rotation, v) in onsets {
+        println!(
+            "onset {n} in rotation {rotation}: onset velocity {:.3} mm/s",
+            v * 1e3
         );
     }
     let h = sim.state().joints[0].wear.depths();

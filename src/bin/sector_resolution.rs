@@ -16,7 +16,7 @@ fn main() {
             "no member within the gap's validity bound".to_string()
         } else {
             format!(
-                "deepest sector {:.4} um (sd {:.4}) over {} of {} members within the bound, deepest region at {:.1} deg, {:.2} deg wide",
+                "each member's deepest sector {:.4} um (mean, sd {:.4}) over {} of {} members within the bound, most prominent region at {:.1} deg (circular mean), {:.2} deg wide",
                 r.deepest_mean * 1e6,
                 r.deepest_sd * 1e6,
                 r.within,

@@ -34,9 +34,9 @@ fn wear_line(name: &str, e: &WearEnsemble) -> String {
         String::new()
     };
     format!(
-        "{name} ({n} members): after {} rotations the deepest of the {} sectors' mean depths {} µm{states} \
-         (5-95 %: {}; section 5 gives how it depends on the sector count), mean {} µm; regions of \
-         the mean profile at {}",
+        "{name} ({n} members): after {} rotations each member's deepest sector depth (of {} sectors, \
+         each its width's mean) {} µm (mean ± sd over members){states} (5-95 %: {}; section 5 gives \
+         how it depends on the sector count), mean depth {} µm; regions of the mean profile at {}",
         e.scene.run.rotations,
         e.members.first().map_or(0, |m| m.final_wear.len()),
         e.stat(|m| m.max_depth()).mean_sd(1e6, 3),

@@ -1005,44 +1005,48 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              ratio median 0.881, quartiles 0.827-0.922, 29 of 32 members fewer; the states differ, 0.62-1.80), and \
              the members' deepest wear is 0.670 ± 0.040 µm against 0.669 ± 0.039. Not kept: the B-spline does not \
              pass through the sector depths (its value at a centre is (h_(i−1) + 4h_i + h_(i+1))/6), and on the \
-             30 r/min case, whose scar is two sectors wide, it moves the golden deepest depth from 4.964×10⁻⁸ to \
+             30 r/min case, whose scar spans a few 1° sectors, it moves the golden deepest depth from 4.964×10⁻⁸ to \
              4.897×10⁻⁸ m (−1.35 %) where the members agree to 4×10⁻¹² m and the golden bound is 10⁻¹⁰ m: the golden \
              test fails, and the issue requires it to pass without re-recording. The sector study in section 5 \
-             shows the same cost from the other side: finer sectors mean more centres crossed, and a standard member \
-             takes 630 310 evaluations at 90 sectors, 786 863 at 360 and 1 467 767 at 2880. \
-             (ii) Several ensemble members in one evaluation: two independent evaluations back to back take \
-             179.3 ns against 89.6-91.1 ns for one in a dependent chain (criterion; `rhs/standard`, independent \
-             calls, 87.8 ns): the processor overlaps nothing across calls, as one evaluation is longer than its \
-             out-of-order window. Members must share the evaluation itself. `cargo run --release --example lanes` \
-             writes the standard scene's right-hand side once for L members side by side (every operation lane \
-             by lane on `[f64; L]`, every branch a selection; the compiler emits packed SSE2 instructions), checks \
-             its accelerations against the library's `Mechanism::rhs` at four members' states (to 1e-8; they \
-             agree to about 1e-10) and each lane's bits against its member evaluated alone, and times L dependent \
-             chains: 64.6-65.7 ns per member evaluation with one lane, 38.8-39.7 with two (1.65-1.67 times the \
-             throughput), 29.4-30.1 with four (2.16-2.20 times; five runs). At the library's 85-88 ns per \
-             evaluation and about 50 ns per evaluation of integrator, wear and event work, that would take a \
-             member from about 138 to 103 ns per evaluation with two lanes and 90 with four, before any of the \
-             integrator's stage arithmetic (also member by member) is shared, and the 16-member ensemble from \
-             0.84 s to about 0.63 and 0.55 s: the one change measured here that could reach the issue's 0.6 s. \
-             Not built: it needs the tree formulation's evaluation written for lanes (its shapes, the contact and \
-             friction laws, the wear profile), an integrator that advances L members attempt by attempt (each \
-             member its own step size, its rejections, events and wear between attempts as now) and the ensemble \
-             runner feeding it, with every member's output bit-identical to its run alone, which the prototype \
-             shows is possible. \
+             also shows evaluations growing with the sector count (mean of 8 standard members: 630 310 at 90 \
+             sectors, 786 863 at 360, 1 467 767 at 2880; the 30 r/min case barely moves), more than the share of \
+             steps crossing a centre at 360 sectors can explain; not analysed further. \
+             (ii) Several ensemble members in one evaluation: the processor overlaps nothing across calls, as \
+             one evaluation is longer than its out-of-order window, so members must share the evaluation \
+             itself. `cargo run --release --example lanes` writes the standard scene's right-hand side once for \
+             L members side by side (every operation lane by lane on `[f64; L]`, every branch a selection; the \
+             compiler emits packed SSE2 instructions); at 32 states of runs of members 0-3 of seed 1 (free \
+             flight, impacts, continuous contact, contact angles all round the bearing) it checks its \
+             accelerations against the library's `Mechanism::rhs` (they agree to 2.3×10⁻¹¹) and each lane's bits \
+             against its state evaluated alone, the lanes holding states of different regimes; then it times L \
+             dependent chains, every input through `black_box`. Five runs: 69.2-69.6 ns per member evaluation \
+             with one lane, 66.1-67.3 with two one-lane members one after the other (no overlap), 45.2-46.3 with \
+             two lanes (1.50-1.54 times the throughput), 36.2-36.8 with four (1.89-1.92 times). At the \
+             library's 85-88 ns per evaluation and about 50 ns per evaluation of integrator, wear and event \
+             work, that would take a member from about 138 to 108 ns per evaluation with two lanes and 96 with \
+             four, before any of the integrator's stage arithmetic (also member by member) is shared, and the \
+             16-member ensemble from 0.84 s to about 0.66 and 0.58 s: four lanes would just reach the issue's \
+             0.6 s, the one change measured here that could. Not built: it needs the tree formulation's \
+             evaluation written for lanes (its shapes, the contact and friction laws, the wear profile), an \
+             integrator that advances L members attempt by attempt (each member its own step size, its \
+             rejections, events and wear between attempts as now) and the ensemble runner feeding it; the \
+             prototype's lane-by-lane arithmetic keeps each member's bits whatever the lanes hold, which is what \
+             the determinism of such a runner would rest on. \
              (iii) Why the default trajectory costs twice the median member: eq. 3's damping divides by the \
              normal velocity δ̇⁻ of the contact's onset (floored at the scene's grazing velocity, 1 mm/s), and in \
              continuous contact that one value holds for as long as the contact lasts. The default trajectory's \
-             tenth onset, in rotation 15, lands at 1.09 mm/s, and its contact never opens again: for 25 rotations \
-             its contact is damped about 8 times as strongly as after its ninth onset (8.7 mm/s), and its steps \
-             per rotation go from 2 262 to 7 300-7 840 (the example's last two columns; median step 3.57 µs over \
-             rotations 30-40). Member 18 shows the same on a smaller scale: its onset in rotation 26 lands at \
-             3.4 mm/s after 7.7 mm/s, and its steps per rotation go from 2 350 to 3 500. Over members 0-31 of \
-             seed 1 the evaluations fall with the δ̇⁻ held at the end (Spearman's ρ = −0.86): median 995 628 for \
-             the 4 members below 3 mm/s, 816 466 for the 16 between 3 and 6, 690 080 for the 12 above. The \
-             worn profile is not the cause: resumed from its checkpoint at rotation 20 with member 18's profile, \
-             the default trajectory still takes 7 609-7 665 steps per rotation, and member 18 with the \
-             default's profile 2 260-2 452 (until its own later onset), and smoothing the default's profile by \
-             two passes of (1, 2, 1)/4 there takes 11 % off its steps, not two thirds (a scratch program on \
+             tenth onset, in rotation 15, lands at 1.091 mm/s (its ninth, in rotation 2, at 8.745 mm/s), and its \
+             contact never opens again: for 25 rotations its contact is damped 8 times as strongly, and its \
+             accepted steps per 10 rotations go 22 178, 48 303, 74 019, 77 089 (median step 13.96 µs in rotations \
+             0-10, 3.57 µs in 30-40; the example's onset list and table). Member 18 shows the same on a smaller \
+             scale: its onsets 11-13 (rotations 23-25) land at 10-34 mm/s and its 14th, in rotation 26, at \
+             3.415 mm/s after 7.656 mm/s, and its steps per 10 rotations go 22 273, 22 745, 29 607, 35 063. \
+             Over members 0-31 of seed 1 the evaluations fall with the δ̇⁻ held at the end (Spearman's ρ = \
+             −0.86): median 995 628 for the 4 members below 3 mm/s, 816 466 for the 16 between 3 and 6, 690 080 \
+             for the 12 above. The worn profile is not the cause: resumed from its checkpoint at rotation 20 \
+             with member 18's profile, the default trajectory still takes 7 609-7 665 steps per rotation, and \
+             member 18 with the default's profile 2 260-2 452 (until its own later onsets), and smoothing the \
+             default's profile by two passes of (1, 2, 1)/4 there takes 11 % off its steps, not two thirds (a scratch program on \
              `Simulation::checkpoint`, `resume` and `add_wear`, not kept). So a member's cost is set by a chaotic \
              draw, the smallest onset velocity its continuous contact happens to start from, through a \
              modelling choice of the paper's law (eq. 3 holds δ̇⁻ for the whole contact) and of this project's \

@@ -19,10 +19,13 @@ pub(super) fn sector_resolution(md: &mut String) {
         md,
         "**Does the wear depend on how finely the bearing is divided?** Each sector holds its mean \
          depth (eq. 9), so a scar a few sectors wide reads shallower than it is, and its slope, which the \
-         gap's validity bound watches, is smoothed. The wear cases' rotations (those of figures 5-15) at other sector counts \
-         ({SECTOR_MEMBERS} members each, seed 1; `{COMMAND}`): the deepest sector's depth at the end, mean \
-         and sd over the members that stayed within the bound; the deepest region's angle and width at \
-         half its prominence; the earliest rotation in which a member left the bound:\n\n"
+         gap's validity bound watches, is smoothed. The wear cases' rotations (those of figures 5-15) at \
+         other sector counts ({SECTOR_MEMBERS} members each, seed 1; `{COMMAND}`), over the members that \
+         stayed within the bound: each member's deepest sector depth at the end, mean and sd; the angle of \
+         each member's most prominent wear region (circular mean: where members' most prominent scars \
+         differ, as at 0.5 mm, it falls between them) and its width at half its prominence; the mean \
+         evaluations and the summed wall time of those members; and the earliest rotation in which a \
+         member left the bound:\n\n"
     );
     csv_table(md, SECTOR_RESOLUTION_FILE, COMMAND);
     match read_sector_resolution() {
@@ -55,9 +58,8 @@ fn scene_sectors(case: &str) -> Option<usize> {
 /// and the counts at which members left the bound.
 fn finding(case: &str, rows: &[SectorRow], own: Option<usize>) -> String {
     let rows: Vec<&SectorRow> = rows.iter().filter(|r| r.case == case).collect();
-    let at = own.and_then(|n| rows.iter().find(|r| r.sectors == n && r.within > 0));
-    let complete = |r: &&&SectorRow| r.within == r.members && r.within > 1;
-    let finest = rows.iter().filter(complete).max_by_key(|r| r.sectors);
+    let complete = |r: &SectorRow| r.within == r.members && r.within > 1;
+    let at = own.and_then(|n| rows.iter().find(|r| r.sectors == n));
     let left: Vec<String> = rows
         .iter()
         .filter_map(|r| {
@@ -75,58 +77,78 @@ fn finding(case: &str, rows: &[SectorRow], own: Option<usize>) -> String {
     } else {
         format!("left the gap's validity bound: {}", left.join("; "))
     };
-    let (Some(at), Some(finest)) = (at, finest) else {
+    let Some(at) = at.filter(|r| complete(r)) else {
         return format!(
-            "- `{case}`: no comparison (no row at the scene's own sector count or none where \
-             every member stayed within the bound); {left}.\n"
+            "- `{case}`: no comparison (at the scene's own sector count not every member ran \
+             within the bound, or there is no row for it); {left}.\n"
         );
     };
-    if finest.sectors == at.sectors {
+    let finer = rows
+        .iter()
+        .filter(|r| r.sectors > at.sectors && complete(r));
+    let Some(finest) = finer.max_by_key(|r| r.sectors) else {
         return format!(
-            "- `{case}`: the scene's {} sectors are the finest count every member ran within the \
-             bound; {left}.\n",
+            "- `{case}`: no count finer than the scene's {} sectors at which every member ran \
+             within the bound; {left}.\n",
             at.sectors
         );
-    }
+    };
     let change = finest.deepest_mean / at.deepest_mean - 1.0;
-    // The standard error of the difference of two independent means.
+    // The standard error of the difference of two independent means (the members are the
+    // same seeds at every count, so a paired one would be sharper).
     let se = (at.deepest_sd.powi(2) / at.within as f64
         + finest.deepest_sd.powi(2) / finest.within as f64)
         .sqrt();
-    let z = (finest.deepest_mean - at.deepest_mean) / se;
-    let verdict = if z.abs() <= 2.0 {
+    let diff = finest.deepest_mean - at.deepest_mean;
+    let verdict = if diff == 0.0 {
+        "the same: no dependence.".to_string()
+    } else if se == 0.0 || !se.is_finite() {
+        "while the members agree exactly at both counts: the change is the count's.".to_string()
+    } else if (diff / se).abs() <= 2.0 {
         "within twice the standard error of the difference of the two means: no dependence \
-         this ensemble can resolve"
+         this ensemble can resolve."
             .to_string()
     } else {
+        let narrows = if finest.region_width_deg < at.region_width_deg {
+            format!(
+                " The most prominent region narrows from {:.2}° to {:.2}° wide at half its \
+                 prominence: the scar is not resolved even there, and {:.4} µm is not converged either.",
+                at.region_width_deg,
+                finest.region_width_deg,
+                finest.deepest_mean * 1e6
+            )
+        } else {
+            String::new()
+        };
         format!(
-            "{:.0} standard errors of the difference: the scene's count reads this wear {} than \
-             a finer one, far beyond the members' spread",
-            z.abs(),
+            "{:.0} standard errors of the difference of the two means: the scene's count reads \
+             this wear {} than a finer one.{narrows}",
+            (diff / se).abs(),
             if change > 0.0 { "shallower" } else { "deeper" }
         )
     };
     // Members that stay within the bound at the scene's count but leave it at a finer one: the
-    // scene's sectors smooth the flanks the bound watches.
-    let smoothed = at.within == at.members
-        && rows
-            .iter()
-            .any(|r| r.sectors > at.sectors && r.within < r.members);
-    let left = if smoothed {
+    // bound is a steepness, and the finer profile resolves more of it.
+    let steeper = rows
+        .iter()
+        .any(|r| r.sectors > at.sectors && r.within < r.members);
+    let left = if steeper {
         format!(
-            "{left}: at the scene's count every member stays within the bound only because its \
-             sectors smooth the scar's flanks"
+            "{left}; at the scene's count every member stays within it: the bound is a steepness, \
+             and the finer profiles are steeper"
         )
     } else {
         left
     };
     format!(
-        "- `{case}`: at the scene's {} sectors ({:.3}° each) the deepest sector is {:.4} µm; at {} \
-         sectors, the finest at which every member stayed within the bound, {:.4} µm ({:+.1} %), \
-         {verdict}; a member took {} evaluations at the scene's count and {} at that one; {left}.\n",
+        "- `{case}`: at the scene's {} sectors ({:.3}° each) each member's deepest sector is {:.4} µm \
+         (mean of {}); at {} sectors, the finest at which every member stayed within the bound, {:.4} µm \
+         ({:+.1} %), {verdict} A member took {} evaluations at the scene's count and {} at that one (mean); \
+         {left}.\n",
         at.sectors,
         360.0 / at.sectors as f64,
         at.deepest_mean * 1e6,
+        at.within,
         finest.sectors,
         finest.deepest_mean * 1e6,
         100.0 * change,
@@ -155,23 +177,26 @@ mod tests {
         }
     }
 
-    /// A depth that grows with the count beyond the spread is called a misreading; one within
-    /// the spread is not; counts where members left the bound are named and not compared.
+    /// A depth that grows with the count beyond the spread is called a misreading, with a lower
+    /// bound where the scar narrows; one within the spread is not; counts where members left the
+    /// bound are named and not compared, and only a strictly finer complete count is compared.
     #[test]
     fn findings_compare_the_scenes_count_with_the_finest_complete_one() {
+        let mut fine = row(1080, 8, 0.064, 1e-5, None);
+        fine.region_width_deg = 1.33;
         let rows = [
             row(360, 8, 0.050, 1e-5, None),
-            row(1080, 8, 0.064, 1e-5, None),
+            fine,
             row(1440, 0, f64::NAN, f64::NAN, Some(40)),
         ];
         let f = finding("c", &rows, Some(360));
         assert!(
-            f.contains("at 1080 sectors") && f.contains("+28.0 %"),
+            f.contains("at 1080 sectors") && f.contains("+28.0 %") && f.contains("not converged"),
             "{f}"
         );
         assert!(
             f.contains("shallower")
-                && f.contains("smooth the scar")
+                && f.contains("finer profiles are steeper")
                 && f.contains("8 of 8 members at 1440 sectors (the first in rotation 40)"),
             "{f}"
         );
@@ -185,6 +210,20 @@ mod tests {
             "{f}"
         );
         assert!(finding("c", &rows, Some(720)).contains("no comparison"));
-        assert!(finding("c", &rows[..1], Some(360)).contains("are the finest count"));
+        assert!(finding("c", &rows[..1], Some(360)).contains("no count finer"));
+        // A coarser complete count is not "finer"; members that left at the scene's count
+        // leave nothing to compare.
+        let rows = [
+            row(180, 8, 0.60, 0.05, None),
+            row(360, 6, 0.65, 0.05, Some(39)),
+        ];
+        assert!(finding("c", &rows, Some(360)).contains("no comparison"));
+        // Members that agree exactly: no division by a zero standard error.
+        let rows = [row(360, 8, 0.05, 0.0, None), row(720, 8, 0.06, 0.0, None)];
+        let f = finding("c", &rows, Some(360));
+        assert!(
+            f.contains("agree exactly") && !f.contains("NaN") && !f.contains("inf"),
+            "{f}"
+        );
     }
 }

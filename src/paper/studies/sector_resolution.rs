@@ -6,13 +6,15 @@
 //! Each sector holds the mean depth over its width, so a wear scar narrower than a few
 //! sectors is read shallower than it is, and its slope (which the gap's validity bound
 //! watches) is smoothed away. The scenes divide the bearing into 360 sectors (a calibration
-//! setting, `paper.md` section 4). This study reruns the wear cases' 40 rotations with
-//! [`SECTOR_COUNTS`] sectors, [`SECTOR_MEMBERS`] members each (seed 1, the default
-//! perturbation), and records per count the deepest sector's depth over the members that
-//! stayed within the gap's validity bound, where that deepest region lies and how wide it is,
-//! and how many members left the bound (and the earliest rotation one did). The 30 r/min
-//! case's scar is about two degrees wide (a Hertz half-angle under one degree at its small
-//! load), the standard case's tens of degrees: the first is what the sector width limits.
+//! setting, `paper.md` section 4). This study reruns the wear cases' rotations (those of
+//! the wear figures, 5 to 15) with [`SECTOR_COUNTS`] sectors, [`SECTOR_MEMBERS`] members each
+//! (seed 1, the default perturbation), and records per count, over the members that stayed
+//! within the gap's validity bound, each member's deepest sector depth (mean and sd), the
+//! angle and width of each member's most prominent wear region, their evaluations and wall
+//! time, and how many members left the bound (and the earliest rotation one did). The 30
+//! r/min case's scar is a few degrees wide at half its prominence and narrows with the sector
+//! width (a Hertz half-angle under one degree at its small load), the standard case's tens of
+//! degrees: the first is what the sector width limits.
 //! Writes `data/sector_resolution.csv`; the report's section 5 reads it.
 
 use crate::analysis::statistics::Distribution;
@@ -27,7 +29,7 @@ use rayon::prelude::*;
 /// Sector counts compared (sector widths 4° to 0.125°); the scenes' own is 360.
 pub const SECTOR_COUNTS: [usize; 7] = [90, 180, 360, 720, 1080, 1440, 2880];
 
-/// The wear cases of the paper's wear figures (5, 6, 10, 11, 14, 15).
+/// The wear cases of the paper's wear figures (5-15).
 pub const SECTOR_CASES: [&str; 5] = [
     "standard",
     "clearance_0.2mm",
@@ -36,9 +38,10 @@ pub const SECTOR_CASES: [&str; 5] = [
     "speed_600rpm",
 ];
 
-/// Members per case and count: the standard case's deepest depth spreads by about 6 % between
-/// members, so the mean of 8 is known to about 2 %; the 30 r/min members agree to 1e-4. A
-/// count's dependence is judged against that standard error (the report's section 5).
+/// Members per case and count: the deepest depth of the standard and 2000 r/min clearance cases
+/// spreads by 3-9 % between members, so the mean of 8 is known to 1-3 %; the 30 r/min members
+/// agree to 1e-4. A count's dependence is judged against that standard error (the report's
+/// section 5).
 pub const SECTOR_MEMBERS: usize = 8;
 
 /// File of the study under `data/`.
@@ -53,10 +56,10 @@ pub const SECTOR_RESOLUTION_HEADER: [&str; 11] = [
     "earliest_validity_stop_rotation",
     "deepest_mean_m",
     "deepest_sd_m",
-    "deepest_region_deg",
-    "deepest_region_width_deg",
-    "evaluations_per_member",
-    "wall_time_s",
+    "prominent_region_deg",
+    "prominent_region_width_deg",
+    "evaluations_mean",
+    "wall_time_within_s",
 ];
 
 /// One case at one sector count: a row of [`SECTOR_RESOLUTION_FILE`].
@@ -76,9 +79,10 @@ pub struct SectorRow {
     pub deepest_mean: f64,
     /// Its standard deviation over those members (m).
     pub deepest_sd: f64,
-    /// Angle of the deepest wear region (deg), circular mean over those members.
+    /// Angle of each member's most prominent wear region (deg), circular mean over those
+    /// members (between scars where members' most prominent scars differ).
     pub region_deg: f64,
-    /// Width of the deepest wear region at half its prominence (deg), mean over them.
+    /// Width of that region at half its prominence (deg), mean over them.
     pub region_width_deg: f64,
     /// Mean right-hand-side evaluations of those members.
     pub evaluations: f64,
