@@ -23,7 +23,7 @@
 //! derivative (as the stages of a Runge-Kutta step do), every input through `black_box`, and
 //! reports ns per member evaluation.
 
-use jointwear::mechanism::RunState;
+use jointwear::mechanism::{cephes, RunState};
 use jointwear::scene::{scene_path, SceneFile};
 use jointwear::simulation::ensemble::{member_simulation, EnsembleSettings};
 use jointwear::simulation::Scene;
@@ -90,27 +90,7 @@ fn select<const L: usize>(c: [bool; L], a: V<L>, b: V<L>) -> V<L> {
 /// prototype's angles stay far below 2³¹ octants).
 #[inline(always)]
 fn sincos<const L: usize>(x: V<L>) -> (V<L>, V<L>) {
-    const DP: [f64; 3] = [
-        7.853_981_256_484_985e-1,
-        3.774_894_707_930_798e-8,
-        2.695_151_429_079_059_5e-15,
-    ];
-    const SIN: [f64; 6] = [
-        1.589_623_015_765_465_7e-10,
-        -2.505_074_776_285_780_7e-8,
-        2.755_731_362_138_572e-6,
-        -1.984_126_982_958_954e-4,
-        8.333_333_333_322_118e-3,
-        -1.666_666_666_666_663e-1,
-    ];
-    const COS: [f64; 6] = [
-        -1.135_853_652_138_768_2e-11,
-        2.087_570_084_197_473e-9,
-        -2.755_731_417_929_674e-7,
-        2.480_158_728_885_170_5e-5,
-        -1.388_888_888_887_305_6e-3,
-        4.166_666_666_666_659e-2,
-    ];
+    use cephes::{COS, PI_4_PARTS as DP, SIN};
     let ax: V<L> = from_fn(|i| x[i].abs());
     let j: [i32; L] = from_fn(|i| {
         let j = (ax[i] * FRAC_2_PI * 2.0) as i32;
@@ -138,32 +118,10 @@ fn sincos<const L: usize>(x: V<L>) -> (V<L>, V<L>) {
     )
 }
 
-/// Cephes' arctangent kernel on |t| ≤ 0.66, by Estrin's scheme as in the library.
+/// The library's arctangent kernel ([`cephes::atan_kernel`], inlined) lane by lane.
 #[inline(always)]
 fn atan_kernel<const L: usize>(t: V<L>) -> V<L> {
-    const P: [f64; 5] = [
-        -8.750_608_600_031_904e-1,
-        -1.615_753_718_733_365_2e1,
-        -7.500_855_792_314_705e1,
-        -1.228_866_684_490_136_2e2,
-        -6.485_021_904_942_025e1,
-    ];
-    const Q: [f64; 5] = [
-        2.485_846_490_142_306e1,
-        1.650_270_098_316_988_5e2,
-        4.328_810_604_912_903e2,
-        4.853_903_996_359_137e2,
-        1.945_506_571_482_614e2,
-    ];
-    from_fn(|i| {
-        let t = t[i];
-        let z = t * t;
-        let (z2, tz) = (z * z, t * z);
-        let z4 = z2 * z2;
-        let p = (P[3] * z + P[4]) + z2 * (P[1] * z + P[2]) + z4 * P[0];
-        let q = (Q[3] * z + Q[4]) + z2 * (Q[1] * z + Q[2]) + z4 * (z + Q[0]);
-        t + tz * p / q
-    })
+    from_fn(|i| cephes::atan_kernel(t[i]))
 }
 
 /// The angle of (x, y) in (−π, π], branch-free: one division picks t or (t − 1)/(t + 1).

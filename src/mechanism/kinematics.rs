@@ -50,32 +50,65 @@ pub(super) fn perp(v: Vector2<f64>) -> Vector2<f64> {
     Vector2::new(-v.y, v.x)
 }
 
-/// `atan t` for `|t| ≤ 0.66`: Moshier's rational approximation (the Cephes library's
-/// `atan`), within an ulp.
-#[inline(always)]
-fn atan_kernel(t: f64) -> f64 {
-    const P: [f64; 5] = [
+/// Cephes' coefficients (Moshier) of the contact angle's arctangent and of the angles' sines
+/// and cosines, as the library's `sincos` and `atan` use them; public so that
+/// `examples/lanes.rs` evaluates the same arithmetic lane by lane.
+pub mod cephes {
+    /// Numerator of `atan t = t + t³ P(t²)/Q(t²)`, highest power first.
+    pub const ATAN_P: [f64; 5] = [
         -8.750_608_600_031_904e-1,
         -1.615_753_718_733_365e1,
         -7.500_855_792_314_705e1,
         -1.228_866_684_490_136_2e2,
         -6.485_021_904_942_025e1,
     ];
-    const Q: [f64; 5] = [
+    /// Denominator (monic, its leading 1 left out), highest power first.
+    pub const ATAN_Q: [f64; 5] = [
         2.485_846_490_142_306e1,
         1.650_270_098_316_988_5e2,
         4.328_810_604_912_903e2,
         4.853_903_996_359_137e2,
         1.945_506_571_482_614e2,
     ];
-    // Estrin's scheme: the pairs wait only for z, z² and z⁴, not for each other (Horner's
-    // five dependent steps were on the contact force's path).
-    let z = t * t;
-    let (z2, tz) = (z * z, t * z);
-    let z4 = z2 * z2;
-    let p = (P[3] * z + P[4]) + z2 * (P[1] * z + P[2]) + z4 * P[0];
-    let q = (Q[3] * z + Q[4]) + z2 * (Q[1] * z + Q[2]) + z4 * (z + Q[0]);
-    t + tz * p / q
+    /// π/4 in three parts (Cody and Waite), for an exact reduction.
+    pub const PI_4_PARTS: [f64; 3] = [
+        7.853_981_256_484_985e-1,
+        3.774_894_707_930_798e-8,
+        2.695_151_429_079_059_5e-15,
+    ];
+    /// `sin z = z + z³ S(z²)` on |z| ≤ π/4, highest power first.
+    pub const SIN: [f64; 6] = [
+        1.589_623_015_765_465_7e-10,
+        -2.505_074_776_285_780_7e-8,
+        2.755_731_362_138_572e-6,
+        -1.984_126_982_958_954e-4,
+        8.333_333_333_322_118e-3,
+        -1.666_666_666_666_663e-1,
+    ];
+    /// `cos z = 1 − z²/2 + z⁴ C(z²)` on |z| ≤ π/4, highest power first.
+    pub const COS: [f64; 6] = [
+        -1.135_853_652_138_768_2e-11,
+        2.087_570_084_197_473e-9,
+        -2.755_731_417_929_674e-7,
+        2.480_158_728_885_170_5e-5,
+        -1.388_888_888_887_305_6e-3,
+        4.166_666_666_666_659e-2,
+    ];
+
+    /// `atan t` for `|t| ≤ 0.66`: Moshier's rational approximation (the Cephes library's
+    /// `atan`), within an ulp.
+    #[inline(always)]
+    pub fn atan_kernel(t: f64) -> f64 {
+        use self::{ATAN_P as P, ATAN_Q as Q};
+        // Estrin's scheme: the pairs wait only for z, z² and z⁴, not for each other (Horner's
+        // five dependent steps were on the contact force's path).
+        let z = t * t;
+        let (z2, tz) = (z * z, t * z);
+        let z4 = z2 * z2;
+        let p = (P[3] * z + P[4]) + z2 * (P[1] * z + P[2]) + z4 * P[0];
+        let q = (Q[3] * z + Q[4]) + z2 * (Q[1] * z + Q[2]) + z4 * (z + Q[0]);
+        t + tz * p / q
+    }
 }
 
 /// The angle of `v` from the x axis in (−π, π] (rad): `v.y.atan2(v.x)` to an ulp, at a
@@ -89,9 +122,9 @@ fn direction_angle(v: Vector2<f64>) -> f64 {
     let steep = ay > ax;
     let t = if steep { ax / ay } else { ay / ax };
     let mut a = if t > 0.66 {
-        FRAC_PI_4 + (atan_kernel((t - 1.0) / (t + 1.0)) + 0.5 * LOW)
+        FRAC_PI_4 + (cephes::atan_kernel((t - 1.0) / (t + 1.0)) + 0.5 * LOW)
     } else {
-        atan_kernel(t)
+        cephes::atan_kernel(t)
     };
     if steep {
         a = FRAC_PI_2 - a + LOW;
@@ -118,27 +151,7 @@ const SINCOS_LIMIT: f64 = 1_073_741_824.0;
 /// minimax polynomials on `|z|` ≤ π/4.
 #[inline(always)]
 pub(super) fn sincos(x: f64) -> (f64, f64) {
-    const DP: [f64; 3] = [
-        7.853_981_256_484_985e-1,
-        3.774_894_707_930_798e-8,
-        2.695_151_429_079_059_5e-15,
-    ];
-    const SIN: [f64; 6] = [
-        1.589_623_015_765_465_7e-10,
-        -2.505_074_776_285_780_7e-8,
-        2.755_731_362_138_572e-6,
-        -1.984_126_982_958_954e-4,
-        8.333_333_333_322_118e-3,
-        -1.666_666_666_666_663e-1,
-    ];
-    const COS: [f64; 6] = [
-        -1.135_853_652_138_768_2e-11,
-        2.087_570_084_197_473e-9,
-        -2.755_731_417_929_674e-7,
-        2.480_158_728_885_170_5e-5,
-        -1.388_888_888_887_305_6e-3,
-        4.166_666_666_666_659e-2,
-    ];
+    use cephes::{COS, PI_4_PARTS as DP, SIN};
     let ax = x.abs();
     // Beyond the limit or NaN in one comparison (a NaN is not below the limit).
     #[allow(clippy::neg_cmp_op_on_partial_ord)]

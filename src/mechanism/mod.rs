@@ -54,7 +54,7 @@ mod workspace;
 
 pub use assembly::{Lock, SWEEP_RESOLUTION_DEG, SWEEP_STEP_DEG};
 pub use dynamics::{eigenvalues_by_modulus, JACOBIAN_STEP};
-pub use kinematics::ContactState;
+pub use kinematics::{cephes, ContactState};
 pub use tree::MAX_TREE_FREEDOMS;
 pub use workspace::Workspace;
 

@@ -1019,13 +1019,13 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              flight, impacts, continuous contact, contact angles all round the bearing) it checks its \
              accelerations against the library's `Mechanism::rhs` (they agree to 2.3×10⁻¹¹) and each lane's bits \
              against its state evaluated alone, the lanes holding states of different regimes; then it times L \
-             dependent chains, every input through `black_box`. Five runs: 69.2-69.6 ns per member evaluation \
-             with one lane, 66.1-67.3 with two one-lane members one after the other (no overlap), 45.2-46.3 with \
-             two lanes (1.50-1.54 times the throughput), 36.2-36.8 with four (1.89-1.92 times). At the \
+             dependent chains, every input through `black_box`. Five runs: 67.2-69.7 ns per member evaluation \
+             with one lane, 64.7-66.2 with two one-lane members one after the other (no overlap), 44.1-45.5 with \
+             two lanes (1.49-1.54 times the throughput), 35.3-36.7 with four (1.85-1.93 times). At the \
              library's 85-88 ns per evaluation and about 50 ns per evaluation of integrator, wear and event \
              work, that would take a member from about 138 to 108 ns per evaluation with two lanes and 96 with \
              four, before any of the integrator's stage arithmetic (also member by member) is shared, and the \
-             16-member ensemble from 0.84 s to about 0.66 and 0.58 s: four lanes would just reach the issue's \
+             16-member ensemble from 0.84 s to about 0.66 and 0.59 s: four lanes would just reach the issue's \
              0.6 s, the one change measured here that could. Not built: it needs the tree formulation's \
              evaluation written for lanes (its shapes, the contact and friction laws, the wear profile), an \
              integrator that advances L members attempt by attempt (each member its own step size, its \
