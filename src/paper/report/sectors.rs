@@ -3,11 +3,11 @@
 
 use super::markdown::csv_table;
 use crate::paper::figures::output_path;
-use crate::paper::format::count;
+use crate::paper::format::{count, sci};
 use crate::paper::studies::sector_resolution::{
-    read_sector_resolution, SectorRow, SECTOR_CASES, SECTOR_MEMBERS, SECTOR_RESOLUTION_FILE,
+    read_sector_resolution, scene_sectors, SectorRow, SECTOR_CASES, SECTOR_MEMBERS,
+    SECTOR_RESOLUTION_FILE,
 };
-use crate::scene::{scene_path, SceneFile};
 use std::fmt::Write as _;
 
 const COMMAND: &str = "cargo run --release --bin sector_resolution";
@@ -21,7 +21,9 @@ pub(super) fn sector_resolution(md: &mut String) {
          depth (eq. 9), so a scar a few sectors wide reads shallower than it is, and its slope, which the \
          gap's validity bound watches, is smoothed. The wear cases' rotations (those of figures 5-15) at \
          other sector counts ({SECTOR_MEMBERS} members each, seed 1; `{COMMAND}`), over the members that \
-         stayed within the bound: each member's deepest sector depth at the end, mean and sd; the angle of \
+         stayed within the bound: each member's deepest sector depth at the end, mean and sd, and its change \
+         from the scene's own count member by member (the same seeds at every count), mean and standard \
+         error; the angle of \
          each member's most prominent wear region (circular mean: where members' most prominent scars \
          differ, as at 0.5 mm, it falls between them) and its width at half its prominence; the mean \
          evaluations and the summed wall time of those members; and the earliest rotation in which a \
@@ -44,13 +46,6 @@ pub(super) fn sector_resolution(md: &mut String) {
             );
         }
     }
-}
-
-/// The sector count `case`'s scene runs with (`None` if it cannot be read or does not wear).
-fn scene_sectors(case: &str) -> Option<usize> {
-    let file = SceneFile::read(scene_path(case)).ok()?;
-    let wear = file.clearance.first()?.wear.as_ref()?;
-    Some(wear.sectors)
 }
 
 /// One line on `case`: its depth at the scene's `own` sector count against the finest count
@@ -94,20 +89,22 @@ fn finding(case: &str, rows: &[SectorRow], own: Option<usize>) -> String {
         );
     };
     let change = finest.deepest_mean / at.deepest_mean - 1.0;
-    // The standard error of the difference of two independent means (the members are the
-    // same seeds at every count, so a paired one would be sharper).
-    let se = (at.deepest_sd.powi(2) / at.within as f64
-        + finest.deepest_sd.powi(2) / finest.within as f64)
-        .sqrt();
-    let diff = finest.deepest_mean - at.deepest_mean;
+    // Member by member (the same seeds at both counts), so the members' spread cancels.
+    let (diff, se) = (finest.paired_change, finest.paired_change_se);
+    let paired = format!(
+        "member by member over the {} within the bound at both, {:+.4} ± {} µm",
+        finest.paired,
+        diff * 1e6,
+        sci(se * 1e6)
+    );
     let verdict = if diff == 0.0 {
-        "the same: no dependence.".to_string()
+        format!("{paired}: the same.")
     } else if se == 0.0 || !se.is_finite() {
-        "while the members agree exactly at both counts: the change is the count's.".to_string()
+        format!("{paired}, the members changing alike: the change is the count's.")
     } else if (diff / se).abs() <= 2.0 {
-        "within twice the standard error of the difference of the two means: no dependence \
-         this ensemble can resolve."
-            .to_string()
+        format!(
+            "{paired}, within twice its standard error: no dependence this ensemble can resolve."
+        )
     } else {
         let narrows = if finest.region_width_deg < at.region_width_deg {
             format!(
@@ -121,10 +118,10 @@ fn finding(case: &str, rows: &[SectorRow], own: Option<usize>) -> String {
             String::new()
         };
         format!(
-            "{:.0} standard errors of the difference of the two means: the scene's count reads \
-             this wear {} than a finer one.{narrows}",
+            "{paired}, {:.0} standard errors: the scene's count reads this wear {} than a finer \
+             one.{narrows}",
             (diff / se).abs(),
-            if change > 0.0 { "shallower" } else { "deeper" }
+            if diff > 0.0 { "shallower" } else { "deeper" }
         )
     };
     // Members that stay within the bound at the scene's count but leave it at a finer one: the
@@ -161,15 +158,25 @@ fn finding(case: &str, rows: &[SectorRow], own: Option<usize>) -> String {
 mod tests {
     use super::*;
 
-    fn row(sectors: usize, within: usize, mean: f64, sd: f64, stop: Option<u32>) -> SectorRow {
+    /// A row of `within` of 8 members, deepest `mean` ± `sd`, changed from the scene's count by
+    /// `change` ± `se` member by member.
+    fn row(
+        sectors: usize,
+        within: usize,
+        (mean, sd): (f64, f64),
+        (change, se): (f64, f64),
+    ) -> SectorRow {
         SectorRow {
             case: "c".into(),
             sectors,
             members: 8,
             within,
-            earliest_stop: stop,
+            earliest_stop: (within < 8).then_some(40),
             deepest_mean: mean,
             deepest_sd: sd,
+            paired: within,
+            paired_change: change,
+            paired_change_se: se,
             region_deg: 180.0,
             region_width_deg: 2.0,
             evaluations: 1.0,
@@ -177,19 +184,18 @@ mod tests {
         }
     }
 
-    /// A depth that grows with the count beyond the spread is called a misreading, with a lower
-    /// bound where the scar narrows; one within the spread is not; counts where members left the
+    /// A depth that grows with the count beyond the paired spread is called a misreading, not
+    /// converged where the scar narrows; one within it is not; counts where members left the
     /// bound are named and not compared, and only a strictly finer complete count is compared.
+    /// Fails with the independent means' standard error in place of the paired one (the second
+    /// case then reads "no dependence": tried).
     #[test]
     fn findings_compare_the_scenes_count_with_the_finest_complete_one() {
-        let mut fine = row(1080, 8, 0.064, 1e-5, None);
+        let scene = row(360, 8, (0.050, 1e-5), (0.0, 0.0));
+        let mut fine = row(1080, 8, (0.064, 1e-5), (0.014, 1e-6));
         fine.region_width_deg = 1.33;
-        let rows = [
-            row(360, 8, 0.050, 1e-5, None),
-            fine,
-            row(1440, 0, f64::NAN, f64::NAN, Some(40)),
-        ];
-        let f = finding("c", &rows, Some(360));
+        let gone = row(1440, 0, (f64::NAN, f64::NAN), (f64::NAN, f64::NAN));
+        let f = finding("c", &[scene.clone(), fine, gone], Some(360));
         assert!(
             f.contains("at 1080 sectors") && f.contains("+28.0 %") && f.contains("not converged"),
             "{f}"
@@ -200,29 +206,35 @@ mod tests {
                 && f.contains("8 of 8 members at 1440 sectors (the first in rotation 40)"),
             "{f}"
         );
+        // Members spread by 0.05 but each moves by 0.01 ± 0.001: a dependence only pairing sees.
         let rows = [
-            row(360, 8, 0.65, 0.05, None),
-            row(1080, 8, 0.66, 0.05, None),
+            row(360, 8, (0.65, 0.05), (0.0, 0.0)),
+            row(1080, 8, (0.66, 0.05), (0.01, 0.001)),
         ];
         let f = finding("c", &rows, Some(360));
         assert!(
-            f.contains("no dependence") && f.contains("no member left"),
+            f.contains("10 standard errors") && f.contains("no member left"),
             "{f}"
         );
+        let rows = [
+            row(360, 8, (0.65, 0.05), (0.0, 0.0)),
+            row(1080, 8, (0.66, 0.05), (0.01, 0.02)),
+        ];
+        assert!(finding("c", &rows, Some(360)).contains("no dependence"));
         assert!(finding("c", &rows, Some(720)).contains("no comparison"));
         assert!(finding("c", &rows[..1], Some(360)).contains("no count finer"));
         // A coarser complete count is not "finer"; members that left at the scene's count
         // leave nothing to compare.
         let rows = [
-            row(180, 8, 0.60, 0.05, None),
-            row(360, 6, 0.65, 0.05, Some(39)),
+            row(180, 8, (0.60, 0.05), (-0.05, 0.01)),
+            row(360, 6, (0.65, 0.05), (0.0, 0.0)),
         ];
         assert!(finding("c", &rows, Some(360)).contains("no comparison"));
-        // Members that agree exactly: no division by a zero standard error.
-        let rows = [row(360, 8, 0.05, 0.0, None), row(720, 8, 0.06, 0.0, None)];
+        // Members that change alike: no division by a zero standard error.
+        let rows = [scene, row(720, 8, (0.06, 0.0), (0.01, 0.0))];
         let f = finding("c", &rows, Some(360));
         assert!(
-            f.contains("agree exactly") && !f.contains("NaN") && !f.contains("inf"),
+            f.contains("changing alike") && !f.contains("NaN") && !f.contains("inf"),
             "{f}"
         );
     }

@@ -22,6 +22,7 @@ use crate::io::output::{read_rows, write_rows};
 use crate::io::progress::{Counter, Progress};
 use crate::paper::cases::{wear_member, wear_scene, WearMember};
 use crate::paper::figures::output_path;
+use crate::scene::{scene_path, SceneFile};
 use crate::simulation::ensemble::{run_member, EnsembleSettings};
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -48,7 +49,7 @@ pub const SECTOR_MEMBERS: usize = 8;
 pub const SECTOR_RESOLUTION_FILE: &str = "sector_resolution.csv";
 
 /// Columns of [`SECTOR_RESOLUTION_FILE`].
-pub const SECTOR_RESOLUTION_HEADER: [&str; 11] = [
+pub const SECTOR_RESOLUTION_HEADER: [&str; 14] = [
     "case",
     "sectors",
     "members",
@@ -56,6 +57,9 @@ pub const SECTOR_RESOLUTION_HEADER: [&str; 11] = [
     "earliest_validity_stop_rotation",
     "deepest_mean_m",
     "deepest_sd_m",
+    "paired_members",
+    "paired_change_m",
+    "paired_change_se_m",
     "prominent_region_deg",
     "prominent_region_width_deg",
     "evaluations_mean",
@@ -79,6 +83,13 @@ pub struct SectorRow {
     pub deepest_mean: f64,
     /// Its standard deviation over those members (m).
     pub deepest_sd: f64,
+    /// Members within the bound both at this count and at the scene's own.
+    pub paired: usize,
+    /// Mean over them of each member's deepest depth here less its own at the scene's count
+    /// (m): the same seeds at both counts, so the members' spread cancels.
+    pub paired_change: f64,
+    /// Its standard error (m).
+    pub paired_change_se: f64,
     /// Angle of each member's most prominent wear region (deg), circular mean over those
     /// members (between scars where members' most prominent scars differ).
     pub region_deg: f64,
@@ -101,6 +112,9 @@ impl SectorRow {
             self.earliest_stop.map_or(String::new(), |r| r.to_string()),
             finite(self.deepest_mean, |v| format!("{v:.4e}")),
             finite(self.deepest_sd, |v| format!("{v:.2e}")),
+            self.paired.to_string(),
+            finite(self.paired_change, |v| format!("{v:.3e}")),
+            finite(self.paired_change_se, |v| format!("{v:.2e}")),
             finite(self.region_deg, |v| format!("{v:.1}")),
             finite(self.region_width_deg, |v| format!("{v:.2}")),
             finite(self.evaluations, |v| format!("{v:.0}")),
@@ -128,10 +142,13 @@ impl SectorRow {
             earliest_stop,
             deepest_mean: x(5)?,
             deepest_sd: x(6)?,
-            region_deg: x(7)?,
-            region_width_deg: x(8)?,
-            evaluations: x(9)?,
-            wall_time: x(10)?,
+            paired: count(7)?,
+            paired_change: x(8)?,
+            paired_change_se: x(9)?,
+            region_deg: x(10)?,
+            region_width_deg: x(11)?,
+            evaluations: x(12)?,
+            wall_time: x(13)?,
         })
     }
 }
@@ -200,10 +217,16 @@ pub fn sector_resolution(progress: &dyn Progress) -> Result<Vec<SectorRow>> {
             Ok(end)
         })
         .collect::<Result<Vec<MemberEnd>>>()?;
+    let ends: Vec<&[MemberEnd]> = ends.chunks(SECTOR_MEMBERS).collect();
+    let own = |case: &str| {
+        let n = scene_sectors(case)?;
+        let k = scenes.iter().position(|(c, m, _)| *c == case && *m == n)?;
+        Some(ends[k])
+    };
     let rows: Vec<SectorRow> = scenes
         .iter()
-        .zip(ends.chunks(SECTOR_MEMBERS))
-        .map(|((case, n, _), ends)| row(case, *n, ends))
+        .zip(&ends)
+        .map(|((case, n, _), ends)| row(case, *n, ends, own(case)))
         .collect();
     write_rows(
         &output_path("data", SECTOR_RESOLUTION_FILE),
@@ -213,8 +236,22 @@ pub fn sector_resolution(progress: &dyn Progress) -> Result<Vec<SectorRow>> {
     Ok(rows)
 }
 
-/// The row of `case` at `sectors` from its members' ends.
-fn row(case: &str, sectors: usize, ends: &[MemberEnd]) -> SectorRow {
+/// The sector count `case`'s scene runs with (`None` if it cannot be read or does not wear).
+pub fn scene_sectors(case: &str) -> Option<usize> {
+    let file = SceneFile::read(scene_path(case)).ok()?;
+    Some(file.clearance.first()?.wear.as_ref()?.sectors)
+}
+
+/// The row of `case` at `sectors` from its members' ends, paired member by member with `own`,
+/// the ends at the scene's own count.
+fn row(case: &str, sectors: usize, ends: &[MemberEnd], own: Option<&[MemberEnd]>) -> SectorRow {
+    let deepest = |e: &MemberEnd| e.as_ref().ok().map(|(w, ..)| w.max_depth());
+    let changes: Vec<f64> = own
+        .into_iter()
+        .flat_map(|own| ends.iter().zip(own))
+        .filter_map(|(e, o)| Some(deepest(e)? - deepest(o)?))
+        .collect();
+    let change = Distribution::of(changes.iter().copied());
     let within: Vec<&(WearMember, u64, f64)> =
         ends.iter().filter_map(|e| e.as_ref().ok()).collect();
     let deepest = Distribution::of(within.iter().map(|(w, ..)| w.max_depth()));
@@ -232,6 +269,9 @@ fn row(case: &str, sectors: usize, ends: &[MemberEnd]) -> SectorRow {
         earliest_stop: ends.iter().filter_map(|e| e.as_ref().err()).min().copied(),
         deepest_mean: deepest.mean,
         deepest_sd: deepest.sd,
+        paired: changes.len(),
+        paired_change: change.mean,
+        paired_change_se: change.standard_error(),
         region_deg: Distribution::of_angles_deg(regions.iter().map(|r| r.angle_deg)).mean,
         region_width_deg: mean(&widths),
         evaluations: mean(&evaluations),
