@@ -7,11 +7,12 @@
 //! evaluate members side by side, each operation on a pair (or quadruple) of members at once.
 //! This standalone prototype writes the scene's right-hand side once for `L` members: the
 //! crank driven, the rod's angle φ and the slider's position x free, the hybrid law (eq. 1-3,
-//! its elastic term as the library folds it) at the rod-slider pin, the modified Coulomb
-//! friction (eq. 4), the Catmull-Rom wear profile, the contact angle by a Cephes arctangent
-//! and the angles' sines by Cephes' `sincos`, as the library computes them. Every operation is
-//! lane by lane on `[f64; L]` and every branch a selection, so that the compiler can emit
-//! packed instructions.
+//! its elastic term as the library folds it) at the rod-slider pin, the contact angle by a
+//! Cephes arctangent and the angles' sines by Cephes' `sincos`, as the library computes them
+//! (its `cephes` coefficients and kernel). Every operation is lane by lane on `[f64; L]` and
+//! every branch a selection, so that the compiler can emit packed instructions; the wear
+//! profile's lookup and eq. 4's friction coefficient are the library's own
+//! (`WearProfile::depth_at`, `FrictionModel::coefficient`), called lane by lane.
 //!
 //! Its inputs are [`SAMPLES`] states of runs of members 0-3 (seed 1): free flight, impacts and
 //! continuous contact on worn profiles, contact angles all round the bearing. At each it checks
@@ -23,6 +24,8 @@
 //! derivative (as the stages of a Runge-Kutta step do), every input through `black_box`, and
 //! reports ns per member evaluation.
 
+use jointwear::laws::friction::FrictionModel;
+use jointwear::laws::wear::WearProfile;
 use jointwear::mechanism::{cephes, RunState};
 use jointwear::scene::{scene_path, SceneFile};
 use jointwear::simulation::ensemble::{member_simulation, EnsembleSettings};
@@ -54,31 +57,17 @@ const E_STAR: f64 = 207e9 / (2.0 * (1.0 - 0.3 * 0.3));
 const HYBRID: f64 = PI / 8.0 * std::f64::consts::SQRT_2;
 /// (e^0.2 written out: `exp` is not a const fn.)
 const CHI: f64 = 0.75 * (1.0 - 0.9 * 0.9) * 1.221_402_758_160_170_3;
-/// Eq. 4: μ_s, μ_d, v_s, v_d.
-const MU_S: f64 = 0.015;
+/// Eq. 4 as the scene has it, and its μ_d and v_d for the all-lanes fast path.
 const MU_D: f64 = 0.01;
-const V_S: f64 = 1e-4;
 const V_D: f64 = 1e-3;
-/// Sectors of the wear profile.
-const SECTORS: usize = 360;
+const FRICTION: FrictionModel = FrictionModel::Modified {
+    mu_s: 0.015,
+    mu_d: MU_D,
+    v_s: 1e-4,
+    v_d: V_D,
+};
 /// States sampled from runs (a multiple of 4).
 const SAMPLES: usize = 32;
-
-/// One member's wear profile: its sector depths padded with two on each side.
-struct Profile {
-    padded: Vec<f64>,
-}
-
-impl Profile {
-    /// The profile of `depths`, one per sector.
-    fn of_depths(depths: &[f64]) -> Profile {
-        let n = depths.len();
-        let mut padded = vec![depths[n - 2], depths[n - 1]];
-        padded.extend_from_slice(depths);
-        padded.extend_from_slice(&[depths[0], depths[1]]);
-        Profile { padded }
-    }
-}
 
 /// Lane-wise selection: `a` where `c`, else `b`.
 #[inline(always)]
@@ -164,26 +153,13 @@ fn direction_angle<const L: usize>(x: V<L>, y: V<L>) -> V<L> {
     })
 }
 
-/// Eq. 4's μ of one speed.
-#[inline(always)]
-fn friction(v: f64) -> f64 {
-    let v = v.abs();
-    if v > V_D {
-        MU_D
-    } else if v < V_S {
-        MU_S * (FRAC_PI_2 * v / V_S).sin()
-    } else {
-        0.5 * (MU_S + MU_D) + 0.5 * (MU_S - MU_D) * (PI * (v - V_S) / (V_D - V_S)).cos()
-    }
-}
-
 /// `dz = f(t, z)` for `L` members, `z = (φ, x, φ̇, ẋ)` each, member `i` with its own time,
 /// profile and onset velocity.
 #[inline(always)]
 fn rhs<const L: usize>(
     t: &V<L>,
     z: &[V<L>; 4],
-    profiles: &[&Profile; L],
+    profiles: &[&WearProfile; L],
     onset: &V<L>,
     dz: &mut [V<L>; 4],
 ) {
@@ -200,29 +176,13 @@ fn rhs<const L: usize>(
     let dist: V<L> = from_fn(|i| (ex[i] * ex[i] + ey[i] * ey[i]).sqrt());
     let inv: V<L> = from_fn(|i| 1.0 / dist[i]);
     let (nx, ny): (V<L>, V<L>) = (from_fn(|i| ex[i] * inv[i]), from_fn(|i| ey[i] * inv[i]));
-    // The contact angle on the slider (angle 0), wrapped to [0, 2π).
-    let theta0 = direction_angle(ex, ey);
-    let theta: V<L> = from_fn(|i| {
-        if theta0[i] < 0.0 {
-            theta0[i] + TAU
-        } else {
-            theta0[i]
-        }
-    });
+    // The contact angle on the slider (angle 0) and the wear profile's depth there, the
+    // library's Catmull-Rom lookup lane by lane.
+    let theta = direction_angle(ex, ey);
     let tdot: V<L> = from_fn(|i| (nx[i] * edy[i] - ny[i] * edx[i]) * inv[i]);
-    // The wear profile: a Catmull-Rom spline between sector centres.
-    let per_width = SECTORS as f64 / TAU;
-    let u: V<L> = from_fn(|i| theta[i] * per_width + 0.5);
-    let k: [usize; L] = from_fn(|i| (u[i] as i32 as usize).min(SECTORS));
     let (mut h, mut dh) = ([0.0; L], [0.0; L]);
     for i in 0..L {
-        let p = &profiles[i].padded[k[i]..k[i] + 4];
-        let tt = u[i] - k[i] as f64;
-        let c1 = p[2] - p[0];
-        let c2 = 2.0 * p[0] - 5.0 * p[1] + 4.0 * p[2] - p[3];
-        let c3 = -p[0] + 3.0 * (p[1] - p[2]) + p[3];
-        h[i] = 0.5 * ((2.0 * p[1] + tt * c1) + tt * tt * (c2 + tt * c3));
-        dh[i] = 0.5 * (c1 + tt * (2.0 * c2 + 3.0 * tt * c3)) * per_width;
+        (h[i], dh[i]) = profiles[i].depth_at(theta[i]);
     }
     let delta: V<L> = from_fn(|i| dist[i] - CLEARANCE - h[i]);
     let delta_dot: V<L> = from_fn(|i| nx[i] * edx[i] + ny[i] * edy[i] - dh[i] * tdot[i]);
@@ -244,7 +204,7 @@ fn rhs<const L: usize>(
     let mu: V<L> = if vt.iter().all(|v| v.abs() > V_D) {
         [MU_D; L]
     } else {
-        from_fn(|i| friction(vt[i]))
+        from_fn(|i| FRICTION.coefficient(vt[i]))
     };
     let ft: V<L> = from_fn(|i| -mu[i] * fnormal[i] * vt[i].signum());
     // Force on the journal: −F_n n + F_t t; the slider takes the opposite.
@@ -275,7 +235,7 @@ fn rhs<const L: usize>(
 struct Sample {
     t: f64,
     z: [f64; 4],
-    profile: Profile,
+    profile: WearProfile,
     onset: f64,
     y: Vec<f64>,
     run: RunState,
@@ -306,7 +266,7 @@ fn samples(scene: &Scene) -> Result<Vec<Sample>, Box<dyn std::error::Error>> {
             out.push(Sample {
                 t: sim.time(),
                 z: [y[5], y[6], y[9 + 5], y[9 + 6]],
-                profile: Profile::of_depths(joint.wear.depths()),
+                profile: joint.wear.clone(),
                 onset: joint.onset_velocity,
                 y: y.clone(),
                 run: sim.state().clone(),
@@ -323,13 +283,11 @@ fn time<const L: usize>(samples: &[Sample], first: usize, n: usize) -> (f64, [V<
     let s: [&Sample; L] = from_fn(|i| &samples[(first + i) % samples.len()]);
     let t: V<L> = from_fn(|i| s[i].t);
     let z0: [V<L>; 4] = from_fn(|c| from_fn(|i| s[i].z[c]));
-    let prof: [&Profile; L] = from_fn(|i| &s[i].profile);
+    let prof: [&WearProfile; L] = from_fn(|i| &s[i].profile);
     let onset: V<L> = from_fn(|i| s[i].onset);
     let mut dz = [[0.0; L]; 4];
-    let mut best = f64::INFINITY;
-    for _ in 0..5 {
-        let mut z = z0;
-        let clock = Instant::now();
+    let mut z = z0;
+    let ns = best_of_five(n * L, || {
         for _ in 0..n {
             rhs(
                 black_box(&t),
@@ -341,9 +299,19 @@ fn time<const L: usize>(samples: &[Sample], first: usize, n: usize) -> (f64, [V<
             // The next state waits for this derivative and equals z0 to the bit.
             z = from_fn(|c| from_fn(|i| z0[c][i] + 1e-300 * dz[c][i]));
         }
-        best = best.min(clock.elapsed().as_secs_f64() * 1e9 / (n * L) as f64);
-    }
-    (best, dz)
+    });
+    (ns, dz)
+}
+
+/// The least wall time (ns) per one of `evaluations` that five runs of `run` take.
+fn best_of_five(evaluations: usize, mut run: impl FnMut()) -> f64 {
+    (0..5)
+        .map(|_| {
+            let clock = Instant::now();
+            run();
+            clock.elapsed().as_secs_f64() * 1e9 / evaluations as f64
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// ns per member evaluation of two one-lane chains evaluated one after the other in the same
@@ -353,9 +321,7 @@ fn time_two_in_a_row(samples: &[Sample], n: usize) -> f64 {
     let (za0, zb0) = (a.z.map(|v| [v]), b.z.map(|v| [v]));
     let (mut za, mut zb) = (za0, zb0);
     let (mut da, mut db) = ([[0.0; 1]; 4], [[0.0; 1]; 4]);
-    let mut best = f64::INFINITY;
-    for _ in 0..5 {
-        let clock = Instant::now();
+    best_of_five(2 * n, || {
         for _ in 0..n {
             rhs(
                 black_box(&[a.t]),
@@ -374,9 +340,7 @@ fn time_two_in_a_row(samples: &[Sample], n: usize) -> f64 {
             za = from_fn(|c| [za0[c][0] + 1e-300 * da[c][0]]);
             zb = from_fn(|c| [zb0[c][0] + 1e-300 * db[c][0]]);
         }
-        best = best.min(clock.elapsed().as_secs_f64() * 1e9 / (2 * n) as f64);
-    }
-    best
+    })
 }
 
 /// The library's accelerations of the rod's angle and the slider's position at `s`, from its

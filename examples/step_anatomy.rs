@@ -3,15 +3,17 @@
 //! unperturbed default trajectory; else ensemble member MEMBER of seed SEED, as
 //! `jointwear run --member MEMBER --seed SEED` runs it).
 //!
-//! At every accepted step's end it reads the journal's contact (angle θ in the bearing's
-//! frame, penetration δ, sliding speed v_t, normal force F_n), the attempts rejected before
-//! the step, and the normal velocity δ̇⁻ of the last contact onset, which eq. 3's damping
-//! divides by for as long as that contact lasts (floored by the scene's grazing velocity). The wear profile is a Catmull-Rom spline through the sector centres, C¹
-//! only: its second derivative jumps at every centre, so a step over which θ crosses a centre
-//! integrates a kink. The table says how often steps cross one, how many rejections such steps
-//! and the others see, and how long the steps are; the last line gives the final profile's
-//! roughness on the sector scale, the median of |h_(i−1) − 2h_i + h_(i+1)|.
+//! At every accepted step's end it reads the journal's contact (angle θ in the bearing's frame,
+//! penetration δ, sliding speed v_t, normal force F_n), the attempts rejected before the step,
+//! and the normal velocity δ̇⁻ of the last contact onset, which eq. 3's damping divides by for
+//! as long as that contact lasts (floored by the scene's grazing velocity). The wear profile is
+//! a Catmull-Rom spline through the sector centres, C¹ only: its second derivative jumps at
+//! every centre, so a step over which θ crosses a centre integrates a kink. The table says how
+//! often steps cross one, how many rejections such steps and the others see, and how long the
+//! steps are; the last line gives the final profile's roughness on the sector scale, the median
+//! of |h_(i−1) − 2h_i + h_(i+1)|.
 
+use jointwear::analysis::statistics::Distribution;
 use jointwear::laws::friction::FrictionModel;
 use jointwear::scene::{scene_path, SceneFile};
 use jointwear::simulation::ensemble::{member_simulation, EnsembleSettings};
@@ -38,9 +40,8 @@ struct Window {
     onsets: u64,
 }
 
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+fn median(v: &[f64]) -> f64 {
+    Distribution::of(v.iter().copied()).median()
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -132,14 +133,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "{:>3}-{:<3} | {steps:>6} | {:>6.2} | {:.3} | {:.2} | {:.3} | {:.3} | {:.3} | {:.3} | {:.0} | {} | {:.3} | {}",
             k * WINDOW,
             (k + 1) * WINDOW,
-            median(&mut w.steps) * 1e6,
+            median(&w.steps) * 1e6,
             w.rejected as f64 / (steps + w.rejected) as f64,
             w.crossing_steps as f64 / steps as f64,
             w.crossing_rejected as f64 / w.crossing_steps.max(1) as f64,
             (w.rejected - w.crossing_rejected) as f64 / other.max(1) as f64,
-            median(&mut w.angle_moves),
-            median(&mut w.penetrations) * 1e6,
-            median(&mut w.forces),
+            median(&w.angle_moves),
+            median(&w.penetrations) * 1e6,
+            median(&w.forces),
             w.sticking,
             w.onset_velocity * 1e3,
             w.onsets,
@@ -152,7 +153,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     let h = sim.state().joints[0].wear.depths();
-    let mut second: Vec<f64> = (0..h.len())
+    let second: Vec<f64> = (0..h.len())
         .map(|i| {
             let at = |j: usize| h[(j + h.len()) % h.len()];
             (at(i + h.len() - 1) - 2.0 * h[i] + at(i + 1)).abs()
@@ -161,7 +162,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "final profile: deepest {:.4} um, median |second difference| {:.3} nm",
         sim.state().joints[0].wear.deepest() * 1e6,
-        median(&mut second) * 1e9
+        median(&second) * 1e9
     );
     Ok(())
 }

@@ -10,7 +10,8 @@ fn main() {
     bar.finish_and_clear();
     let ranked = &study.ranked;
     println!("best parameter sets (lower score is better; * = admissible, friction present):");
-    // the scene takes the best admissible set of the factorial (one-at-a-time rows measure sensitivity)
+    // the best admissible set of the factorial (the scene keeps the one the study first chose;
+    // the one-at-a-time rows measure sensitivity)
     let best_admissible = ranked
         .iter()
         .find(|r| r.1.admissible() && r.0 == FACTORIAL_GROUP);
@@ -19,7 +20,7 @@ fn main() {
             "{} {:.3}  {group:9} {} mu_d {} v_s {} {:?} grazing {} k/H {:e} L {} sectors {} | regions {:?} err {:.1} deg, 180 largest {}, modes {}/5, dominance {}/5, CMF rms {:.4}, 30 r/min wear at {:.0} deg",
             if p.admissible() { '*' } else { ' ' },
             m.score,
-            if p.counter_clockwise { "ccw" } else { "cw" }, p.mu_d, p.v_s, p.pressure, p.grazing, p.k_over_h, p.length_mm,
+            p.rotation(), p.mu_d, p.v_s, p.pressure, p.grazing, p.k_over_h, p.length_mm,
             p.sectors, m.region_angles, m.region_error_deg, m.largest_at_180, m.modes_matched, m.dominance_matched, m.concordance_rms, m.low_speed_angle
         );
     }

@@ -22,16 +22,17 @@
 //! one-at-a-time variations of the grazing floor, k/H, bearing length and sector count around
 //! the shipped scene.
 //!
-//! A set is *admissible* only with friction (μ_d > 0): the paper's method includes eq. 4, so
-//! a frictionless fit would not be the paper's model. Frictionless sets are still run, as a
-//! diagnostic of which claims hinge on friction. The one-at-a-time rows measure the noise of the
-//! score itself: the impact cases' classifications flip with small perturbations. The scene took
-//! the best-scoring admissible set of the factorial when the study first ran; the one-at-a-time
-//! rows are sensitivity checks around it, not candidates. The score is of one trajectory per
-//! case, and the ranking of sets within its noise has moved with rounding changes since, so the
-//! scene keeps its set and the report compares it with the current best against that noise. A set whose runs
-//! leave the model (the gap's validity bound, the contact laws' penetration bound, the step
-//! limit) is recorded with its reason and no score; the other sets still run.
+//! A set is *admissible* only with friction (μ_d > 0): the paper's method includes eq. 4, so a
+//! frictionless fit would not be the paper's model. Frictionless sets are still run, as a
+//! diagnostic of which claims hinge on friction. The one-at-a-time rows measure the noise of
+//! the score itself: the impact cases' classifications flip with small perturbations. The scene
+//! took the best-scoring admissible set of the factorial when the study first ran; the
+//! one-at-a-time rows are sensitivity checks around it, not candidates. The score is of one
+//! trajectory per case, and the ranking of sets within its noise has moved with rounding
+//! changes since, so the scene keeps its set and the report compares it with the current best
+//! against that noise. A set whose runs leave the model (the gap's validity bound, the contact
+//! laws' penetration bound, the step limit) is recorded with its reason and no score; the other
+//! sets still run.
 
 use crate::analysis::regions::wear_regions;
 use crate::analysis::wear_location;
@@ -79,6 +80,15 @@ pub struct Params {
 }
 
 impl Params {
+    /// The sense of crank rotation as `data/calibration.csv` writes it: `ccw` or `cw`.
+    pub fn rotation(&self) -> &'static str {
+        if self.counter_clockwise {
+            "ccw"
+        } else {
+            "cw"
+        }
+    }
+
     /// Whether the set models the paper's method (friction present).
     pub fn admissible(&self) -> bool {
         self.mu_d > 0.0
@@ -367,7 +377,7 @@ fn write_study(done: &[Done]) -> Result<()> {
             let mut row = vec![
                 i.to_string(),
                 g.clone(),
-                if p.counter_clockwise { "ccw" } else { "cw" }.into(),
+                p.rotation().into(),
                 p.mu_d.to_string(),
                 p.v_s.to_string(),
                 format!("{:?}", p.pressure),

@@ -56,6 +56,15 @@ pub fn csv_statistic(x: f64) -> String {
     }
 }
 
+/// A cell [`csv_statistic`] wrote: NaN for an empty one (undefined), `None` if it is neither
+/// empty nor a number.
+pub fn parse_statistic(cell: &str) -> Option<f64> {
+    match cell {
+        "" => Some(f64::NAN),
+        s => s.parse::<f64>().ok(),
+    }
+}
+
 /// `v` in scientific notation for people: `4.24×10⁻⁴`, `3.00×10⁻⁴` (three significant digits),
 /// `10⁻⁷` for a power of ten, `0` for 0.
 pub fn sci(v: f64) -> String {

@@ -26,7 +26,7 @@ use crate::io::output::{read_rows, write_rows};
 use crate::io::progress::Progress;
 use crate::paper::cases::{Runs, SteadyMember, CASES};
 use crate::paper::figures::{all_needs, output_path};
-use crate::paper::format::csv_statistic;
+use crate::paper::format::{csv_statistic, parse_statistic};
 
 use crate::simulation::ensemble::{EnsembleSettings, Perturbation, OFFSET_RADIUS};
 use crate::Result;
@@ -142,10 +142,7 @@ impl SensitivityRow {
     }
 
     fn parse(f: &[String]) -> Option<SensitivityRow> {
-        let x = |i: usize| match f.get(i)?.as_str() {
-            "" => Some(f64::NAN),
-            s => s.parse::<f64>().ok(),
-        };
+        let x = |i: usize| parse_statistic(f.get(i)?);
         Some(SensitivityRow {
             protocol: f.first()?.clone(),
             case: f.get(1)?.clone(),

@@ -1019,13 +1019,17 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              flight, impacts, continuous contact, contact angles all round the bearing) it checks its \
              accelerations against the library's `Mechanism::rhs` (they agree to 2.3×10⁻¹¹) and each lane's bits \
              against its state evaluated alone, the lanes holding states of different regimes; then it times L \
-             dependent chains, every input through `black_box`. Five runs: 67.2-69.7 ns per member evaluation \
-             with one lane, 64.7-66.2 with two one-lane members one after the other (no overlap), 44.1-45.5 with \
-             two lanes (1.49-1.54 times the throughput), 35.3-36.7 with four (1.85-1.93 times). At the \
-             library's 85-88 ns per evaluation and about 50 ns per evaluation of integrator, wear and event \
-             work, that would take a member from about 138 to 108 ns per evaluation with two lanes and 96 with \
-             four, before any of the integrator's stage arithmetic (also member by member) is shared, and the \
-             16-member ensemble from 0.84 s to about 0.66 and 0.59 s: four lanes would just reach the issue's \
+             dependent chains, every input through `black_box`. It takes the wear profile's lookup and eq. 4 \
+             from the library (`WearProfile::depth_at`, `FrictionModel::coefficient`, lane by lane). Five runs: \
+             76.0-77.6 ns per member evaluation with one lane, 73.9-74.8 with two one-lane members one after the \
+             other (no overlap), 39.0-39.7 with two lanes (1.92-1.99 times the throughput), 31.6-32.4 with four \
+             (2.35-2.45 times). With its own copy of the lookup instead, the same program took 67.2-69.7, 44.1-45.5 \
+             and 35.3-36.7 ns (1.49-1.54 and 1.85-1.93 times): the gain moves with code details by that much. \
+             At the library's 85-88 ns per evaluation and about 50 ns per evaluation of integrator, wear and \
+             event work, the ratios would take a member from about 138 to 95-108 ns per evaluation with two lanes \
+             and 87-96 with four, before any of the integrator's stage arithmetic (also member by member) is \
+             shared, and the 16-member ensemble from 0.84 s to about 0.58-0.66 s and 0.53-0.59 s: four lanes \
+             would reach the issue's \
              0.6 s, the one change measured here that could. Not built: it needs the tree formulation's \
              evaluation written for lanes (its shapes, the contact and friction laws, the wear profile), an \
              integrator that advances L members attempt by attempt (each member its own step size, its \

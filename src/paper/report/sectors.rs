@@ -49,7 +49,8 @@ pub(super) fn sector_resolution(md: &mut String) {
 }
 
 /// One line on `case`: its depth at the scene's `own` sector count against the finest count
-/// at which every member stayed within the bound, judged against the members' standard error,
+/// at which every member stayed within the bound, judged by the standard error of the members'
+/// own changes (paired by seed),
 /// and the counts at which members left the bound.
 fn finding(case: &str, rows: &[SectorRow], own: Option<usize>) -> String {
     let rows: Vec<&SectorRow> = rows.iter().filter(|r| r.case == case).collect();

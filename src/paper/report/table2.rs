@@ -159,8 +159,8 @@ pub(super) fn table2_section() -> String {
             let failed: Vec<String> = col(FAILURE_COLUMN)
                 .map(|f| {
                     let set = |r: &Vec<String>| {
-                        let cell = |name: &str| col(name).and_then(|i| r.get(i)).cloned();
-                        let (g, i) = (cell(GROUP_COLUMN), cell("index"));
+                        let field = |name: &str| col(name).and_then(|i| r.get(i)).cloned();
+                        let (g, i) = (field(GROUP_COLUMN), field("index"));
                         format!("set {} ({})", i.unwrap_or_default(), g.unwrap_or_default())
                     };
                     (rows.iter())
@@ -216,7 +216,7 @@ fn scene_set_against_noise(
             .filter_map(|r| Some((r, num(r, score)?)))
     };
     let own = factorial().find(|(r, _)| {
-        r[rotation] == if p.counter_clockwise { "ccw" } else { "cw" }
+        r[rotation] == p.rotation()
             && num(r, mu) == Some(p.mu_d)
             && num(r, v_s) == Some(p.v_s)
             && r[pressure] == format!("{:?}", p.pressure)
@@ -226,13 +226,13 @@ fn scene_set_against_noise(
         .filter(|r| r[group] != FACTORIAL_GROUP)
         .filter_map(|r| num(r, score))
         .collect();
+    if oat.is_empty() {
+        return None;
+    }
     let (lo, hi) = (
         oat.iter().copied().fold(f64::INFINITY, f64::min),
         oat.iter().copied().fold(f64::NEG_INFINITY, f64::max),
     );
-    if oat.is_empty() {
-        return None;
-    }
     let spread = (hi.max(own.1) - lo.min(own.1)).max(0.0);
     let within = factorial()
         .filter(|(_, s)| *s <= best_score + spread)

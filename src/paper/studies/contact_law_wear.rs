@@ -38,7 +38,7 @@ use crate::io::progress::Progress;
 use crate::laws::contact::{DissipationLaw, StiffnessLaw};
 use crate::paper::cases::{case_of_scene, Case, Need, Runs, SteadyMember, WearMember, CASES};
 use crate::paper::figures::output_path;
-use crate::paper::format::csv_statistic;
+use crate::paper::format::{csv_statistic, parse_statistic};
 use crate::paper::golden::{angle_distance, angle_offset, Golden};
 use crate::scene::{ContactSpec, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
@@ -218,10 +218,7 @@ impl LawRow {
     }
 
     fn parse(f: &[String]) -> Option<LawRow> {
-        let x = |i: usize| match f.get(i)?.as_str() {
-            "" => Some(f64::NAN),
-            s => s.parse::<f64>().ok(),
-        };
+        let x = |i: usize| parse_statistic(f.get(i)?);
         let text = |i: usize| f.get(i).cloned();
         Some(LawRow {
             stiffness: text(0)?,

@@ -1,13 +1,14 @@
-//! Numerical studies of the integration itself: how error trades against run
-//! time ([`work_precision`](mod@work_precision)), whether the paper's results depend on
-//! integration accuracy ([`accuracy`]), whether Table 3's ensembles need the scenes' tolerance
+//! Numerical studies of the integration itself: how error trades against run time
+//! ([`work_precision`](mod@work_precision)), whether the paper's results depend on integration
+//! accuracy ([`accuracy`]), whether Table 3's ensembles need the scenes' tolerance
 //! ([`ensemble_tolerance`](mod@ensemble_tolerance)), which tolerance the scenes take
 //! ([`tolerance_rule`]), and whether stiff and extreme cases run to completion
 //! ([`stability`](mod@stability)), and what each contact law does to one impact
 //! ([`contact_laws`]), and how much the predicted wear depends on the contact law
-//! ([`contact_law_wear`]) and on the bearing's sector count ([`sector_resolution`]). Each
-//! study writes `data/<study>.csv` (and a figure where it has one) atomically and returns what it measured, which the report (sections 5 and 6 of
-//! `paper.md`) reads; the `src/bin/` programs only call them.
+//! ([`contact_law_wear`]) and on the bearing's sector count ([`sector_resolution`]). Each study
+//! writes `data/<study>.csv` (and a figure where it has one) atomically and returns what it
+//! measured, which the report (sections 5 and 6 of `paper.md`) reads; the `src/bin/` programs
+//! only call them.
 //!
 //! Owns: the studies' shared notion of an integration setting ([`Integration`]).
 

@@ -22,6 +22,7 @@ use crate::io::output::{read_rows, write_rows};
 use crate::io::progress::{Counter, Progress};
 use crate::paper::cases::{wear_member, wear_scene, WearMember};
 use crate::paper::figures::output_path;
+use crate::paper::format::{csv_statistic, parse_statistic};
 use crate::scene::{scene_path, SceneFile};
 use crate::simulation::ensemble::{run_member, EnsembleSettings};
 use crate::{Error, Result};
@@ -110,14 +111,15 @@ impl SectorRow {
             self.members.to_string(),
             self.within.to_string(),
             self.earliest_stop.map_or(String::new(), |r| r.to_string()),
-            finite(self.deepest_mean, |v| format!("{v:.4e}")),
-            finite(self.deepest_sd, |v| format!("{v:.2e}")),
+            csv_statistic(self.deepest_mean),
+            csv_statistic(self.deepest_sd),
             self.paired.to_string(),
-            finite(self.paired_change, |v| format!("{v:.3e}")),
-            finite(self.paired_change_se, |v| format!("{v:.2e}")),
-            finite(self.region_deg, |v| format!("{v:.1}")),
-            finite(self.region_width_deg, |v| format!("{v:.2}")),
-            finite(self.evaluations, |v| format!("{v:.0}")),
+            csv_statistic(self.paired_change),
+            csv_statistic(self.paired_change_se),
+            csv_statistic(self.region_deg),
+            csv_statistic(self.region_width_deg),
+            // Whole evaluations: the mean of counts, read as a count.
+            csv_statistic(self.evaluations.round()),
             format!("{:.2}", self.wall_time),
         ]
     }
@@ -125,10 +127,7 @@ impl SectorRow {
     /// A row as [`SectorRow::fields`] wrote it; `None` if a field does not parse.
     fn parse(f: &[String]) -> Option<SectorRow> {
         // An empty statistic is one of no member (every member left the bound).
-        let x = |i: usize| match f.get(i)?.as_str() {
-            "" => Some(f64::NAN),
-            s => s.parse::<f64>().ok(),
-        };
+        let x = |i: usize| parse_statistic(f.get(i)?);
         let count = |i: usize| f.get(i)?.parse::<usize>().ok();
         let earliest_stop = match f.get(4)?.as_str() {
             "" => None,
@@ -150,15 +149,6 @@ impl SectorRow {
             evaluations: x(12)?,
             wall_time: x(13)?,
         })
-    }
-}
-
-/// `v` formatted by `format`, or an empty field if it is not finite (a statistic of no member).
-fn finite(v: f64, format: impl Fn(f64) -> String) -> String {
-    if v.is_finite() {
-        format(v)
-    } else {
-        String::new()
     }
 }
 
@@ -218,11 +208,18 @@ pub fn sector_resolution(progress: &dyn Progress) -> Result<Vec<SectorRow>> {
         })
         .collect::<Result<Vec<MemberEnd>>>()?;
     let ends: Vec<&[MemberEnd]> = ends.chunks(SECTOR_MEMBERS).collect();
-    let own = |case: &str| {
-        let n = scene_sectors(case)?;
-        let k = scenes.iter().position(|(c, m, _)| *c == case && *m == n)?;
-        Some(ends[k])
-    };
+    // Each case's ends at its scene's own count, read once per case.
+    let own: Vec<(&str, Option<&[MemberEnd]>)> = SECTOR_CASES
+        .iter()
+        .map(|&case| {
+            let n = scene_sectors(case);
+            let k = scenes
+                .iter()
+                .position(|(c, m, _)| *c == case && Some(*m) == n);
+            (case, k.map(|k| ends[k]))
+        })
+        .collect();
+    let own = |case: &str| own.iter().find(|(c, _)| *c == case).and_then(|(_, e)| *e);
     let rows: Vec<SectorRow> = scenes
         .iter()
         .zip(&ends)
@@ -245,22 +242,18 @@ pub fn scene_sectors(case: &str) -> Option<usize> {
 /// The row of `case` at `sectors` from its members' ends, paired member by member with `own`,
 /// the ends at the scene's own count.
 fn row(case: &str, sectors: usize, ends: &[MemberEnd], own: Option<&[MemberEnd]>) -> SectorRow {
-    let deepest = |e: &MemberEnd| e.as_ref().ok().map(|(w, ..)| w.max_depth());
-    let changes: Vec<f64> = own
-        .into_iter()
-        .flat_map(|own| ends.iter().zip(own))
-        .filter_map(|(e, o)| Some(deepest(e)? - deepest(o)?))
-        .collect();
-    let change = Distribution::of(changes.iter().copied());
+    let member_deepest = |e: &MemberEnd| e.as_ref().ok().map(|(w, ..)| w.max_depth());
+    let change = Distribution::of(
+        own.into_iter()
+            .flat_map(|own| ends.iter().zip(own))
+            .filter_map(|(e, o)| Some(member_deepest(e)? - member_deepest(o)?)),
+    );
     let within: Vec<&(WearMember, u64, f64)> =
         ends.iter().filter_map(|e| e.as_ref().ok()).collect();
     let deepest = Distribution::of(within.iter().map(|(w, ..)| w.max_depth()));
     let first = |w: &WearMember| w.regions.first().cloned();
     let regions: Vec<_> = within.iter().filter_map(|(w, ..)| first(w)).collect();
-    // NaN over no member: written as an empty field.
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
-    let widths: Vec<f64> = regions.iter().map(|r| r.width_deg).collect();
-    let evaluations: Vec<f64> = within.iter().map(|(_, e, _)| *e as f64).collect();
+    // Means over no member are NaN: written as empty fields.
     SectorRow {
         case: case.to_string(),
         sectors,
@@ -269,12 +262,12 @@ fn row(case: &str, sectors: usize, ends: &[MemberEnd], own: Option<&[MemberEnd]>
         earliest_stop: ends.iter().filter_map(|e| e.as_ref().err()).min().copied(),
         deepest_mean: deepest.mean,
         deepest_sd: deepest.sd,
-        paired: changes.len(),
+        paired: change.n,
         paired_change: change.mean,
         paired_change_se: change.standard_error(),
         region_deg: Distribution::of_angles_deg(regions.iter().map(|r| r.angle_deg)).mean,
-        region_width_deg: mean(&widths),
-        evaluations: mean(&evaluations),
+        region_width_deg: Distribution::of(regions.iter().map(|r| r.width_deg)).mean,
+        evaluations: Distribution::of(within.iter().map(|(_, e, _)| *e as f64)).mean,
         wall_time: within.iter().fold(0.0, |sum, (.., w)| sum + w),
     }
 }

@@ -47,17 +47,18 @@
 //! Cost: per member one first rotation of the reference (about 2.5·10⁶ evaluations, the
 //! study's dominant cost) and of every candidate and the bound (1-4·10⁴ evaluations each); the
 //! members run in parallel, so the study's time grows with the members over the cores. Measured
-//! on 2026-11-26 on this project's 2-core host while other builds loaded it (load 6-10), CPU time
-//! (user + system) of `work_precision --rule`: 16 members 13.6 s, 32 members 29.0 s, 64 members
-//! 56.6 s, 128 members 108.6 s, about 0.85 s per member; on 2 idle cores 128 members take about
-//! 55 s. [`RULE_MEMBERS`] was 128 until 2026-11-27 and is 512 since (91 s on 2 idle cores on
-//! that day, with that day's faster contact evaluation): 128 did not hold the pick still. Their median ratio at 2e-7 was 0.953 with one
-//! rounding of the contact evaluation and 1.028 with the next (its shorter chains,
-//! rounding-level changes of 2 ulp), which took the pick from 2e-7 to 1.5e-7; over 512 members
-//! it is 1.039 (interval 0.981-1.129) with the first and 1.054 (0.972-1.109) with the second,
-//! and at 1.5e-7 0.817 and 0.833: both pick 1.5e-7, so the move came from the 128 members'
-//! sampling rather than from the rounding. Both intervals at 2e-7 still contain 1 (the lenient
-//! reading picks 2e-7): more members hold the pick still, they do not settle it.
+//! on 2026-11-26 on this project's 2-core host while other builds loaded it (load 6-10), CPU
+//! time (user + system) of `work_precision --rule`: 16 members 13.6 s, 32 members 29.0 s, 64
+//! members 56.6 s, 128 members 108.6 s, about 0.85 s per member; on 2 idle cores 128 members
+//! take about 55 s. [`RULE_MEMBERS`] was 128 until 2026-11-27 and is 512 since (91 s on 2 idle
+//! cores on that day, with that day's faster contact evaluation): 128 did not hold the pick
+//! still. Their median ratio at 2e-7 was 0.953 with one rounding of the contact evaluation and
+//! 1.028 with the next (its shorter chains, rounding-level changes of 2 ulp), which took the
+//! pick from 2e-7 to 1.5e-7; over 512 members it is 1.039 (interval 0.981-1.129) with the first
+//! and 1.054 (0.972-1.109) with the second, and at 1.5e-7 0.817 and 0.833: both pick 1.5e-7, so
+//! the move came from the 128 members' sampling rather than from the rounding. Both intervals
+//! at 2e-7 still contain 1 (the lenient reading picks 2e-7): more members hold the pick still,
+//! they do not settle it.
 //!
 //! The upper tail is not part of the rule: the table gives each setting's range. Its largest
 //! errors, several µm, are runs that locate another number of contact onsets in the first
@@ -75,14 +76,15 @@
 //! settings, the CSV's counts fell from 51 to 18; at 5e-8 the count rose from 0 to 1, as member
 //! 124's reference now locates a landing.
 //!
-//! The members still counted disagree with their reference on whether a lift-off happens at
-//! all (measured over 128 members with the rounding before 2026-11-27; over 512 members now the
-//! CSV counts 43 member-settings of 5 120). Member 124 at rtol 1e-6: the step spanning the minimum is searched, and its gap's minimum
-//! on the dense output stays positive where the reference's dips about a nanometre below zero;
-//! so at every setting but 1.5e-7, whose steps happen to follow the reference there. That is a
-//! difference within a candidate's accuracy, which the memory of δ̇⁻ turns into micrometres: these
-//! members' errors follow the model's discontinuity in δ̇⁻, not the tolerance. No member is left
-//! out, and the paired median, a rank statistic, is moved by them at most by their share.
+//! The members still counted disagree with their reference on whether a lift-off happens at all
+//! (measured over 128 members with the rounding before 2026-11-27; over 512 members now the CSV
+//! counts 43 member-settings of 5 120). Member 124 at rtol 1e-6: the step spanning the minimum
+//! is searched, and its gap's minimum on the dense output stays positive where the reference's
+//! dips about a nanometre below zero; so at every setting but 1.5e-7, whose steps happen to
+//! follow the reference there. That is a difference within a candidate's accuracy, which the
+//! memory of δ̇⁻ turns into micrometres: these members' errors follow the model's discontinuity
+//! in δ̇⁻, not the tolerance. No member is left out, and the paired median, a rank statistic,
+//! is moved by them at most by their share.
 
 use super::integration::Integration;
 use super::work_precision::{first_rotation_only, standard, FirstRotation, FORCE_BOUND, REFERENCE};

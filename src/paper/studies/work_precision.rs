@@ -375,8 +375,9 @@ pub const FORCE_BOUND: f64 = 1e-4;
 /// its lower end would allow 2e-7, so the members do not settle the choice. With 128 members
 /// the pick moved with rounding-level changes (1.5e-7 for one session before the onset search
 /// inside a step, 2026-11-26; 2e-7 from then until the contact evaluation's shorter chains of
-/// 2026-11-27; 1.5e-7 after them); 512 pick 1.5e-7 with either rounding. 1.5e-7 takes about 5-10 % more evaluations per 40-rotation run than
-/// 2e-7 (paper.md sections 5 and 7 state the pick from `data/work_precision_members.csv`).
+/// 2026-11-27; 1.5e-7 after them); 512 pick 1.5e-7 with either rounding. 1.5e-7 takes about
+/// 5-10 % more evaluations per 40-rotation run than 2e-7 (paper.md sections 5 and 7 state the
+/// pick from `data/work_precision_members.csv`).
 pub const SCENE_RTOL: f64 = 1.5e-7;
 
 /// Column of `data/work_precision.csv`: the method.
