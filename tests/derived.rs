@@ -164,3 +164,46 @@ fn an_empty_window_is_not_recorded_never_nan() {
     }
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A settling run's window is its settling rotations plus `run.rotations`, said as such and
+/// saved per member: an ensemble's wear pools members that wore for different numbers of
+/// rotations. Failed when the run printed "2 rotations" after 9 and the members' file had no
+/// count.
+#[test]
+fn a_settling_run_names_the_rotations_it_simulated() {
+    let dir = temp_dir("derived", "settling");
+    let scene = short_standard(&dir, "short.toml", 2, &[]);
+    let run = |args: &[&str]| {
+        let mut all = vec!["run", s(&scene), "--set", "run.settle=true"];
+        all.extend(args);
+        let o = jointwear(&all);
+        assert!(o.status.success(), "{}", stderr(&o));
+        o
+    };
+    let one = dir.join("one");
+    let text = stdout(&run(&["--out", s(&one)]));
+    let summary = json(&one.join("summary.json"));
+    let settling = summary["settling"]["rotations"].as_u64().unwrap();
+    assert!(settling > 0, "{summary}");
+    assert!(
+        text.contains(&format!("{settling} settling + 2 rotations")),
+        "{text}"
+    );
+    let simulated = summary["counts"]["rotations_simulated"].as_u64();
+    assert_eq!(simulated, Some(settling + 2));
+    let many = dir.join("many");
+    run(&["--ensemble", "4", "--out", s(&many)]);
+    let members = fs::read_to_string(many.join("ensemble_members.csv")).unwrap();
+    let mut rows = members.lines().map(|l| l.split(',').collect::<Vec<_>>());
+    let header = rows.next().unwrap();
+    let i = (header.iter())
+        .position(|&h| h == "rod-slider.rotations_simulated")
+        .unwrap();
+    // each member its own settling, at least one rotation of it
+    let counts: Vec<u64> = rows.map(|r| r[i].parse().unwrap()).collect();
+    assert!(
+        counts.len() == 4 && counts.iter().all(|&r| r >= 3),
+        "{counts:?}"
+    );
+    fs::remove_dir_all(&dir).unwrap();
+}

@@ -52,7 +52,9 @@ class Run:
             recorded), ``max_penetration_whole_run_m`` (at every accepted step's end from the start,
             the start-up transient included), ``max_wear_angle_deg``, ``max_wear_depth_m`` (angle and depth
             of the deepest sector), ``contact_fraction``, ``impacts_per_rotation``,
-            ``continuous_contact`` (1 or 0), ``motion_mode``, ``impacts`` (contact onsets of the
+            ``continuous_contact`` (1 or 0), ``rotations_simulated`` (from the start, settling
+            included: the window of the whole-run maximum and of the wear), ``motion_mode``,
+            ``impacts`` (contact onsets of the
             run) and ``wear_regions`` (every wear region, most prominent first: ``angle_deg``,
             ``depth_m``, ``prominence_m``, ``width_deg``; the README's "Wear regions").
         stats: integrator counters (``steps``, ``rejected``, ``evaluations``,

@@ -90,12 +90,12 @@ impl Change {
 }
 
 /// The motion of a block's sample, to be classified by the one rule of [`Motion`] (its mean
-/// flight time is not measured: 0).
+/// flight time is not measured: NaN).
 pub fn sample_motion(s: &Sample) -> Motion {
     Motion {
         contact_fraction: s.contact_fraction,
         impacts_per_rotation: s.impacts_per_rotation,
-        mean_flight_time: 0.0,
+        mean_flight_time: f64::NAN,
     }
 }
 

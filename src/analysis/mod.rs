@@ -29,7 +29,9 @@ pub struct Motion {
     pub contact_fraction: f64,
     /// Contact onsets per driver rotation.
     pub impacts_per_rotation: f64,
-    /// Mean duration of free-flight intervals (s), 0 if none.
+    /// Mean duration (s) of the free-flight intervals that begin and end inside the window
+    /// (a contact sample before and after): a flight cut by the window's start or end has no
+    /// known duration and is left out. NaN if there is none.
     pub mean_flight_time: f64,
 }
 
@@ -41,18 +43,27 @@ impl Motion {
             .windows(2)
             .filter(|w| w[0] < 0.0 && w[1] >= 0.0)
             .count();
-        let flights = delta
-            .windows(2)
-            .filter(|w| w[0] >= 0.0 && w[1] < 0.0)
-            .count();
-        let flight_samples = delta.len() - contact;
+        // Flights closed on both sides: the samples from the first contact's end to the last
+        // contact's start, less those in contact there.
+        let (mut flights, mut flight_samples) = (0, 0);
+        if let (Some(first), Some(last)) = (
+            delta.iter().position(|&d| d >= 0.0),
+            delta.iter().rposition(|&d| d >= 0.0),
+        ) {
+            let inner = &delta[first..=last];
+            flights = inner
+                .windows(2)
+                .filter(|w| w[0] >= 0.0 && w[1] < 0.0)
+                .count();
+            flight_samples = inner.iter().filter(|&&d| d < 0.0).count();
+        }
         Motion {
             contact_fraction: contact as f64 / delta.len().max(1) as f64,
             impacts_per_rotation: onsets as f64 / rotations,
             mean_flight_time: if flights > 0 {
                 flight_samples as f64 * dt / flights as f64
             } else {
-                0.0
+                f64::NAN
             },
         }
     }
@@ -102,5 +113,17 @@ mod tests {
         assert_eq!(imp.mode(), "free flight and impact");
         assert_relative_eq!(imp.impacts_per_rotation, 4.5);
         assert_relative_eq!(imp.mean_flight_time, 7e-3, max_relative = 1e-9);
+        // A flight cut by the window (5 samples before the first contact, 4 after the last)
+        // has no known duration: only the two closed ones (2 and 6 samples) count. Counting
+        // every free sample over the flights that end inside, as before, gave 17/3.
+        let mut delta = vec![-1.0; 5];
+        for run in [(3, 2), (1, 6), (2, 4)] {
+            delta.extend(std::iter::repeat_n(1.0, run.0));
+            delta.extend(std::iter::repeat_n(-1.0, run.1));
+        }
+        let cut = Motion::classify(&delta, 1.0, 1.0);
+        assert_relative_eq!(cut.mean_flight_time, 4.0);
+        assert_eq!(cut.impacts_per_rotation, 3.0);
+        assert!(cont.mean_flight_time.is_nan());
     }
 }

@@ -7,7 +7,9 @@
 //! leave at least [`min_state_members`]`(n)` = max(2, ⌈n/10⌉) members on either side, take the
 //! one at the largest gap `g = x₍ₖ₎ − x₍ₖ₋₁₎`; the members fall into two states when
 //! `g > GAP_OVER_SPREAD · s_p`, `s_p` the pooled within-group standard deviation
-//! `√(((k−1)s₁² + (n−k−1)s₂²)/(n−2))`. One split at most: two states.
+//! `√(((k−1)s₁² + (n−k−1)s₂²)/(n−2))`. One split at most: two states. Angles
+//! ([`States::of_angles_deg`]) are unwrapped around their circular mean first and split only
+//! at a gap wider than [`MIN_ANGLE_GAP_DEG`].
 //!
 //! Why these constants: in 2000 draws each of 32 values from unimodal distributions (normal,
 //! uniform, lognormal σ = 0.5, Student t₃, exponential) the rule splits at most 2.3 % of the
@@ -16,10 +18,17 @@
 //! or three extreme members split off in up to 12 % of the draws (exponential, gap ratio 2); a
 //! state held by fewer than a tenth of the members is not resolved by 32 members anyway.
 
-use super::statistics::Distribution;
+use super::statistics::{unwrap_angles_deg, Distribution};
 
 /// The largest gap must exceed this many pooled within-state standard deviations.
 pub const GAP_OVER_SPREAD: f64 = 2.0;
+
+/// The smallest gap (deg) between the two states of an angle: the angle tolerance of the
+/// paper's wear-region claims (the contact-law study's one-region spread is the same 10°).
+/// Deepest sectors closer than that lie in one wear region, and a split between them, which
+/// the sectors' 1° steps would allow whenever the members agree within a state, is no second
+/// state.
+pub const MIN_ANGLE_GAP_DEG: f64 = 10.0;
 
 /// The fewest members a state may hold in an ensemble of `n` finite values: max(2, ⌈n/10⌉).
 pub fn min_state_members(n: usize) -> usize {
@@ -62,6 +71,11 @@ pub struct States {
 impl States {
     /// The states of `values` (member `i` is `values[i]`).
     pub fn of(values: &[f64]) -> States {
+        States::split_beyond(values, 0.0)
+    }
+
+    /// [`States::of`], splitting only at a gap wider than `min_gap`.
+    fn split_beyond(values: &[f64], min_gap: f64) -> States {
         let mut order: Vec<usize> = (0..values.len())
             .filter(|&i| values[i].is_finite())
             .collect();
@@ -99,7 +113,9 @@ impl States {
             }
         });
         let states = match split {
-            Some(k) if gap_ratio > GAP_OVER_SPREAD => vec![state(&order[..k]), state(&order[k..])],
+            Some(k) if gap_ratio > GAP_OVER_SPREAD && sorted[k] - sorted[k - 1] > min_gap => {
+                vec![state(&order[..k]), state(&order[k..])]
+            }
             _ => vec![state(&order)],
         };
         States {
@@ -107,6 +123,20 @@ impl States {
             states,
             gap_ratio,
         }
+    }
+
+    /// The states of angles in degrees: split after unwrapping them around their circular
+    /// mean ([`unwrap_angles_deg`]: then the cut lies opposite the mean, where angles of two
+    /// clusters are not), and only at a gap wider than [`MIN_ANGLE_GAP_DEG`]; the
+    /// distributions wrapped back into [0, 360). "Low" and "high" are the two sides of that
+    /// cut, not smaller and larger angles.
+    pub fn of_angles_deg(values: impl IntoIterator<Item = f64>) -> States {
+        let mut s = States::split_beyond(&unwrap_angles_deg(values), MIN_ANGLE_GAP_DEG);
+        s.pooled = s.pooled.wrapped_deg();
+        for state in &mut s.states {
+            state.distribution = state.distribution.wrapped_deg();
+        }
+        s
     }
 
     /// Whether the members fall into two states.
@@ -142,6 +172,21 @@ impl States {
             None => cells.extend(vec![String::new(); 6]),
         }
         cells
+    }
+
+    /// The pooled `mean ± sd` (values × `scale`, `digits` decimals), followed by the states
+    /// when the members split into two, so that no pooled mean is read as a typical member's:
+    /// `546 ± 99 (pooled over two states: low 27/32 505 ± 21, high 5/32 772 ± 35)`.
+    pub fn mean_sd_with_states(&self, scale: f64, digits: usize) -> String {
+        let pooled = self.pooled.mean_sd(scale, digits);
+        if self.split() {
+            format!(
+                "{pooled} (pooled over two states: {})",
+                self.describe(scale, digits)
+            )
+        } else {
+            pooled
+        }
     }
 
     /// The states as a person reads them: `one state` or `low 5/32 0.601 ± 0.004, high 27/32
@@ -201,6 +246,27 @@ mod tests {
             s.describe(1.0, 3),
             "low 5/12 0.600 ± 0.007, high 7/12 0.680 ± 0.008"
         );
+        assert_eq!(
+            s.mean_sd_with_states(1.0, 2),
+            "0.65 ± 0.04 (pooled over two states: low 5/12 0.60 ± 0.01, high 7/12 0.68 ± 0.01)"
+        );
+        // Two regions of the bearing, one across 0°: split as the unwrapped angles are.
+        let a = States::of_angles_deg([358.0, 2.0, 0.0, 359.0, 1.0, 150.0, 152.0, 151.0, 149.0]);
+        let (low, high) = a.low_high().expect("two regions");
+        assert_eq!(
+            (low.members.clone(), high.members.clone()),
+            (vec![0, 1, 2, 3, 4], vec![5, 6, 7, 8])
+        );
+        assert_relative_eq!(low.distribution.mean, 0.0, epsilon = 1e-9);
+        assert_relative_eq!(high.distribution.mean, 150.5, max_relative = 1e-12);
+        assert_eq!(
+            a.pooled,
+            Distribution::of_angles_deg([358.0, 2.0, 0.0, 359.0, 1.0, 150.0, 152.0, 151.0, 149.0])
+        );
+        // Deepest sectors 4° apart agree within each side: one region, one state.
+        assert!(!States::of_angles_deg([184.5, 184.5, 188.5, 188.5]).split());
+        let one = States::of(&[1.0, 1.1, 0.9]);
+        assert_eq!(one.mean_sd_with_states(1.0, 2), one.pooled.mean_sd(1.0, 2));
         let number = |x: f64| format!("{x:.2}");
         assert_eq!(
             s.cells(number),

@@ -89,20 +89,18 @@ impl Distribution {
     /// 1° average to 0°, not 180°); the mean, extremes and quantiles are wrapped back into
     /// [0, 360), so a `min` above `max` says the range crosses 0°.
     pub fn of_angles_deg(values: impl IntoIterator<Item = f64>) -> Distribution {
-        let v: Vec<f64> = values.into_iter().filter(|x| x.is_finite()).collect();
-        let (s, c) = v.iter().fold((0.0, 0.0), |(s, c), a| {
-            let (sa, ca) = a.to_radians().sin_cos();
-            (s + sa, c + ca)
-        });
-        let centre = f64::atan2(s, c).to_degrees();
-        let unwrap = |a: f64| centre + (a - centre + 180.0).rem_euclid(360.0) - 180.0;
-        let mut d = Distribution::of(v.iter().map(|&a| unwrap(a)));
+        Distribution::of(unwrap_angles_deg(values)).wrapped_deg()
+    }
+
+    /// The distribution of angles unwrapped by [`unwrap_angles_deg`], its mean, extremes and
+    /// quantiles wrapped back into [0, 360).
+    pub fn wrapped_deg(mut self) -> Distribution {
         let wrap = |a: f64| a.rem_euclid(360.0);
-        d.mean = wrap(d.mean);
-        d.min = wrap(d.min);
-        d.max = wrap(d.max);
-        d.quantiles = d.quantiles.map(wrap);
-        d
+        self.mean = wrap(self.mean);
+        self.min = wrap(self.min);
+        self.max = wrap(self.max);
+        self.quantiles = self.quantiles.map(wrap);
+        self
     }
 
     /// Standard error of the mean, `sd / √n`; NaN for fewer than two values.
@@ -134,6 +132,25 @@ impl Distribution {
             self.sd * scale
         )
     }
+}
+
+/// Angles in degrees unwrapped around their circular mean, each within 180° of it (so 359° and
+/// 1° become −1° and 1° about 0°); a non-finite value stays where it is, NaN, and does not
+/// count towards the mean.
+pub fn unwrap_angles_deg(values: impl IntoIterator<Item = f64>) -> Vec<f64> {
+    let v: Vec<f64> = values.into_iter().collect();
+    let (s, c) = v
+        .iter()
+        .filter(|a| a.is_finite())
+        .fold((0.0, 0.0), |(s, c), a| {
+            let (sa, ca) = a.to_radians().sin_cos();
+            (s + sa, c + ca)
+        });
+    let centre = f64::atan2(s, c).to_degrees();
+    let unwrap = |a: f64| centre + (a - centre + 180.0).rem_euclid(360.0) - 180.0;
+    v.iter()
+        .map(|&a| if a.is_finite() { unwrap(a) } else { f64::NAN })
+        .collect()
 }
 
 /// Per-sector distribution of the members' wear profiles.

@@ -671,10 +671,10 @@ fn run_dict<'py>(py: Python<'py>, scene: &Scene, out: &RunOutput) -> PyResult<Bo
 
 /// The [`STATE_COLUMNS`] of a quantity into its statistics dict, as `ensemble_summary.csv`:
 /// the state count, then the low and the high state's members, mean and sd; `None` where the
-/// members fall into one state, and all `None` for an angle (no states).
-fn set_states(d: &Bound<'_, PyDict>, states: Option<&States>) -> PyResult<()> {
-    d.set_item(STATE_COLUMNS[0], states.map(|s| s.states.len()))?;
-    let split = states.and_then(States::low_high);
+/// members fall into one state.
+fn set_states(d: &Bound<'_, PyDict>, states: &States) -> PyResult<()> {
+    d.set_item(STATE_COLUMNS[0], states.states.len())?;
+    let split = states.low_high();
     let (low, high) = (split.map(|(l, _)| l), split.map(|(_, h)| h));
     for (keys, state) in STATE_COLUMNS[1..].chunks(3).zip([low, high]) {
         let dist = state.map(|s| &s.distribution);
@@ -713,7 +713,7 @@ fn ensemble_dict<'py>(
         j.set_item("name", &cj.name)?;
         let scalars = PyDict::new(py);
         let statistics = PyDict::new(py);
-        for (i, (name, dist)) in st.scalars.iter().enumerate() {
+        for (i, ((name, dist), (_, states))) in st.scalars.iter().zip(&st.states).enumerate() {
             let values: Vec<f64> = kept.iter().map(|(s, _)| s[k].scalars()[i].1).collect();
             scalars.set_item(*name, f64_bytes(py, &values))?;
             let sd = PyDict::new(py);
@@ -721,7 +721,6 @@ fn ensemble_dict<'py>(
             for (key, x) in VALUE_KEYS.iter().zip(dist.values()) {
                 sd.set_item(key, x)?;
             }
-            let states = st.states.iter().find(|(n, _)| n == name).map(|(_, s)| s);
             set_states(&sd, states)?;
             statistics.set_item(*name, sd)?;
         }

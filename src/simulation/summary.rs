@@ -31,6 +31,10 @@ pub struct JointSummary {
     /// Wear regions of the final profile, most prominent (and so deepest) first; empty
     /// without wear.
     pub regions: Vec<Region>,
+    /// Rotations simulated from the start, the window of the whole-run maximum and of the
+    /// final wear: `run.rotations`, plus the settling rotations of a run that settles (which
+    /// differ between the members of an ensemble).
+    pub rotations_simulated: u32,
 }
 
 /// Summarises every clearance joint of a run of `scene`.
@@ -53,6 +57,7 @@ pub fn summarize(scene: &Scene, out: &RunOutput) -> Vec<JointSummary> {
                 motion: trace
                     .map(|t| Motion::classify(&t.delta, dt, scene.run.record_rotations as f64)),
                 regions: wear_regions(&out.final_wear[k]),
+                rotations_simulated: out.settling.map_or(0, |s| s.rotations) + scene.run.rotations,
             }
         })
         .collect()
@@ -63,7 +68,7 @@ impl JointSummary {
     /// `continuous_contact` as 1 or 0, whose mean over an ensemble is the share of members in
     /// continuous contact. What was not recorded is NaN here, and an empty field or "not
     /// recorded" wherever it is written or printed.
-    pub fn scalars(&self) -> [(&'static str, f64); 8] {
+    pub fn scalars(&self) -> [(&'static str, f64); 9] {
         let deepest = self.regions.first();
         let motion = |f: fn(&Motion) -> f64| self.motion.as_ref().map_or(f64::NAN, f);
         let values = [
@@ -75,6 +80,7 @@ impl JointSummary {
             motion(|m| m.contact_fraction),
             motion(|m| m.impacts_per_rotation),
             motion(|m| f64::from(u8::from(m.mode() == "continuous contact"))),
+            f64::from(self.rotations_simulated),
         ];
         std::array::from_fn(|i| (SCALARS[i], values[i]))
     }
@@ -88,8 +94,10 @@ pub struct JointStatistics {
     /// Distribution of each of [`JointSummary::scalars`] (angles unwrapped around their
     /// circular mean).
     pub scalars: Vec<(&'static str, Distribution)>,
-    /// The states of each quantity of `scalars` but the angles ([`States`]: largest-gap rule;
-    /// an angle's values are circular, so sorting them has no meaning), in the same order.
+    /// The states of each quantity of `scalars` ([`States`]: largest-gap rule; an angle's
+    /// after unwrapping around the circular mean, [`States::of_angles_deg`]), in the same
+    /// order: members whose deepest wear lies in different regions are two states, not one
+    /// mean angle between them.
     pub states: Vec<(&'static str, States)>,
     /// Per-sector band of the final wear profiles, for a joint with a wear model.
     pub wear: Option<Band>,
@@ -124,8 +132,14 @@ pub fn joint_statistics(
             let states = SCALARS
                 .iter()
                 .enumerate()
-                .filter(|(_, name)| !angle(name))
-                .map(|(i, &name)| (name, States::of(&values(i).collect::<Vec<f64>>())))
+                .map(|(i, &name)| {
+                    let s = if angle(name) {
+                        States::of_angles_deg(values(i))
+                    } else {
+                        States::of(&values(i).collect::<Vec<f64>>())
+                    };
+                    (name, s)
+                })
                 .collect();
             JointStatistics {
                 name: cj.name.clone(),
@@ -143,7 +157,7 @@ pub fn joint_statistics(
 impl JointSummary {
     /// The joint's [`JOINT_COLUMNS`] cells of a CSV row: numbers by [`number`], an empty field
     /// where nothing was recorded or there is no wear.
-    pub fn cells(&self) -> [String; 8] {
+    pub fn cells(&self) -> [String; 9] {
         let deepest = self.regions.first();
         let recorded = |x: Option<f64>| x.map_or(String::new(), number);
         let motion = |f: fn(&Motion) -> String| self.motion.as_ref().map_or(String::new(), f);
@@ -156,6 +170,7 @@ impl JointSummary {
             motion(|m| m.mode().to_string()),
             motion(|m| number(m.contact_fraction)),
             motion(|m| number(m.impacts_per_rotation)),
+            self.rotations_simulated.to_string(),
         ]
     }
 }
@@ -163,8 +178,8 @@ impl JointSummary {
 /// Per-joint columns of a run's summary row ([`JointSummary::cells`]: a sweep case's and an
 /// ensemble member's), after the joint's name and a dot. Each maximum names its window:
 /// `recorded` the recorded rotations (empty when none were recorded), `whole_run` every step
-/// from the start.
-pub const JOINT_COLUMNS: [&str; 8] = [
+/// from the start, whose rotations `rotations_simulated` counts (with the final wear's).
+pub const JOINT_COLUMNS: [&str; 9] = [
     "max_normal_force_recorded_n",
     "max_penetration_recorded_m",
     "max_penetration_whole_run_m",
@@ -173,10 +188,11 @@ pub const JOINT_COLUMNS: [&str; 8] = [
     "motion_mode",
     "contact_fraction",
     "impacts_per_rotation",
+    "rotations_simulated",
 ];
 
 /// The names of [`JointSummary::scalars`], in order.
-pub const SCALARS: [&str; 8] = [
+pub const SCALARS: [&str; 9] = [
     "max_normal_force_recorded_n",
     "max_penetration_recorded_m",
     "max_penetration_whole_run_m",
@@ -185,4 +201,5 @@ pub const SCALARS: [&str; 8] = [
     "contact_fraction",
     "impacts_per_rotation",
     "continuous_contact",
+    "rotations_simulated",
 ];

@@ -56,10 +56,16 @@ pub fn run_ensemble(
         write_ensemble(dir, &origin, scene, &settings, (&members, &walls), wall).map_err(bad)?;
     println!("{}", scene.title);
     println!(
-        "  {} members (seed {}) of {} rotations in {} of wall time",
+        "  {} members (seed {}) of {} rotations{} in {} of wall time",
         settings.members,
         settings.seed,
         scene.run.rotations,
+        if scene.run.settle.is_some() {
+            " after settling (the wear and whole-run maxima cover each member's rotations \
+             simulated, below)"
+        } else {
+            ""
+        },
         quantity(wall, "s")
     );
     println!(
@@ -69,7 +75,7 @@ pub fn run_ensemble(
     );
     for j in &stats {
         println!("  joint {} (mean ± sd, [5 %, 95 %]):", j.name);
-        for (name, d) in &j.scalars {
+        for ((name, d), (_, states)) in j.scalars.iter().zip(&j.states) {
             let r = Reading::of(name);
             if d.n == 0 {
                 println!("    {:36} not recorded (run.record_rotations = 0)", r.label);
@@ -84,8 +90,7 @@ pub fn run_ensemble(
                     people::number(d.quantiles[0] * r.scale),
                     people::number(d.quantiles[4] * r.scale)
                 );
-                let states = j.states.iter().find(|(n, _)| n == name);
-                if let Some((low, high)) = states.and_then(|(_, s)| s.low_high()) {
+                if let Some((low, high)) = states.low_high() {
                     let part = |s: &jointwear::analysis::states::State| {
                         let x = &s.distribution;
                         format!("{} of {}: {}", x.n, d.n, r.mean_sd(x.mean, x.sd))

@@ -187,10 +187,15 @@ const SHOWN_REGIONS: usize = 3;
 fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
     let s = &out.stats;
     println!("{}", scene.title);
+    // A settling run simulates its settling rotations too (the wear and the whole-run
+    // maximum cover them).
+    let rotations = match out.settling {
+        Some(settled) => format!("{} settling + {}", settled.rotations, scene.run.rotations),
+        None => scene.run.rotations.to_string(),
+    };
     println!(
-        "  {} rotations in {} of wall time: {} steps, {} rejected, {} evaluations, {} contact \
-         onsets",
-        scene.run.rotations,
+        "  {rotations} rotations in {} of wall time: {} steps, {} rejected, {} evaluations, {} \
+         contact onsets",
         quantity(out.wall_time, "s"),
         s.steps,
         s.rejected,

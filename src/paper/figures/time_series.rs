@@ -11,7 +11,7 @@ use super::{first_of, output_path, standard_panel, CasePanel, Varied};
 use crate::analysis::statistics::fractions;
 use crate::io::output::write_csv;
 use crate::io::plot::{render, Axes, Inset, Series, Style};
-use crate::paper::cases::{clearance, Runs, SteadyEnsemble, Traces};
+use crate::paper::cases::{clearance, Runs, SteadyEnsemble, SteadyMember, Traces};
 use crate::paper::format::sig;
 use crate::{Error, Result};
 
@@ -96,7 +96,8 @@ fn orbit_inset(x: &[f64], y: &[f64], c_um: f64) -> Option<Inset> {
     })
 }
 
-/// The lines a steady ensemble's figure prints: mean ± sd over the members.
+/// The lines a steady ensemble's figure prints: mean ± sd over the members, with the two
+/// states where the members split ([`States`](crate::analysis::states::States)).
 fn steady_lines(name: &str, e: &SteadyEnsemble) -> String {
     let n = e.members.len();
     let modes: Vec<String> = fractions(e.members.iter().map(|m| m.motion.mode()))
@@ -104,18 +105,21 @@ fn steady_lines(name: &str, e: &SteadyEnsemble) -> String {
         .map(|(mode, k)| format!("{mode} in {k} of {n}"))
         .collect();
     let unsteady = e.members.iter().filter(|m| !m.settling.steady).count();
+    let stat = |f: &dyn Fn(&SteadyMember) -> f64, scale, digits| {
+        e.states(f).mean_sd_with_states(scale, digits)
+    };
     format!(
         "{name} ({n} members): {}; in contact {} %, {} impacts/rotation; over the recorded \
          rotations max |slider acc| {} m/s², max force {} N, max penetration {} µm; CMF P-w {}, \
          s-w {}{}",
         modes.join(", "),
-        e.stat(|m| m.motion.contact_fraction).mean_sd(100.0, 1),
-        e.stat(|m| m.motion.impacts_per_rotation).mean_sd(1.0, 1),
-        e.stat(|m| m.max_slider_acc).mean_sd(1.0, 0),
-        e.stat(|m| m.max_normal_force).mean_sd(1.0, 0),
-        e.stat(|m| m.max_penetration).mean_sd(1e6, 2),
-        e.stat(|m| m.concordance.pressure_wear).mean_sd(1.0, 4),
-        e.stat(|m| m.concordance.sliding_wear).mean_sd(1.0, 4),
+        stat(&|m| m.motion.contact_fraction, 100.0, 1),
+        stat(&|m| m.motion.impacts_per_rotation, 1.0, 1),
+        stat(&|m| m.max_slider_acc, 1.0, 0),
+        stat(&|m| m.max_normal_force, 1.0, 0),
+        stat(&|m| m.max_penetration, 1e6, 2),
+        stat(&|m| m.concordance.pressure_wear, 1.0, 4),
+        stat(&|m| m.concordance.sliding_wear, 1.0, 4),
         if unsteady > 0 {
             let members = if unsteady == 1 { "member" } else { "members" };
             format!("; the orbit of {unsteady} {members} never repeated (chaotic; recorded anyway)")

@@ -114,7 +114,9 @@ fn ensemble_wear_ratios() -> Option<String> {
             format!(
                 "{} {} {:.1}% ({:.1}× sampling)",
                 c.method,
-                c.setting.split(' ').next().unwrap_or(""),
+                // The whole setting but its note: rtol alone names two settings of a method
+                // (the ode45-like run shares its rtol with the sweep's loosest).
+                c.setting.split(" (").next().unwrap_or(""),
                 100.0 * c.error.error,
                 c.error.error / c.error.sampling
             )

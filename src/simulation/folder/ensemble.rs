@@ -6,7 +6,7 @@ use super::{
     conventions, joint_file, perturbation_arg, wear_panel, write_summary, Origin, PROGRAM,
     SUMMARY_FILE,
 };
-use crate::analysis::states::{States, STATE_COLUMNS};
+use crate::analysis::states::STATE_COLUMNS;
 use crate::analysis::statistics::{Distribution, VALUE_KEYS};
 use crate::io::output::{number, number_or_empty, write_outputs, write_rows};
 use crate::io::plot::{render, Axes, Series, Shade, Style};
@@ -118,11 +118,10 @@ fn write_files(
     let numbers = |d: &Distribution| d.values().map(number_or_empty);
     let mut rows = Vec::new();
     for j in &stats {
-        for (name, d) in &j.scalars {
+        for ((name, d), (_, states)) in j.scalars.iter().zip(&j.states) {
             let mut row = vec![j.name.clone(), name.to_string(), d.n.to_string()];
             row.extend(numbers(d));
-            let states = j.states.iter().find(|(n, _)| n == name).map(|(_, s)| s);
-            row.extend(state_cells(states));
+            row.extend(states.cells(number));
             rows.push(row);
         }
     }
@@ -167,14 +166,6 @@ fn write_files(
         render(&dir.join("wear.png"), &panels)?;
     }
     Ok(stats)
-}
-
-/// The [`STATE_COLUMNS`] cells of a quantity; all empty for an angle (no states).
-fn state_cells(states: Option<&States>) -> Vec<String> {
-    states.map_or_else(
-        || vec![String::new(); STATE_COLUMNS.len()],
-        |s| s.cells(number),
-    )
 }
 
 /// `summary.json` of `run --ensemble`: the ensemble and the distribution of every quantity.
@@ -256,6 +247,9 @@ fn readme(
          impact` (recorded rotations)\n\
          \x20 J.contact_fraction                   share of recorded samples in contact\n\
          \x20 J.impacts_per_rotation               contact onsets per rotation (recorded)\n\
+         \x20 J.rotations_simulated                rotations from the start, the window of the \
+         whole-run maximum and of the final wear: run.rotations plus the member's own settling \
+         rotations where the scene settles\n\
          \x20 wall_time_s, error                   the member's wall time (s); empty error\n\
          ensemble_summary.csv: per joint and quantity (the numeric columns above, and \
          continuous_contact, 1 or 0 per member, whose mean is the share in continuous \
@@ -263,7 +257,8 @@ fn readme(
          fields where n is 0: nothing recorded); then the \
          states the members fall into (largest-gap rule: split at the largest gap of the sorted \
          values that leaves max(2, ceil(n/10)) members on each side, when it exceeds 2 pooled \
-         within-state sds; none for angles): states (1 or 2), and with two low_n, low_mean, \
+         within-state sds; angles unwrapped around their circular mean first, so that low and \
+         high are the two sides of the cut opposite it): states (1 or 2), and with two low_n, low_mean, \
          low_sd, high_n, high_mean, high_sd. Where a quantity has two states, its pooled mean \
          depends on the share in each, and that share on how members are perturbed.\n",
         settings.perturbation.key(),

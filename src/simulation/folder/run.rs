@@ -412,7 +412,8 @@ fn readme(title: &str, scene: &Scene, out: &RunOutput) -> String {
          every step from the start (the start-up transient, the impact after the centred \
          start, included), contact onsets, motion (mode: \
          `continuous contact` or `free flight and impact`, contact fraction, impacts per \
-         rotation, mean flight time) or null, max_wear_depth_m, wear_regions: angle_deg in the \
+         rotation, mean duration of the free flights that begin and end inside the recorded \
+         rotations, null if none) or null, max_wear_depth_m, wear_regions: angle_deg in the \
          bearing frame, depth_m, prominence_m, width_deg at half prominence, most prominent \
          first; a region is a hump of the profile by topographic prominence, at least {:.0} % of \
          the most prominent one's and {:.0} % of its own height above the shallowest sector).\n",
