@@ -375,10 +375,24 @@ fn depth_rings(deepest: f64) -> Vec<f64> {
         .collect()
 }
 
+/// The 5 % and 95 % quantile profiles of `band` after `rotations`: (CSV column, legend label,
+/// depth per sector in m). Each sector's quantile is taken on its own, so the curve is a
+/// composite no member has, and its name says so.
+fn quantile_profiles(rotations: u32, band: &Band) -> [(String, String, Vec<f64>); 2] {
+    [(0, 5), (4, 95)].map(|(q, percent)| {
+        (
+            format!("{rotations}rotationsq{percent:02}"),
+            format!("{rotations} rotations, per-sector {percent} % quantile"),
+            band.quantile(q),
+        )
+    })
+}
+
 /// Figure 5: polar picture of the worn bearing (standard case, section 6.1): the
 /// ensemble-mean radius at each snapshot, and after the last either each wear state's mean
 /// (where the members split; the pooled mean, between them, is then left to the CSV) or the
-/// 5 % and 95 % quantiles, with rings of wear depth as its radial scale.
+/// per-sector 5 % and 95 % quantiles (composites no member has), with rings of wear depth as
+/// its radial scale.
 pub fn fig05(runs: &Runs) -> Result<Vec<String>> {
     let e = runs.wear(CASES.standard.scene)?;
     let r = e.scene.mechanism.clearance_joints[0].r_bearing * 1e3;
@@ -401,14 +415,11 @@ pub fn fig05(runs: &Runs) -> Result<Vec<String>> {
     let (last_rot, last) = bands.last().ok_or_else(|| {
         Error::invalid("run.wear_snapshots", "[]", "the snapshots figure 5 draws")
     })?;
-    for (q, what) in [(0, "5"), (4, "95")] {
-        profiles.push((
-            format!("{last_rot}rotations{what}ofmembers"),
-            format!("{last_rot} rotations, {what} % of members"),
-            radius(&last.quantile(q), 1e3),
-            Style::Dashed,
-        ));
-    }
+    profiles.extend(
+        quantile_profiles(*last_rot, last)
+            .into_iter()
+            .map(|(column, label, depth)| (column, label, radius(&depth, 1e3), Style::Dashed)),
+    );
     let states = state_curves(e, &format!("{last_rot} rotations"), "");
     // the state curves are in µm
     // the last state solid, the others dashed: a few pixels apart, they differ by their lines
@@ -485,6 +496,23 @@ pub fn fig05(runs: &Runs) -> Result<Vec<String>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_quantile_profiles_are_named_per_sector_quantiles() {
+        // two members, each deepest in another sector: the 5 % curve takes each sector's
+        // shallower member, a profile neither has
+        let band = Band::of([&[1.0, 0.0][..], &[0.0, 1.0][..]]);
+        let [lo, hi] = quantile_profiles(40, &band);
+        assert_eq!(
+            (lo.0.as_str(), lo.1.as_str()),
+            ("40rotationsq05", "40 rotations, per-sector 5 % quantile")
+        );
+        assert_eq!(
+            (hi.0.as_str(), hi.1.as_str()),
+            ("40rotationsq95", "40 rotations, per-sector 95 % quantile")
+        );
+        assert!(lo.2.iter().all(|&d| (d - 0.05).abs() < 1e-12), "{:?}", lo.2);
+    }
 
     #[test]
     fn depth_rings_are_round_steps_up_to_the_deepest_wear() {

@@ -11,8 +11,8 @@ use crate::paper::cases::{case_of_scene, CASES};
 use crate::paper::figures::output_path;
 use crate::paper::format::{number, sci, sig};
 use crate::paper::studies::contact_law_wear::{
-    pairs_of, pooled, read_commented, read_law_wear, wear_window, LawRow, CLAIM_PREFIX,
-    LAW_WEAR_FIGURE, ONE_REGION_SD_DEG, PAPER_LAW, RUN_FAILED, SIGNIFICANT_P,
+    pairs_of, pooled, read_commented, read_law_wear, wear_window, LawRow, PaperResult,
+    CLAIM_PREFIX, LAW_WEAR_FIGURE, ONE_REGION_SD_DEG, PAPER_LAW, RUN_FAILED, SIGNIFICANT_P,
 };
 use crate::paper::studies::contact_laws::CONTACT_LAWS_HEADER;
 use std::fmt::Write as _;
@@ -39,6 +39,8 @@ pub struct Robustness {
     pub result: String,
     /// Its verdict under the paper's law.
     pub paper: Verdict,
+    /// The members reproducing it under the paper's law, `count/members`.
+    pub paper_members: String,
     /// The laws whose verdict differs significantly (Fisher's p < [`SIGNIFICANT_P`] on the
     /// members reproducing it), with it and their members `count/members`.
     pub changed: Vec<(String, Verdict, String)>,
@@ -58,11 +60,40 @@ impl Robustness {
     }
 }
 
-/// The verdict of a share of members reproducing a result, as the report's claims decide it:
-/// reproduced in at least [`MEMBER_MAJORITY`] of them, not reproduced in at least that many.
+/// The verdict of a share row, as the report's claims decide it ([`Verdict::of_share`]):
+/// reproduced in at least [`MEMBER_MAJORITY`] of its members, not reproduced in at least that
+/// many.
 fn verdict_of(r: &LawRow) -> Verdict {
-    let k = r.count.unwrap_or(0);
-    Verdict::of_tally(k, r.members - k.min(r.members), r.members)
+    Verdict::of_share(r.count.unwrap_or(0), r.members)
+}
+
+/// The members of a share row reproducing its result, `count/members`.
+fn members_of(r: &LawRow) -> String {
+    format!("{}/{}", r.count.unwrap_or(0), r.members)
+}
+
+/// The paper law's verdict on `f` with the members it rests on, and beside it section 1's
+/// ensemble of the same result (`larger`, if it has it): where the two ensembles disagree,
+/// the cell says so rather than let the smaller one speak for the model.
+fn paper_cell(f: &Robustness, larger: &[PaperResult]) -> String {
+    let here = format!("{} ({})", f.paper.label(), f.paper_members);
+    let quantity = format!("{CLAIM_PREFIX}{}", f.result.replace(' ', "_"));
+    let Some(l) = (larger.iter()).find(|l| l.case == f.case && l.quantity == quantity) else {
+        return here;
+    };
+    let v = Verdict::of_share(l.count, l.members);
+    let agree = if v == f.paper {
+        "agree"
+    } else {
+        "**disagree**"
+    };
+    format!(
+        "{here}; section 1's {} members {agree}: {} ({}/{})",
+        l.members,
+        v.label(),
+        l.count,
+        l.members
+    )
 }
 
 /// Whether `pair` could not run `case`.
@@ -89,16 +120,15 @@ pub fn robustness(rows: &[LawRow]) -> Vec<Robustness> {
         .into_iter()
         .filter_map(|(case, quantity)| {
             let per_law = pooled(rows, &case, &quantity);
-            let paper = verdict_of(per_law.first().copied().flatten()?);
+            let paper_row = per_law.first().copied().flatten()?;
+            let paper = verdict_of(paper_row);
             let differing = |significant: bool| {
                 (per_law.iter())
                     .filter_map(|r| {
                         let r = (*r)?;
                         let v = verdict_of(r);
-                        (v != paper && r.differs() == significant).then(|| {
-                            let count = format!("{}/{}", r.count.unwrap_or(0), r.members);
-                            (r.pair(), v, count)
-                        })
+                        (v != paper && r.differs() == significant)
+                            .then(|| (r.pair(), v, members_of(r)))
                     })
                     .collect()
             };
@@ -111,6 +141,7 @@ pub fn robustness(rows: &[LawRow]) -> Vec<Robustness> {
                 result: quantity.trim_start_matches(CLAIM_PREFIX).replace('_', " "),
                 case,
                 paper,
+                paper_members: members_of(paper_row),
                 changed: differing(true),
                 unresolved: differing(false),
             })
@@ -302,8 +333,9 @@ fn restitution_summary(md: &mut String) {
     );
 }
 
-/// Appends section 8 to `md`.
-pub(super) fn contact_law_section(md: &mut String) {
+/// Appends section 8 to `md`; `larger` holds the paper's results as section 1's ensembles
+/// (the paper's law, more members) give them.
+pub(super) fn contact_law_section(md: &mut String, larger: &[PaperResult]) {
     let _ = writeln!(md, "{LAW_SECTION}\n");
     restitution_summary(md);
     let rerun = "`cargo run --release --bin contact_law_wear`";
@@ -314,7 +346,7 @@ pub(super) fn contact_law_section(md: &mut String) {
         );
         return;
     };
-    law_wear_text(md, &rows);
+    law_wear_text(md, &rows, larger);
 }
 
 /// The wall time (s) of each pair's ensembles, summed over its cases, in the order of the pairs.
@@ -339,8 +371,9 @@ fn wall_times(rows: &[LawRow]) -> Vec<(String, f64)> {
         .collect()
 }
 
-/// The wear study's part of section 8, from its rows.
-pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow]) {
+/// The wear study's part of section 8, from its rows, each result under the paper's law set
+/// beside section 1's ensemble of it (`larger`).
+pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow], larger: &[PaperResult]) {
     let rerun = "`cargo run --release --bin contact_law_wear`";
     let pairs = pairs_of(rows);
     let cases: Vec<String> = rows.iter().fold(Vec::new(), |mut v, r| {
@@ -410,9 +443,14 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow]) {
         "**Which results of the paper are robust to the law.** Each result is checked in every member as section 1 \
          checks it, and decided as there (holds in ≥ {:.0} % of the members: reproduced); it *hinges on the law* when \
          a law gives another verdict with a share of members reproducing it that differs significantly from the \
-         paper law's, and is *robust* otherwise. {robust_count} of {} are robust.\n",
+         paper law's, and is *robust* otherwise. {robust_count} of {} are robust. The paper law's verdict rests on \
+         this study's {members} members{}.\n",
         100.0 * MEMBER_MAJORITY,
-        found.len()
+        found.len(),
+        larger.iter().map(|l| l.members).max().map_or(String::new(), |n| format!(
+            "; section 1 checks the same results under the same law in {n} members, and where the two \
+             verdicts differ the cell says so: the larger ensemble's is the better estimate"
+        ))
     );
     let table: Vec<Vec<String>> = found
         .iter()
@@ -420,7 +458,7 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow]) {
             vec![
                 case_label(&f.case),
                 f.result.clone(),
-                f.paper.label().into(),
+                paper_cell(f, larger),
                 laws_cell(&f.changed),
                 laws_cell(&f.unresolved),
                 format!("{} of {}", f.ran, pairs.len()),
@@ -455,10 +493,11 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow]) {
         .filter(|f| f.robust())
         .map(|f| {
             format!(
-                "{} at {} ({})",
+                "{} at {} ({}; {} members reproducing it)",
                 f.result,
                 case_label(&f.case),
-                f.paper.label()
+                f.paper.label(),
+                f.paper_members
             )
         })
         .collect();
@@ -697,9 +736,18 @@ mod tests {
             "clearance_mm: 0.004 outside [0.005, 10] mm",
         ));
         let mut md = String::new();
-        law_wear_text(&mut md, &rows);
+        // section 1's 32 members of the same law: 27 reproduce the result, so there it is partly
+        let larger = [PaperResult {
+            case: "standard".into(),
+            quantity: claim.clone(),
+            count: 27,
+            members: 32,
+        }];
+        law_wear_text(&mut md, &rows, &larger);
         for expected in [
             "0 of 1 are robust",
+            "rests on this study's 16 members; section 1 checks the same results under the same law in 32 members",
+            "| reproduced (16/16); section 1's 32 members **disagree**: partly (27/32) |",
             "**hinges on the law**",
             "`johnson + zhiying-qishao`: not reproduced (0/16)",
             "0.658 µm under the paper's law; from 0.402 µm (`johnson + zhiying-qishao`) to 0.658 µm",

@@ -5,6 +5,7 @@
 //! study, from `data/`).
 
 use super::markdown::{csv_table, md_table};
+use super::verdict::Verdict;
 use crate::analysis::statistics::Distribution;
 use crate::error::LEFT_MODEL;
 use crate::io::output::{read_csv, read_rows};
@@ -15,7 +16,7 @@ use crate::paper::figures::output_path;
 use crate::paper::format::{count, number, sci};
 use crate::paper::golden::Golden;
 use crate::paper::performance::{STEP_LIMIT_EVERY, STEP_LIMIT_FILE, TARGETS};
-use crate::paper::studies::accuracy::{WINDOWS, WINDOW_ROTATIONS};
+use crate::paper::studies::accuracy::{EnsembleCheck, Finding, WINDOWS, WINDOW_ROTATIONS};
 use crate::paper::studies::ensemble_tolerance::{
     read_ensemble_tolerance, ToleranceRow, ENSEMBLE_TOLERANCE_FILE, RTOLS, Z_FAMILY,
 };
@@ -370,6 +371,7 @@ fn rule_sentence(scene: Option<&SceneSetting>, rule: Option<&[RuleRow]>) -> Stri
 pub(super) fn work_precision_section(
     md: &mut String,
     accuracy: &AccuracyDependence,
+    ensemble: &[EnsembleCheck],
     inputs: &ToleranceInputs,
 ) {
     md.push_str(
@@ -430,25 +432,70 @@ pub(super) fn work_precision_section(
     );
     let runs: Vec<Vec<String>> = accuracy.rows.iter().map(AccuracyRow::csv_row).collect();
     md_table(md, &ACCURACY_HEADER, &runs);
-    md.push_str("Which results hold at converged accuracy and which appear only under under-resolved integration:\n\n");
+    let n = ensemble.iter().map(|c| c.members).max().unwrap_or(0);
+    let _ = write!(
+        md,
+        "Which results hold at converged accuracy and which appear only under under-resolved integration. Each \
+         finding rests on one trajectory per integration (its {WINDOWS} windows); for Table 3's results the last \
+         column checks the same rule in each of section 2's {n} converged members, and the finding says where the \
+         two disagree:\n\n"
+    );
     let rows: Vec<Vec<String>> = accuracy
         .findings
         .iter()
         .map(|f| {
+            let (finding, members) = finding_beside_ensemble(f, ensemble);
             vec![
                 f.result.clone(),
                 format!("paper: {}", f.paper),
                 format!("holds for: {}", f.holding()),
-                f.verdict().into(),
+                finding,
+                members,
             ]
         })
         .collect();
     md_table(
         md,
-        &["result", "paper", "integrations it holds for", "finding"],
+        &[
+            "result",
+            "paper",
+            "integrations it holds for (one trajectory)",
+            "finding",
+            "section 2's converged members reproducing it",
+        ],
         &rows,
     );
     super::sectors::sector_resolution(md);
+}
+
+/// A finding of the accuracy study (one trajectory per integration) beside section 2's
+/// converged ensemble of the same result (`ensemble`): the finding, extended where the
+/// ensemble's verdict ([`Verdict::of_share`]) is not the trajectory's converged one (a partly
+/// is neither), and the members reproducing it (`n/a` for a result no ensemble of section 2
+/// checks).
+fn finding_beside_ensemble(f: &Finding, ensemble: &[EnsembleCheck]) -> (String, String) {
+    let Some(c) = ensemble.iter().find(|c| c.result == f.result) else {
+        return (f.verdict().into(), "n/a (not a Table 3 result)".into());
+    };
+    let v = Verdict::of_share(c.count, c.members);
+    let members = format!("{} of {}", c.count, c.members);
+    let same = if f.holds_converged() {
+        Verdict::Reproduced
+    } else {
+        Verdict::NotReproduced
+    };
+    if v == same {
+        return (f.verdict().into(), members);
+    }
+    (
+        format!(
+            "{} in the one trajectory; but {} in section 2's {} converged members ({members})",
+            f.verdict(),
+            v.label(),
+            c.members
+        ),
+        members,
+    )
 }
 
 /// Table 3's ensembles at looser tolerances (`data/ensemble_tolerance.csv`): the table and
@@ -1366,6 +1413,38 @@ mod tests {
             .map(|(&r, &m)| row(r, m, false))
             .chain([row(1e-7, 1.0, true)])
             .collect()
+    }
+
+    #[test]
+    fn a_finding_of_one_trajectory_says_where_section_2s_ensemble_disagrees() {
+        // checked: the table as it was (the trajectory's finding alone) calls the 0.2 mm P-w
+        // "appears only under under-resolved integration" though 30 of 32 converged members
+        // reproduce it
+        let f = Finding {
+            result: "clearance_0.2mm P-w".into(),
+            paper: "0.8338 ± 0.03".into(),
+            holds: [false, false, true, false],
+        };
+        let check = |count| EnsembleCheck {
+            result: f.result.clone(),
+            count,
+            members: 32,
+        };
+        let (finding, members) = finding_beside_ensemble(&f, &[check(30)]);
+        assert_eq!(members, "30 of 32");
+        assert_eq!(
+            finding,
+            "appears only under under-resolved integration in the one trajectory; but reproduced in \
+             section 2's 32 converged members (30 of 32)"
+        );
+        // a partly ensemble is not the trajectory's failure either; none is
+        assert!(finding_beside_ensemble(&f, &[check(13)])
+            .0
+            .contains("but partly"));
+        let (finding, _) = finding_beside_ensemble(&f, &[check(0)]);
+        assert_eq!(finding, "appears only under under-resolved integration");
+        let (_, members) = finding_beside_ensemble(&f, &[]);
+        assert!(members.starts_with("n/a"));
     }
 
     // Fails on the old literal text ("rtol 1e-7, atol 1e-10, the scenes' setting", "0.5% of the

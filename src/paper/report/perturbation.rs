@@ -23,8 +23,11 @@ fn claim_under(rows: &[SensitivityRow], id: &str, protocol: &str) -> Option<(Ver
     };
     let found = Verdict::ALL.map(row);
     let n = found[0]?.members;
-    let counts = [found[0]?.count?, found[1]?.count?, found[2]?.count?];
-    Some((Verdict::of_tally(counts[0], counts[2], n), tally(counts, n)))
+    let mut counts = [0; 4];
+    for (count, row) in counts.iter_mut().zip(found) {
+        *count = row?.count?;
+    }
+    Some((Verdict::of_tally(counts, n), tally(counts, n)))
 }
 
 /// What another perturbation protocol does to `claim`'s verdict, from the study's rows
@@ -76,6 +79,33 @@ fn cell(r: &SensitivityRow) -> String {
         (true, _) => value,
         (false, true) => format!("**{value}** (p {})", sci(r.p)),
         (false, false) => format!("{value} (p {})", sig(r.p)),
+    }
+}
+
+/// Why row `r` (not under the default) differs from the default's, from the states the
+/// default's members of its statistic fall into (`base`: the default's rows): a pooled mean
+/// moves with the members' spread over two states only where the default found two.
+fn why_differs(r: &SensitivityRow, base: &[&SensitivityRow]) -> String {
+    let state = |s: &str| {
+        base.iter()
+            .find(|b| b.case == r.case && b.quantity == r.quantity && b.state == s)
+    };
+    match (r.state.as_str(), r.protocol.starts_with("tolerance")) {
+        ("share", _) => "which state the members reach depends on the perturbation".into(),
+        (_, true) => "its members all start from the centred journal and differ by their step \
+                      sequences only, so they sample the state differently"
+            .into(),
+        ("pooled", false) => match (state("low"), state("high")) {
+            (Some(low), Some(high)) => format!(
+                "the pooled mean moves with the members' spread over the default's two states ({} low, \
+                 {} high)",
+                low.members, high.members
+            ),
+            _ => "the default's members form one state (no gap splits them), so the state itself \
+                  is sampled differently"
+                .into(),
+        },
+        _ => "the state itself is sampled differently".into(),
     }
 }
 
@@ -172,17 +202,7 @@ pub(super) fn perturbation_section() -> String {
         let list: Vec<String> = differing
             .iter()
             .map(|r| {
-                let why = match (r.state.as_str(), r.protocol.starts_with("tolerance")) {
-                    ("share", _) => "which state the members reach depends on the perturbation",
-                    (_, true) => {
-                        "its members all start from the centred journal and differ by their step \
-                                  sequences only, so they sample the state differently"
-                    }
-                    ("pooled", false) => {
-                        "the pooled mean moves with the members' spread over the states"
-                    }
-                    _ => "the state itself is sampled differently",
-                };
+                let why = why_differs(r, &base);
                 format!(
                     "{} {} ({}) under `{}`: {} against {} (p {}): {why}",
                     r.case,
@@ -210,8 +230,8 @@ pub(super) fn perturbation_section() -> String {
 mod tests {
     use super::*;
 
-    /// A claim with `counts` members reproducing, partly and not reproducing it.
-    fn claim(counts: [usize; 3]) -> Claim {
+    /// A claim with `counts` members reproducing, partly, not reproducing it and undefined.
+    fn claim(counts: [usize; 4]) -> Claim {
         let members = Verdict::ALL
             .iter()
             .zip(counts)
@@ -227,7 +247,7 @@ mod tests {
     }
 
     /// The study's rows of `claim` under protocol `p` (of [`PROTOCOLS`]) with `counts`.
-    fn rows_of(c: &Claim, p: usize, counts: [usize; 3]) -> Vec<SensitivityRow> {
+    fn rows_of(c: &Claim, p: usize, counts: [usize; 4]) -> Vec<SensitivityRow> {
         Verdict::ALL
             .iter()
             .zip(counts)
@@ -253,17 +273,17 @@ mod tests {
     fn a_claim_names_the_protocols_that_change_its_verdict() {
         // checked: comparing each protocol's count of reproducing members instead of its
         // verdict (29 of 32 against 32 of 32) lists `disc_1nm` in the first case
-        let c = claim([32, 0, 0]);
-        let study = |counts: [[usize; 3]; 6]| -> Vec<SensitivityRow> {
+        let c = claim([32, 0, 0, 0]);
+        let study = |counts: [[usize; 4]; 6]| -> Vec<SensitivityRow> {
             (0..PROTOCOLS.len())
                 .flat_map(|p| rows_of(&c, p, counts[p]))
                 .collect()
         };
-        let all = [32, 0, 0];
-        let rows = study([all, [29, 3, 0], all, all, all, all]);
+        let all = [32, 0, 0, 0];
+        let rows = study([all, [29, 3, 0, 0], all, all, all, all]);
         let (changed, note) = verdict_changes(&c, Some(&rows));
         assert!(!changed && note == "same under all 5 others", "{note}");
-        let rows = study([all, all, all, [20, 2, 10], all, all]);
+        let rows = study([all, all, all, [20, 2, 10, 0], all, all]);
         let (changed, note) = verdict_changes(&c, Some(&rows));
         assert!(changed, "{note}");
         assert_eq!(
@@ -271,7 +291,7 @@ mod tests {
             "changes under `axis_10nm`: partly: reproduced in 20 of 32, partly in 2, not in 10"
         );
         // a study whose default disagrees with this run says so
-        let (_, note) = verdict_changes(&claim([10, 22, 0]), Some(&rows));
+        let (_, note) = verdict_changes(&claim([10, 22, 0, 0]), Some(&rows));
         assert!(
             note.contains("the study's default run gave reproduced, this run partly"),
             "{note}"
@@ -280,6 +300,46 @@ mod tests {
         assert!(verdict_changes(&c, Some(&[]))
             .1
             .contains("not in the study's file"));
+    }
+
+    /// A row of statistic `quantity` of the standard case in `state` under protocol `p`.
+    fn stat_row(p: usize, quantity: &str, state: &str, members: usize) -> SensitivityRow {
+        SensitivityRow {
+            protocol: PROTOCOLS[p].key(),
+            case: "standard".into(),
+            quantity: quantity.into(),
+            state: state.into(),
+            members,
+            count: None,
+            mean: 1.0,
+            sd: 0.1,
+            test: "welch".into(),
+            statistic: f64::NAN,
+            dof: f64::NAN,
+            p: 1e-3,
+            wall_time_s: 1.0,
+        }
+    }
+
+    #[test]
+    fn a_pooled_mean_is_said_to_move_with_the_states_only_where_there_are_two() {
+        // checked: the explanation as it was (by the row's label alone) says "spread over the
+        // states" in the first case, where the default found one state
+        let one = [stat_row(0, "deepest_wear_m", "pooled", 32)];
+        let differing = stat_row(1, "deepest_wear_m", "pooled", 32);
+        let why = why_differs(&differing, &one.iter().collect::<Vec<_>>());
+        assert!(
+            why.contains("form one state") && !why.contains("spread"),
+            "{why}"
+        );
+        let two = [
+            stat_row(0, "deepest_wear_m", "pooled", 32),
+            stat_row(0, "deepest_wear_m", "low", 7),
+            stat_row(0, "deepest_wear_m", "high", 25),
+            stat_row(0, "other", "low", 1),
+        ];
+        let why = why_differs(&differing, &two.iter().collect::<Vec<_>>());
+        assert!(why.contains("two states (7 low, 25 high)"), "{why}");
     }
 
     #[test]

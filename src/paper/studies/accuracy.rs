@@ -19,9 +19,9 @@ use crate::analysis::Motion;
 use crate::io::output::write_rows;
 use crate::io::progress::Progress;
 use crate::ode::Method;
-use crate::paper::cases::{wear_run_with, Case, CASES};
+use crate::paper::cases::{wear_run_with, Case, SteadyMember, CASES};
 use crate::paper::figures::output_path;
-use crate::paper::golden::{angle_distance, Golden};
+use crate::paper::golden::{angle_distance, Golden, Table3Golden};
 use crate::scene::{scene_path, SceneFile};
 use crate::simulation::{simulate, RunOutput};
 use crate::Result;
@@ -276,6 +276,79 @@ fn row_of(rows: &[AccuracyRow], case: Subject, setting: Setting) -> Option<&Accu
 
 /// Whether a row reproduces one paper result.
 type Check<'a> = dyn Fn(&AccuracyRow) -> bool + 'a;
+type MemberCheck<'a> = dyn Fn(&SteadyMember) -> bool + 'a;
+
+/// The paper's Table 3 results of one case as tests of one window's (or one member's) value:
+/// a window run reproduces a result when all its windows pass, an ensemble member when it does.
+struct Table3Test<'a> {
+    paper: &'a Table3Golden,
+    tol: f64,
+}
+
+impl Table3Test<'_> {
+    fn motion(&self, mode: &str) -> bool {
+        mode == self.paper.motion
+    }
+
+    fn dominance(&self, dominant: &str) -> bool {
+        dominant == self.paper.dominant()
+    }
+
+    fn pw(&self, v: f64) -> bool {
+        (v - self.paper.pw).abs() <= self.tol
+    }
+
+    fn sw(&self, v: f64) -> bool {
+        (v - self.paper.sw).abs() <= self.tol
+    }
+}
+
+/// How many members of a converged ensemble of one case reproduce one Table 3 result of the
+/// findings, checked member by member with the findings' own test.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnsembleCheck {
+    /// The result as [`Finding::result`] names it: `"clearance_0.2mm P-w"`.
+    pub result: String,
+    /// Members reproducing it.
+    pub count: usize,
+    /// Members checked.
+    pub members: usize,
+}
+
+/// The Table 3 results of `case` checked in each of `members` (its converged ensemble) with
+/// the test the findings apply to each window.
+pub fn ensemble_checks(
+    case: &Case,
+    members: &[SteadyMember],
+    golden: &Golden,
+) -> Vec<EnsembleCheck> {
+    let Some(g) = golden
+        .table3
+        .list()
+        .into_iter()
+        .find(|g| g.scene == case.scene)
+    else {
+        return Vec::new();
+    };
+    let t = Table3Test {
+        paper: g,
+        tol: golden.concordance_tolerance,
+    };
+    let tests: [(&str, &MemberCheck); 4] = [
+        ("motion", &|m| t.motion(m.motion.mode())),
+        ("dominance", &|m| t.dominance(m.concordance.dominant())),
+        ("P-w", &|m| t.pw(m.concordance.pressure_wear)),
+        ("s-w", &|m| t.sw(m.concordance.sliding_wear)),
+    ];
+    tests
+        .into_iter()
+        .map(|(what, test)| EnsembleCheck {
+            result: format!("{} {what}", case.scene),
+            count: members.iter().filter(|m| test(m)).count(),
+            members: members.len(),
+        })
+        .collect()
+}
 
 fn min_max(v: impl Iterator<Item = f64>) -> (f64, f64) {
     v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
@@ -381,19 +454,19 @@ pub fn accuracy_dependence(progress: &dyn Progress) -> Result<AccuracyDependence
         })
     };
     for &(case, g) in CASES.zip(&golden.table3).list() {
-        let within = |v: (f64, f64), p: f64| (v.0 - p).abs() <= tol && (v.1 - p).abs() <= tol;
+        let t = Table3Test { paper: g, tol };
         let checks: [(&str, String, &Check); 4] = [
             ("motion", g.motion.clone(), &|r| {
-                r.modes.iter().all(|m| *m == g.motion)
+                r.modes.iter().all(|m| t.motion(m))
             }),
             ("dominance", g.dominant().to_string(), &|r| {
-                r.dominance.iter().all(|d| *d == g.dominant())
+                r.dominance.iter().all(|d| t.dominance(d))
             }),
             ("P-w", format!("{:.4} ± {tol}", g.pw), &|r| {
-                within(r.pw, g.pw)
+                t.pw(r.pw.0) && t.pw(r.pw.1)
             }),
             ("s-w", format!("{:.4} ± {tol}", g.sw), &|r| {
-                within(r.sw, g.sw)
+                t.sw(r.sw.0) && t.sw(r.sw.1)
             }),
         ];
         for (what, paper, test) in checks {

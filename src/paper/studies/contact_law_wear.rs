@@ -425,6 +425,47 @@ fn measure_wear(case: &Case, members: &[WearMember], rotations: u32, golden: &Go
     }
 }
 
+/// One of the paper's results checked per member in an ensemble: the study's `quantity`
+/// (after [`CLAIM_PREFIX`]) and how many of its members reproduce it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PaperResult {
+    /// Case scene.
+    pub case: String,
+    /// The study's quantity, [`CLAIM_PREFIX`] included.
+    pub quantity: String,
+    /// Members reproducing it.
+    pub count: usize,
+    /// Members checked.
+    pub members: usize,
+}
+
+/// The paper's results of `case` checked in `steady` and `wear` (after `rotations`) members
+/// exactly as the study checks them under each law, so the report can set the study's
+/// ensemble beside a larger one of the same law.
+pub fn paper_results(
+    case: &Case,
+    steady: &[SteadyMember],
+    wear: &[WearMember],
+    rotations: u32,
+    golden: &Golden,
+) -> Vec<PaperResult> {
+    let measured = [
+        measure_steady(case, steady, golden),
+        measure_wear(case, wear, rotations, golden),
+    ];
+    measured
+        .into_iter()
+        .flat_map(|m| m.shares)
+        .filter(|s| s.quantity.starts_with(CLAIM_PREFIX))
+        .map(|s| PaperResult {
+            case: case.scene.into(),
+            quantity: s.quantity,
+            count: s.count,
+            members: s.members,
+        })
+        .collect()
+}
+
 /// The scene change that puts `pair` on the first clearance joint, keeping its restitution
 /// and grazing floor (the power laws keep the scene's exponent, the others take none).
 fn set_law(file: &mut SceneFile, (stiffness, dissipation): (StiffnessLaw, DissipationLaw)) {

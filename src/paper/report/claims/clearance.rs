@@ -4,8 +4,8 @@
 //! wear regions at every clearance) and figure 11 (more uniform wear, similar depth).
 
 use super::{across, decreasing, increasing, within, Claims, Ensembles};
-use crate::paper::cases::SteadyMember;
 use crate::paper::cases::CASES;
+use crate::paper::cases::{SteadyMember, WearMember};
 use crate::paper::figures::mean_profile_regions;
 use crate::paper::figures::wear_profiles::deepest_wear_states;
 use crate::paper::golden::Golden;
@@ -13,6 +13,12 @@ use crate::paper::golden::Golden;
 /// Range of the deepest wear's ratio 0.5 mm : 0.02 mm within which the depth is "not
 /// seriously affected by clearance" (figure 11): within a factor of two either way.
 const NOT_SERIOUSLY_AFFECTED: (f64, f64) = (0.5, 2.0);
+
+/// A member's (deepest − third region) / deepest ([`WearMember::region_spread`]), NaN with
+/// fewer than three regions (left out of the statistics, undefined for the rule).
+fn spread(m: &WearMember) -> f64 {
+    m.region_spread().unwrap_or(f64::NAN)
+}
 
 /// Adds the claims of figures 8-11.
 pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
@@ -27,14 +33,16 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
             big[0].members.len() - big[0].continuous(),
             big[1].members.len() - big[1].continuous(),
             big[0].members.len(),
-            across(&big, |e| e.stat(|m| m.motion.contact_fraction), 100.0, 1),
-            across(&big, |e| e.stat(|m| m.motion.impacts_per_rotation), 1.0, 1)
+            across(&big, e.n, |e| e.stat(|m| m.motion.contact_fraction), 100.0, 1),
+            across(&big, e.n, |e| e.stat(|m| m.motion.impacts_per_rotation), 1.0, 1)
         ),
         &|m| {
-            [m.steady.clearance_0_2mm, m.steady.clearance_0_5mm]
-                .iter()
-                .map(|s| !s.motion.continuous())
-                .collect()
+            Some(
+                [m.steady.clearance_0_2mm, m.steady.clearance_0_5mm]
+                    .iter()
+                    .map(|s| !s.motion.continuous())
+                    .collect(),
+            )
         },
     );
     let cl = e.steady.by_clearance().map(|s| *s);
@@ -44,17 +52,19 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "both increase with clearance",
         format!(
             "over the recorded rotations, max penetration {} µm, max |slider acceleration| {} m/s² at 0.02 / 0.2 / 0.5 mm",
-            across(&cl, |e| e.stat(|m| m.max_penetration), 1e6, 2),
-            across(&cl, |e| e.stat(|m| m.max_slider_acc), 1.0, 0)
+            across(&cl, e.n, |e| e.stat(|m| m.max_penetration), 1e6, 2),
+            across(&cl, e.n, |e| e.stat(|m| m.max_slider_acc), 1.0, 0)
         ),
         &|m| {
             let v = |f: &dyn Fn(&SteadyMember) -> f64| -> Vec<f64> {
                 m.steady.by_clearance().iter().map(|s| f(s)).collect()
             };
-            vec![
+            [
                 increasing(&v(&|s| s.max_penetration)),
                 increasing(&v(&|s| s.max_slider_acc)),
             ]
+            .into_iter()
+            .collect()
         },
     );
     let regions = |w| {
@@ -69,7 +79,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "Fig. 10",
         "the regions experiencing wear are similar for all clearances",
         format!(
-            "every region of the larger clearances within {} deg (twice the golden tolerance) of a region of the standard case",
+            "every region of the larger clearances within {} deg (twice the golden tolerance) of a region of the standard case; undefined in a member without regions at the larger clearances",
             2.0 * tol
         ),
         format!(
@@ -80,26 +90,25 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         ),
         &|m| {
             let std = m.wear.standard.region_angles();
-            [m.wear.clearance_0_2mm, m.wear.clearance_0_5mm]
-                .iter()
-                .flat_map(|w| w.region_angles())
-                .map(|a| within(&std, a, 2.0 * tol))
-                .collect()
+            Some(
+                [m.wear.clearance_0_2mm, m.wear.clearance_0_5mm]
+                    .iter()
+                    .flat_map(|w| w.region_angles())
+                    .map(|a| within(&std, a, 2.0 * tol))
+                    .collect(),
+            )
         },
     );
     let wcl = e.wear.by_clearance().map(|w| *w);
     c.claim(
         "Fig. 11",
         "a larger clearance gives a more uniform wear distribution (smaller differences between the regions)",
-        "(deepest − third most prominent region) / deepest decreases with clearance",
+        "(deepest − third most prominent region) / deepest decreases with clearance; undefined in a member with fewer than three regions at a clearance",
         format!(
             "(deepest − third most prominent region) / deepest: {} at 0.02 / 0.2 / 0.5 mm",
-            across(&wcl, |e| e.stat(|m| m.region_spread().unwrap_or(f64::NAN)), 1.0, 2)
+            across(&wcl, e.n, |e| e.stat(spread), 1.0, 2)
         ),
-        &|m| {
-            let s = m.wear.by_clearance().map(|w| w.region_spread().unwrap_or(f64::NAN));
-            vec![decreasing(&s)]
-        },
+        &|m| decreasing(&m.wear.by_clearance().map(|w| spread(w))).map(|d| vec![d]),
     );
     c.claim(
         "Fig. 11",
@@ -111,7 +120,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         format!(
             "max wear after {} rotations {} µm at 0.02 / 0.2 / 0.5 mm{}",
             e.wear.standard.scene.run.rotations,
-            across(&wcl, |e| e.stat(|m| m.max_depth()), 1e6, 3),
+            across(&wcl, e.n, |e| e.stat(|m| m.max_depth()), 1e6, 3),
             wcl.iter()
                 .zip(CASES.by_clearance())
                 .map(|(e, case)| (deepest_wear_states(e), case))
@@ -122,7 +131,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         &|m| {
             let r = m.wear.clearance_0_5mm.max_depth() / m.wear.standard.max_depth();
             let (lo, hi) = NOT_SERIOUSLY_AFFECTED;
-            vec![(lo..=hi).contains(&r)]
+            Some(vec![(lo..=hi).contains(&r)])
         },
     );
 }

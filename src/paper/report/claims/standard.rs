@@ -3,7 +3,7 @@
 //! whole bearing), figures 5-6 (three severe wear regions around 50, 180 and 320 deg, the
 //! one at 180 deg leading) and figure 7 (staircase growth of the regions).
 
-use super::{deepest_angle, within, Claims, Ensembles, WHOLE_SURFACE};
+use super::{deepest_angle, increasing, mean_sd, within, Claims, Ensembles, WHOLE_SURFACE};
 use crate::paper::cases::WearMember;
 use crate::paper::figures::wear_history::region_share_stats;
 use crate::paper::golden::{angle_distance, Golden};
@@ -17,7 +17,7 @@ const FOLLOWS: f64 = 0.5;
 const STAIRCASE_SHARE: f64 = 0.5;
 
 /// Depth of a member's three most prominent regions after snapshot `i`: the first (the
-/// deepest) over the mean of the other two.
+/// deepest) over the mean of the other two; NaN with fewer than three regions.
 fn lead(m: &WearMember, i: usize) -> f64 {
     let d = |k: usize| {
         m.regions
@@ -30,6 +30,7 @@ fn lead(m: &WearMember, i: usize) -> f64 {
 /// Adds the claims of figures 3-7.
 pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
     let tol = golden.standard_wear.angle_tolerance_deg;
+    let n = e.n;
     let std_st = e.steady.standard;
     c.claim(
         "Fig. 3",
@@ -37,15 +38,15 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         format!("both correlations ≥ {FOLLOWS}"),
         format!(
             "correlation of wear rate with contact force {}, with |slider acceleration| {}",
-            std_st.stat(|m| m.force_wear_correlation).mean_sd(1.0, 2),
-            std_st.stat(|m| m.acc_wear_correlation).mean_sd(1.0, 2)
+            mean_sd(&std_st.stat(|m| m.force_wear_correlation), n, 1.0, 2),
+            mean_sd(&std_st.stat(|m| m.acc_wear_correlation), n, 1.0, 2)
         ),
         &|m| {
             let s = m.steady.standard;
-            vec![
+            Some(vec![
                 s.force_wear_correlation >= FOLLOWS,
                 s.acc_wear_correlation >= FOLLOWS,
-            ]
+            ])
         },
     );
     c.claim(
@@ -59,13 +60,13 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
             "continuous contact in {} of {}; in contact {} % of the time, {} contact onsets per rotation, {} % of the circumference touched",
             std_st.continuous(),
             std_st.members.len(),
-            std_st.stat(|m| m.motion.contact_fraction).mean_sd(100.0, 1),
-            std_st.stat(|m| m.motion.impacts_per_rotation).mean_sd(1.0, 1),
-            std_st.stat(|m| m.contact_coverage).mean_sd(100.0, 0)
+            mean_sd(&std_st.stat(|m| m.motion.contact_fraction), n, 100.0, 1),
+            mean_sd(&std_st.stat(|m| m.motion.impacts_per_rotation), n, 1.0, 1),
+            mean_sd(&std_st.stat(|m| m.contact_coverage), n, 100.0, 0)
         ),
         &|m| {
             let s = m.steady.standard;
-            vec![s.motion.continuous(), s.contact_coverage >= WHOLE_SURFACE]
+            Some(vec![s.motion.continuous(), s.contact_coverage >= WHOLE_SURFACE])
         },
     );
     let std_we = e.wear.standard;
@@ -86,13 +87,14 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
             "nearest region to 50 / 180 / 320 deg at {} deg",
             claimed
                 .iter()
-                .map(|&a| region_angle(a).mean_sd(1.0, 0))
+                .map(|&a| mean_sd(&region_angle(a), n, 1.0, 0))
                 .collect::<Vec<_>>()
                 .join(" / ")
         ),
         &|m| {
+            // a claimed region the member lacks is a failure: the claim is that it exists
             let angles = m.wear.standard.region_angles();
-            claimed.iter().map(|&a| within(&angles, a, tol)).collect()
+            Some(claimed.iter().map(|&a| within(&angles, a, tol)).collect())
         },
     );
     let last = std_we.members[0].snapshots.len().saturating_sub(1);
@@ -103,18 +105,20 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "Fig. 6",
         "the 180 deg region wears most, and its lead grows drastically as wear evolves",
         format!(
-            "deepest region within {tol} deg of {largest}; its lead (depth over the mean of the other two) grows from {first_rot} to {last_rot} rotations"
+            "deepest region within {tol} deg of {largest}; its lead (depth over the mean of the other two) grows from {first_rot} to {last_rot} rotations; undefined in a member with fewer than three regions"
         ),
         format!(
             "deepest region at {} deg; lead {} after {first_rot} rotations, {} after {last_rot}",
-            std_we.angle_stat(deepest_angle).mean_sd(1.0, 0),
-            std_we.stat(|m| lead(m, 0)).mean_sd(1.0, 2),
-            std_we.stat(|m| lead(m, last)).mean_sd(1.0, 2)
+            mean_sd(&std_we.angle_stat(deepest_angle), n, 1.0, 0),
+            mean_sd(&std_we.stat(|m| lead(m, 0)), n, 1.0, 2),
+            mean_sd(&std_we.stat(|m| lead(m, last)), n, 1.0, 2)
         ),
         &|m| {
             let w = m.wear.standard;
-            let at_180 = w.deepest_angle().is_some_and(|a| angle_distance(a, largest) <= tol);
-            vec![at_180, lead(w, last) > lead(w, 0)]
+            Some(vec![
+                angle_distance(w.deepest_angle()?, largest) <= tol,
+                increasing(&[lead(w, 0), lead(w, last)])?,
+            ])
         },
     );
     c.claim(
@@ -127,9 +131,9 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         format!(
             "the three most prominent regions get 90% of their wear in {} % of the crank positions",
             region_share_stats(&e.shares)
-                .map(|d| d.mean_sd(100.0, 0))
+                .map(|d| mean_sd(&d, n, 100.0, 0))
                 .join(", ")
         ),
-        &|m| m.shares.iter().map(|&s| s < STAIRCASE_SHARE).collect(),
+        &|m| Some(m.shares.iter().map(|&s| s < STAIRCASE_SHARE).collect()),
     );
 }
