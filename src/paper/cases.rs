@@ -331,10 +331,9 @@ impl WearEnsemble {
         Distribution::of(self.members.iter().map(f))
     }
 
-    /// Distribution of the angle `f` (deg) over the members, unwrapped around its circular
-    /// mean.
-    pub fn angle_stat(&self, f: impl Fn(&WearMember) -> f64) -> Distribution {
-        Distribution::of_angles_deg(self.members.iter().map(f))
+    /// States of the angle `f` (deg) over the members ([`States::of_angles_deg`]).
+    pub fn angle_states(&self, f: impl Fn(&WearMember) -> f64) -> States {
+        States::of_angles_deg(self.members.iter().map(f))
     }
 }
 

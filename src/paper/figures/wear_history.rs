@@ -8,6 +8,7 @@
 
 use super::output_path;
 use super::wear_profiles::{band_axes, mean_profile_regions, write_band_csv, BandCurve};
+use crate::analysis::states::States;
 use crate::analysis::statistics::{Band, Distribution};
 use crate::io::plot::render;
 use crate::paper::cases::{Runs, WearEnsemble, CASES, HISTORY_PER_ROTATION};
@@ -47,10 +48,15 @@ pub fn staircase_shares(e: &WearEnsemble) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// For the first, second and third most prominent region: the distribution over the members of
-/// [`staircase_shares`] (members with fewer regions left out).
-pub fn region_share_stats(shares: &[Vec<f64>]) -> [Distribution; 3] {
-    [0, 1, 2].map(|i| Distribution::of(shares.iter().filter_map(|s| s.get(i).copied())))
+/// For the first, second and third most prominent region: the states over the members of
+/// [`staircase_shares`] (members with fewer regions left out: NaN, in no state).
+pub fn region_share_stats(shares: &[Vec<f64>]) -> [States; 3] {
+    [0, 1, 2].map(|i| {
+        let values: Vec<f64> = (shares.iter())
+            .map(|s| s.get(i).copied().unwrap_or(f64::NAN))
+            .collect();
+        States::of(&values)
+    })
 }
 
 /// Figure 7: bearing radius in the three severe regions of the mean profile against crank
@@ -81,9 +87,11 @@ pub fn fig07(runs: &Runs) -> Result<Vec<String>> {
         .enumerate()
         .map(|(i, d)| {
             format!(
-                "region {} of each member: 90% of its wear in {} % of the crank positions",
+                "region {} of each member: 90% of its wear in {} % of the crank positions (of \
+                 the {} members with that region)",
                 i + 1,
-                d.mean_sd(100.0, 0)
+                d.mean_sd_with_states(100.0, 0),
+                d.pooled.n
             )
         })
         .collect();

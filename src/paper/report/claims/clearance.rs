@@ -33,8 +33,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
             big[0].members.len() - big[0].continuous(),
             big[1].members.len() - big[1].continuous(),
             big[0].members.len(),
-            across(&big, e.n, |e| e.stat(|m| m.motion.contact_fraction), 100.0, 1),
-            across(&big, e.n, |e| e.stat(|m| m.motion.impacts_per_rotation), 1.0, 1)
+            across(&big, e.n, |e| e.states(|m| m.motion.contact_fraction), 100.0, 1),
+            across(&big, e.n, |e| e.states(|m| m.motion.impacts_per_rotation), 1.0, 1)
         ),
         &|m| {
             Some(
@@ -52,8 +52,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "both increase with clearance",
         format!(
             "over the recorded rotations, max penetration {} µm, max |slider acceleration| {} m/s² at 0.02 / 0.2 / 0.5 mm",
-            across(&cl, e.n, |e| e.stat(|m| m.max_penetration), 1e6, 2),
-            across(&cl, e.n, |e| e.stat(|m| m.max_slider_acc), 1.0, 0)
+            across(&cl, e.n, |e| e.states(|m| m.max_penetration), 1e6, 2),
+            across(&cl, e.n, |e| e.states(|m| m.max_slider_acc), 1.0, 0)
         ),
         &|m| {
             let v = |f: &dyn Fn(&SteadyMember) -> f64| -> Vec<f64> {
@@ -106,7 +106,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "(deepest − third most prominent region) / deepest decreases with clearance; undefined in a member with fewer than three regions at a clearance",
         format!(
             "(deepest − third most prominent region) / deepest: {} at 0.02 / 0.2 / 0.5 mm",
-            across(&wcl, e.n, |e| e.stat(spread), 1.0, 2)
+            across(&wcl, e.n, |e| e.states(spread), 1.0, 2)
         ),
         &|m| decreasing(&m.wear.by_clearance().map(|w| spread(w))).map(|d| vec![d]),
     );
@@ -120,7 +120,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         format!(
             "max wear after {} rotations {} µm at 0.02 / 0.2 / 0.5 mm{}",
             e.wear.standard.scene.run.rotations,
-            across(&wcl, e.n, |e| e.stat(|m| m.max_depth()), 1e6, 3),
+            across(&wcl, e.n, |e| e.states(|m| m.max_depth()), 1e6, 3),
             wcl.iter()
                 .zip(CASES.by_clearance())
                 .map(|(e, case)| (deepest_wear_states(e), case))

@@ -13,7 +13,7 @@ mod standard;
 mod table3;
 
 use super::verdict::{Claim, Verdict};
-use crate::analysis::statistics::Distribution;
+use crate::analysis::states::States;
 use crate::paper::cases::{PerCase, Runs, SteadyEnsemble, SteadyMember, WearEnsemble, WearMember};
 use crate::paper::figures::staircase_shares;
 use crate::paper::golden::{angle_distance, Golden};
@@ -148,24 +148,29 @@ fn within(angles: &[f64], target: f64, tol: f64) -> bool {
 fn across<E>(
     ensembles: &[&E],
     n: usize,
-    stat: impl Fn(&E) -> Distribution,
+    states: impl Fn(&E) -> States,
     scale: f64,
     digits: usize,
 ) -> String {
     ensembles
         .iter()
-        .map(|e| mean_sd(&stat(e), n, scale, digits))
+        .map(|e| mean_sd(&states(e), n, scale, digits))
         .collect::<Vec<_>>()
         .join(" / ")
 }
 
-/// `d`'s mean ± sd ([`Distribution::mean_sd`]) over an ensemble of `n` members, followed by
-/// "(in 8 of 32 members)" when the quantity is undefined in some of them, so a mean never
-/// reads as the whole ensemble's when it is not.
-fn mean_sd(d: &Distribution, n: usize, scale: f64, digits: usize) -> String {
-    let value = d.mean_sd(scale, digits);
-    if d.n < n {
-        format!("{value} (in {} of {n} members)", d.n)
+/// The pooled `mean ± sd` of `s` with its states where the members split
+/// ([`States::mean_sd_with_states`]), over an ensemble of `n` members, followed by "(in 8 of
+/// 32 members)" when the quantity is undefined in some of them, so a mean never reads as the
+/// whole ensemble's or a typical member's when it is not.
+fn mean_sd(s: &States, n: usize, scale: f64, digits: usize) -> String {
+    with_members(s.mean_sd_with_states(scale, digits), s.pooled.n, n)
+}
+
+/// `value` followed by "(in `k` of `n` members)" when `k < n`.
+fn with_members(value: String, k: usize, n: usize) -> String {
+    if k < n {
+        format!("{value} (in {k} of {n} members)")
     } else {
         value
     }
@@ -194,11 +199,14 @@ mod tests {
 
     #[test]
     fn a_mean_over_fewer_members_says_over_how_many() {
-        let d = Distribution::of([1.0, f64::NAN, 3.0]);
+        let d = States::of(&[1.0, f64::NAN, 3.0]);
         assert_eq!(mean_sd(&d, 3, 1.0, 2), "2.00 ± 1.41 (in 2 of 3 members)");
+        assert_eq!(mean_sd(&States::of(&[1.0, 3.0]), 2, 1.0, 1), "2.0 ± 1.4");
+        // and a quantity whose members split says so, with both states
+        let split = States::of(&[1.0, 1.1, 0.9, 1.0, 5.0, 5.1, 4.9, 5.0]);
         assert_eq!(
-            mean_sd(&Distribution::of([1.0, 3.0]), 2, 1.0, 1),
-            "2.0 ± 1.4"
+            mean_sd(&split, 8, 1.0, 1),
+            "3.0 ± 2.1 (pooled over two states: low 4/8 1.0 ± 0.1, high 4/8 5.0 ± 0.1)"
         );
     }
 }

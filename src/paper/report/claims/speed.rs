@@ -20,8 +20,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         format!(
             "free flight and impact in {} of {n}; {} contact onsets per rotation, in contact {} % of the time",
             n - slow.continuous(),
-            mean_sd(&slow.stat(|m| m.motion.impacts_per_rotation), n, 1.0, 1),
-            mean_sd(&slow.stat(|m| m.motion.contact_fraction), n, 100.0, 1)
+            mean_sd(&slow.states(|m| m.motion.impacts_per_rotation), n, 1.0, 1),
+            mean_sd(&slow.states(|m| m.motion.contact_fraction), n, 100.0, 1)
         ),
         &|m| Some(vec![!m.steady.speed_30rpm.motion.continuous()]),
     );
@@ -35,7 +35,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         ),
         format!(
             "deepest wear at {} deg",
-            mean_sd(&e.wear.speed_30rpm.angle_stat(deepest_angle), n, 1.0, 0)
+            mean_sd(&e.wear.speed_30rpm.angle_states(deepest_angle), n, 1.0, 0)
         ),
         &|m| {
             let a = m.wear.speed_30rpm.deepest_angle()?;
@@ -53,8 +53,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         format!(
             "continuous contact in {} of {n}; in contact {} % of the time, {} % of the circumference touched",
             mid.continuous(),
-            mean_sd(&mid.stat(|m| m.motion.contact_fraction), n, 100.0, 1),
-            mean_sd(&mid.stat(|m| m.contact_coverage), n, 100.0, 0)
+            mean_sd(&mid.states(|m| m.motion.contact_fraction), n, 100.0, 1),
+            mean_sd(&mid.states(|m| m.contact_coverage), n, 100.0, 0)
         ),
         &|m| {
             let s = m.steady.speed_600rpm;
@@ -68,9 +68,9 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "all three increase with speed",
         format!(
             "at 30 / 600 / 2000 r/min, over the recorded rotations: max penetration {} µm; max |acceleration| {} m/s²; max wear rate {} µm/s",
-            across(&sp, n, |e| e.stat(|m| m.max_penetration), 1e6, 2),
-            across(&sp, n, |e| e.stat(|m| m.max_slider_acc), 1.0, 0),
-            across(&sp, n, |e| e.stat(|m| m.max_wear_rate), 1e6, 3)
+            across(&sp, n, |e| e.states(|m| m.max_penetration), 1e6, 2),
+            across(&sp, n, |e| e.states(|m| m.max_slider_acc), 1.0, 0),
+            across(&sp, n, |e| e.states(|m| m.max_wear_rate), 1e6, 3)
         ),
         &|m| {
             let v = |f: &dyn Fn(&SteadyMember) -> f64| -> Vec<f64> {
@@ -92,7 +92,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "deepest / mean wear depth decreases with speed",
         format!(
             "deepest / mean wear depth {} at 30 / 600 / 2000 r/min",
-            across(&wsp, n, |e| e.stat(|m| m.max_depth() / m.mean_depth()), 1.0, 1)
+            across(&wsp, n, |e| e.states(|m| m.max_depth() / m.mean_depth()), 1.0, 1)
         ),
         &|m| {
             let u = m.wear.by_speed().map(|w| w.max_depth() / w.mean_depth());

@@ -38,8 +38,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         format!("both correlations ≥ {FOLLOWS}"),
         format!(
             "correlation of wear rate with contact force {}, with |slider acceleration| {}",
-            mean_sd(&std_st.stat(|m| m.force_wear_correlation), n, 1.0, 2),
-            mean_sd(&std_st.stat(|m| m.acc_wear_correlation), n, 1.0, 2)
+            mean_sd(&std_st.states(|m| m.force_wear_correlation), n, 1.0, 2),
+            mean_sd(&std_st.states(|m| m.acc_wear_correlation), n, 1.0, 2)
         ),
         &|m| {
             let s = m.steady.standard;
@@ -60,9 +60,9 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
             "continuous contact in {} of {}; in contact {} % of the time, {} contact onsets per rotation, {} % of the circumference touched",
             std_st.continuous(),
             std_st.members.len(),
-            mean_sd(&std_st.stat(|m| m.motion.contact_fraction), n, 100.0, 1),
-            mean_sd(&std_st.stat(|m| m.motion.impacts_per_rotation), n, 1.0, 1),
-            mean_sd(&std_st.stat(|m| m.contact_coverage), n, 100.0, 0)
+            mean_sd(&std_st.states(|m| m.motion.contact_fraction), n, 100.0, 1),
+            mean_sd(&std_st.states(|m| m.motion.impacts_per_rotation), n, 1.0, 1),
+            mean_sd(&std_st.states(|m| m.contact_coverage), n, 100.0, 0)
         ),
         &|m| {
             let s = m.steady.standard;
@@ -71,7 +71,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
     );
     let std_we = e.wear.standard;
     let region_angle = |target: f64| {
-        std_we.angle_stat(move |m| {
+        std_we.angle_states(move |m| {
             m.region_angles()
                 .into_iter()
                 .min_by(|a, b| angle_distance(*a, target).total_cmp(&angle_distance(*b, target)))
@@ -109,9 +109,9 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         ),
         format!(
             "deepest region at {} deg; lead {} after {first_rot} rotations, {} after {last_rot}",
-            mean_sd(&std_we.angle_stat(deepest_angle), n, 1.0, 0),
-            mean_sd(&std_we.stat(|m| lead(m, 0)), n, 1.0, 2),
-            mean_sd(&std_we.stat(|m| lead(m, last)), n, 1.0, 2)
+            mean_sd(&std_we.angle_states(deepest_angle), n, 1.0, 0),
+            mean_sd(&std_we.states(|m| lead(m, 0)), n, 1.0, 2),
+            mean_sd(&std_we.states(|m| lead(m, last)), n, 1.0, 2)
         ),
         &|m| {
             let w = m.wear.standard;
