@@ -320,6 +320,136 @@ fn a_rerun_replaces_the_previous_run_and_leaves_other_files_alone() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// The names in `dir`, sorted.
+fn folder_names(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// The file names a manifest lists (its comment lines left out).
+fn manifest_names(dir: &std::path::Path) -> Vec<String> {
+    (fs::read_to_string(dir.join("jointwear-manifest.txt"))
+        .unwrap()
+        .lines())
+    .filter(|l| !l.starts_with('#'))
+    .map(str::to_owned)
+    .collect()
+}
+
+/// A manifest is not trusted: a title cannot add a line to it, and a line that names no
+/// output of the program (the user's notes, a scene, a checkpoint, a file outside the folder)
+/// is refused before the run, removing nothing. Fails on the code before: the title's line
+/// break made `notes.txt` a listed file, and the rerun deleted the user's notes (exit 0), as
+/// it deleted every name an edited manifest listed.
+#[test]
+fn a_manifest_names_only_outputs_and_no_title_adds_to_it() {
+    let dir = temp_dir("guards", "manifest");
+    let scene = short_standard(&dir, "one.toml", 1, &[]);
+    let out = dir.join("out");
+    let run = || jointwear(&["run", s(&scene), "--out", s(&out)]);
+    let o = jointwear(&[
+        "run",
+        s(&scene),
+        "--set",
+        "title=A\nnotes.txt",
+        "--out",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = fs::read_to_string(out.join("jointwear-manifest.txt")).unwrap();
+    assert!(text.starts_with("# jointwear run "), "{text}");
+    assert!(
+        text.lines().next().unwrap().contains(r"title=A\nnotes.txt"),
+        "{text}"
+    );
+    assert!(
+        !manifest_names(&out).contains(&"notes.txt".to_string()),
+        "{text}"
+    );
+    fs::write(out.join("notes.txt"), "mine").unwrap();
+    let o = run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(fs::read_to_string(out.join("notes.txt")).unwrap(), "mine");
+    let outputs = manifest_names(&out);
+    for (foreign, content) in [
+        ("notes.txt", None),
+        ("myscene.toml", Some("title = \"mine\"")),
+        ("checkpoint.json", Some("{}")),
+        (".hidden.csv", Some("a")),
+        ("../one.toml", None),
+        ("wear_rod slider.csv", Some("a")),
+    ] {
+        if let Some(content) = content {
+            fs::write(out.join(foreign), content).unwrap();
+        }
+        let before = folder_names(&out);
+        let manifest = format!("# edited\n{}\n{foreign}\n", outputs.join("\n"));
+        fs::write(out.join("jointwear-manifest.txt"), &manifest).unwrap();
+        let o = run();
+        assert_fails(
+            &o,
+            2,
+            &["jointwear-manifest.txt", foreign, "remove the line"],
+        );
+        assert_eq!(folder_names(&out), before, "{foreign}");
+        assert!(out.join(foreign).exists() && scene.exists(), "{foreign}");
+        let left = fs::read_to_string(out.join("jointwear-manifest.txt")).unwrap();
+        assert_eq!(left, manifest);
+    }
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A rerun that stops while writing leaves a manifest, marked incomplete, that lists the
+/// previous run's files and its own, and the next complete run removes those it does not
+/// write. Fails on the code before: the rerun removed the manifest before writing, so the
+/// previous run's snapshot files were listed nowhere and stayed beside the next run's outputs
+/// (exit 0).
+#[test]
+fn a_rerun_that_stops_while_writing_loses_track_of_no_output() {
+    let dir = temp_dir("guards", "stopped-write");
+    let scene = short_standard(&dir, "two.toml", 2, &[]);
+    let out = dir.join("out");
+    let run = |snapshots: &str| {
+        let set = format!("run.wear_snapshots={snapshots}");
+        jointwear(&["run", s(&scene), "--set", &set, "--out", s(&out)])
+    };
+    let o = run("[1,2]");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let first = manifest_names(&out);
+    assert!(first.contains(&"wear_snapshots_rod-slider.csv".to_string()));
+    // A directory where the rerun writes wear.png stops it after its first files, as a kill
+    // would (deterministically).
+    fs::remove_file(out.join("wear.png")).unwrap();
+    fs::create_dir(out.join("wear.png")).unwrap();
+    let o = run("[]");
+    assert!(!o.status.success(), "{}", stderr(&o));
+    let text = fs::read_to_string(out.join("jointwear-manifest.txt")).unwrap();
+    assert!(
+        text.lines().nth(1).unwrap().contains("INCOMPLETE"),
+        "{text}"
+    );
+    let listed = manifest_names(&out);
+    for name in first.iter().filter(|n| out.join(n).is_file()) {
+        assert!(listed.contains(name), "{name} unlisted: {text}");
+    }
+    fs::remove_dir(out.join("wear.png")).unwrap();
+    let o = run("[]");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut expected = manifest_names(&out);
+    assert!(
+        !expected.iter().any(|n| n.contains("snapshots")),
+        "{expected:?}"
+    );
+    expected.push("jointwear-manifest.txt".into());
+    expected.sort();
+    assert_eq!(folder_names(&out), expected);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn an_interrupted_run_says_so_and_exits_130() {
     let dir = temp_dir("guards", "interrupt");

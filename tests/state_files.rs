@@ -119,6 +119,102 @@ fn edited_checkpoints_are_refused_naming_the_field() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Drops the first `k` numbers of every series of a checkpoint's recording (`time`, the driver
+/// angle, every body's and joint's).
+fn drop_samples(v: &mut Value, k: usize) {
+    match v {
+        Value::Array(items) if items.iter().all(Value::is_number) => {
+            items.drain(..k.min(items.len()));
+        }
+        Value::Array(items) => items.iter_mut().for_each(|x| drop_samples(x, k)),
+        Value::Object(map) => map.values_mut().for_each(|x| drop_samples(x, k)),
+        _ => {}
+    }
+}
+
+/// A checkpoint that lacks an output its run had made by then, or holds one it cannot have
+/// made, is refused naming the field, not resumed to a result without it: before, (a) a
+/// missing first snapshot gave a profile file without its column, (b) 1000 dropped samples a
+/// time series 1000 rows short, and the other edits below resumed too (all exit 0).
+#[test]
+fn checkpoints_short_of_an_output_of_their_run_are_refused() {
+    let dir = temp_dir("state", "outputs");
+    // Rotation 2 of 3 with the last 2 recorded: samples, snapshots and history points made.
+    let extra = [
+        (
+            "baumgarte_per_s = 100.0",
+            "baumgarte_per_s = 100.0\nprofile_history_per_rotation = 4",
+        ),
+        ("record_interval_s = 1e-5", "record_interval_s = 1e-4"),
+        ("record_rotations = 1", "record_rotations = 2"),
+        ("wear_snapshots = []", "wear_snapshots = [1, 2, 3]"),
+    ];
+    let scene = Scene::load(short_standard(&dir, "scene.toml", 3, &extra)).unwrap();
+    let mut sim = Simulation::start(&scene).unwrap();
+    sim.advance_rotation().unwrap();
+    sim.advance_rotation().unwrap();
+    let path = dir.join("real.json");
+    write_checkpoint(&path, "fp", sim.checkpoint()).unwrap();
+    let real: Value = serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
+    let times = real["checkpoint"]["out"]["recording"]["time"]
+        .as_array()
+        .unwrap();
+    assert!(times.len() > 10, "{} samples", times.len());
+    type Edit = fn(&mut Value);
+    let edits: [(&str, Edit); 10] = [
+        ("out.wear_snapshots", |v| {
+            v["out"]["wear_snapshots"].as_array_mut().unwrap().remove(0);
+        }),
+        // the snapshot of the rotation just completed is not the profile held
+        ("out.wear_snapshots", |v| {
+            v["out"]["wear_snapshots"][1]["depths"][0][0] = 1e-9.into()
+        }),
+        ("out.recording", |v| {
+            drop_samples(&mut v["out"]["recording"], 10)
+        }),
+        ("out.recording", |v| {
+            let t = v["out"]["recording"]["time"][3].as_f64().unwrap();
+            v["out"]["recording"]["time"][3] = (t * (1.0 + 1e-15)).into();
+        }),
+        ("sampler.next", |v| {
+            let next = v["sampler"]["next"].as_u64().unwrap();
+            v["sampler"]["next"] = (next - 1).into();
+        }),
+        ("out.profile_history", |v| {
+            v["out"]["profile_history"]
+                .as_array_mut()
+                .unwrap()
+                .remove(0);
+        }),
+        ("next_history", |v| {
+            let h = v["next_history"].as_f64().unwrap();
+            v["next_history"] = (h * (1.0 - 1e-9)).into();
+        }),
+        ("out", |v| {
+            v["out"]["final_wear"] = serde_json::json!([[0.0]])
+        }),
+        ("out", |v| v["out"]["stats"]["steps"] = 1.into()),
+        ("out.max_penetration_whole_run[0]", |v| {
+            v["out"]["max_penetration_whole_run"][0] = (-1.0).into()
+        }),
+    ];
+    let edited = dir.join("edited.json");
+    for (field, edit) in edits {
+        let mut file = real.clone();
+        edit(file.pointer_mut("/checkpoint").unwrap());
+        reseal(&edited, file);
+        match resume(&scene, &edited) {
+            Err(Error::Invalid { field: f, .. }) => {
+                assert_eq!(f, format!("checkpoint.{field}"), "edit of {field}")
+            }
+            other => panic!("edit of {field}: {:?}", other.map_err(|e| e.to_string())),
+        }
+    }
+    reseal(&edited, real);
+    assert_eq!(resume(&scene, &edited).unwrap(), 3);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Every number, array and option of a real checkpoint replaced in turn (at most `MUTANTS`
 /// mutations, taken evenly over its leaves) and resealed: each is refused or resumes to the
 /// run's end, never a panic.

@@ -54,8 +54,21 @@ fn temp_path(path: &Path) -> PathBuf {
 
 /// Writes `path` atomically: creates the parent directory, lets `write` produce the content
 /// at a temporary path next to `path`, then renames it into place. On failure the temporary
-/// file is removed and `path` is left untouched.
+/// file is removed and `path` is left untouched. Inside [`write_outputs`], a file of its
+/// folder is listed in the folder's manifest before it is renamed into place.
 pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    replace(path, write, || {
+        WRITING.with_borrow_mut(|w| w.as_mut().map_or(Ok(()), |w| w.announce(path)))
+    })
+}
+
+/// [`write_atomic`], calling `before_rename` once the content is complete, before `path` is
+/// replaced; its failure leaves `path` untouched as well.
+fn replace(
+    path: &Path,
+    write: impl FnOnce(&Path) -> Result<()>,
+    before_rename: impl FnOnce() -> Result<()>,
+) -> Result<()> {
     if path.file_name().is_none() {
         return Err(io_error(
             path,
@@ -82,13 +95,11 @@ pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Res
             Error::Io { path: p, source } if p == tmp => io_error(path, source),
             e => e,
         })
+        .and_then(|()| before_rename())
         .and_then(|()| fs::rename(&tmp, path).map_err(|e| io_error(path, e)));
-    match result {
-        Ok(()) => WRITTEN.with_borrow_mut(|w| w.iter_mut().for_each(|w| w.push(path.into()))),
+    if result.is_err() {
         // Best effort: the writer may have failed before creating the file.
-        Err(_) => {
-            let _ = fs::remove_file(&tmp);
-        }
+        let _ = fs::remove_file(&tmp);
     }
     result
 }
@@ -101,62 +112,175 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
     })
 }
 
-thread_local! {
-    /// The files [`write_atomic`] wrote on this thread while [`write_outputs`] collects them.
-    static WRITTEN: RefCell<Option<Vec<PathBuf>>> = const { RefCell::new(None) };
-}
-
-/// File listing the outputs of the last complete run written into a folder.
+/// File listing the outputs of the last run written into a folder.
 pub const MANIFEST: &str = "jointwear-manifest.txt";
 
-/// The file names a folder's manifest lists (none without a manifest). Only plain names are
-/// taken: a manifest never makes this program touch anything outside its folder.
-fn manifest_files(dir: &Path) -> Vec<String> {
-    let text = fs::read_to_string(dir.join(MANIFEST)).unwrap_or_default();
-    text.lines()
-        .filter(|l| !l.starts_with('#') && !l.is_empty() && *l != MANIFEST)
-        .filter(|l| Path::new(l).file_name() == Some(std::ffi::OsStr::new(l)))
-        .map(str::to_owned)
+/// The second line of the manifest of a write that has not completed.
+const INCOMPLETE: &str = "# INCOMPLETE: the write of this run was interrupted or failed; the \
+                          files below are its own and the previous run's, which the next \
+                          complete write into this folder removes";
+
+/// The second line of the manifest of a complete write.
+const COMPLETE: &str = "# the files of this run; other files here are not from it";
+
+thread_local! {
+    /// The [`write_outputs`] under way on this thread, to which [`write_atomic`] announces
+    /// its files.
+    static WRITING: RefCell<Option<Writing>> = const { RefCell::new(None) };
+}
+
+/// A write of outputs into a folder under way ([`write_outputs`]).
+struct Writing {
+    dir: PathBuf,
+    /// The manifest's first line.
+    title: String,
+    /// Whether a file name is one the program writes into output folders.
+    owned: fn(&str) -> bool,
+    /// The names its manifest lists: the previous write's, then this one's as they come.
+    listed: Vec<String>,
+    /// This write's names, in the order first written.
+    written: Vec<String>,
+    /// Whether the manifest says yet that the write is incomplete.
+    marked: bool,
+}
+
+impl Writing {
+    /// Lists `path`, about to be written, in the incomplete manifest first when it is a new
+    /// file of the folder, so that no file of the program is ever in the folder unlisted: an
+    /// interrupted write leaves every file it wrote or replaced to the next one to remove.
+    fn announce(&mut self, path: &Path) -> Result<()> {
+        if path.parent() != Some(self.dir.as_path()) {
+            return Ok(());
+        }
+        let name = path.file_name().and_then(|n| n.to_str());
+        let Some(name) = name.filter(|n| (self.owned)(n)) else {
+            // A writer's name missing from the folder's names would never be removed.
+            return Err(Error::invalid(
+                "output file",
+                path.display(),
+                "one of the names output folders hold (the list of their writers' files)",
+            ));
+        };
+        if !self.written.iter().any(|n| n == name) {
+            self.written.push(name.to_owned());
+        }
+        if self.marked && self.listed.iter().any(|n| n == name) {
+            return Ok(());
+        }
+        if !self.listed.iter().any(|n| n == name) {
+            self.listed.push(name.to_owned());
+        }
+        self.marked = true;
+        self.save(INCOMPLETE, &self.listed)
+    }
+
+    /// Replaces the manifest, atomically, by one headed by the title and `status` that lists
+    /// `names`.
+    fn save(&self, status: &str, names: &[String]) -> Result<()> {
+        let mut text = format!("# {}\n{status}\n", self.title);
+        for n in names {
+            text.push_str(n);
+            text.push('\n');
+        }
+        let manifest = self.dir.join(MANIFEST);
+        replace(
+            &manifest,
+            |tmp| fs::write(tmp, &text).map_err(|e| io_error(tmp, e)),
+            || Ok(()),
+        )
+    }
+}
+
+/// The file names the manifest of `dir` lists (none without a manifest), each one that
+/// `owned` says the program writes into output folders; any other line but a comment (`#`)
+/// or an empty one is an error: the manifest was edited, or is not this program's, and a
+/// rerun would remove what it lists. Never a dot-file, a checkpoint, a lock or a file
+/// outside `dir`, whatever the manifest says.
+pub fn read_manifest(dir: &Path, owned: fn(&str) -> bool) -> Result<Vec<String>> {
+    let manifest = dir.join(MANIFEST);
+    let text = match fs::read_to_string(&manifest) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        read => read.map_err(|e| io_error(&manifest, e))?,
+    };
+    let mut names = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        if line.starts_with('#') || line.is_empty() {
+            continue;
+        }
+        if !owned(line) {
+            return Err(Error::invalid(
+                format!("line {} of {}", i + 1, manifest.display()),
+                line,
+                "the name of a file this program writes into an output folder: the manifest \
+                 was edited or is not this program's, and a new run into the folder removes \
+                 the files it lists (remove the line, or the manifest to leave every file \
+                 here alone)",
+            ));
+        }
+        names.push(line.to_owned());
+    }
+    Ok(names)
+}
+
+/// `title` on one line: its control characters (a line break) escaped, so that no text of a
+/// title (a scene's, a `--set` value) becomes a line of the manifest.
+fn one_line(title: &str) -> String {
+    title
+        .chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_default().to_string()
+            } else {
+                c.to_string()
+            }
+        })
         .collect()
 }
 
-/// Writes the outputs of one run into `dir` so that old and new outputs never mix: the
-/// previous run's manifest is removed first (a folder without one holds an interrupted or
-/// failed write), `write` writes through [`write_atomic`] on this thread, the files of the
-/// previous run it did not rewrite are removed, and a new [`MANIFEST`] headed by `title`
-/// lists this run's files. Files this program did not write are left alone.
-pub fn write_outputs<T>(dir: &Path, title: &str, write: impl FnOnce() -> Result<T>) -> Result<T> {
-    let previous = manifest_files(dir);
-    let manifest = dir.join(MANIFEST);
-    if manifest.exists() {
-        fs::remove_file(&manifest).map_err(|e| io_error(&manifest, e))?;
-    }
-    WRITTEN.with_borrow_mut(|w| *w = Some(Vec::new()));
+/// Writes the outputs of one run into `dir` so that old and new outputs never mix and no
+/// output is ever left unlisted: `write` writes through [`write_atomic`] on this thread;
+/// before it replaces the first file, the folder's [`MANIFEST`] is replaced by one marked
+/// incomplete that lists the previous write's files, and each new file is added to it before
+/// it appears; then the files of the previous write this one did not rewrite are removed, and
+/// the manifest, headed by `title`, lists this write's files alone. An interrupted or failed
+/// write thus leaves a manifest listing every file it and the one before wrote, which the
+/// next write removes. Only names `owned` accepts, the names of the program's outputs, are
+/// ever written or removed ([`read_manifest`]); files this program did not write are left
+/// alone.
+pub fn write_outputs<T>(
+    dir: &Path,
+    title: &str,
+    owned: fn(&str) -> bool,
+    write: impl FnOnce() -> Result<T>,
+) -> Result<T> {
+    let writing = Writing {
+        dir: dir.to_path_buf(),
+        title: one_line(title),
+        owned,
+        listed: read_manifest(dir, owned)?,
+        written: Vec::new(),
+        marked: false,
+    };
+    WRITING.with_borrow_mut(|w| *w = Some(writing));
     let result = write();
-    let written = WRITTEN.with_borrow_mut(Option::take).unwrap_or_default();
+    let writing = WRITING.with_borrow_mut(Option::take);
     let value = result?;
-    let mut names: Vec<String> = Vec::new();
-    for p in written.iter().filter(|p| p.parent() == Some(dir)) {
-        let name = p.file_name().map(|n| n.to_string_lossy().into_owned());
-        if let Some(n) = name.filter(|n| !names.contains(n)) {
-            names.push(n);
-        }
-    }
-    for stale in previous.iter().filter(|p| !names.contains(p)) {
+    // Taken by a write of outputs nested in this one, which would have listed this one's
+    // files in its own folder's manifest.
+    let writing = writing.ok_or_else(|| {
+        Error::invalid(
+            "output folder",
+            dir.display(),
+            "one folder written at a time on a thread",
+        )
+    })?;
+    for stale in (writing.listed.iter()).filter(|n| !writing.written.contains(n)) {
         let path = dir.join(stale);
         if path.is_file() {
             fs::remove_file(&path).map_err(|e| io_error(&path, e))?;
         }
     }
-    let mut text =
-        format!("# {title}\n# the files of this run; other files here are not from it\n");
-    for n in &names {
-        text.push_str(n);
-        text.push('\n');
-    }
-    write_atomic(&manifest, |tmp| {
-        fs::write(tmp, &text).map_err(|e| io_error(tmp, e))
-    })?;
+    writing.save(COMPLETE, &writing.written)?;
     Ok(value)
 }
 
@@ -588,6 +712,42 @@ mod tests {
                 other => panic!("{other:?}"),
             }
         }
+    }
+
+    /// A write of outputs lists every file of the folder's previous write and each of its
+    /// own before it appears, under a manifest marked incomplete; a failed write keeps it, and
+    /// the next complete write removes what it does not rewrite. Would fail with the manifest
+    /// removed first and written at the end (the previous write's b.csv, and c.csv, never
+    /// removed), or with a title's line break written as one.
+    #[test]
+    fn every_output_is_listed_before_it_is_in_the_folder() {
+        let dir = std::env::temp_dir().join(format!("jointwear-listed-{}", std::process::id()));
+        let owned: fn(&str) -> bool = |n| n.ends_with(".csv");
+        let write = |name: &str| write_text(&dir.join(name), name);
+        let names = || read_manifest(&dir, owned).unwrap();
+        let text = || fs::read_to_string(dir.join(MANIFEST)).unwrap();
+        write_outputs(&dir, "first", owned, || write("a.csv").and(write("b.csv"))).unwrap();
+        assert_eq!(names(), ["a.csv", "b.csv"]);
+        let stopped = write_outputs(&dir, "second\nc.csv\r", owned, || {
+            write("c.csv")?;
+            assert!(text().starts_with(&format!("# second\\nc.csv\\r\n{INCOMPLETE}\n")));
+            assert_eq!(names(), ["a.csv", "b.csv", "c.csv"]);
+            // Not an output: refused, never in the folder.
+            assert!(write("notes.txt").is_err());
+            assert!(!dir.join("notes.txt").exists());
+            Err::<(), _>(Error::Cancelled)
+        });
+        assert!(matches!(stopped, Err(Error::Cancelled)));
+        assert_eq!(names(), ["a.csv", "b.csv", "c.csv"]);
+        write_outputs(&dir, "third", owned, || write("a.csv")).unwrap();
+        assert_eq!(text(), format!("# third\n{COMPLETE}\na.csv\n"));
+        assert!(!dir.join("b.csv").exists() && !dir.join("c.csv").exists());
+        // A line the program would not write is refused, naming it, and nothing is removed.
+        fs::write(dir.join(MANIFEST), "# edited\na.csv\nnotes.txt\n").unwrap();
+        let e = write_outputs(&dir, "fourth", owned, || write("d.csv")).unwrap_err();
+        assert!(e.to_string().contains("line 3 of"), "{e}");
+        assert!(dir.join("a.csv").exists() && !dir.join("d.csv").exists());
+        fs::remove_dir_all(&dir).unwrap();
     }
 
     /// The bytes of the one CSV dialect: sweep files (tests/sweeps.rs) depend on them.

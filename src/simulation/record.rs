@@ -52,9 +52,29 @@ impl Sampler {
         }
     }
 
-    /// Grid points sampled so far (recorded or before the run's start).
-    pub(super) fn sampled(&self) -> usize {
-        self.next
+    /// Grid point `i`'s time (s).
+    fn time(&self, i: usize) -> f64 {
+        self.start + i as f64 * self.interval
+    }
+
+    /// The grid points a run has sampled once it reached time `t` (s): every one up to `t`,
+    /// as [`Sampler::sample`] takes them.
+    pub(super) fn due(&self, t: f64) -> usize {
+        (0..self.count).take_while(|&i| self.time(i) <= t).count()
+    }
+
+    /// Whether it has sampled exactly the grid points due at `t` ([`Sampler::due`]).
+    pub(super) fn sampled_until(&self, t: f64) -> bool {
+        self.next == self.due(t)
+    }
+
+    /// The times of the samples recorded so far by a run that began recording this window at
+    /// time `from` (s): the grid points sampled, but those before `from` (a window opened at
+    /// the end of settling that reaches back before it), which [`Sampler::sample`] skips.
+    pub(super) fn recorded(&self, from: f64) -> impl Iterator<Item = f64> + '_ {
+        (0..self.next)
+            .map(|i| self.time(i))
+            .filter(move |&t| t >= from)
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -71,7 +91,7 @@ impl Sampler {
     ) -> Result<()> {
         let n = mechanism.coordinates();
         while self.next < self.count {
-            let t = self.start + self.next as f64 * self.interval;
+            let t = self.time(self.next);
             if t > tb {
                 break;
             }

@@ -463,7 +463,11 @@ impl Simulation {
         self.validate_output(c)
     }
 
-    /// Checks the outputs a checkpoint carries: shapes of this scene's run, finite numbers.
+    /// Checks the outputs a checkpoint carries against what this scene's run has output at
+    /// the checkpoint's time `t`: its shapes, finite numbers, every wear snapshot and history
+    /// point due by then, every sample on the recording grid up to `t`, and nothing of what
+    /// only [`Simulation::finish`] writes. A checkpoint short of an output its run had made
+    /// would resume to a complete-looking result without it.
     fn validate_output(&self, c: &Checkpoint) -> Result<()> {
         let out = &c.out;
         let sectors: Vec<usize> = self
@@ -476,36 +480,73 @@ impl Simulation {
             depths.iter().map(Vec::len).eq(sectors.iter().copied())
                 && depths.iter().flatten().all(|d| d.is_finite() && *d >= 0.0)
         };
-        let mut previous = 0;
-        for (i, s) in out.wear_snapshots.iter().enumerate() {
-            let listed = self
-                .settings
-                .wear_snapshots
-                .binary_search(&s.rotation)
-                .is_ok();
-            if !listed
-                || s.rotation <= previous
-                || s.rotation > c.rotation
-                || !profiles_fit(&s.depths)
-            {
-                return Err(misfit(
-                    &format!("out.wear_snapshots[{i}]"),
-                    format!("rotation {}", s.rotation),
-                    "a profile per clearance joint at a rotation of run.wear_snapshots, in \
-                     order, completed"
-                        .into(),
-                ));
-            }
-            previous = s.rotation;
+        let due: Vec<u32> = (self.settings.wear_snapshots.iter())
+            .copied()
+            .take_while(|&r| r <= c.rotation)
+            .collect();
+        // A snapshot of the rotation just completed is the profile the checkpoint holds.
+        let snapshots_fit = out
+            .wear_snapshots
+            .iter()
+            .map(|s| s.rotation)
+            .eq(due.iter().copied())
+            && out.wear_snapshots.iter().all(|s| {
+                profiles_fit(&s.depths) && (s.rotation < c.rotation || s.depths == c.profiles)
+            });
+        if !snapshots_fit {
+            let saved: Vec<u32> = out.wear_snapshots.iter().map(|s| s.rotation).collect();
+            return Err(misfit(
+                "out.wear_snapshots",
+                format!("rotations {saved:?}"),
+                format!(
+                    "a profile per clearance joint at each of run.wear_snapshots completed by \
+                     rotation {}: {due:?}",
+                    c.rotation
+                ),
+            ));
         }
         let t = self.integrator.t();
-        if let Some(i) = (out.profile_history.iter())
-            .position(|(time, depths)| !(time.is_finite() && *time <= t && profiles_fit(depths)))
-        {
+        // The history points due: one at the end of the first step that reached each mark,
+        // the marks spaced by history_interval (added up as the run adds them) up to
+        // next_history, which `validate` bounds.
+        let mut marks = Vec::new();
+        if let Some(next) = c.next_history {
+            let mut mark = self.history_interval;
+            while mark < next {
+                marks.push(mark);
+                mark += self.history_interval;
+            }
+            if mark != next {
+                return Err(misfit(
+                    "next_history",
+                    next,
+                    format!(
+                        "a multiple of the history interval {:e} s, as the run adds them",
+                        self.history_interval
+                    ),
+                ));
+            }
+        }
+        let history = &out.profile_history;
+        let history_fits = history.len() == marks.len()
+            && history
+                .iter()
+                .zip(&marks)
+                .enumerate()
+                .all(|(i, ((time, depths), mark))| {
+                    let after = i == 0 || history[i - 1].0 < *time;
+                    after && *time >= mark * (1.0 - 1e-12) && *time <= t && profiles_fit(depths)
+                });
+        if !history_fits {
             return Err(misfit(
-                &format!("out.profile_history[{i}]"),
-                "(as saved)",
-                format!("a time up to t = {t:e} s and a profile per clearance joint"),
+                "out.profile_history",
+                format!("{} points", history.len()),
+                format!(
+                    "{} points, one per history mark passed by next_history, in order, each \
+                     at or after its mark and up to t = {t:e} s, with a profile per clearance \
+                     joint",
+                    marks.len()
+                ),
             ));
         }
         let rec = &out.recording;
@@ -536,16 +577,59 @@ impl Simulation {
                 && rec.accelerations.len() == bodies
                 && rec.joints.len() == joints
         };
-        let sampled = c.sampler.as_ref().map_or(0, Sampler::sampled);
-        let finite = series.chain([&rec.time]).flatten().all(|x| x.is_finite());
-        if !(lengths_fit && recorded && finite && n <= sampled) {
+        if let Some(sampler) = c.sampler.as_ref().filter(|s| !s.sampled_until(t)) {
+            return Err(misfit(
+                "sampler.next",
+                "(as saved)",
+                format!(
+                    "the {} grid points of the recording window up to t = {t:e} s",
+                    sampler.due(t)
+                ),
+            ));
+        }
+        // The window of a settled run opens at the end of settling, where it skips the grid
+        // points before.
+        let from = out
+            .settling
+            .map_or(0.0, |s| f64::from(s.rotations) * self.period);
+        let expected: Vec<f64> = c.sampler.iter().flat_map(|s| s.recorded(from)).collect();
+        let times_fit = rec
+            .time
+            .iter()
+            .map(|x| x.to_bits())
+            .eq(expected.iter().map(|x| x.to_bits()));
+        let finite = series.flatten().all(|x| x.is_finite());
+        if !(lengths_fit && recorded && finite && times_fit) {
             return Err(misfit(
                 "out.recording",
                 format!("{n} samples"),
                 format!(
-                    "at most the {sampled} grid points sampled, every series as long as \
-                     `time`, one per body and clearance joint, finite"
+                    "the {} samples of the recording grid up to t = {t:e} s, at its times, \
+                     every series as long as `time`, one per body and clearance joint, finite",
+                    expected.len()
                 ),
+            ));
+        }
+        // Written by `finish` alone: a checkpoint is taken before it.
+        let unfinished = out.final_wear.is_empty()
+            && out.final_state.is_empty()
+            && out.energy.is_none()
+            && out.stats == Stats::default();
+        if !unfinished {
+            return Err(misfit(
+                "out",
+                "(final_wear, final_state, energy or stats present)",
+                "no final outputs: final_wear and final_state empty, energy null, stats zero \
+                 (a run writes them when it finishes, after its last checkpoint)"
+                    .into(),
+            ));
+        }
+        // The largest penetration of the run includes the last step's.
+        if let Some(k) = (0..joints).find(|&k| out.max_penetration_whole_run[k] < c.gaps[k]) {
+            return Err(misfit(
+                &format!("out.max_penetration_whole_run[{k}]"),
+                out.max_penetration_whole_run[k],
+                format!("at least the joint's penetration at t, {:e} m", c.gaps[k]),
             ));
         }
         if !(out.wall_time.is_finite() && out.wall_time >= 0.0) {

@@ -2,7 +2,7 @@
 //! folder ([`write_ensemble`]: statistics as CSVs, the band plot) and the summary it prints.
 
 use crate::failure::{CliResult, Failure};
-use crate::{claim_out, load_variant};
+use crate::{claim_outputs, load_variant};
 use jointwear::io::format::{self as people, quantity, Reading};
 use jointwear::io::progress::progress_bar;
 use jointwear::simulation::ensemble::{self, EnsembleSettings};
@@ -39,7 +39,7 @@ pub fn run_ensemble(
     checked(path, &settings)?;
     let variant = load_variant(path, sets, rotations, ("ensemble", out))?;
     let (scene, dir) = (&variant.scene, &variant.dir);
-    let _claim = claim_out(path, dir)?;
+    let _claim = claim_outputs(path, dir)?;
     let clock = std::time::Instant::now();
     let bar = progress_bar(settings.members as u64, "members");
     let members = ensemble::run(

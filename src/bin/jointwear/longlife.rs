@@ -2,20 +2,21 @@
 //! rotation count or a wear limit; its growth and profile CSVs, figures and summary.
 
 use crate::failure::{CliResult, Failure};
-use crate::{checked_out_dir, claim_out};
+use crate::{checked_out_dir, claim_outputs};
 use jointwear::analysis::life::{
     changes, sample_motion, validated_until, Change, DEEPEST_MOVE_DEG, HOLD_BLOCKS, RATE_JUMP,
     RATE_WINDOW, VALIDATED_WEAR_RATIO,
 };
 use jointwear::analysis::CONTINUOUS_CONTACT_FRACTION;
 use jointwear::io::format::{self as people, quantity};
-use jointwear::io::output::{number, write_outputs, write_rows};
+use jointwear::io::output::{number, write_rows};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::progress_bar;
 use jointwear::scene::SceneFile;
 use jointwear::simulation::ensemble::{Perturbation, MAX_MEMBERS};
 use jointwear::simulation::folder::{
-    body_name, conventions, joint_file, write_profiles, write_summary, PROGRAM, SUMMARY_FILE,
+    body_name, conventions, joint_file, write_folder, write_profiles, write_summary, BLOCKS_FILE,
+    GROWTH_FIGURE, GROWTH_FILE, PROFILES_FIGURE, PROFILES_STEM, PROGRAM, SUMMARY_FILE,
 };
 use jointwear::simulation::longlife::{predict, LongLife, LongLifeSettings};
 use jointwear::simulation::Scene;
@@ -78,7 +79,7 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
         scene.mechanism = Perturbation::default().mechanism(&scene, seed, m);
     }
     let dir = checked_out_dir(path, "longlife", out)?;
-    let _claim = claim_out(path, &dir)?;
+    let _claim = claim_outputs(path, &dir)?;
     let target = rotations as u64;
     let settings = LongLifeSettings {
         rotations: target,
@@ -100,7 +101,7 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
         title.push_str(&format!(" --member {m} --seed {seed}"));
     }
     let summary = LongLifeSummary::new(path, &scene, &settings, member, &life);
-    write_outputs(&dir, &title, || {
+    write_folder(&dir, &title, || {
         write_longlife(&scene, &life, &dir)?;
         write_summary(&dir, &summary, &readme(&title, &scene))
     })
@@ -203,7 +204,7 @@ fn write_longlife(scene: &Scene, life: &LongLife, dir: &Path) -> jointwear::Resu
         }
         row
     });
-    write_rows(&dir.join("longlife_growth.csv"), &header, rows)?;
+    write_rows(&dir.join(GROWTH_FILE), &header, rows)?;
     write_blocks(scene, life, &dir.join(BLOCKS_FILE))?;
     let clearance_um: Vec<Vec<f64>> = growth
         .iter()
@@ -215,7 +216,7 @@ fn write_longlife(scene: &Scene, life: &LongLife, dir: &Path) -> jointwear::Resu
         .map(|(&k, c)| Series::new(&m.clearance_joints[k].name, &rotations, c, Style::Line))
         .collect();
     render(
-        &dir.join("longlife_growth.png"),
+        &dir.join(GROWTH_FIGURE),
         &[Axes::new(
             "Clearance growth: c + maximum wear depth",
             "rotations",
@@ -228,18 +229,9 @@ fn write_longlife(scene: &Scene, life: &LongLife, dir: &Path) -> jointwear::Resu
         .iter()
         .map(|s| (s.rotations, s.depths.as_slice()))
         .collect();
-    write_profiles(
-        dir,
-        "longlife_profiles",
-        "longlife_profiles.png",
-        m,
-        &snapshots,
-    )?;
+    write_profiles(dir, PROFILES_STEM, PROFILES_FIGURE, m, &snapshots)?;
     Ok(())
 }
-
-/// The per-block file of `longlife`: what each block was extrapolated from.
-const BLOCKS_FILE: &str = "longlife_blocks.csv";
 
 /// Writes [`BLOCKS_FILE`] of `life` at `path`: per block the rotations at the end of its
 /// sample and after it, and per clearance joint the sample's wear rate, contact fraction,
@@ -481,7 +473,7 @@ fn readme(title: &str, scene: &Scene) -> String {
          block on differs {RATE_JUMP}-fold or more from that of the {RATE_WINDOW} before it, \
          `deepest_wear_angle_deg` when the deepest sector moves more than {DEEPEST_MOVE_DEG} \
          deg for at least {HOLD_BLOCKS} blocks).\n",
-        files("longlife_profiles"),
+        files(PROFILES_STEM),
         validated = quantity(100.0 * VALIDATED_WEAR_RATIO, "%"),
     ));
     text

@@ -24,7 +24,7 @@ use jointwear::io::lock::{self, Lock};
 use jointwear::scene::reversal_note;
 use jointwear::scene::variant::{parse_value, Variant};
 use jointwear::simulation::ensemble::{EnsembleSettings, Perturbation, DEFAULT_SEED, MAX_MEMBERS};
-use jointwear::simulation::Scene;
+use jointwear::simulation::{folder, Scene};
 use jointwear::sweep::Assignment;
 use jointwear::Error;
 use std::path::{Path, PathBuf};
@@ -368,7 +368,7 @@ fn parse_perturbation(key: &str) -> Result<Perturbation, String> {
 
 /// `out/<scene stem>/<kind>` unless given: one default folder per kind of output (`run`,
 /// `ensemble`, `member-<K>`, `longlife`, `animate`, `check`), so that no command replaces
-/// another's results ([`jointwear::io::output::write_outputs`] removes the files of the
+/// another's results ([`jointwear::simulation::folder::write_folder`] removes the files of the
 /// previous write into a folder).
 fn out_dir(scene: &Path, kind: &str, out: Option<PathBuf>) -> PathBuf {
     out.unwrap_or_else(|| scene_out(scene).join(kind))
@@ -399,6 +399,15 @@ fn checked_out_dir(scene: &Path, kind: &str, out: Option<PathBuf>) -> CliResult<
 /// drops: refused (exit 2, naming the holder) while another process writes into it.
 fn claim_out(scene: &Path, dir: &Path) -> CliResult<Lock> {
     lock::claim_folder("--out", dir).map_err(|e| Failure::from(scene, e))
+}
+
+/// [`claim_out`] for a command that writes an output folder with a manifest (`run`, `run
+/// --ensemble`, `longlife`): its manifest is checked too, before any work, so that one this
+/// program cannot trust is refused at once (exit 2), not after the run.
+fn claim_outputs(scene: &Path, dir: &Path) -> CliResult<Lock> {
+    let claim = claim_out(scene, dir)?;
+    folder::check_manifest(dir).map_err(|e| Failure::from(scene, e))?;
+    Ok(claim)
 }
 
 /// A scene as `run` simulates it: the file with its `--set` values and `--rotations`.

@@ -4,7 +4,7 @@
 
 use crate::ensemble::checked;
 use crate::failure::{CliResult, Failure};
-use crate::{claim_out, load_variant};
+use crate::{claim_outputs, load_variant};
 use jointwear::io::format::{number, quantity};
 use jointwear::io::interrupt;
 use jointwear::io::progress::{progress_bar, Progress};
@@ -76,7 +76,7 @@ pub fn run(
     let loaded = load_variant(path, sets, rotations, (&kind, out))?;
     let (scene, dir) = (&loaded.scene, &loaded.dir);
     let fingerprint = &loaded.variant.fingerprint();
-    let _claim = claim_out(path, dir)?;
+    let _claim = claim_outputs(path, dir)?;
     if checkpoint_every == Some(0) {
         return Err(Failure::input(
             path,

@@ -3,12 +3,12 @@
 //! `README.txt` ([`write_ensemble`]).
 
 use super::{
-    conventions, joint_file, perturbation_arg, wear_panel, write_summary, Origin, PROGRAM,
-    SUMMARY_FILE,
+    conventions, joint_file, perturbation_arg, wear_panel, write_folder, write_summary, Origin,
+    BAND_STEM, MEMBERS_FILE, PROGRAM, STATISTICS_FILE, SUMMARY_FILE, WEAR_FIGURE,
 };
 use crate::analysis::states::STATE_COLUMNS;
 use crate::analysis::statistics::{Distribution, VALUE_KEYS};
-use crate::io::output::{number, number_or_empty, write_outputs, write_rows};
+use crate::io::output::{number, number_or_empty, write_rows};
 use crate::io::plot::{render, Axes, Series, Shade, Style};
 use crate::laws::wear::sector_angles_deg;
 use crate::simulation::ensemble::EnsembleSettings;
@@ -41,7 +41,7 @@ pub fn write_ensemble(
         settings.seed,
         perturbation_arg(&settings.perturbation)
     );
-    write_outputs(dir, &title, || {
+    write_folder(dir, &title, || {
         let stats = write_files(scene, settings, members, walls, dir)?;
         let summary = EnsembleSummary {
             program: PROGRAM.into(),
@@ -110,7 +110,7 @@ fn write_files(
             row.extend([number(*secs), String::new()]);
             row
         });
-    write_rows(&dir.join("ensemble_members.csv"), &head, rows)?;
+    write_rows(&dir.join(MEMBERS_FILE), &head, rows)?;
     let stats = joint_statistics(scene, members);
     let mut head = vec!["joint", "quantity", "n"];
     head.extend(VALUE_KEYS);
@@ -125,7 +125,7 @@ fn write_files(
             rows.push(row);
         }
     }
-    write_rows(&dir.join("ensemble_summary.csv"), &head, rows)?;
+    write_rows(&dir.join(STATISTICS_FILE), &head, rows)?;
     let mut series = Vec::new();
     // one per clearance joint, in the mechanism's order
     for (k, j) in stats.iter().enumerate() {
@@ -138,7 +138,7 @@ fn write_files(
             row.extend(numbers(d));
             row
         });
-        let file = joint_file("ensemble_wear", &j.name);
+        let file = joint_file(BAND_STEM, &j.name);
         write_rows(&dir.join(file), &head, rows)?;
         let um = |v: Vec<f64>| v.iter().map(|x| x * 1e6).collect::<Vec<f64>>();
         let (mean, lo, hi) = (um(band.mean()), um(band.quantile(0)), um(band.quantile(4)));
@@ -163,7 +163,7 @@ fn write_files(
                 )
             })
             .collect();
-        render(&dir.join("wear.png"), &panels)?;
+        render(&dir.join(WEAR_FIGURE), &panels)?;
     }
     Ok(stats)
 }
@@ -222,7 +222,7 @@ fn readme(
     let worn: Vec<String> = stats
         .iter()
         .filter(|j| j.wear.is_some())
-        .map(|j| joint_file("ensemble_wear", &j.name))
+        .map(|j| joint_file(BAND_STEM, &j.name))
         .collect();
     text.push_str(&format!(
         "\nFILES\n\

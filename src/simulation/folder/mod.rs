@@ -5,15 +5,15 @@
 //! the conventions its `README.txt` states (units, frames, signs, number format), per-joint
 //! file names.
 //!
-//! A folder is written through [`crate::io::output::write_outputs`] (atomic files and a
-//! manifest; the files of the previous write into the folder that this one did not rewrite are
-//! removed); claiming it against other processes ([`crate::io::lock::claim_folder`]) is the
-//! caller's, who may hold it from before the run.
+//! A folder is written through [`write_folder`] (atomic files and a manifest; the files of the
+//! previous write into the folder that this one did not rewrite are removed, and only names
+//! its writers write, `FOLDER_FILES`); claiming it against other processes
+//! ([`crate::io::lock::claim_folder`]) is the caller's, who may hold it from before the run.
 
 pub mod ensemble;
 pub mod run;
 
-use crate::io::output::{write_csv, write_json, write_text};
+use crate::io::output::{read_manifest, write_csv, write_json, write_outputs, write_text};
 use crate::io::plot::{render, Axes, Series, Style};
 use crate::laws::wear::sector_angles_deg;
 use crate::mechanism::{BodyIndex, Mechanism};
@@ -53,6 +53,109 @@ pub fn joint_file_part(name: &str) -> String {
 /// name ([`joint_file_part`]; a scene whose joints would share a file is refused at load).
 pub fn joint_file(stem: &str, joint: &str) -> String {
     format!("{stem}_{}.csv", joint_file_part(joint))
+}
+
+/// The recorded rotations of a run.
+pub const TIMESERIES_FILE: &str = "timeseries.csv";
+
+/// Stem of a run's final wear profile per joint, `wear_<joint>.csv`.
+pub const WEAR_STEM: &str = "wear";
+
+/// Stem of a run's wear snapshots per joint.
+pub const SNAPSHOTS_STEM: &str = "wear_snapshots";
+
+/// The final wear profiles of a run, or an ensemble's band.
+pub const WEAR_FIGURE: &str = "wear.png";
+
+/// A run's wear snapshots.
+pub const EVOLUTION_FIGURE: &str = "wear_evolution.png";
+
+/// A run's journal orbits.
+pub const TRAJECTORY_FIGURE: &str = "trajectory.png";
+
+/// A run's normal forces.
+pub const NORMAL_FORCE_FIGURE: &str = "normal_force.png";
+
+/// An ensemble's members, one row each.
+pub const MEMBERS_FILE: &str = "ensemble_members.csv";
+
+/// An ensemble's statistics.
+pub const STATISTICS_FILE: &str = "ensemble_summary.csv";
+
+/// Stem of an ensemble's wear band per joint.
+pub const BAND_STEM: &str = "ensemble_wear";
+
+/// A long-life prediction's clearance growth.
+pub const GROWTH_FILE: &str = "longlife_growth.csv";
+
+/// Its figure.
+pub const GROWTH_FIGURE: &str = "longlife_growth.png";
+
+/// A long-life prediction's blocks.
+pub const BLOCKS_FILE: &str = "longlife_blocks.csv";
+
+/// Stem of a long-life prediction's profiles per joint.
+pub const PROFILES_STEM: &str = "longlife_profiles";
+
+/// Their figure.
+pub const PROFILES_FIGURE: &str = "longlife_profiles.png";
+
+/// A file of output folders: one name, or per clearance joint `<stem>_<joint>.csv`
+/// ([`joint_file`]).
+#[derive(Clone, Copy)]
+enum FolderFile {
+    Named(&'static str),
+    PerJoint(&'static str),
+}
+
+/// Every file the writers of output folders write: `run` ([`run`]), `run --ensemble`
+/// ([`ensemble`]) and `longlife` (the program's), also through Python's `save`. A writer
+/// cannot write another name into its folder ([`write_folder`] refuses it, so a new file
+/// fails its first write until it is listed here), and a rerun removes no other, whatever a
+/// manifest lists: never the user's files, a checkpoint, the lock or a dot-file.
+const FOLDER_FILES: [FolderFile; 17] = [
+    FolderFile::Named(SUMMARY_FILE),
+    FolderFile::Named(README_FILE),
+    FolderFile::Named(TIMESERIES_FILE),
+    FolderFile::PerJoint(WEAR_STEM),
+    FolderFile::PerJoint(SNAPSHOTS_STEM),
+    FolderFile::Named(WEAR_FIGURE),
+    FolderFile::Named(EVOLUTION_FIGURE),
+    FolderFile::Named(TRAJECTORY_FIGURE),
+    FolderFile::Named(NORMAL_FORCE_FIGURE),
+    FolderFile::Named(MEMBERS_FILE),
+    FolderFile::Named(STATISTICS_FILE),
+    FolderFile::PerJoint(BAND_STEM),
+    FolderFile::Named(GROWTH_FILE),
+    FolderFile::Named(GROWTH_FIGURE),
+    FolderFile::Named(BLOCKS_FILE),
+    FolderFile::PerJoint(PROFILES_STEM),
+    FolderFile::Named(PROFILES_FIGURE),
+];
+
+/// Whether `name` is a file of output folders ([`FOLDER_FILES`]): a per-joint file's joint
+/// part is one [`joint_file_part`] can have made of a joint's name (never empty).
+fn is_folder_file(name: &str) -> bool {
+    FOLDER_FILES.iter().any(|f| match *f {
+        FolderFile::Named(n) => n == name,
+        FolderFile::PerJoint(stem) => (name.strip_prefix(stem))
+            .and_then(|rest| rest.strip_prefix('_'))
+            .and_then(|rest| rest.strip_suffix(".csv"))
+            .is_some_and(|part| !part.is_empty() && joint_file(stem, part) == name),
+    })
+}
+
+/// Writes an output folder: [`write_outputs`] with the names its writers write (`FOLDER_FILES`),
+/// the only ones it may write or remove.
+pub fn write_folder<T>(dir: &Path, title: &str, write: impl FnOnce() -> Result<T>) -> Result<T> {
+    write_outputs(dir, title, is_folder_file, write)
+}
+
+/// Checks the manifest of the output folder `dir` ([`read_manifest`]), before a run that
+/// will write into it: a manifest listing a file that is not an output is refused at once
+/// (bad input), not after the run.
+pub fn check_manifest(dir: &Path) -> Result<()> {
+    read_manifest(dir, is_folder_file).map(drop)
 }
 
 /// The machine-readable summary every output folder holds.
@@ -272,6 +375,37 @@ pub fn timeseries_columns(m: &Mechanism) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The names a rerun may remove are the writers' alone. Would fail with any name a
+    /// manifest lists taken (the user's notes, a scene, the checkpoint, the lock, a dot-file).
+    #[test]
+    fn folder_files_are_the_writers_names_only() {
+        for name in [
+            "timeseries.csv",
+            "wear_rod-slider.csv",
+            "wear_snapshots_crank_1.csv",
+            "ensemble_wear_j.csv",
+            "longlife_profiles_j.csv",
+            "summary.json",
+            "README.txt",
+        ] {
+            assert!(is_folder_file(name), "{name}");
+        }
+        for name in [
+            "notes.txt",
+            "myscene.toml",
+            crate::simulation::checkpoint::CHECKPOINT_FILE,
+            crate::io::lock::FOLDER_LOCK,
+            crate::io::output::MANIFEST,
+            ".timeseries.tmp-1-0.csv",
+            "wear_.csv",
+            "wear_a b.csv",
+            "wear_a.png",
+            "../timeseries.csv",
+        ] {
+            assert!(!is_folder_file(name), "{name}");
+        }
+    }
 
     /// Would fail on an off-by-one pick (the last profile left out) or on more profiles than
     /// the palette has colours.

@@ -3,10 +3,12 @@
 
 use super::{
     body_name, conventions, joint_file, perturbation_arg, timeseries_columns, wear_panel,
-    write_profiles, write_summary, Origin, PROGRAM, SUMMARY_FILE,
+    write_folder, write_profiles, write_summary, Origin, EVOLUTION_FIGURE, NORMAL_FORCE_FIGURE,
+    PROGRAM, SNAPSHOTS_STEM, SUMMARY_FILE, TIMESERIES_FILE, TRAJECTORY_FIGURE, WEAR_FIGURE,
+    WEAR_STEM,
 };
 use crate::analysis::regions::{MIN_PROMINENCE_OF_HEIGHT, MIN_RELATIVE_PROMINENCE};
-use crate::io::output::{write_csv, write_outputs};
+use crate::io::output::write_csv;
 use crate::io::plot::{render, Axes, Series, Style};
 use crate::laws::wear::sector_angles_deg;
 use crate::ode::Method;
@@ -42,7 +44,7 @@ pub fn write_run(
             perturbation: e.perturbation.describe(),
         });
     }
-    write_outputs(dir, &title, || {
+    write_folder(dir, &title, || {
         write_files(scene, out, dir)?;
         write_summary(dir, &summary, &readme(&title, scene, out))
     })?;
@@ -55,7 +57,7 @@ fn write_files(scene: &Scene, out: &RunOutput, dir: &Path) -> Result<()> {
     let table = rec.columns(m);
     let header: Vec<&str> = table.iter().map(|(name, _)| name.as_str()).collect();
     let columns: Vec<&[f64]> = table.iter().map(|(_, data)| &data[..]).collect();
-    write_csv(&dir.join("timeseries.csv"), &header, &columns)?;
+    write_csv(&dir.join(TIMESERIES_FILE), &header, &columns)?;
 
     let worn: Vec<(usize, Vec<f64>, Vec<f64>)> = m
         .clearance_joints
@@ -73,7 +75,7 @@ fn write_files(scene: &Scene, out: &RunOutput, dir: &Path) -> Result<()> {
         .collect();
     for (k, angles, _) in &worn {
         let name = &m.clearance_joints[*k].name;
-        let path = dir.join(joint_file("wear", name));
+        let path = dir.join(joint_file(WEAR_STEM, name));
         write_csv(
             &path,
             &["angle_deg", "depth_m"],
@@ -85,7 +87,7 @@ fn write_files(scene: &Scene, out: &RunOutput, dir: &Path) -> Result<()> {
         .iter()
         .map(|s| (u64::from(s.rotation), s.depths.as_slice()))
         .collect();
-    write_profiles(dir, "wear_snapshots", "wear_evolution.png", m, &snapshots)?;
+    write_profiles(dir, SNAPSHOTS_STEM, EVOLUTION_FIGURE, m, &snapshots)?;
     if !worn.is_empty() {
         let title = format!("wear after {} rotations", scene.run.rotations);
         let panels: Vec<Axes> = worn
@@ -95,7 +97,7 @@ fn write_files(scene: &Scene, out: &RunOutput, dir: &Path) -> Result<()> {
                 wear_panel(m, *k, &title, series)
             })
             .collect();
-        render(&dir.join("wear.png"), &panels)?;
+        render(&dir.join(WEAR_FIGURE), &panels)?;
     }
     if rec.time.is_empty() {
         return Ok(());
@@ -122,7 +124,7 @@ fn write_files(scene: &Scene, out: &RunOutput, dir: &Path) -> Result<()> {
         })
         .collect();
     if !panels.is_empty() {
-        render(&dir.join("trajectory.png"), &panels)?;
+        render(&dir.join(TRAJECTORY_FIGURE), &panels)?;
         // one panel per joint, titled by it
         let panels: Vec<Axes> = m
             .clearance_joints
@@ -142,7 +144,7 @@ fn write_files(scene: &Scene, out: &RunOutput, dir: &Path) -> Result<()> {
                 )
             })
             .collect();
-        render(&dir.join("normal_force.png"), &panels)?;
+        render(&dir.join(NORMAL_FORCE_FIGURE), &panels)?;
     }
     Ok(())
 }
@@ -364,7 +366,7 @@ fn readme(title: &str, scene: &Scene, out: &RunOutput) -> String {
         .map(|cj| cj.name.as_str())
         .collect();
     if !worn.is_empty() {
-        let files: Vec<String> = worn.iter().map(|n| joint_file("wear", n)).collect();
+        let files: Vec<String> = worn.iter().map(|n| joint_file(WEAR_STEM, n)).collect();
         text.push_str(&format!(
             "{}: the wear profile of the bearing at the end of the run.\n\
              \x20 angle_deg    sector centre in the bearing frame (deg)\n\
@@ -373,10 +375,7 @@ fn readme(title: &str, scene: &Scene, out: &RunOutput) -> String {
             files.join(", ")
         ));
         if !out.wear_snapshots.is_empty() {
-            let files: Vec<String> = worn
-                .iter()
-                .map(|n| joint_file("wear_snapshots", n))
-                .collect();
+            let files: Vec<String> = worn.iter().map(|n| joint_file(SNAPSHOTS_STEM, n)).collect();
             let counts: Vec<String> = out
                 .wear_snapshots
                 .iter()
