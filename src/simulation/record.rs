@@ -63,18 +63,16 @@ impl Sampler {
         (0..self.count).take_while(|&i| self.time(i) <= t).count()
     }
 
-    /// Whether it has sampled exactly the grid points due at `t` ([`Sampler::due`]).
-    pub(super) fn sampled_until(&self, t: f64) -> bool {
-        self.next == self.due(t)
+    /// The grid points sampled so far.
+    pub(super) fn sampled(&self) -> usize {
+        self.next
     }
 
-    /// The times of the samples recorded so far by a run that began recording this window at
-    /// time `from` (s): the grid points sampled, but those before `from` (a window opened at
-    /// the end of settling that reaches back before it), which [`Sampler::sample`] skips.
-    pub(super) fn recorded(&self, from: f64) -> impl Iterator<Item = f64> + '_ {
-        (0..self.next)
-            .map(|i| self.time(i))
-            .filter(move |&t| t >= from)
+    /// The times of the samples recorded so far: the grid points sampled (a window never
+    /// reaches back before the step that opens it, `run.record_rotations` being at most
+    /// `run.rotations`, so none was skipped).
+    pub(super) fn recorded(&self) -> impl Iterator<Item = f64> + '_ {
+        (0..self.next).map(|i| self.time(i))
     }
 
     #[allow(clippy::too_many_arguments)]
