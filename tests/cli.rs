@@ -125,7 +125,7 @@ fn bad_input_exits_2_naming_file_field_and_range() {
     assert!(
         err.contains("bad.toml")
             && err.contains("clearance[0].contact.restitution")
-            && err.contains("(0, 1]"),
+            && err.contains("[0.1, 1]"),
         "{err}"
     );
     assert!(!dir.join("out").exists(), "bad input wrote outputs");
@@ -551,7 +551,7 @@ fn run_bad_set_exits_2_naming_the_field() {
     for (set, needles) in [
         (
             "clearance.0.contact.restitution=1.5",
-            &["clearance[0].contact.restitution", "1.5", "(0, 1]"][..],
+            &["clearance[0].contact.restitution", "1.5", "[0.1, 1]"][..],
         ),
         ("clearance.0.clearance_mm=-1", &["clearance_mm", "-1"][..]),
         ("clearance.0.nope=1", &["nope", "clearance.0.nope=1"][..]),
@@ -728,5 +728,61 @@ fn longlife_predicts_one_member_as_the_library_does() {
     let o = jointwear(&["longlife", s(&scene_path("standard")), "--member", "10000"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("--member"), "{}", stderr(&o));
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A number a person gave is echoed in the project's format: `longlife --rotations 1e300`
+/// printed it with its 301 digits.
+#[test]
+fn a_huge_rotation_count_is_echoed_as_written() {
+    let o = jointwear(&[
+        "longlife",
+        s(&scene_path("standard")),
+        "--rotations",
+        "1e300",
+    ]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("`--rotations`: 1e300 (") && !err.contains("0000000"),
+        "{err}"
+    );
+}
+
+/// Disc and axis offsets at or above a joint's clearance are refused before any member runs
+/// (exit 2 naming --perturbation). Before, `--member 0 --perturbation disc_1000000nm` (1 mm
+/// against 0.02 mm) started the journal pressed into its bearing and failed while running
+/// (exit 1), blaming a material.
+#[test]
+fn offsets_beyond_the_clearance_are_refused_naming_the_perturbation() {
+    let dir = temp_dir("offsets");
+    let scene = short_standard(&dir, 1);
+    let out = s(&dir.join("out")).to_string();
+    for args in [
+        vec!["--member", "0", "--perturbation", "disc_1000000nm"],
+        vec!["--ensemble", "2", "--perturbation", "axis_20000nm"],
+    ] {
+        let mut all = vec!["run", s(&scene), "--out", &out];
+        all.extend(args);
+        let o = jointwear(&all);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(
+            err.contains("`--perturbation`") && err.contains("`rod-slider`: 20000 nm"),
+            "{err}"
+        );
+    }
+    // Just inside the clearance, the member runs.
+    let o = jointwear(&[
+        "run",
+        s(&scene),
+        "--out",
+        &out,
+        "--member",
+        "0",
+        "--perturbation",
+        "disc_19999nm",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
     fs::remove_dir_all(&dir).unwrap();
 }

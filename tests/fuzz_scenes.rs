@@ -161,7 +161,8 @@ fn runs_of_valid_random_scenes_are_finite_and_within_the_validity_limits() {
         let steel = f.materials.get_mut("steel").unwrap();
         steel.youngs_modulus_gpa = log_uniform(&mut rng, 0.5, 2000.0);
         let c = &mut f.clearance[0];
-        c.clearance_mm = log_uniform(&mut rng, 0.001, 2.0);
+        // up to a tenth of the 10 mm bearing radius (MAX_CLEARANCE_RATIO)
+        c.clearance_mm = log_uniform(&mut rng, 0.001, 1.0);
         c.contact.restitution = log_uniform(&mut rng, 0.3, 1.0);
         f.driver.speed_rpm = -log_uniform(&mut rng, 100.0, 5000.0);
         f.run.rotations = 1;

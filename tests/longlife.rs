@@ -205,6 +205,43 @@ fn prediction_stops_at_its_wear_limit() {
         .all(|w| w[1].max_depth(0) >= w[0].max_depth(0)));
 }
 
+/// A limit reached while settling stops the prediction after the settling rotation that
+/// reaches it, as one reached while sampling does: the standard scene passes 0.03 µm in its
+/// second rotation (0.034 µm), with or without settling, and 1 nm in its first (0.018 µm).
+/// Before, the three settling rotations ran as one and the limit was found after the third
+/// (0.0507 µm, 169 % of the limit). A limit below an atomic layer is refused.
+#[test]
+fn a_limit_reached_while_settling_stops_at_its_rotation() {
+    let scene = SceneFile::read(scene_path("standard"))
+        .unwrap()
+        .build()
+        .unwrap();
+    for (limit, at) in [(3e-8, 2), (1e-9, 1)] {
+        let life = |settle_rotations| {
+            let settings = LongLifeSettings {
+                settle_rotations,
+                until: Some(limit),
+                ..LongLifeSettings::default()
+            };
+            predict(&scene, &settings, &Silent).unwrap()
+        };
+        let (settled, unsettled) = (life(3), life(0));
+        assert_eq!(settled.reached, Some((at, 0)), "{limit:e}");
+        assert_eq!(unsettled.reached, Some((at, 0)), "{limit:e}");
+        // The same steps: the settling rotations are those of a plain run.
+        let last = settled.history.last().unwrap();
+        assert_eq!(last, unsettled.history.last().unwrap());
+        assert_eq!(settled.simulated, at);
+        assert!(last.max_depth(0) >= limit);
+    }
+    let settings = LongLifeSettings {
+        until: Some(1e-300),
+        ..LongLifeSettings::default()
+    };
+    let e = predict(&scene, &settings, &Silent).unwrap_err().to_string();
+    assert!(e.contains("--until") && e.contains("atomic layer"), "{e}");
+}
+
 #[test]
 fn a_limit_beyond_the_wear_model_is_refused() {
     let scene = SceneFile::read(scene_path("standard"))

@@ -77,9 +77,132 @@ fn restitution_outside_its_range() {
     for bad in ["restitution = 0.0", "restitution = 1.5"] {
         let msg = error_of(&replaced("restitution = 0.9", bad));
         assert!(
-            msg.contains("clearance[0].contact.restitution") && msg.contains("(0, 1]"),
+            msg.contains("clearance[0].contact.restitution") && msg.contains("[0.1, 1]"),
             "{msg}"
         );
+    }
+}
+
+/// The journal radius R − c is at least the bearing radius's own minimum, and c/R at most a
+/// tenth. Before, 9.9 mm in a 10 mm bearing passed validation and failed while running (exit
+/// 1), and 9999 mm in a 10 m one ran with the linkage disconnected (exit 0).
+#[test]
+fn clearance_leaves_a_conforming_journal() {
+    let scene = |radius: &str, clearance: &str| {
+        replaced(
+            "bearing_radius_mm = 10.0",
+            &format!("bearing_radius_mm = {radius}"),
+        )
+        .replacen(
+            "clearance_mm = 0.02",
+            &format!("clearance_mm = {clearance}"),
+            1,
+        )
+        // elastic-foundation pressure: the Hertz bound on small c/R is not the one tested
+        .replacen("\"hertz-line\"", "\"elastic-foundation\"", 1)
+    };
+    for (radius, clearance, needles) in [
+        (
+            "10.0",
+            "9.9",
+            &["at most 0.1 x the bearing radius", "1 mm"][..],
+        ),
+        (
+            "10000.0",
+            "9999.0",
+            &["at most 0.1 x the bearing radius", "1000 mm"][..],
+        ),
+        (
+            "0.1",
+            "0.005",
+            &["a journal radius", "0.095 mm", "at least 0.1 mm"][..],
+        ),
+    ] {
+        let msg = error_of(&scene(radius, clearance));
+        for n in [
+            &[
+                "clearance[0].clearance_mm",
+                "clearance[0].bearing_radius_mm",
+            ][..],
+            needles,
+        ]
+        .concat()
+        {
+            assert!(msg.contains(n), "lacks `{n}`: {msg}");
+        }
+    }
+    // At the bounds: a tenth of the radius, a 0.1 mm journal (whose R − c rounds below it).
+    for (radius, clearance) in [("10.0", "1.0"), ("0.105", "0.005")] {
+        let text = scene(radius, clearance);
+        let file = SceneFile::parse(&text, Path::new("test.toml")).unwrap();
+        file.build().unwrap();
+    }
+}
+
+/// Values inside the old ranges that failed only while running, with a message blaming
+/// something else, are refused at load naming their own field. Before: atol 1e-200 stopped at
+/// t = 0 with "step size underflow (h = 0e0)", a grazing floor of 1e-100 m/s and (with a 1/c_e
+/// damping law) a restitution of 1e-300 with "penetrates inf mm" blaming the linkage, and a
+/// speed of -1e-300 r/min was refused naming `run.record_interval_s`.
+#[test]
+fn values_that_failed_while_running_are_refused_naming_their_field() {
+    let flores = "contact = { stiffness = \"hybrid\", dissipation = \"flores\", \
+                  restitution = 1e-300, exponent = 1.5, grazing_velocity_m_s = 1e-3 }";
+    let contact = "contact = { model = \"hybrid\", restitution = 0.9, exponent = 1.5, \
+                   grazing_velocity_m_s = 1e-3 }";
+    for (from, to, field, bound) in [
+        ("atol = 1.5e-10", "atol = 1e-200", "run.atol", "[1e-20, 1]"),
+        (
+            "grazing_velocity_m_s = 1e-3",
+            "grazing_velocity_m_s = 1e-100",
+            "clearance[0].contact.grazing_velocity_m_s",
+            "[1e-9, 10]",
+        ),
+        (
+            contact,
+            flores,
+            "clearance[0].contact.restitution",
+            "[0.1, 1]",
+        ),
+        (
+            "speed_rpm = -2000.0",
+            "speed_rpm = -1e-300",
+            "driver.speed_rpm",
+            "[6e-9, 100000] r/min",
+        ),
+    ] {
+        let msg = error_of(&replaced(from, to));
+        for n in [field, bound] {
+            assert!(msg.contains(n), "lacks `{n}`: {msg}");
+        }
+        assert!(!msg.contains("record_interval"), "{msg}");
+    }
+    // Each bound itself is valid.
+    for (from, to) in [
+        ("atol = 1.5e-10", "atol = 1e-20"),
+        ("grazing_velocity_m_s = 1e-3", "grazing_velocity_m_s = 1e-9"),
+        ("restitution = 0.9", "restitution = 0.1"),
+    ] {
+        let file = SceneFile::parse(&replaced(from, to), Path::new("test.toml")).unwrap();
+        file.build().unwrap();
+    }
+}
+
+/// Values are echoed as written, never in `Display`'s plain digits: before, a k/H of -1e-12
+/// showed as -0.000000000001 and 1e300 with 301 digits.
+#[test]
+fn values_are_echoed_in_the_project_number_format() {
+    for (from, to, shown) in [
+        (
+            "k_over_h_per_pa = 1e-12",
+            "k_over_h_per_pa = -1e-12",
+            "`: -1e-12 (",
+        ),
+        ("mu_s = 0.015", "mu_s = 1e300", "`: 1e300 ("),
+        ("rtol = ", "rtol = 1e-300 #", "`: 1e-300 ("),
+    ] {
+        let msg = error_of(&replaced(from, to));
+        assert!(msg.contains(shown) && !msg.contains("0000000"), "{msg}");
     }
 }
 

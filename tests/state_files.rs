@@ -364,3 +364,156 @@ fn edited_sweep_files_are_refused_before_any_number_read_is_used() {
     assert_eq!((file.rows.len(), file.id.cases), (1, 2));
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Every cell of a row is checked as the sweep writes it, in `sweep-merge` and in `sweep
+/// --resume`: the error names the file, the row, the column and the value. Before, only the
+/// case numbers were checked: a `nan` was merged (exit 0) and a resumed sweep kept it as a
+/// finished case.
+#[test]
+fn edited_cells_of_sweep_files_are_refused_naming_row_column_and_value() {
+    let dir = temp_dir("state", "cells");
+    let (scene, lines) = shard_file(&dir);
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let column = |name: &str| header.iter().position(|c| c.ends_with(name)).unwrap();
+    let edited = dir.join("edited.csv");
+    let merged = dir.join("merged.csv");
+    let sets = "driver.speed_rpm=-2000,-1000";
+    // (column, new value, what the message says is written there)
+    for (at, value, expected) in [
+        (
+            column("max_penetration_whole_run_m"),
+            "nan",
+            "a finite number",
+        ),
+        (
+            column("max_wear_depth_m"),
+            "inf",
+            "a finite number, or an empty",
+        ),
+        (
+            column("contact_fraction"),
+            "1e999",
+            "a finite number, or an empty",
+        ),
+        (column("motion_mode"), "flying", "`continuous contact`"),
+        (column("wall_time_s"), "", "a finite number"),
+        (column("driver.speed_rpm"), "", "a set value"),
+        (column("error"), "boom", "the row of a failed case"),
+        (header.len() - 1, "x", "empty, as the id column's cells are"),
+    ] {
+        let mut cells: Vec<&str> = lines[2].split(',').collect();
+        let name = header[at];
+        cells[at] = value;
+        fs::write(
+            &edited,
+            format!("{}\n{}\n{}\n", lines[0], lines[1], cells.join(",")),
+        )
+        .unwrap();
+        let shown = if at == column("error") {
+            // the error makes the first measured cell the misfit
+            header[column("max_normal_force_recorded_n")]
+        } else {
+            name
+        };
+        let needles = [
+            s(&edited),
+            "row 2 (case 1)",
+            &format!("column `{shown}`"),
+            expected,
+        ];
+        let merge = jointwear(&["sweep-merge", s(&edited), "--out", s(&merged)]);
+        assert_fails(&merge, 2, &needles);
+        let resumed = jointwear(&[
+            "sweep",
+            &scene,
+            "--set",
+            sets,
+            "--out",
+            s(&edited),
+            "--resume",
+        ]);
+        assert_fails(&resumed, 2, &needles);
+        if at != column("error") {
+            assert!(
+                stderr(&merge).contains(&format!("`{value}`")),
+                "{}",
+                stderr(&merge)
+            );
+        }
+    }
+    // A set value changed to another valid value: merge cannot tell, resume can.
+    let relabelled = lines[2].replacen("-1000", "-3000", 1);
+    fs::write(
+        &edited,
+        format!("{}\n{}\n{relabelled}\n", lines[0], lines[1]),
+    )
+    .unwrap();
+    let resumed = jointwear(&[
+        "sweep",
+        &scene,
+        "--set",
+        sets,
+        "--out",
+        s(&edited),
+        "--resume",
+    ]);
+    assert_fails(
+        &resumed,
+        2,
+        &[
+            "row 2 (case 1)",
+            "`driver.speed_rpm`: `-3000`",
+            "case 1 has `-1000`",
+        ],
+    );
+    // A joint's column renamed: its group no longer parses, so the header is not a sweep's.
+    let renamed = lines[0].replacen(".motion_mode", ".motion", 1);
+    fs::write(&edited, format!("{renamed}\n{}\n{}\n", lines[1], lines[2])).unwrap();
+    let merge = jointwear(&["sweep-merge", s(&edited), "--out", s(&merged)]);
+    assert_fails(&merge, 2, &[s(&edited), "is not a sweep's"]);
+    // A failed case's row as the writer writes it is read back.
+    let columns = header.len() - 3;
+    let failed = format!("1,-1000{},some error,", ",".repeat(columns - 1));
+    fs::write(&edited, format!("{}\n{}\n{failed}\n", lines[0], lines[1])).unwrap();
+    assert_eq!(SweepFile::read(&edited).unwrap().rows.len(), 2);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A sweep file is a regular file read with a bound: a device or a FIFO is refused before it
+/// is opened. Before, `sweep-merge /dev/zero` read until the memory ran out and a FIFO waited
+/// for a writer (here one writes 2 kB, and the old code failed with "not a sweep file").
+#[test]
+fn sweep_files_that_are_devices_or_fifos_are_refused_without_reading_them() {
+    let dir = temp_dir("state", "fifo");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let merged = dir.join("merged.csv");
+    let o = jointwear(&["sweep-merge", "/dev/null", "--out", s(&merged)]);
+    assert_fails(&o, 2, &["/dev/null", "not a regular file"]);
+    let fifo = dir.join("sweep.fifo");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    for args in [
+        vec!["sweep-merge", s(&fifo), "--out", s(&merged)],
+        vec!["sweep", s(&scene), "--out", s(&fifo), "--resume"],
+    ] {
+        let writer_path = fifo.clone();
+        let writer = std::thread::spawn(move || {
+            use std::io::Write;
+            let mut w = fs::OpenOptions::new().write(true).open(writer_path)?;
+            w.write_all(&b"#\n".repeat(1000))
+        });
+        assert_fails(&jointwear(&args), 2, &["sweep.fifo", "not a regular file"]);
+        // Release the writer (a FIFO opened for reading and writing does not wait on Linux).
+        let reader = fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .open(&fifo)
+            .unwrap();
+        writer.join().unwrap().unwrap();
+        drop(reader);
+    }
+    fs::remove_dir_all(&dir).unwrap();
+}

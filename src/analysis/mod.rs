@@ -19,6 +19,10 @@ pub mod significance;
 pub mod states;
 pub mod statistics;
 
+/// The motion modes [`Motion::mode`] names, continuous contact first: what a sweep file's
+/// `motion_mode` column may hold.
+pub const MOTION_MODES: [&str; 2] = ["continuous contact", "free flight and impact"];
+
 /// In-contact time fraction at or above which a run is "continuous contact".
 pub const CONTINUOUS_CONTACT_FRACTION: f64 = 0.9;
 
@@ -74,13 +78,10 @@ impl Motion {
         self.contact_fraction >= CONTINUOUS_CONTACT_FRACTION
     }
 
-    /// "continuous contact" or "free flight and impact" ([`Motion::continuous`]).
+    /// "continuous contact" or "free flight and impact" ([`MOTION_MODES`],
+    /// [`Motion::continuous`]).
     pub fn mode(&self) -> &'static str {
-        if self.continuous() {
-            "continuous contact"
-        } else {
-            "free flight and impact"
-        }
+        MOTION_MODES[usize::from(!self.continuous())]
     }
 }
 

@@ -349,6 +349,41 @@ pub fn check_output_file(option: &str, file: &Path) -> Result<()> {
     }
 }
 
+/// The text of the file at `path`, a regular file of at most `limit` bytes: a `what` (`a
+/// scene file`), which may hold that much because `why` (said when it holds more). Anything
+/// else is refused before it is read, so that a device (`/dev/zero`) or a FIFO cannot make
+/// the reader wait or fill the memory; the read itself is bounded too, in case the file grows
+/// after the check.
+pub fn read_bounded_text(path: &Path, limit: u64, what: &str, why: &str) -> Result<String> {
+    let refuse = |message: String| Error::Parse {
+        path: path.to_path_buf(),
+        message,
+    };
+    let too_large = |bytes: u64| {
+        refuse(format!(
+            "{bytes} bytes or more, beyond the {limit} bytes {what} may hold ({why}; likely \
+             cause: not {what})"
+        ))
+    };
+    let meta = fs::metadata(path).map_err(|e| io_error(path, e))?;
+    if !meta.is_file() {
+        return Err(refuse(format!(
+            "not a regular file (a directory, device or FIFO), which {what} is"
+        )));
+    }
+    if meta.len() > limit {
+        return Err(too_large(meta.len()));
+    }
+    let mut bytes = Vec::new();
+    File::open(path)
+        .and_then(|f| f.take(limit + 1).read_to_end(&mut bytes))
+        .map_err(|e| io_error(path, e))?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large(bytes.len() as u64));
+    }
+    String::from_utf8(bytes).map_err(|e| refuse(format!("not UTF-8 text: {e}")))
+}
+
 /// Writes `text` to `path`, atomically (a sidecar `README.txt`, say).
 pub fn write_text(path: &Path, text: &str) -> Result<()> {
     write_bytes(path, text.as_bytes())

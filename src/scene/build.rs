@@ -3,7 +3,7 @@
 
 use super::validation::*;
 use super::*;
-use crate::io::format::shift_decimal;
+use crate::io::format::{number as terminal, shift_decimal};
 use crate::laws::contact::{
     compound_modulus, ContactLaw, DissipationLaw, JointElasticity, StiffnessLaw,
 };
@@ -29,10 +29,10 @@ impl SceneFile {
         {
             return Err(Error::invalid(
                 "gravity_m_s2",
-                number(*g),
+                exact(*g),
                 format!(
                     "finite components within ±{} m/s² (1000 g)",
-                    crate::io::format::number(GRAVITY_M_S2)
+                    terminal(GRAVITY_M_S2)
                 ),
             ));
         }
@@ -111,11 +111,20 @@ impl SceneFile {
                 )
             })?;
         let speed = self.driver.speed_rpm;
-        if !(speed.is_finite() && speed != 0.0 && speed.abs() <= 1e5) {
+        if !(speed.is_finite() && (MIN_SPEED_RPM..=1e5).contains(&speed.abs())) {
             return Err(Error::invalid(
                 "driver.speed_rpm",
-                speed,
-                "a finite non-zero number in [-100000, 100000]",
+                exact(speed),
+                format!(
+                    "a finite speed whose magnitude is in [{}, 100000] r/min (either sign): \
+                     a rotation slower than {} r/min needs more steps than the largest \
+                     run.max_steps, {:e}, of the largest step, {} s; likely cause: a speed in \
+                     another unit",
+                    terminal(MIN_SPEED_RPM),
+                    terminal(MIN_SPEED_RPM),
+                    MAX_RUN_STEPS as f64,
+                    terminal(MAX_STEP_S)
+                ),
             ));
         }
         let driver = Driver {
@@ -293,10 +302,52 @@ impl SceneFile {
         if !(clearance.is_finite() && clearance >= 0.0 && clearance < r_bearing) {
             return Err(Error::invalid(
                 f("clearance_mm"),
-                c.clearance_mm,
+                exact(c.clearance_mm),
                 format!(
                     "a finite number in [0, {}) (the journal must fit in the bearing)",
-                    c.bearing_radius_mm
+                    exact(c.bearing_radius_mm)
+                ),
+            ));
+        }
+        // mm over mm: the ratio of the numbers as written (1 µm in 10 mm is exactly 1e-4).
+        let ratio = c.clearance_mm / c.bearing_radius_mm;
+        let radius = || {
+            format!(
+                "{} = {} mm",
+                f("bearing_radius_mm"),
+                exact(c.bearing_radius_mm)
+            )
+        };
+        if ratio > MAX_CLEARANCE_RATIO {
+            return Err(Error::invalid(
+                f("clearance_mm"),
+                exact(c.clearance_mm),
+                format!(
+                    "at most {MAX_CLEARANCE_RATIO} x the bearing radius ({}), {} mm: the \
+                     contact laws are those of a journal conforming to its bore, and the wear \
+                     model holds to wear of that fraction of the radius, the depth that \
+                     doubles such a clearance (longlife's default limit); a wider joint is a \
+                     loose pin, not a clearance joint (likely cause: the clearance and the \
+                     radius swapped, or a diameter for the radius)",
+                    radius(),
+                    terminal(MAX_CLEARANCE_RATIO * c.bearing_radius_mm)
+                ),
+            ));
+        }
+        let journal_mm = c.bearing_radius_mm - c.clearance_mm;
+        // R − c of two decimals is rounded (0.105 − 0.005 gives 0.09999999999999999): a
+        // journal within two roundings of R of the minimum has it.
+        if journal_mm < BEARING_RADIUS_MM.lo - 2.0 * f64::EPSILON * c.bearing_radius_mm {
+            return Err(Error::invalid(
+                f("clearance_mm"),
+                exact(c.clearance_mm),
+                format!(
+                    "a clearance that leaves a journal radius, bearing_radius_mm - \
+                     clearance_mm, of at least {} mm ({}; the journal's is {} mm): {}",
+                    terminal(BEARING_RADIUS_MM.lo),
+                    radius(),
+                    terminal(journal_mm),
+                    BEARING_RADIUS_MM.why
                 ),
             ));
         }
@@ -313,7 +364,7 @@ impl SceneFile {
             if !(lo..=hi).contains(&c.clearance_mm) {
                 return Err(Error::invalid(
                     f("clearance_mm"),
-                    c.clearance_mm,
+                    exact(c.clearance_mm),
                     format!(
                         "a clearance in [{lo}, {hi}] mm with stiffness = \"pereira\": the \
                          range its exponent was fitted over (Pereira et al. 2011)"
@@ -332,12 +383,11 @@ impl SceneFile {
             dissipation,
             &joint,
             exponent,
-            check_open(&f("contact.restitution"), k.restitution, 0.0, 1.0)?,
-            check_open(
+            within(&f("contact.restitution"), k.restitution, &RESTITUTION)?,
+            within(
                 &f("contact.grazing_velocity_m_s"),
                 k.grazing_velocity_m_s,
-                0.0,
-                10.0,
+                &GRAZING_VELOCITY_M_S,
             )?,
         );
         validate_friction(&f("friction"), &c.friction)?;
@@ -365,21 +415,19 @@ impl SceneFile {
                  conformal contact down to tiny clearances)",
             ),
         ];
-        // mm over mm: the ratio of the numbers as written (1 µm in 10 mm is exactly 1e-4).
-        let ratio = c.clearance_mm / c.bearing_radius_mm;
         if let Some((_, key, instead)) = hertz
             .iter()
             .find(|(hertz, _, _)| *hertz && ratio < MIN_HERTZ_CLEARANCE_RATIO)
         {
             return Err(Error::invalid(
                 f("clearance_mm"),
-                c.clearance_mm,
+                exact(c.clearance_mm),
                 format!(
                     "at least {MIN_HERTZ_CLEARANCE_RATIO:e} x the bearing radius ({} mm) with \
                      the Hertz-based {key}: its contact half-width must stay small against the \
                      radius, and as the clearance goes to zero it is unbounded (zero pressure); \
                      use {instead}",
-                    number(MIN_HERTZ_CLEARANCE_RATIO * c.bearing_radius_mm)
+                    exact(MIN_HERTZ_CLEARANCE_RATIO * c.bearing_radius_mm)
                 ),
             ));
         }
@@ -398,7 +446,7 @@ impl SceneFile {
                 if c.clearance_mm == 0.0 && k_over_h > 0.0 {
                     return Err(Error::invalid(
                         f("wear.k_over_h_per_pa"),
-                        k_over_h,
+                        exact(k_over_h),
                         "0 at a radial clearance of 0: against no clearance any uneven wear is \
                          steeper than the paper's gap describes (|dh/dθ| / (c + h) = |h′|/h, \
                          above 0.3 after the first rotation whatever k/H; README, validity \
@@ -460,8 +508,8 @@ impl RunSpec {
         }
         let tolerances = Tolerances {
             rtol: check("run.rtol", self.rtol, 1e-13, 1.0)?,
-            atol: check_open("run.atol", self.atol, 0.0, 1.0)?,
-            max_step: check_open("run.max_step_s", self.max_step_s, 0.0, 1.0)?,
+            atol: within("run.atol", self.atol, &ABSOLUTE_TOLERANCE)?,
+            max_step: check_open("run.max_step_s", self.max_step_s, 0.0, MAX_STEP_S)?,
             initial_step: 0.0,
         };
         let method = match self.method {
@@ -476,7 +524,7 @@ impl RunSpec {
                     )
                 })?;
                 Method::Rk4 {
-                    step: check_open("run.fixed_step_s", step, 0.0, 1.0)?,
+                    step: check_open("run.fixed_step_s", step, 0.0, MAX_STEP_S)?,
                 }
             }
         };
@@ -514,7 +562,7 @@ impl RunSpec {
                 }
             },
             max_steps: match self.max_steps {
-                m @ 1..=10_000_000_000 => m,
+                m @ 1..=MAX_RUN_STEPS => m,
                 m => {
                     return Err(Error::invalid(
                         "run.max_steps",
@@ -583,7 +631,7 @@ fn contact_exponent(f: &dyn Fn(&str) -> String, k: &ContactSpec, s: StiffnessLaw
         )),
         (false, Some(n)) => Err(Error::invalid(
             field,
-            number(n),
+            exact(n),
             format!(
                 "no exponent: stiffness \"{}\" has its own shape, not K δ^n (remove it)",
                 s.name()
@@ -602,7 +650,7 @@ fn contact_length(f: &dyn Fn(&str) -> String, c: &ClearanceSpec, s: StiffnessLaw
         return match c.contact.length_mm {
             Some(l) => Err(Error::invalid(
                 field,
-                number(l),
+                exact(l),
                 format!(
                     "no length: stiffness \"{}\" is not written per bearing length (remove it)",
                     s.name()
@@ -614,11 +662,11 @@ fn contact_length(f: &dyn Fn(&str) -> String, c: &ClearanceSpec, s: StiffnessLaw
     match (c.contact.length_mm, wear) {
         (Some(l), Some(w)) if l != w => Err(Error::invalid(
             field,
-            number(l),
+            exact(l),
             format!(
                 "the bearing length of wear.length_mm ({}) or no contact.length_mm: one joint \
                  has one length",
-                number(w)
+                exact(w)
             ),
         )),
         (Some(l), _) => Ok(within(&field, l, &BEARING_LENGTH_MM)? * MM),

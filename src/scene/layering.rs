@@ -2,8 +2,8 @@
 //! [`crate::scene`]), dotted keys for sweeps, and the paths of the shipped scenes.
 
 use super::{SceneFile, MAX_SCENE_BYTES};
+use crate::io::output::read_bounded_text;
 use crate::{Error, Result};
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// How deep `extends` chains may go (a cycle would otherwise recurse forever).
@@ -13,42 +13,15 @@ pub(super) fn read_table(path: &Path, depth: usize) -> Result<toml::Table> {
     parse_table(&read_scene_text(path)?, path, depth)
 }
 
-/// The text of the scene file at `path`: a regular file of at most [`MAX_SCENE_BYTES`].
-/// Anything else is refused before it is read, so that a device (`/dev/zero`) or a FIFO
-/// cannot make the reader wait or fill the memory; the read itself is bounded too, in case
-/// the file grows after the check.
+/// The text of the scene file at `path`: a regular file of at most [`MAX_SCENE_BYTES`]
+/// ([`read_bounded_text`]).
 fn read_scene_text(path: &Path) -> Result<String> {
-    let io = |source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let refuse = |message: String| Error::Parse {
-        path: path.to_path_buf(),
-        message,
-    };
-    let too_large = |bytes: u64| {
-        refuse(format!(
-            "{bytes} bytes or more, beyond the {MAX_SCENE_BYTES} bytes (1 MiB) a scene file may \
-             hold (the largest shipped scene is a few kB; likely cause: not a scene file)"
-        ))
-    };
-    let meta = std::fs::metadata(path).map_err(io)?;
-    if !meta.is_file() {
-        return Err(refuse(
-            "not a regular file (a directory, device or FIFO); a scene is a TOML file".into(),
-        ));
-    }
-    if meta.len() > MAX_SCENE_BYTES {
-        return Err(too_large(meta.len()));
-    }
-    let mut bytes = Vec::new();
-    std::fs::File::open(path)
-        .and_then(|f| f.take(MAX_SCENE_BYTES + 1).read_to_end(&mut bytes))
-        .map_err(io)?;
-    if bytes.len() as u64 > MAX_SCENE_BYTES {
-        return Err(too_large(bytes.len() as u64));
-    }
-    String::from_utf8(bytes).map_err(|e| refuse(format!("not UTF-8 text: {e}")))
+    read_bounded_text(
+        path,
+        MAX_SCENE_BYTES,
+        "a scene file",
+        "1 MiB; the largest shipped scene is a few kB",
+    )
 }
 
 /// Parses a scene document and resolves its `extends` and `[overrides]`.

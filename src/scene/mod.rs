@@ -20,9 +20,10 @@ pub mod variant;
 
 pub use layering::{reversal_note, scene_path, set_dotted};
 pub use validation::{
-    Limit, BEARING_LENGTH_MM, BEARING_RADIUS_MM, COORDINATE_MM, GRAVITY_M_S2, INERTIA_KG_M2,
-    MASS_KG, MAX_NAME_BYTES, MAX_SCENE_BYTES, MAX_TITLE_BYTES, MIN_HERTZ_CLEARANCE_RATIO,
-    RECORD_BUDGET_BYTES, YOUNGS_MODULUS_GPA,
+    Limit, ABSOLUTE_TOLERANCE, BEARING_LENGTH_MM, BEARING_RADIUS_MM, COORDINATE_MM, GRAVITY_M_S2,
+    GRAZING_VELOCITY_M_S, INERTIA_KG_M2, MASS_KG, MAX_CLEARANCE_RATIO, MAX_NAME_BYTES,
+    MAX_RUN_STEPS, MAX_SCENE_BYTES, MAX_STEP_S, MAX_TITLE_BYTES, MIN_HERTZ_CLEARANCE_RATIO,
+    MIN_SPEED_RPM, RECORD_BUDGET_BYTES, RESTITUTION, YOUNGS_MODULUS_GPA,
 };
 
 use crate::laws::contact::{DissipationLaw, NormalForceModel, StiffnessLaw};
@@ -157,7 +158,7 @@ pub struct TranslationalSpec {
 pub struct DriverSpec {
     /// The driven body.
     pub body: String,
-    /// Speed (r/min), non-zero, |speed| ≤ 100000; positive is counter-clockwise.
+    /// Speed (r/min), [`MIN_SPEED_RPM`] ≤ |speed| ≤ 100000; positive is counter-clockwise.
     pub speed_rpm: f64,
     /// Angle at t = 0 (deg).
     pub angle_deg: f64,
@@ -175,8 +176,9 @@ pub struct ClearanceSpec {
     pub bearing: String,
     /// Unworn bearing radius R_i (mm), [0.1, 10000] ([`BEARING_RADIUS_MM`]).
     pub bearing_radius_mm: f64,
-    /// Radial clearance c = R_i − R_j (mm), [0, R_i); at least
-    /// [`MIN_HERTZ_CLEARANCE_RATIO`] R_i with a Hertz-based contact or pressure law.
+    /// Radial clearance c = R_i − R_j (mm), [0, [`MAX_CLEARANCE_RATIO`] R_i], leaving a journal
+    /// radius R_j of at least 0.1 mm; at least [`MIN_HERTZ_CLEARANCE_RATIO`] R_i with a
+    /// Hertz-based contact or pressure law.
     pub clearance_mm: f64,
     /// The journal's material, a key of `materials`.
     pub journal_material: String,
@@ -202,7 +204,7 @@ pub struct ContactSpec {
     pub stiffness: Option<StiffnessLaw>,
     /// Hysteresis-damping law, instead of `model`.
     pub dissipation: Option<DissipationLaw>,
-    /// Coefficient of restitution c_e, (0, 1].
+    /// Coefficient of restitution c_e, [0.1, 1] ([`RESTITUTION`]).
     pub restitution: f64,
     /// Exponent n, [1, 3], of the power laws (`hybrid`, `hertz`); the paper uses 1.5. The
     /// other elastic laws have their own shape and take none.
@@ -210,7 +212,7 @@ pub struct ContactSpec {
     /// Bearing length L (mm) for the elastic laws written per length (`liu`, `johnson`,
     /// `radzimovsky`, `esdu-78035`, `pereira`); absent: `wear.length_mm`.
     pub length_mm: Option<f64>,
-    /// Floor of the captured impact velocity (m/s), (0, 10].
+    /// Floor of the captured impact velocity (m/s), [1e-9, 10] ([`GRAZING_VELOCITY_M_S`]).
     pub grazing_velocity_m_s: f64,
 }
 
@@ -275,7 +277,7 @@ pub struct RunSpec {
     pub method: MethodSpec,
     /// Relative tolerance, [1e-13, 1].
     pub rtol: f64,
-    /// Absolute tolerance, (0, 1].
+    /// Absolute tolerance, [1e-20, 1] ([`ABSOLUTE_TOLERANCE`]).
     pub atol: f64,
     /// Largest step (s), (0, 1].
     pub max_step_s: f64,

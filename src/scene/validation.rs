@@ -2,11 +2,12 @@
 //! bytes): each check names the field, the value, the range and the likely cause.
 
 use super::SceneFile;
+pub(super) use crate::io::format::exact;
 use crate::io::format::number as terminal;
 use crate::laws::friction::FrictionModel;
 use crate::mechanism::Mechanism;
 use crate::simulation::folder::joint_file_part;
-use crate::simulation::Scene;
+use crate::simulation::{Scene, MAX_WEAR_RATIO};
 use crate::{Error, Result};
 use std::path::Path;
 
@@ -19,7 +20,7 @@ pub(super) fn check(field: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
     } else {
         Err(Error::invalid(
             field,
-            value,
+            exact(value),
             format!("a finite number in [{}, {}]", terminal(lo), terminal(hi)),
         ))
     }
@@ -32,7 +33,7 @@ pub(super) fn check_open(field: &str, value: f64, lo: f64, hi: f64) -> Result<f6
     } else {
         Err(Error::invalid(
             field,
-            value,
+            exact(value),
             format!("a finite number in ({}, {}]", terminal(lo), terminal(hi)),
         ))
     }
@@ -92,6 +93,49 @@ pub const BEARING_LENGTH_MM: Limit = Limit {
           length in m",
 };
 
+/// Coefficient of restitution c_e of a contact.
+pub const RESTITUTION: Limit = Limit {
+    lo: 0.1,
+    hi: 1.0,
+    why: "the dissipation laws are elastic contact with hysteresis damping, checked against \
+          the restitution they achieve for c_e in [0.1, 0.99] (the contact_laws study); below \
+          0.1 an impact is nearly plastic, which they do not describe, and the damping of \
+          gonthier, flores and hu-guo grows as 1/c_e (flores: 14 at 0.1, 1600 at 0.001, where \
+          the standard scene ran 60 times slower; 1e-300 gave infinite penetration)",
+};
+
+/// Floor of a contact's onset velocity in the damping term (m/s).
+pub const GRAZING_VELOCITY_M_S: Limit = Limit {
+    lo: 1e-9,
+    hi: 10.0,
+    why: "the floor stands in for the onset velocity of a contact that begins with almost \
+          none, and the damping grows as 1/floor: a nanometre a second is already resting \
+          contact, and the smallest floor the stability study runs; at 1e-100 m/s the damping \
+          of a grazing contact overflowed (infinite penetration, blamed on the linkage)",
+};
+
+/// Absolute tolerance of the integrator, in the units of the state (m, rad, m/s, rad/s).
+pub const ABSOLUTE_TOLERANCE: Limit = Limit {
+    lo: 1e-20,
+    hi: 1.0,
+    why: "below 1e-20 of the state's units it is finer than the spacing of the doubles of any \
+          coordinate beyond 1e-4 m or rad (2.2e-20), so no step can meet it, and the initial \
+          step's scaled norm overflows (1e-200 stopped at t = 0 with a step size underflow); \
+          likely cause: a typo in the exponent",
+};
+
+/// Largest step of a run (s): `run.max_step_s`, `run.fixed_step_s` of `rk4`.
+pub const MAX_STEP_S: f64 = 1.0;
+
+/// Largest step limit of a run, `run.max_steps`.
+pub const MAX_RUN_STEPS: u64 = 10_000_000_000;
+
+/// Slowest driver (|r/min|): 6e-9, at which one rotation (1e10 s) takes [`MAX_RUN_STEPS`]
+/// steps of [`MAX_STEP_S`]. No run settings can finish a slower rotation (the step budget,
+/// [`Scene::check_step_budget`]); before, -1e-300 r/min was refused naming
+/// `run.record_interval_s`.
+pub const MIN_SPEED_RPM: f64 = 60.0 / (MAX_RUN_STEPS as f64 * MAX_STEP_S);
+
 /// Largest |coordinate| of a point or position guess (mm).
 pub const COORDINATE_MM: f64 = 1e6;
 
@@ -106,6 +150,15 @@ pub const GRAVITY_M_S2: f64 = 1e4;
 /// b/R_i ≈ 0.5, and as c → 0 the effective radius R* = R_i R_j / c is unbounded: at zero
 /// clearance the half-width is infinite and the pressure zero (435 N of force, no wear).
 pub const MIN_HERTZ_CLEARANCE_RATIO: f64 = 1e-4;
+
+/// Largest radial clearance over bearing radius, c/R_i: the wear model's limit
+/// ([`MAX_WEAR_RATIO`]). The contact laws are those of a journal conforming to its bore
+/// (internal cylinders of nearly equal radii), and the wear model holds to wear of a tenth of
+/// the radius, the depth that doubles a clearance of a tenth (`longlife`'s default limit,
+/// which a wider joint could not reach). A wider joint is a loose pin: 9.9 mm in a 10 mm
+/// bearing passed validation and failed while running (its 0.1 mm journal penetrated beyond
+/// its radius's tenth), 9999 mm in 10 m gave a disconnected linkage with exit 0.
+pub const MAX_CLEARANCE_RATIO: f64 = MAX_WEAR_RATIO;
 
 /// Largest scene file (bytes): the largest shipped scene is a few kB, so a file of more is
 /// almost surely not a scene, and reading it whole would only fill the memory.
@@ -161,15 +214,6 @@ pub(super) fn check_joint_file_names(names: &[&str]) -> Result<()> {
     Ok(())
 }
 
-/// A number as a message shows it: scientific for very small or large magnitudes.
-pub(super) fn number(v: f64) -> String {
-    if v != 0.0 && v.is_finite() && !(1e-4..1e6).contains(&v.abs()) {
-        format!("{v:e}")
-    } else {
-        v.to_string()
-    }
-}
-
 /// Checks that `value` is finite and within `limit`, saying why if not.
 pub(super) fn within(field: &str, value: f64, limit: &Limit) -> Result<f64> {
     if value.is_finite() && value >= limit.lo && value <= limit.hi {
@@ -177,7 +221,7 @@ pub(super) fn within(field: &str, value: f64, limit: &Limit) -> Result<f64> {
     } else {
         Err(Error::invalid(
             field,
-            number(value),
+            exact(value),
             format!(
                 "a finite number in [{}, {}]: {}",
                 terminal(limit.lo),
@@ -196,7 +240,7 @@ pub(super) fn check_coordinates(field: &str, values: &[f64]) -> Result<()> {
     {
         Some(v) => Err(Error::invalid(
             field,
-            number(*v),
+            exact(*v),
             format!(
                 "finite coordinates within ±{} mm (1 km; likely cause: a coordinate in µm or \
                  another unit)",
@@ -209,7 +253,7 @@ pub(super) fn check_coordinates(field: &str, values: &[f64]) -> Result<()> {
 
 pub(super) fn check_finite(field: &str, values: &[f64]) -> Result<()> {
     match values.iter().find(|v| !v.is_finite()) {
-        Some(v) => Err(Error::invalid(field, v, "finite numbers")),
+        Some(v) => Err(Error::invalid(field, exact(*v), "finite numbers")),
         None => Ok(()),
     }
 }
@@ -342,7 +386,7 @@ pub(super) fn validate_friction(field: &str, friction: &FrictionModel) -> Result
             if !(v_d.is_finite() && v_d > v_s && v_d <= 100.0) {
                 return Err(Error::invalid(
                     format!("{field}.v_d"),
-                    v_d,
+                    exact(v_d),
                     format!("a finite number in ({}, 100] (above v_s)", terminal(v_s)),
                 ));
             }

@@ -5,7 +5,8 @@
 //! dynamics only slowly, so one rotation stands for many:
 //!
 //! 1. run `settle_rotations` rotations (with wear, without recording) to reach the periodic
-//!    or statistically steady motion;
+//!    or statistically steady motion, stopping after the one in which a joint's wear reaches
+//!    its limit (below) if one does;
 //! 2. simulate `sample_rotations` rotations and take their mean wear increment per sector;
 //! 3. extrapolate it over a block of `B` further rotations, `h += B · Δh`, with `B` as large as
 //!    allowed by `max_change`: no sector of any joint may deepen by more than
@@ -32,13 +33,18 @@
 //! block jump, which changes the gap discontinuously, restarts the integrator. So the settling
 //! rotations are bit-identical to a plain run of that many rotations.
 
-use crate::io::format::quantity;
+use crate::io::format::{exact, quantity};
 use crate::io::progress::Progress;
 use crate::simulation::Scene;
 use crate::simulation::{
     too_steep, wear_limit, RunSettings, Simulation, MAX_WEAR_RATIO, OPEN_ENDED,
 };
 use crate::{Error, Result};
+
+/// Shallowest wear-depth limit of a prediction (m): an atomic layer, about 0.1 nm. Shallower
+/// is no wear a surface shows, and any rotation passes it (`--until 1e-300` mm reported the
+/// first rotation's wear as 5e297 % of its limit).
+pub const MIN_WEAR_LIMIT: f64 = 1e-10;
 
 /// Settings of a long-life prediction.
 #[derive(Clone, Debug, PartialEq)]
@@ -54,8 +60,8 @@ pub struct LongLifeSettings {
     /// Rotation counts at which the profiles are saved (the final count is always saved).
     pub snapshots: Vec<u64>,
     /// Wear depth (m) at which the prediction stops, for every joint; `None`: each joint's own
-    /// radial clearance (the clearance doubled). At most [`MAX_WEAR_RATIO`] of the bearing
-    /// radius.
+    /// radial clearance (the clearance doubled). At least [`MIN_WEAR_LIMIT`], at most
+    /// [`MAX_WEAR_RATIO`] of the bearing radius.
     pub until: Option<f64>,
 }
 
@@ -169,7 +175,7 @@ pub fn predict(
     if !(settings.max_change > 0.0 && settings.max_change <= 1.0) {
         return Err(Error::invalid(
             "max_change",
-            settings.max_change,
+            exact(settings.max_change),
             "a fraction in (0, 1]",
         ));
     }
@@ -199,13 +205,15 @@ pub fn predict(
     };
     for (cj, &l) in mechanism.clearance_joints.iter().zip(&limits) {
         let most = wear_limit(cj);
-        if !(l > 0.0 && l <= most) {
+        if !(l >= MIN_WEAR_LIMIT && l <= most) {
             return Err(Error::invalid(
                 "--until",
                 format!("{} for joint `{}`", quantity(l * 1e3, "mm"), cj.name),
                 format!(
-                    "a wear depth in (0, {}]: the wear model holds to {:.0} % of the \
-                     bearing radius (the default, the radial clearance, needs c > 0)",
+                    "a wear depth in [{}, {}]: at least an atomic layer (0.1 nm), and the wear \
+                     model holds to {:.0} % of the bearing radius (the default, the radial \
+                     clearance, needs c of at least 0.1 nm)",
+                    quantity(MIN_WEAR_LIMIT * 1e3, "mm"),
                     quantity(most * 1e3, "mm"),
                     100.0 * MAX_WEAR_RATIO
                 ),
@@ -297,12 +305,14 @@ pub fn predict(
             r => r.map(Ok),
         }
     };
-    let settle = (settings.settle_rotations as u64).min(target) as u32;
-    if settle > 0 {
-        steep = simulate_within(&mut sim, settle, &mut done)?.err();
+    // Settled one rotation at a time, to stop at the rotation that reaches the limit, as the
+    // sample rotations do (the steps are those of one call for all: a call only ends them).
+    for _ in 0..(settings.settle_rotations as u64).min(target) {
+        steep = simulate_within(&mut sim, 1, &mut done)?.err();
         reached = at_limit(&sim).map(|k| (done, k));
         if reached.is_some() || steep.is_some() {
             history.push(stage(&sim, done));
+            break;
         }
     }
     while done < target && reached.is_none() && steep.is_none() {

@@ -18,9 +18,12 @@
 //!   merging. `shard=I/N` and `cases` (rows the shard holds when complete) let [`merge`]
 //!   refuse a missing, repeated or unfinished shard; `total` is the whole sweep's case count.
 
-use crate::io::output::{fnv1a, parse_rows, write_table, GrowingTable};
+use crate::analysis::MOTION_MODES;
+use crate::io::output::{fnv1a, parse_rows, read_bounded_text, write_table, GrowingTable};
 use crate::io::progress::{Counter, Progress};
-use crate::sweep::{shard_cases, Assignment, Shard, Sweep, MAX_CASES};
+use crate::simulation::ensemble::MAX_MEMBERS;
+use crate::simulation::summary::{JOINT_COLUMNS, SCALARS};
+use crate::sweep::{case_values, shard_cases, Assignment, Shard, Sweep, MAX_CASES};
 use crate::{Error, Result};
 use std::collections::{BTreeMap, HashSet};
 use std::path::Path;
@@ -40,6 +43,16 @@ pub struct SweepId {
 }
 
 const PREFIX: &str = "jointwear sweep ";
+
+/// Largest sweep file read back (bytes): a header and [`MAX_CASES`] rows of up to 4 KiB. A
+/// number takes at most 25 bytes with its comma (the longest shortest round-trip `f64`,
+/// `-2.2250738585072014e-308`, has 24 characters), so a clearance joint's cells take at most
+/// 200 bytes of a run's row and 400 of an ensemble's (the standard scene's rows are 170 and
+/// 330 bytes in all); an error row holds its message instead (under 1 kB), and the set values
+/// are as typed. 4 KiB a row holds ten joints' ensemble statistics; the header, column names
+/// of up to 100 bytes, gets 64 KiB. A larger file is not a sweep's, and reading it whole would
+/// only fill the memory (`sweep-merge /dev/zero` did).
+pub const MAX_SWEEP_FILE_BYTES: u64 = MAX_CASES as u64 * 4096 + 65536;
 
 impl SweepId {
     /// The name of the last column of a sweep file.
@@ -153,10 +166,12 @@ fn case_of(path: &Path, row: &[String]) -> Result<usize> {
 impl SweepFile {
     /// Reads a sweep file; a last line without its newline (cut by a kill) is dropped.
     pub fn read(path: &Path) -> Result<SweepFile> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = read_bounded_text(
+            path,
+            MAX_SWEEP_FILE_BYTES,
+            "a sweep file",
+            "a million cases of rows up to 4 KiB",
+        )?;
         let complete = &text[..text.rfind('\n').map_or(0, |i| i + 1)];
         let (mut header, all) = parse_rows(path, complete)?;
         let id = header
@@ -184,12 +199,45 @@ impl SweepFile {
                 format!("header `{}` does not start with `case`", header.join(",")),
             ));
         }
+        let cells = cell_kinds(&header).ok_or_else(|| {
+            parse_error(
+                path,
+                format!(
+                    "header `{}` is not a sweep's: `case`, the set keys, per clearance joint \
+                     its summary columns (or `members` and their means and sds), \
+                     `wall_time_s`, `error`",
+                    header.join(",")
+                ),
+            )
+        })?;
         let mut rows = Vec::new();
         let mut seen = HashSet::new();
         // a complete row has the (empty) cell of the id column too
-        for mut row in all.into_iter().filter(|row| row.len() == header.len() + 1) {
-            row.pop();
+        let complete = all.into_iter().filter(|row| row.len() == header.len() + 1);
+        for (k, mut row) in complete.enumerate() {
+            let id_cell = row.pop().unwrap_or_default();
             let case = case_of(path, &row)?;
+            let misfit = if id_cell.is_empty() {
+                misfit_cell(&cells, &row)
+            } else {
+                Some((
+                    header.len(),
+                    id_cell,
+                    "empty, as the id column's cells are".into(),
+                ))
+            };
+            if let Some((column, value, expected)) = misfit {
+                let name = header.get(column).unwrap_or(&id.column_name()).clone();
+                return Err(parse_error(
+                    path,
+                    format!(
+                        "row {} (case {case}), column `{name}`: `{value}` where a sweep writes \
+                         {expected}; likely cause: the file was edited (remove the row and \
+                         resume the sweep to run its case again)",
+                        k + 1
+                    ),
+                ));
+            }
             if case >= id.total || !id.shard.contains(case) || !seen.insert(case) {
                 return Err(parse_error(
                     path,
@@ -207,6 +255,139 @@ impl SweepFile {
         }
         Ok(SweepFile { id, header, rows })
     }
+}
+
+/// What a cell of a sweep row holds, as [`crate::sweep::CaseResult::record`] writes it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Cell {
+    /// The case number (checked by [`case_of`]).
+    Case,
+    /// A set value as typed: never empty.
+    Value,
+    /// An ensemble's member count.
+    Members,
+    /// A finite number, always written: the whole run's largest penetration, the wall time.
+    Number,
+    /// A finite number, or empty where nothing was measured (NaN is written empty).
+    Measured,
+    /// A motion mode, or empty where nothing was recorded.
+    Mode,
+    /// The error of a failed case, empty for a case that ran.
+    Error,
+}
+
+/// The cells of a row under `header` (without the id column), or None if it is not a sweep's:
+/// `case`, the set values, then per clearance joint its [`JOINT_COLUMNS`] (a run's) or
+/// `members` and per joint the mean and sd of each of [`SCALARS`] (an ensemble's), then
+/// `wall_time_s` and `error` ([`crate::sweep::header`], [`crate::sweep::ensemble_header`]).
+/// Joints are matched from the end, a group of columns at a time sharing the joint's name; a
+/// joint's column outside its group makes the header not a sweep's.
+fn cell_kinds(header: &[String]) -> Option<Vec<Cell>> {
+    let [first, middle @ .., wall, error] = header else {
+        return None;
+    };
+    if (first.as_str(), wall.as_str(), error.as_str()) != ("case", "wall_time_s", "error") {
+        return None;
+    }
+    let run: Vec<(String, Cell)> = (JOINT_COLUMNS.iter())
+        .map(|&c| {
+            let cell = match c {
+                "max_penetration_whole_run_m" => Cell::Number,
+                "motion_mode" => Cell::Mode,
+                _ => Cell::Measured,
+            };
+            (format!(".{c}"), cell)
+        })
+        .collect();
+    let ensemble: Vec<(String, Cell)> = (SCALARS.iter())
+        .flat_map(|s| [format!(".{s}.mean"), format!(".{s}.sd")])
+        .map(|name| (name, Cell::Measured))
+        .collect();
+    // The columns before the joints' groups, and the groups' cells.
+    let strip = |group: &[(String, Cell)]| {
+        let mut rest = middle;
+        let mut joints = Vec::new();
+        while let Some(split) = rest.len().checked_sub(group.len()) {
+            let (before, last) = rest.split_at(split);
+            let prefixes: Option<Vec<&str>> = (last.iter().zip(group))
+                .map(|(name, (suffix, _))| name.strip_suffix(suffix.as_str()))
+                .collect();
+            match prefixes {
+                Some(p) if p.iter().all(|&joint| joint == p[0]) => {
+                    joints.extend(group.iter().map(|(_, cell)| *cell));
+                    rest = before;
+                }
+                _ => break,
+            }
+        }
+        (rest, joints)
+    };
+    let (sets, before_joints, joints) = match strip(&ensemble) {
+        (rest, joints) if rest.last().is_some_and(|m| m == "members") => {
+            (&rest[..rest.len() - 1], vec![Cell::Members], joints)
+        }
+        _ => {
+            let (rest, joints) = strip(&run);
+            (rest, Vec::new(), joints)
+        }
+    };
+    // A joint's column left among the set keys: a group was edited.
+    let joint_column = |name: &String| {
+        name == "members" || (run.iter().chain(&ensemble)).any(|(s, _)| name.ends_with(s.as_str()))
+    };
+    if sets.iter().any(joint_column) {
+        return None;
+    }
+    let mut cells = vec![Cell::Case];
+    cells.extend(sets.iter().map(|_| Cell::Value));
+    cells.extend(before_joints);
+    cells.extend(joints);
+    cells.extend([Cell::Number, Cell::Error]);
+    Some(cells)
+}
+
+/// The first cell of `row` (of `cells`) that a sweep does not write, as (column, value, what
+/// it writes there). A failed case's row holds its set values and its error, every other cell
+/// empty; a finished case's row an empty error.
+fn misfit_cell(cells: &[Cell], row: &[String]) -> Option<(usize, String, String)> {
+    let failed = row.last().is_some_and(|e| !e.is_empty());
+    let finite = |v: &str| v.parse::<f64>().is_ok_and(f64::is_finite);
+    cells
+        .iter()
+        .zip(row)
+        .enumerate()
+        .find_map(|(column, (&cell, value))| {
+            let v = value.as_str();
+            let fits = match cell {
+                Cell::Case | Cell::Error => true,
+                Cell::Value => !v.is_empty(),
+                _ if failed => v.is_empty(),
+                Cell::Members => v
+                    .parse()
+                    .is_ok_and(|m: usize| (1..=MAX_MEMBERS).contains(&m)),
+                Cell::Number => finite(v),
+                Cell::Measured => v.is_empty() || finite(v),
+                Cell::Mode => v.is_empty() || MOTION_MODES.contains(&v),
+            };
+            (!fits).then(|| {
+                let expected = match cell {
+                    Cell::Value => "a set value (never empty)".to_string(),
+                    _ if failed => "an empty cell in the row of a failed case (its error is in \
+                                the last column)"
+                        .to_string(),
+                    Cell::Members => format!("a member count in [1, {MAX_MEMBERS}]"),
+                    Cell::Number => "a finite number".to_string(),
+                    Cell::Measured => {
+                        "a finite number, or an empty cell where nothing was measured".to_string()
+                    }
+                    _ => format!(
+                        "`{}`, `{}` or an empty cell",
+                        MOTION_MODES[0], MOTION_MODES[1]
+                    ),
+                };
+                (column, value.clone(), expected)
+            })
+        })
 }
 
 /// Writes a sweep file atomically: the header with the id column, the rows.
@@ -299,6 +480,25 @@ impl<'a> JournaledSweep<'a> {
         } else {
             Vec::new()
         };
+        // A row's set values are its case's: an edited one would label results it did not run.
+        for (k, row) in kept.iter().enumerate() {
+            let case = case_of(out, row)?;
+            let values = case_values(&sweep.sets, case);
+            if let Some((i, (value, v))) =
+                (row[1..].iter().zip(&values).enumerate()).find(|(_, (value, v))| value != *v)
+            {
+                return Err(parse_error(
+                    out,
+                    format!(
+                        "row {} (case {case}), column `{}`: `{value}` where this sweep's case \
+                         {case} has `{v}`; likely cause: the file was edited (remove the row \
+                         to run its case again)",
+                        k + 1,
+                        header[i + 1]
+                    ),
+                ));
+            }
+        }
         // The rows were read as a sweep file: their cases are numbers of this shard.
         sweep.skip(kept.iter().filter_map(|r| r[0].parse().ok()).collect());
         let journal = Journal::create(out, &id, &header, &kept)?;

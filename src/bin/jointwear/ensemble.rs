@@ -8,21 +8,34 @@ use jointwear::io::progress::progress_bar;
 use jointwear::simulation::ensemble::{self, EnsembleSettings};
 use jointwear::simulation::folder::ensemble::{write_ensemble, Member};
 use jointwear::simulation::summary::summarize;
+use jointwear::simulation::Scene;
 use jointwear::Error;
 use std::path::{Path, PathBuf};
 
 /// `settings` of `--ensemble N --seed S` checked; a bad member count is bad input naming
 /// `--ensemble` (the library names the field `members`).
 pub fn checked(path: &Path, settings: &EnsembleSettings) -> CliResult<()> {
-    settings.validate().map_err(|e| {
-        let e = match e {
-            Error::Invalid {
-                value, expected, ..
-            } => Error::invalid("--ensemble", value, expected),
-            e => e,
-        };
-        Failure::input(path, e)
-    })
+    settings
+        .validate()
+        .map_err(|e| flagged(path, e, "--ensemble"))
+}
+
+/// `--perturbation` checked against the scene it perturbs
+/// ([`ensemble::Perturbation::check`]), before any member runs; a bad one is bad input naming
+/// the flag (the library names the field `perturbation`).
+pub fn fits(path: &Path, settings: &EnsembleSettings, scene: &Scene) -> CliResult<()> {
+    (settings.perturbation.check(scene)).map_err(|e| flagged(path, e, "--perturbation"))
+}
+
+/// `e` as bad input, a bad value's field named by `flag`, the flag that gave it.
+fn flagged(path: &Path, e: Error, flag: &str) -> Failure {
+    let e = match e {
+        Error::Invalid {
+            value, expected, ..
+        } => Error::invalid(flag, value, expected),
+        e => e,
+    };
+    Failure::input(path, e)
 }
 
 /// `run --ensemble`: members of the scene at `path` (with `sets` and `rotations` applied,
@@ -39,6 +52,7 @@ pub fn run_ensemble(
     checked(path, &settings)?;
     let variant = load_variant(path, sets, rotations, ("ensemble", out))?;
     let (scene, dir) = (&variant.scene, &variant.dir);
+    fits(path, &settings, scene)?;
     let _claim = claim_outputs(path, dir)?;
     let clock = std::time::Instant::now();
     let bar = progress_bar(settings.members as u64, "members");

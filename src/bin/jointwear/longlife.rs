@@ -57,7 +57,7 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
     if !((1.0..=1e12).contains(&rotations) && rotations.fract() == 0.0) {
         return Err(bad(Error::invalid(
             "--rotations",
-            rotations,
+            people::exact(rotations),
             "an integer in [1, 1e12]",
         )));
     }
@@ -116,7 +116,7 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
         "  simulated: {} rotations ({} settling, then one sampled per block); extrapolated: \
          the other {} over {} blocks",
         summary.rotations_simulated,
-        u64::from(settle).min(target),
+        u64::from(settle).min(summary.rotations_simulated),
         last.saturating_sub(summary.rotations_simulated),
         summary.blocks
     );
@@ -410,7 +410,7 @@ impl LongLifeSummary {
             max_change: settings.max_change,
             rotations_predicted: last.map_or(0, |s| s.rotations),
             rotations_simulated: life.simulated,
-            blocks: life.history.len().saturating_sub(1),
+            blocks: life.blocks.len(),
             wall_time_s: life.wall_time,
             limit_reached: (life.reached).map(|(at, k)| (at, m.clearance_joints[k].name.clone())),
             validity_stop: (life.steep.as_ref()).map(|s| {

@@ -2,7 +2,7 @@
 //! checkpoints and resumption; its folder ([`write_run`]: time series, wear profiles and
 //! snapshots, default plots, `summary.json` and `README.txt`) and the summary it prints.
 
-use crate::ensemble::checked;
+use crate::ensemble::{checked, fits};
 use crate::failure::{CliResult, Failure};
 use crate::{claim_outputs, load_variant};
 use jointwear::io::format::{number, quantity};
@@ -132,6 +132,7 @@ pub fn run(
         );
         sim
     } else if let Some((ensemble, k)) = &member {
+        fits(path, ensemble, scene)?;
         member_simulation(scene, &scene.run, ensemble, *k).map_err(bad)?
     } else {
         Simulation::start(scene).map_err(bad)?
