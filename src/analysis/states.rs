@@ -8,8 +8,8 @@
 //! one at the largest gap `g = x₍ₖ₎ − x₍ₖ₋₁₎`; the members fall into two states when
 //! `g > GAP_OVER_SPREAD · s_p`, `s_p` the pooled within-group standard deviation
 //! `√(((k−1)s₁² + (n−k−1)s₂²)/(n−2))`. One split at most: two states. Angles
-//! ([`States::of_angles_deg`]) are unwrapped around their circular mean first and split only
-//! at a gap wider than [`MIN_ANGLE_GAP_DEG`].
+//! ([`States::of_angles_deg`]) are unwrapped from their largest gap on the circle first and
+//! split only at a gap wider than [`MIN_ANGLE_GAP_DEG`].
 //!
 //! Why these constants: in 2000 draws each of 32 values from unimodal distributions (normal,
 //! uniform, lognormal σ = 0.5, Student t₃, exponential) the rule splits at most 2.3 % of the
@@ -18,7 +18,7 @@
 //! or three extreme members split off in up to 12 % of the draws (exponential, gap ratio 2); a
 //! state held by fewer than a tenth of the members is not resolved by 32 members anyway.
 
-use super::statistics::{unwrap_angles_deg, Distribution};
+use super::statistics::Distribution;
 
 /// The largest gap must exceed this many pooled within-state standard deviations.
 pub const GAP_OVER_SPREAD: f64 = 2.0;
@@ -125,14 +125,15 @@ impl States {
         }
     }
 
-    /// The states of angles in degrees: split after unwrapping them around their circular
-    /// mean ([`unwrap_angles_deg`]: then the cut lies opposite the mean, where angles of two
-    /// clusters are not), and only at a gap wider than [`MIN_ANGLE_GAP_DEG`]; the
-    /// distributions wrapped back into [0, 360). "Low" and "high" are the two sides of that
-    /// cut, not smaller and larger angles.
+    /// The states of angles in degrees: split after unwrapping them from the largest gap on
+    /// the circle (so that no cluster straddles the cut, wherever their mean lies), and only at
+    /// a gap wider than [`MIN_ANGLE_GAP_DEG`]; the pooled distribution is
+    /// [`Distribution::of_angles_deg`]'s and every distribution is wrapped back into [0, 360).
+    /// "Low" and "high" are the two sides of the cut, not smaller and larger angles.
     pub fn of_angles_deg(values: impl IntoIterator<Item = f64>) -> States {
-        let mut s = States::split_beyond(&unwrap_angles_deg(values), MIN_ANGLE_GAP_DEG);
-        s.pooled = s.pooled.wrapped_deg();
+        let values: Vec<f64> = values.into_iter().collect();
+        let mut s = States::split_beyond(&unwrap_at_largest_gap(&values), MIN_ANGLE_GAP_DEG);
+        s.pooled = Distribution::of_angles_deg(values);
         for state in &mut s.states {
             state.distribution = state.distribution.wrapped_deg();
         }
@@ -209,6 +210,34 @@ impl States {
     }
 }
 
+/// Angles in degrees placed in the turn that begins after the largest gap between them on the
+/// circle (the gap from the last to the first, one turn on, included); a non-finite value
+/// stays NaN.
+fn unwrap_at_largest_gap(values: &[f64]) -> Vec<f64> {
+    let mut sorted: Vec<f64> = (values.iter())
+        .filter(|a| a.is_finite())
+        .map(|a| a.rem_euclid(360.0))
+        .collect();
+    sorted.sort_by(f64::total_cmp);
+    let gap_after = |i: usize| match sorted.get(i + 1) {
+        Some(next) => next - sorted[i],
+        None => sorted[0] + 360.0 - sorted[i],
+    };
+    // The angle just past the largest gap starts the turn.
+    let start = (0..sorted.len())
+        .max_by(|&a, &b| gap_after(a).total_cmp(&gap_after(b)))
+        .map_or(0.0, |i| sorted[(i + 1) % sorted.len()]);
+    (values.iter())
+        .map(|&a| {
+            if a.is_finite() {
+                start + (a - start).rem_euclid(360.0)
+            } else {
+                f64::NAN
+            }
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -263,6 +292,17 @@ mod tests {
             a.pooled,
             Distribution::of_angles_deg([358.0, 2.0, 0.0, 359.0, 1.0, 150.0, 152.0, 151.0, 149.0])
         );
+        // A region opposite the circular mean (near 0° while most lie near 180°) is one state,
+        // not split by a cut through it: the cut lies in the largest gap on the circle.
+        let mut v: Vec<f64> = (0..24).map(|i| 177.0 + 0.25 * i as f64).collect();
+        v.extend([356.0, 357.0, 358.0, 359.0, 1.0, 2.0, 3.0, 4.0]);
+        let (low, high) = States::of_angles_deg(v)
+            .low_high()
+            .map(|(l, h)| (l.clone(), h.clone()))
+            .expect("two regions");
+        assert_eq!((low.members.len(), high.members.len()), (8, 24));
+        assert_relative_eq!(low.distribution.mean, 0.0, epsilon = 1e-9);
+        assert_relative_eq!(high.distribution.mean, 179.875, max_relative = 1e-12);
         // Deepest sectors 4° apart agree within each side: one region, one state.
         assert!(!States::of_angles_deg([184.5, 184.5, 188.5, 188.5]).split());
         let one = States::of(&[1.0, 1.1, 0.9]);

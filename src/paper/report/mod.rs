@@ -243,6 +243,14 @@ pub fn write(
             members(&steady.list()),
         ),
     };
+    // Section 2's converged ensembles checked with the accuracy study's tests, for the Why
+    // paragraph and section 5.
+    let ensemble: Vec<EnsembleCheck> = CASES
+        .zip(&steady)
+        .list()
+        .iter()
+        .flat_map(|(case, e)| ensemble_checks(case, &e.members, golden))
+        .collect();
     md.push_str(&why(
         studies.accuracy,
         &dominance,
@@ -250,6 +258,7 @@ pub fn write(
         &golden.standard_wear,
         &golden.low_speed_wear,
         calibration_findings(&golden.low_speed_wear).as_ref(),
+        &ensemble,
     ));
 
     table3::table3_section(&mut md, runs, golden, studies.accuracy)?;
@@ -260,12 +269,6 @@ pub fn write(
     md.push_str(&table2::table2_section());
     // Sections 5 and 7 state the default tolerance from one reading of its inputs.
     let tolerance = numerical::ToleranceInputs::read();
-    let ensemble: Vec<EnsembleCheck> = CASES
-        .zip(&steady)
-        .list()
-        .iter()
-        .flat_map(|(case, e)| ensemble_checks(case, &e.members, golden))
-        .collect();
     numerical::work_precision_section(&mut md, studies.accuracy, &ensemble, &tolerance);
     numerical::stability_section(&mut md, studies.stability);
     numerical::performance_section(&mut md, &tolerance);
