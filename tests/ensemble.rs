@@ -184,6 +184,10 @@ fn sweep_runs_each_case_as_an_ensemble_with_mean_and_sd_columns() {
             .parse()
             .unwrap();
         assert!(mean > 0.0 && sd >= 0.0 && sd < mean, "{mean} {sd}");
+        // Over how many members, and in how many states (two members: never split).
+        assert_eq!(row[col("rod-slider.max_wear_depth_m.n")], "2");
+        assert_eq!(row[col("rod-slider.max_wear_angle_deg.states")], "1");
+        assert!(row[col("rod-slider.max_wear_depth_m.low_mean")].is_empty());
         assert!(row[col("error")].is_empty());
     }
     let _ = std::fs::remove_dir_all(&dir);

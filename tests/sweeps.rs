@@ -89,6 +89,11 @@ fn an_interrupted_sweep_keeps_its_finished_cases() {
         f.rows[0]
     );
     assert!(temporaries(&dir).is_empty(), "{:?}", temporaries(&dir));
+    // A rerun that forgets --resume is refused, the finished case kept (it started over).
+    let before = fs::read_to_string(&out).unwrap();
+    let o = sweep(&scene, &["--set", "run.rotations=1,100000"], &out);
+    assert_fails(&o, 2, &["--resume", "the rows of 1 of the 2 cases"]);
+    assert_eq!(fs::read_to_string(&out).unwrap(), before);
     fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -261,8 +261,10 @@ class SweepResult:
         columns: column name -> array over the cases: ``case``, each swept key (its values as
             given), then the columns of ``jointwear sweep``'s file: per joint
             ``<joint>.<quantity>`` for single runs (and ``<joint>.motion_mode``), or
-            ``<joint>.<quantity>.mean`` / ``.sd`` for ensembles; ``wall_time_s``; NaN in the
-            cases that failed.
+            ``<joint>.<quantity>.n`` (members where it is defined), ``.mean``, ``.sd`` and its
+            states (``.states`` 1 or 2, ``.low_n``, ``.low_mean``, ``.low_sd``, ``.high_n``,
+            ``.high_mean``, ``.high_sd``, NaN with one state) for ensembles; ``wall_time_s``;
+            NaN in the cases that failed.
         errors: the message of each case that failed while running, else None.
     """
 

@@ -568,9 +568,16 @@ fn sweep_columns(d: &Bound<'_, PyDict>, outcome: &Outcome) -> PyResult<()> {
         Outcome::Ensemble(members, stats) => {
             d.set_item("members", members)?;
             for j in stats {
-                for (name, dist) in &j.scalars {
-                    d.set_item(format!("{}.{name}.mean", j.name), dist.mean)?;
-                    d.set_item(format!("{}.{name}.sd", j.name), dist.sd)?;
+                for ((name, dist), (_, states)) in j.scalars.iter().zip(&j.states) {
+                    let column = |c: &str| format!("{}.{name}.{c}", j.name);
+                    d.set_item(column("n"), dist.n)?;
+                    d.set_item(column("mean"), dist.mean)?;
+                    d.set_item(column("sd"), dist.sd)?;
+                    // The file's state cells as numbers, NaN where it leaves them empty.
+                    let cells = states.cells(|x| x.to_string());
+                    for (c, cell) in STATE_COLUMNS.iter().zip(cells) {
+                        d.set_item(column(c), cell.parse::<f64>().unwrap_or(f64::NAN))?;
+                    }
                 }
             }
         }

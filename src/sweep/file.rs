@@ -23,7 +23,9 @@ use crate::io::output::{fnv1a, parse_rows, read_bounded_text, write_table, Growi
 use crate::io::progress::{Counter, Progress};
 use crate::simulation::ensemble::MAX_MEMBERS;
 use crate::simulation::summary::{JOINT_COLUMNS, SCALARS};
-use crate::sweep::{case_values, shard_cases, Assignment, Shard, Sweep, MAX_CASES};
+use crate::sweep::{
+    case_values, shard_cases, Assignment, Shard, Sweep, ENSEMBLE_COLUMNS, MAX_CASES,
+};
 use crate::{Error, Result};
 use std::collections::{BTreeMap, HashSet};
 use std::path::Path;
@@ -278,7 +280,7 @@ enum Cell {
 
 /// The cells of a row under `header` (without the id column), or None if it is not a sweep's:
 /// `case`, the set values, then per clearance joint its [`JOINT_COLUMNS`] (a run's) or
-/// `members` and per joint the mean and sd of each of [`SCALARS`] (an ensemble's), then
+/// `members` and per joint the [`ENSEMBLE_COLUMNS`] of each of [`SCALARS`] (an ensemble's), then
 /// `wall_time_s` and `error` ([`crate::sweep::header`], [`crate::sweep::ensemble_header`]).
 /// Joints are matched from the end, a group of columns at a time sharing the joint's name; a
 /// joint's column outside its group makes the header not a sweep's.
@@ -300,7 +302,7 @@ fn cell_kinds(header: &[String]) -> Option<Vec<Cell>> {
         })
         .collect();
     let ensemble: Vec<(String, Cell)> = (SCALARS.iter())
-        .flat_map(|s| [format!(".{s}.mean"), format!(".{s}.sd")])
+        .flat_map(|s| ENSEMBLE_COLUMNS.iter().map(move |c| format!(".{s}.{c}")))
         .map(|name| (name, Cell::Measured))
         .collect();
     // The columns before the joints' groups, and the groups' cells.
@@ -472,12 +474,27 @@ pub struct JournaledSweep<'a> {
 impl<'a> JournaledSweep<'a> {
     /// Starts the file `out` of `sweep`; with `resume`, keeps the rows the file holds of the
     /// same sweep and shard (an error if it holds another) and skips their cases in `sweep`.
+    /// Without it, an unfinished file of the same sweep and shard is an error rather than
+    /// started over: its finished cases would be lost to a rerun that forgot `--resume`.
     pub fn open(sweep: &'a mut Sweep, out: &Path, resume: bool) -> Result<JournaledSweep<'a>> {
         let id = sweep.id();
         let header = sweep.header();
         let kept = if resume {
             resume_rows(out, &id, &header)?
         } else {
+            if let Some(finished) = unfinished_rows(out, &id, &header) {
+                return Err(Error::invalid(
+                    "--resume",
+                    "not given",
+                    format!(
+                        "--resume with {}, which holds the rows of {finished} of the {} cases \
+                         of this sweep and shard, finished before it stopped: --resume keeps \
+                         them and runs the rest; to start over, remove the file",
+                        out.display(),
+                        id.cases
+                    ),
+                ));
+            }
             Vec::new()
         };
         // A row's set values are its case's: an edited one would label results it did not run.
@@ -597,6 +614,16 @@ pub fn resume_rows(path: &Path, id: &SweepId, header: &[String]) -> Result<Vec<V
         ));
     }
     Ok(file.rows)
+}
+
+/// The number of rows of `path` if it is an unfinished file of the sweep `id` with `header`
+/// (some of its cases finished, not all); None for a missing, complete, unreadable or other
+/// sweep's file, which a new run may replace.
+fn unfinished_rows(path: &Path, id: &SweepId, header: &[String]) -> Option<usize> {
+    let file = SweepFile::read(path).ok()?;
+    let same = file.id.fingerprint == id.fingerprint && file.id.shard == id.shard;
+    let rows = file.rows.len();
+    (same && file.header == header && rows > 0 && rows < id.cases).then_some(rows)
 }
 
 /// Joins the shard files of one sweep into `out`, sorted by case, as the file of the whole

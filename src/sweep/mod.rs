@@ -17,6 +17,7 @@
 
 pub mod file;
 
+use crate::analysis::states::STATE_COLUMNS;
 use crate::io::progress::{Cancellation, Progress};
 use crate::scene::{reversal_note, set_dotted, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
@@ -185,19 +186,36 @@ pub fn header(sets: &[Assignment], joints: &[String]) -> Vec<String> {
 }
 
 /// Header of a sweep CSV whose cases run as ensembles: after the set values the member count,
-/// then per joint the mean and sd of every scalar of [`JointSummary::scalars`].
+/// then per joint and scalar of [`JointSummary::scalars`] [`ENSEMBLE_COLUMNS`]: the members
+/// where it is defined, its mean and sd, and the states the members fall into (a pooled mean
+/// of two states is no member's value).
 pub fn ensemble_header(sets: &[Assignment], joints: &[String]) -> Vec<String> {
     let mut h = vec!["case".to_string()];
     h.extend(sets.iter().map(|a| a.key.clone()));
     h.push("members".into());
     for j in joints {
         for name in SCALARS {
-            h.extend([format!("{j}.{name}.mean"), format!("{j}.{name}.sd")]);
+            h.extend(ENSEMBLE_COLUMNS.iter().map(|c| format!("{j}.{name}.{c}")));
         }
     }
     h.extend(["wall_time_s".to_string(), "error".to_string()]);
     h
 }
+
+/// The columns of each scalar of an ensemble case ([`ensemble_header`]): `n` (members with a
+/// finite value), `mean`, `sd`, then [`STATE_COLUMNS`].
+pub const ENSEMBLE_COLUMNS: [&str; 10] = [
+    "n",
+    "mean",
+    "sd",
+    STATE_COLUMNS[0],
+    STATE_COLUMNS[1],
+    STATE_COLUMNS[2],
+    STATE_COLUMNS[3],
+    STATE_COLUMNS[4],
+    STATE_COLUMNS[5],
+    STATE_COLUMNS[6],
+];
 
 /// What a case measured: one run's joint summaries, or an ensemble's joint statistics.
 #[derive(Clone, Debug)]
@@ -230,8 +248,9 @@ impl CaseResult {
             Ok((Outcome::Ensemble(members, stats), wall)) => {
                 r.push(members.to_string());
                 for j in stats {
-                    for (_, d) in &j.scalars {
-                        r.extend([number(d.mean), number(d.sd)]);
+                    for ((_, d), (_, states)) in j.scalars.iter().zip(&j.states) {
+                        r.extend([d.n.to_string(), number(d.mean), number(d.sd)]);
+                        r.extend(states.cells(number));
                     }
                 }
                 r.extend([number(*wall), String::new()]);

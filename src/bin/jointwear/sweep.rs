@@ -68,13 +68,11 @@ pub fn sweep(
     }
     check_output_file("--out", &out).map_err(bad)?;
     let _claim = claim_file("--out", &out).map_err(bad)?;
-    if !resume && out.exists() {
-        eprintln!(
-            "{} exists: starting over (--resume keeps its finished cases)",
-            out.display()
-        );
-    }
+    let replaced = !resume && out.exists();
     let journaled = JournaledSweep::open(&mut sweep, &out, resume).map_err(bad)?;
+    if replaced {
+        eprintln!("{} exists: replacing it", out.display());
+    }
     interrupt::keep(format!(
         "finished cases stay in {} (rerun with --resume to skip them)",
         out.display()
