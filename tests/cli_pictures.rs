@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{assert_fails, jointwear, s, scene_with, stderr, stdout, temp_dir};
+use common::{assert_fails, file_names, jointwear, s, scene_with, stderr, stdout, temp_dir};
 use jointwear::scene::scene_path;
 use std::fs;
 use std::path::Path;
@@ -23,16 +23,6 @@ fn png_size(path: &Path) -> (u32, u32) {
     (be(16), be(20))
 }
 
-/// The names of the files in `dir` (no temporary file may stay behind).
-fn files(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
-
 #[test]
 fn check_draws_the_assembled_pose_on_the_guessed_branch() {
     let dir = temp_dir("pictures", "check");
@@ -46,7 +36,7 @@ fn check_draws_the_assembled_pose_on_the_guessed_branch() {
         "{text}"
     );
     assert_eq!(png_size(&png), (1200, 800));
-    assert_eq!(files(&dir), ["mechanism_fourbar.png"]);
+    assert_eq!(file_names(&dir), ["mechanism_fourbar.png"]);
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -75,7 +65,7 @@ fn animate_writes_a_looping_gif_of_several_frames() {
     assert!(o.status.success(), "{}", stderr(&o));
     let gif = dir.join("mechanism_fourbar.gif");
     assert!(stdout(&o).contains(&format!("wrote {} (6 frames", gif.display())));
-    assert_eq!(files(&dir), ["mechanism_fourbar.gif"]);
+    assert_eq!(file_names(&dir), ["mechanism_fourbar.gif"]);
     let bytes = fs::read(&gif).unwrap();
     assert_eq!(&bytes[..6], b"GIF89a");
     let mut options = gif::DecodeOptions::new();

@@ -320,16 +320,6 @@ fn a_rerun_replaces_the_previous_run_and_leaves_other_files_alone() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
-/// The names in `dir`, sorted.
-fn folder_names(dir: &std::path::Path) -> Vec<String> {
-    let mut names: Vec<String> = fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
-
 /// The file names a manifest lists (its comment lines left out).
 fn manifest_names(dir: &std::path::Path) -> Vec<String> {
     (fs::read_to_string(dir.join("jointwear-manifest.txt"))
@@ -386,7 +376,7 @@ fn a_manifest_names_only_outputs_and_no_title_adds_to_it() {
         if let Some(content) = content {
             fs::write(out.join(foreign), content).unwrap();
         }
-        let before = folder_names(&out);
+        let before = file_names(&out);
         let manifest = format!("# edited\n{}\n{foreign}\n", outputs.join("\n"));
         fs::write(out.join("jointwear-manifest.txt"), &manifest).unwrap();
         let o = run();
@@ -395,7 +385,7 @@ fn a_manifest_names_only_outputs_and_no_title_adds_to_it() {
             2,
             &["jointwear-manifest.txt", foreign, "remove the line"],
         );
-        assert_eq!(folder_names(&out), before, "{foreign}");
+        assert_eq!(file_names(&out), before, "{foreign}");
         assert!(out.join(foreign).exists() && scene.exists(), "{foreign}");
         let left = fs::read_to_string(out.join("jointwear-manifest.txt")).unwrap();
         assert_eq!(left, manifest);
@@ -446,7 +436,7 @@ fn a_rerun_that_stops_while_writing_loses_track_of_no_output() {
     );
     expected.push("jointwear-manifest.txt".into());
     expected.sort();
-    assert_eq!(folder_names(&out), expected);
+    assert_eq!(file_names(&out), expected);
     fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -2,6 +2,9 @@
 //! the names that become file names cannot collide, so nothing is lost after simulating.
 //! Every test fails on the code before these limits (noted per test), bounded in bytes.
 
+mod common;
+
+use common::with_waiting_writer;
 use jointwear::scene::{scene_path, SceneFile, MAX_SCENE_BYTES};
 use std::fs;
 use std::path::PathBuf;
@@ -111,29 +114,10 @@ fn devices_and_fifos_are_refused_without_reading_them() {
     // comment: the old code failed with another message).
     let fifo = temp("scene.fifo");
     let _ = fs::remove_file(&fifo);
-    let made = std::process::Command::new("mkfifo")
-        .arg(&fifo)
-        .status()
-        .unwrap();
-    assert!(made.success());
-    let writer_path = fifo.clone();
-    let writer = std::thread::spawn(move || {
-        use std::io::Write;
-        let mut w = fs::OpenOptions::new().write(true).open(writer_path)?;
-        w.write_all(&b"#\n".repeat(1000))
+    with_waiting_writer(&fifo, || {
+        let msg = SceneFile::read(&fifo).unwrap_err().to_string();
+        assert_contains(&msg, &["scene.fifo", "not a regular file"]);
     });
-    let msg = SceneFile::read(&fifo).unwrap_err().to_string();
-    assert_contains(&msg, &["scene.fifo", "not a regular file"]);
-    // Release the writer, whenever it opens: on Linux a FIFO opened for reading and writing
-    // does not wait, and held open it is the reader the writer waits for; 2 kB fit in the
-    // pipe's buffer.
-    let reader = fs::OpenOptions::new()
-        .read(true)
-        .write(true)
-        .open(&fifo)
-        .unwrap();
-    writer.join().unwrap().unwrap();
-    drop(reader);
 }
 
 #[test]

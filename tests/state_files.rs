@@ -54,13 +54,31 @@ fn resume(scene: &Scene, path: &Path) -> jointwear::Result<u32> {
     Ok(done)
 }
 
+/// An edit of a checkpoint's fields.
+type Edit = fn(&mut Value);
+
+/// Resumes `real` (a checkpoint file of `scene`) after each of `edits`, resealed at `path`:
+/// each must be refused naming `checkpoint.<field>`.
+fn refused_after_each(scene: &Scene, real: &Value, edits: &[(&str, Edit)], path: &Path) {
+    for (field, edit) in edits {
+        let mut file = real.clone();
+        edit(file.pointer_mut("/checkpoint").unwrap());
+        reseal(path, file);
+        match resume(scene, path) {
+            Err(Error::Invalid { field: f, .. }) => {
+                assert_eq!(f, format!("checkpoint.{field}"), "edit of {field}")
+            }
+            other => panic!("edit of {field}: {:?}", other.map_err(|e| e.to_string())),
+        }
+    }
+}
+
 #[test]
 fn edited_checkpoints_are_refused_naming_the_field() {
     let dir = temp_dir("state", "edits");
     let (scene, real) = real_checkpoint(&dir);
     let path = dir.join("edited.json");
     let ptr = |v: &mut Value, p: &str| v.pointer_mut(&format!("/checkpoint{p}")).unwrap().take();
-    type Edit = fn(&mut Value);
     let edits: [(&str, Edit); 15] = [
         ("sampler.dy", |v| {
             v["sampler"]["dy"].as_array_mut().unwrap().pop();
@@ -92,17 +110,7 @@ fn edited_checkpoints_are_refused_naming_the_field() {
             v.as_object_mut().unwrap().remove("arithmetic");
         }),
     ];
-    for (field, edit) in edits {
-        let mut file = real.clone();
-        edit(file.pointer_mut("/checkpoint").unwrap());
-        reseal(&path, file);
-        match resume(&scene, &path) {
-            Err(Error::Invalid { field: f, .. }) => {
-                assert_eq!(f, format!("checkpoint.{field}"), "edit of {field}")
-            }
-            other => panic!("edit of {field}: {:?}", other.map_err(|e| e.to_string())),
-        }
-    }
+    refused_after_each(&scene, &real, &edits, &path);
     // Unsealed, any edit is caught by the checksum.
     let mut file = real.clone();
     let _ = ptr(&mut file, "/rotation");
@@ -160,7 +168,6 @@ fn checkpoints_short_of_an_output_of_their_run_are_refused() {
         .as_array()
         .unwrap();
     assert!(times.len() > 10, "{} samples", times.len());
-    type Edit = fn(&mut Value);
     let edits: [(&str, Edit); 10] = [
         ("out.wear_snapshots", |v| {
             v["out"]["wear_snapshots"].as_array_mut().unwrap().remove(0);
@@ -199,17 +206,7 @@ fn checkpoints_short_of_an_output_of_their_run_are_refused() {
         }),
     ];
     let edited = dir.join("edited.json");
-    for (field, edit) in edits {
-        let mut file = real.clone();
-        edit(file.pointer_mut("/checkpoint").unwrap());
-        reseal(&edited, file);
-        match resume(&scene, &edited) {
-            Err(Error::Invalid { field: f, .. }) => {
-                assert_eq!(f, format!("checkpoint.{field}"), "edit of {field}")
-            }
-            other => panic!("edit of {field}: {:?}", other.map_err(|e| e.to_string())),
-        }
-    }
+    refused_after_each(&scene, &real, &edits, &edited);
     reseal(&edited, real);
     assert_eq!(resume(&scene, &edited).unwrap(), 3);
     fs::remove_dir_all(&dir).unwrap();
@@ -378,6 +375,18 @@ fn edited_cells_of_sweep_files_are_refused_naming_row_column_and_value() {
     let edited = dir.join("edited.csv");
     let merged = dir.join("merged.csv");
     let sets = "driver.speed_rpm=-2000,-1000";
+    let resume = || {
+        let args = [
+            "sweep",
+            &scene,
+            "--set",
+            sets,
+            "--out",
+            s(&edited),
+            "--resume",
+        ];
+        jointwear(&args)
+    };
     // (column, new value, what the message says is written there)
     for (at, value, expected) in [
         (
@@ -423,15 +432,7 @@ fn edited_cells_of_sweep_files_are_refused_naming_row_column_and_value() {
         ];
         let merge = jointwear(&["sweep-merge", s(&edited), "--out", s(&merged)]);
         assert_fails(&merge, 2, &needles);
-        let resumed = jointwear(&[
-            "sweep",
-            &scene,
-            "--set",
-            sets,
-            "--out",
-            s(&edited),
-            "--resume",
-        ]);
+        let resumed = resume();
         assert_fails(&resumed, 2, &needles);
         if at != column("error") {
             assert!(
@@ -448,15 +449,7 @@ fn edited_cells_of_sweep_files_are_refused_naming_row_column_and_value() {
         format!("{}\n{}\n{relabelled}\n", lines[0], lines[1]),
     )
     .unwrap();
-    let resumed = jointwear(&[
-        "sweep",
-        &scene,
-        "--set",
-        sets,
-        "--out",
-        s(&edited),
-        "--resume",
-    ]);
+    let resumed = resume();
     assert_fails(
         &resumed,
         2,
@@ -490,30 +483,13 @@ fn sweep_files_that_are_devices_or_fifos_are_refused_without_reading_them() {
     let o = jointwear(&["sweep-merge", "/dev/null", "--out", s(&merged)]);
     assert_fails(&o, 2, &["/dev/null", "not a regular file"]);
     let fifo = dir.join("sweep.fifo");
-    let made = std::process::Command::new("mkfifo")
-        .arg(&fifo)
-        .status()
-        .unwrap();
-    assert!(made.success());
     for args in [
         vec!["sweep-merge", s(&fifo), "--out", s(&merged)],
         vec!["sweep", s(&scene), "--out", s(&fifo), "--resume"],
     ] {
-        let writer_path = fifo.clone();
-        let writer = std::thread::spawn(move || {
-            use std::io::Write;
-            let mut w = fs::OpenOptions::new().write(true).open(writer_path)?;
-            w.write_all(&b"#\n".repeat(1000))
+        with_waiting_writer(&fifo, || {
+            assert_fails(&jointwear(&args), 2, &["sweep.fifo", "not a regular file"])
         });
-        assert_fails(&jointwear(&args), 2, &["sweep.fifo", "not a regular file"]);
-        // Release the writer (a FIFO opened for reading and writing does not wait on Linux).
-        let reader = fs::OpenOptions::new()
-            .read(true)
-            .write(true)
-            .open(&fifo)
-            .unwrap();
-        writer.join().unwrap().unwrap();
-        drop(reader);
     }
     fs::remove_dir_all(&dir).unwrap();
 }

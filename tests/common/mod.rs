@@ -87,3 +87,38 @@ pub fn assert_same_run(a: &RunOutput, b: &RunOutput) {
     assert_eq!(a.impacts, b.impacts);
     assert_eq!(a.wear_snapshots, b.wear_snapshots);
 }
+
+/// The names in `dir`, sorted (no temporary file may stay behind).
+pub fn file_names(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// Makes a FIFO at `fifo` (unless there is one) with a writer of 2 kB waiting to open it, runs
+/// `check`, which must refuse it without reading, then releases the writer: on Linux a FIFO
+/// opened for reading and writing does not wait, and held open it is the reader the writer
+/// waits for; 2 kB fit in the pipe's buffer.
+pub fn with_waiting_writer(fifo: &Path, check: impl FnOnce()) {
+    if !fifo.exists() {
+        let made = Command::new("mkfifo").arg(fifo).status().unwrap();
+        assert!(made.success());
+    }
+    let writer_path = fifo.to_path_buf();
+    let writer = std::thread::spawn(move || {
+        use std::io::Write;
+        let mut w = fs::OpenOptions::new().write(true).open(writer_path)?;
+        w.write_all(&b"#\n".repeat(1000))
+    });
+    check();
+    let reader = fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .open(fifo)
+        .unwrap();
+    writer.join().unwrap().unwrap();
+    drop(reader);
+}
