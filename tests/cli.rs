@@ -784,5 +784,22 @@ fn offsets_beyond_the_clearance_are_refused_naming_the_perturbation() {
         "disc_19999nm",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
+    // The default's 10 nm is taken at any clearance, zero included (refused at first, with
+    // advice about units for a protocol nobody had given).
+    let o = jointwear(&[
+        "run",
+        s(&scene),
+        "--out",
+        &out,
+        "--ensemble",
+        "2",
+        "--set",
+        "clearance.0.clearance_mm=0",
+        "--set",
+        "clearance.0.wear.pressure=\"elastic-foundation\"",
+        "--set",
+        "clearance.0.wear.k_over_h_per_pa=0",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
     fs::remove_dir_all(&dir).unwrap();
 }

@@ -240,6 +240,18 @@ fn a_limit_reached_while_settling_stops_at_its_rotation() {
     };
     let e = predict(&scene, &settings, &Silent).unwrap_err().to_string();
     assert!(e.contains("--until") && e.contains("atomic layer"), "{e}");
+    // Settling that covers the whole prediction ends it with its wear (it reported 0
+    // rotations and no wear, its profile in the snapshots).
+    let settings = LongLifeSettings {
+        rotations: 2,
+        settle_rotations: 3,
+        ..LongLifeSettings::default()
+    };
+    let life = predict(&scene, &settings, &Silent).unwrap();
+    let last = life.history.last().unwrap();
+    assert_eq!((last.rotations, life.simulated), (2, 2));
+    assert!(last.max_depth(0) > 0.0);
+    assert_eq!(life.snapshots.last().unwrap(), last);
 }
 
 #[test]

@@ -131,8 +131,9 @@ fn clearance_leaves_a_conforming_journal() {
             assert!(msg.contains(n), "lacks `{n}`: {msg}");
         }
     }
-    // At the bounds: a tenth of the radius, a 0.1 mm journal (whose R − c rounds below it).
-    for (radius, clearance) in [("10.0", "1.0"), ("0.105", "0.005")] {
+    // At the bounds: a tenth of the radius (0.14 / 1.4 rounds above 0.1), a 0.1 mm journal
+    // (whose R − c rounds below it).
+    for (radius, clearance) in [("10.0", "1.0"), ("1.4", "0.14"), ("0.105", "0.005")] {
         let text = scene(radius, clearance);
         let file = SceneFile::parse(&text, Path::new("test.toml")).unwrap();
         file.build().unwrap();

@@ -318,7 +318,9 @@ impl SceneFile {
                 exact(c.bearing_radius_mm)
             )
         };
-        if ratio > MAX_CLEARANCE_RATIO {
+        // (With the rounding of both quotients: a clearance of exactly a tenth, as written,
+        // is within the bound, 0.14 in 1.4 included.)
+        if ratio > MAX_CLEARANCE_RATIO * (1.0 + 4.0 * f64::EPSILON) {
             return Err(Error::invalid(
                 f("clearance_mm"),
                 exact(c.clearance_mm),

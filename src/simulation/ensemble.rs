@@ -38,7 +38,7 @@
 
 use crate::io::format::{number, shift_decimal};
 use crate::io::progress::{Cancellation, Counter, Progress};
-use crate::mechanism::Mechanism;
+use crate::mechanism::{ClearanceJoint, Mechanism};
 use crate::simulation::Scene;
 use crate::simulation::{RunOutput, RunSettings, Simulation};
 use crate::{Error, Result};
@@ -183,25 +183,29 @@ impl Perturbation {
         }
     }
 
-    /// Checks that the protocol fits `scene`: a disc's or axis's offsets must stay below the
-    /// radial clearance of every clearance joint, or members start with the journal pressed
-    /// into its bearing (1 mm against 0.02 mm failed while running, blaming a material). An
-    /// error names the field `perturbation`.
+    /// Checks that the protocol fits `scene`: a disc's or axis's offsets larger than the
+    /// default's [`OFFSET_RADIUS`] must stay below the radial clearance of every clearance
+    /// joint, or members start with the journal pressed into its bearing (1 mm against 0.02 mm
+    /// failed while running, blaming a material). Offsets up to the default's are always
+    /// taken: at a zero clearance they start the journal 10 nm into its bearing, deep inside
+    /// the small-strain contact laws, as ensembles of such scenes always have. An error names
+    /// the field `perturbation`.
     pub fn check(&self, scene: &Scene) -> Result<()> {
         let (Perturbation::Disc(r) | Perturbation::Axis(r)) = *self else {
             return Ok(());
         };
         let joints = &scene.mechanism.clearance_joints;
-        match joints.iter().find(|cj| r >= cj.given_clearance) {
+        let misfit = |cj: &&ClearanceJoint| r > OFFSET_RADIUS && r >= cj.given_clearance;
+        match joints.iter().find(misfit) {
             None => Ok(()),
             Some(cj) => Err(Error::invalid(
                 "perturbation",
                 self.key(),
                 format!(
-                    "offsets below the radial clearance of every clearance joint (`{}`: {} nm), \
-                     so that each member's journal starts inside its bearing; likely cause: a \
-                     size in another unit than nm (at zero clearance, perturb the velocity or \
-                     the tolerances instead: velocity_<V>um_s, tolerance_<S>)",
+                    "offsets of at most {} nm, or below the radial clearance of every \
+                     clearance joint (`{}`: {} nm), so that each member's journal starts inside \
+                     its bearing; likely cause: a size in another unit than nm",
+                    number(shift_decimal(OFFSET_RADIUS, 9)),
                     cj.name,
                     number(shift_decimal(cj.given_clearance, 9))
                 ),

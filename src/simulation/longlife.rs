@@ -204,7 +204,9 @@ pub fn predict(
         Some(d) => vec![d; clearances.len()],
     };
     for (cj, &l) in mechanism.clearance_joints.iter().zip(&limits) {
-        let most = wear_limit(cj);
+        // (The default, the clearance, may be a tenth of the radius as written: within
+        // the rounding of both.)
+        let most = wear_limit(cj) * (1.0 + 4.0 * f64::EPSILON);
         if !(l >= MIN_WEAR_LIMIT && l <= most) {
             return Err(Error::invalid(
                 "--until",
@@ -403,6 +405,10 @@ pub fn predict(
             snapshots.push(stage(&sim, done));
         }
         progress.observe(done, Some(target));
+    }
+    // Settling may cover the whole prediction: its end is a stage too.
+    if history.last().is_none_or(|s| s.rotations != done) {
+        history.push(stage(&sim, done));
     }
     if snapshots.last().is_none_or(|s| s.rotations != done) {
         snapshots.push(stage(&sim, done));

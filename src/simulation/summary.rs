@@ -95,7 +95,7 @@ pub struct JointStatistics {
     /// circular mean).
     pub scalars: Vec<(&'static str, Distribution)>,
     /// The states of each quantity of `scalars` ([`States`]: largest-gap rule; an angle's
-    /// after unwrapping around the circular mean, [`States::of_angles_deg`]), in the same
+    /// cut at its largest gap on the circle first, [`States::of_angles_deg`]), in the same
     /// order: members whose deepest wear lies in different regions are two states, not one
     /// mean angle between them.
     pub states: Vec<(&'static str, States)>,

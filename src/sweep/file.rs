@@ -46,15 +46,16 @@ pub struct SweepId {
 
 const PREFIX: &str = "jointwear sweep ";
 
-/// Largest sweep file read back (bytes): a header and [`MAX_CASES`] rows of up to 4 KiB. A
+/// Largest sweep file read back (bytes): a header and [`MAX_CASES`] rows of up to 8 KiB. A
 /// number takes at most 25 bytes with its comma (the longest shortest round-trip `f64`,
 /// `-2.2250738585072014e-308`, has 24 characters), so a clearance joint's cells take at most
-/// 200 bytes of a run's row and 400 of an ensemble's (the standard scene's rows are 170 and
-/// 330 bytes in all); an error row holds its message instead (under 1 kB), and the set values
-/// are as typed. 4 KiB a row holds ten joints' ensemble statistics; the header, column names
-/// of up to 100 bytes, gets 64 KiB. A larger file is not a sweep's, and reading it whole would
-/// only fill the memory (`sweep-merge /dev/zero` did).
-pub const MAX_SWEEP_FILE_BYTES: u64 = MAX_CASES as u64 * 4096 + 65536;
+/// 225 bytes of a run's row and 2 250 of an ensemble's (9 quantities of 10 cells: n, mean, sd
+/// and the states); an error row holds its message instead (under 1 kB), and the set values are
+/// as typed. 8 KiB a row holds three joints' ensemble statistics at their longest (the standard
+/// scene's rows are under 200 and 1 000 bytes); the header, column names of up to 100 bytes,
+/// gets 64 KiB. A larger file is not a sweep's, and reading it whole would only fill the
+/// memory (`sweep-merge /dev/zero` did).
+pub const MAX_SWEEP_FILE_BYTES: u64 = MAX_CASES as u64 * 8192 + 65536;
 
 impl SweepId {
     /// The name of the last column of a sweep file.
@@ -206,8 +207,9 @@ impl SweepFile {
                 path,
                 format!(
                     "header `{}` is not a sweep's: `case`, the set keys, per clearance joint \
-                     its summary columns (or `members` and their means and sds), \
-                     `wall_time_s`, `error`",
+                     its summary columns (or `members` and per quantity its n, mean, sd and \
+                     states), `wall_time_s`, `error` (an ensemble sweep of an earlier version, \
+                     with means and sds alone, must be run again)",
                     header.join(",")
                 ),
             )

@@ -174,8 +174,8 @@ enum Command {
         /// Keep the finished cases of an interrupted sweep in --out and run only the others
         #[arg(long)]
         resume: bool,
-        /// Run every case as an ensemble of N members (see `run --ensemble`): mean and sd
-        /// columns of every quantity instead of one run's values
+        /// Run every case as an ensemble of N members (see `run --ensemble`): per quantity its
+        /// members, mean, sd and states instead of one run's values
         #[arg(long, value_name = "N")]
         ensemble: Option<usize>,
         /// Seed of the ensembles' initial offsets
