@@ -35,8 +35,27 @@ pub struct Motion {
     pub impacts_per_rotation: f64,
     /// Mean duration (s) of the free-flight intervals that begin and end inside the window
     /// (a contact sample before and after): a flight cut by the window's start or end has no
-    /// known duration and is left out. NaN if there is none.
+    /// known duration and is left out. NaN if there is none (`null` in JSON, which has no
+    /// NaN: a member's summary crosses processes as JSON).
+    #[serde(with = "nan_as_null")]
     pub mean_flight_time: f64,
+}
+
+/// Serde of an `f64` whose NaN means "none": written as `null`, read back as NaN.
+mod nan_as_null {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if v.is_nan() {
+            s.serialize_none()
+        } else {
+            s.serialize_some(v)
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+    }
 }
 
 impl Motion {
@@ -126,5 +145,13 @@ mod tests {
         assert_relative_eq!(cut.mean_flight_time, 4.0);
         assert_eq!(cut.impacts_per_rotation, 3.0);
         assert!(cont.mean_flight_time.is_nan());
+        // Through JSON, as a member's summary crosses processes (NaN failed to read back).
+        for m in [cont, cut] {
+            let back: Motion = serde_json::from_str(&serde_json::to_string(&m).unwrap()).unwrap();
+            assert_eq!(
+                back.mean_flight_time.to_bits(),
+                m.mean_flight_time.to_bits()
+            );
+        }
     }
 }
