@@ -471,22 +471,35 @@ impl Integrator {
             d1 += (self.s.dy[i] / sc).powi(2);
         }
         let (d0, d1) = ((d0 / n).sqrt(), (d1 / n).sqrt());
-        let h0 = if d0 < 1e-5 || d1 < 1e-5 {
+        let mut h0 = if d0 < 1e-5 || d1 < 1e-5 {
             1e-6
         } else {
             0.01 * d0 / d1
         }
         .min(self.tol.max_step);
-        combine::<0>(
-            &mut self.y_stage,
-            &self.s.y,
-            &self.s.dy,
-            (&[], 0),
-            &[1.0],
-            h0,
-        );
-        self.s.stats.evaluations += 1;
-        sys.rhs(self.s.t + h0, &self.y_stage, &mut self.dy_new)?;
+        // The Euler probe may land where f is not defined (12 degrees of crank into a stiff
+        // contact): it is retried smaller, as a failed trial step is, and only a probe that
+        // fails down to the step size's underflow is the run's error.
+        loop {
+            combine::<0>(
+                &mut self.y_stage,
+                &self.s.y,
+                &self.s.dy,
+                (&[], 0),
+                &[1.0],
+                h0,
+            );
+            self.s.stats.evaluations += 1;
+            match sys.rhs(self.s.t + h0, &self.y_stage, &mut self.dy_new) {
+                Ok(()) => break,
+                Err(e) => {
+                    h0 *= self.control.fac_min;
+                    if h0 <= 1e-14 * self.s.t.abs() || h0 < f64::MIN_POSITIVE {
+                        return Err(e);
+                    }
+                }
+            }
+        }
         let mut d2 = 0.0;
         for i in 0..self.n_controlled {
             let sc = scale(&self.tol, self.s.y[i], self.s.y[i]);

@@ -525,6 +525,12 @@ fn integrator_steps_around_a_failed_right_hand_side_and_reports_it_when_it_canno
         .map(|_| int.step(&mut sys, 10.0))
         .take_while(|r| r.is_ok());
     assert_eq!(steps.count(), 3);
+    // The automatic first step's Euler probe from y = 0.999 (0.01 long) lands beyond the
+    // wall: retried smaller, not the run's error (it was, whatever the tolerance).
+    let mut int = Integrator::new(Method::Dopri5, 1, 1, tol(1e-8, 1e-8));
+    int.reset(&mut sys, 0.0, &[0.999]).unwrap();
+    int.step(&mut sys, 10.0).unwrap();
+    assert!(int.y()[0] > 0.999 && int.y()[0] <= 1.0);
 }
 
 #[test]
