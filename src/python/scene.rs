@@ -568,7 +568,8 @@ fn sweep_columns(d: &Bound<'_, PyDict>, outcome: &Outcome) -> PyResult<()> {
         Outcome::Ensemble(members, stats) => {
             d.set_item("members", members)?;
             for j in stats {
-                for ((name, dist), (_, states)) in j.scalars.iter().zip(&j.states) {
+                for (name, states) in &j.quantities {
+                    let dist = &states.pooled;
                     let column = |c: &str| format!("{}.{name}.{c}", j.name);
                     d.set_item(column("n"), dist.n)?;
                     d.set_item(column("mean"), dist.mean)?;
@@ -724,7 +725,8 @@ fn ensemble_dict<'py>(
         j.set_item("name", &cj.name)?;
         let scalars = PyDict::new(py);
         let statistics = PyDict::new(py);
-        for (i, ((name, dist), (_, states))) in st.scalars.iter().zip(&st.states).enumerate() {
+        for (i, (name, states)) in st.quantities.iter().enumerate() {
+            let dist = &states.pooled;
             let values: Vec<f64> = kept.iter().map(|(s, _)| s[k].scalars()[i].1).collect();
             scalars.set_item(*name, f64_bytes(py, &values))?;
             let sd = PyDict::new(py);

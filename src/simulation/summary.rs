@@ -5,7 +5,7 @@
 
 use crate::analysis::regions::{wear_regions, Region};
 use crate::analysis::states::States;
-use crate::analysis::statistics::{Band, Distribution};
+use crate::analysis::statistics::Band;
 use crate::analysis::Motion;
 use crate::io::output::number;
 use crate::simulation::{RunOutput, Scene};
@@ -91,14 +91,12 @@ impl JointSummary {
 pub struct JointStatistics {
     /// The joint's name.
     pub name: String,
-    /// Distribution of each of [`JointSummary::scalars`] (angles unwrapped around their
-    /// circular mean).
-    pub scalars: Vec<(&'static str, Distribution)>,
-    /// The states of each quantity of `scalars` ([`States`]: largest-gap rule; an angle's
-    /// cut at its largest gap on the circle first, [`States::of_angles_deg`]), in the same
-    /// order: members whose deepest wear lies in different regions are two states, not one
-    /// mean angle between them.
-    pub states: Vec<(&'static str, States)>,
+    /// Each of [`JointSummary::scalars`] by name, in order, as the states its members fall
+    /// into ([`States`]: largest-gap rule; an angle's cut at its largest gap on the circle
+    /// first, [`States::of_angles_deg`]), with the distribution of all of them as
+    /// [`States::pooled`] (an angle's unwrapped around its circular mean): members whose
+    /// deepest wear lies in different regions are two states, not one mean angle between them.
+    pub quantities: Vec<(&'static str, States)>,
     /// Per-sector band of the final wear profiles, for a joint with a wear model.
     pub wear: Option<Band>,
 }
@@ -116,24 +114,11 @@ pub fn joint_statistics(
         .enumerate()
         .map(|(k, cj)| {
             let values = |i: usize| members.iter().map(move |(s, _)| s[k].scalars()[i].1);
-            let angle = |name: &str| name.ends_with("_deg");
-            let scalars = SCALARS
+            let quantities = SCALARS
                 .iter()
                 .enumerate()
                 .map(|(i, &name)| {
-                    let d = if angle(name) {
-                        Distribution::of_angles_deg(values(i))
-                    } else {
-                        Distribution::of(values(i))
-                    };
-                    (name, d)
-                })
-                .collect();
-            let states = SCALARS
-                .iter()
-                .enumerate()
-                .map(|(i, &name)| {
-                    let s = if angle(name) {
+                    let s = if name.ends_with("_deg") {
                         States::of_angles_deg(values(i))
                     } else {
                         States::of(&values(i).collect::<Vec<f64>>())
@@ -143,8 +128,7 @@ pub fn joint_statistics(
                 .collect();
             JointStatistics {
                 name: cj.name.clone(),
-                scalars,
-                states,
+                quantities,
                 wear: cj
                     .wear
                     .is_some()

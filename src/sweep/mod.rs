@@ -248,7 +248,8 @@ impl CaseResult {
             Ok((Outcome::Ensemble(members, stats), wall)) => {
                 r.push(members.to_string());
                 for j in stats {
-                    for ((_, d), (_, states)) in j.scalars.iter().zip(&j.states) {
+                    for (_, states) in &j.quantities {
+                        let d = &states.pooled;
                         r.extend([d.n.to_string(), number(d.mean), number(d.sd)]);
                         r.extend(states.cells(number));
                     }

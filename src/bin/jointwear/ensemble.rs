@@ -89,7 +89,8 @@ pub fn run_ensemble(
     );
     for j in &stats {
         println!("  joint {} (mean ± sd, [5 %, 95 %]):", j.name);
-        for ((name, d), (_, states)) in j.scalars.iter().zip(&j.states) {
+        for (name, states) in &j.quantities {
+            let d = &states.pooled;
             let r = Reading::of(name);
             if d.n == 0 {
                 println!("    {:36} not recorded (run.record_rotations = 0)", r.label);

@@ -60,9 +60,9 @@ pub fn write_ensemble(
                 .map(|j| JointDistributions {
                     name: j.name.clone(),
                     quantities: j
-                        .scalars
+                        .quantities
                         .iter()
-                        .map(|(name, d)| (name.to_string(), DistributionSummary(*d)))
+                        .map(|(name, s)| (name.to_string(), DistributionSummary(s.pooled)))
                         .collect(),
                 })
                 .collect(),
@@ -118,7 +118,8 @@ fn write_files(
     let numbers = |d: &Distribution| d.values().map(number_or_empty);
     let mut rows = Vec::new();
     for j in &stats {
-        for ((name, d), (_, states)) in j.scalars.iter().zip(&j.states) {
+        for (name, states) in &j.quantities {
+            let d = &states.pooled;
             let mut row = vec![j.name.clone(), name.to_string(), d.n.to_string()];
             row.extend(numbers(d));
             row.extend(states.cells(number));
