@@ -322,12 +322,7 @@ fn a_rerun_replaces_the_previous_run_and_leaves_other_files_alone() {
 
 /// The file names a manifest lists (its comment lines left out).
 fn manifest_names(dir: &std::path::Path) -> Vec<String> {
-    (fs::read_to_string(dir.join("jointwear-manifest.txt"))
-        .unwrap()
-        .lines())
-    .filter(|l| !l.starts_with('#'))
-    .map(str::to_owned)
-    .collect()
+    jointwear::io::output::read_manifest(dir, |_| true).unwrap()
 }
 
 /// A manifest is not trusted: a title cannot add a line to it, and a line that names no

@@ -36,26 +36,15 @@ pub struct Motion {
     /// Mean duration (s) of the free-flight intervals that begin and end inside the window
     /// (a contact sample before and after): a flight cut by the window's start or end has no
     /// known duration and is left out. NaN if there is none (`null` in JSON, which has no
-    /// NaN: a member's summary crosses processes as JSON).
-    #[serde(with = "nan_as_null")]
+    /// NaN, and read back as NaN: a member's summary crosses processes as JSON).
+    #[serde(deserialize_with = "null_as_nan")]
     pub mean_flight_time: f64,
 }
 
-/// Serde of an `f64` whose NaN means "none": written as `null`, read back as NaN.
-mod nan_as_null {
-    use serde::{Deserialize, Deserializer, Serializer};
-
-    pub fn serialize<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-        if v.is_nan() {
-            s.serialize_none()
-        } else {
-            s.serialize_some(v)
-        }
-    }
-
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-        Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
-    }
+/// A number that JSON wrote as `null` (serde_json's NaN) read back as NaN.
+fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    use serde::Deserialize;
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 impl Motion {

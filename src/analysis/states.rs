@@ -160,19 +160,30 @@ impl States {
         }
     }
 
-    /// The [`STATE_COLUMNS`] cells: the state count, then the low and the high state's members,
-    /// mean and sd written by `number` (those six empty with one state).
+    /// The [`STATE_COLUMNS`] values: the state count, then the low and the high state's
+    /// members, mean and sd (those six `None` with one state).
+    pub fn values(&self) -> [Option<f64>; 7] {
+        let part = |s: Option<&State>| {
+            let d = s.map(|s| &s.distribution);
+            [d.map(|d| d.n as f64), d.map(|d| d.mean), d.map(|d| d.sd)]
+        };
+        let split = self.low_high();
+        let ([ln, lm, ls], [hn, hm, hs]) =
+            (part(split.map(|(l, _)| l)), part(split.map(|(_, h)| h)));
+        [Some(self.states.len() as f64), ln, lm, ls, hn, hm, hs]
+    }
+
+    /// The [`STATE_COLUMNS`] cells of [`States::values`]: counts (the state count and each
+    /// state's members) as integers, means and sds written by `number`, empty where `None`.
     pub fn cells(&self, number: impl Fn(f64) -> String) -> Vec<String> {
-        let mut cells = vec![self.states.len().to_string()];
-        match self.low_high() {
-            Some((low, high)) => {
-                for d in [&low.distribution, &high.distribution] {
-                    cells.extend([d.n.to_string(), number(d.mean), number(d.sd)]);
-                }
-            }
-            None => cells.extend(vec![String::new(); 6]),
-        }
-        cells
+        const COUNTS: [usize; 3] = [0, 1, 4];
+        (self.values().iter().enumerate())
+            .map(|(i, v)| match v {
+                None => String::new(),
+                Some(x) if COUNTS.contains(&i) => (*x as usize).to_string(),
+                Some(x) => number(*x),
+            })
+            .collect()
     }
 
     /// The pooled `mean ± sd` (values × `scale`, `digits` decimals), followed by the states

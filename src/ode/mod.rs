@@ -494,7 +494,7 @@ impl Integrator {
                 Ok(()) => break,
                 Err(e) => {
                     h0 *= self.control.fac_min;
-                    if h0 <= 1e-14 * self.s.t.abs() || h0 < f64::MIN_POSITIVE {
+                    if self.underflows(h0) {
                         return Err(e);
                     }
                 }
@@ -550,7 +550,7 @@ impl Integrator {
         let mut blow_up: Option<String> = None;
         let mut failure: Option<Error> = None;
         loop {
-            if self.s.h <= 1e-14 * self.s.t.abs() || self.s.h < f64::MIN_POSITIVE {
+            if self.underflows(self.s.h) {
                 if let Some(e) = failure {
                     return Err(e);
                 }
@@ -601,6 +601,11 @@ impl Integrator {
     }
 
     /// The next step size after an accepted step of size `h` with error norm `err`.
+    /// Whether a step of `h` from the current time is too small to advance it.
+    fn underflows(&self, h: f64) -> bool {
+        h <= 1e-14 * self.s.t.abs() || h < f64::MIN_POSITIVE
+    }
+
     fn control_accepted(&mut self, h: f64, err: f64, after_rejection: bool) {
         let c = self.control;
         let order = self.method.tableau().order;

@@ -410,7 +410,8 @@ fn write_study(done: &[Done]) -> Result<()> {
                 }
                 // No metrics and no score: the set is missing from the ranking, not last in it.
                 Err(why) => {
-                    row.extend(std::iter::repeat_n(String::new(), 10));
+                    // every column but the failure's empty
+                    row.resize(header.len() - 1, String::new());
                     row.push(why.clone());
                 }
             }

@@ -4,7 +4,7 @@
 
 use super::convert::{f64_bytes, from_toml, to_toml};
 use super::{to_py_err, SimulationError};
-use crate::analysis::states::{State, States, STATE_COLUMNS};
+use crate::analysis::states::{States, STATE_COLUMNS};
 use crate::analysis::statistics::{Distribution, VALUE_KEYS};
 use crate::analysis::Motion;
 use crate::io::lock::claim_folder;
@@ -575,7 +575,7 @@ fn sweep_columns(d: &Bound<'_, PyDict>, outcome: &Outcome) -> PyResult<()> {
                     d.set_item(column("mean"), dist.mean)?;
                     d.set_item(column("sd"), dist.sd)?;
                     // NaN where the file's cell is empty, as in every column of a sweep.
-                    for (c, value) in STATE_COLUMNS.iter().zip(state_values(states)) {
+                    for (c, value) in STATE_COLUMNS.iter().zip(states.values()) {
                         d.set_item(column(c), value.unwrap_or(f64::NAN))?;
                     }
                 }
@@ -676,22 +676,10 @@ fn run_dict<'py>(py: Python<'py>, scene: &Scene, out: &RunOutput) -> PyResult<Bo
     Ok(d)
 }
 
-/// The [`STATE_COLUMNS`] of a quantity as `ensemble_summary.csv` has them: the state count,
-/// then the low and the high state's members, mean and sd; `None` where the members fall into
-/// one state.
-fn state_values(states: &States) -> [Option<f64>; 7] {
-    let split = states.low_high();
-    let part = |s: Option<&State>| {
-        let d = s.map(|s| &s.distribution);
-        [d.map(|d| d.n as f64), d.map(|d| d.mean), d.map(|d| d.sd)]
-    };
-    let ([ln, lm, ls], [hn, hm, hs]) = (part(split.map(|(l, _)| l)), part(split.map(|(_, h)| h)));
-    [Some(states.states.len() as f64), ln, lm, ls, hn, hm, hs]
-}
-
-/// [`state_values`] into a quantity's statistics dict (`None` as None).
+/// [`States::values`] into a quantity's statistics dict (`None` as None), as
+/// `ensemble_summary.csv` has them.
 fn set_states(d: &Bound<'_, PyDict>, states: &States) -> PyResult<()> {
-    for (key, value) in STATE_COLUMNS.iter().zip(state_values(states)) {
+    for (key, value) in STATE_COLUMNS.iter().zip(states.values()) {
         d.set_item(key, value)?;
     }
     Ok(())

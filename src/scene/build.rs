@@ -3,7 +3,7 @@
 
 use super::validation::*;
 use super::*;
-use crate::io::format::{number as terminal, shift_decimal};
+use crate::io::format::{exact, number as terminal, shift_decimal};
 use crate::laws::contact::{
     compound_modulus, ContactLaw, DissipationLaw, JointElasticity, StiffnessLaw,
 };
@@ -13,7 +13,7 @@ use crate::mechanism::{
     Body, BodyIndex, BodyPoint, ClearanceJoint, Driver, Mechanism, Revolute, Translational,
 };
 use crate::ode::{Method, Tolerances};
-use crate::simulation::{RunSettings, Scene, SteadyState};
+use crate::simulation::{RunSettings, Scene, SteadyState, RATIO_ROUNDING};
 use crate::{Error, Result};
 use nalgebra::Vector2;
 
@@ -318,9 +318,7 @@ impl SceneFile {
                 exact(c.bearing_radius_mm)
             )
         };
-        // (With the rounding of both quotients: a clearance of exactly a tenth, as written,
-        // is within the bound, 0.14 in 1.4 included.)
-        if ratio > MAX_CLEARANCE_RATIO * (1.0 + 4.0 * f64::EPSILON) {
+        if ratio > MAX_CLEARANCE_RATIO * RATIO_ROUNDING {
             return Err(Error::invalid(
                 f("clearance_mm"),
                 exact(c.clearance_mm),

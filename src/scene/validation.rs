@@ -2,7 +2,7 @@
 //! bytes): each check names the field, the value, the range and the likely cause.
 
 use super::SceneFile;
-pub(super) use crate::io::format::exact;
+use crate::io::format::exact;
 use crate::io::format::number as terminal;
 use crate::laws::friction::FrictionModel;
 use crate::mechanism::Mechanism;

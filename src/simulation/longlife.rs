@@ -37,7 +37,7 @@ use crate::io::format::{exact, quantity};
 use crate::io::progress::Progress;
 use crate::simulation::Scene;
 use crate::simulation::{
-    too_steep, wear_limit, RunSettings, Simulation, MAX_WEAR_RATIO, OPEN_ENDED,
+    too_steep, wear_limit, RunSettings, Simulation, MAX_WEAR_RATIO, OPEN_ENDED, RATIO_ROUNDING,
 };
 use crate::{Error, Result};
 
@@ -204,9 +204,8 @@ pub fn predict(
         Some(d) => vec![d; clearances.len()],
     };
     for (cj, &l) in mechanism.clearance_joints.iter().zip(&limits) {
-        // (The default, the clearance, may be a tenth of the radius as written: within
-        // the rounding of both.)
-        let most = wear_limit(cj) * (1.0 + 4.0 * f64::EPSILON);
+        // (The default, the clearance, may be a tenth of the radius as written.)
+        let most = wear_limit(cj) * RATIO_ROUNDING;
         if !(l >= MIN_WEAR_LIMIT && l <= most) {
             return Err(Error::invalid(
                 "--until",

@@ -111,6 +111,11 @@ pub struct SteadyState {
 /// coefficient of mild wear, no longer holds. A run stops there (checked after every step).
 pub const MAX_WEAR_RATIO: f64 = 0.1;
 
+/// The allowance on a bound of [`MAX_WEAR_RATIO`] times a radius for the rounding of the ratio
+/// or the product: a clearance of exactly a tenth of the radius as written (0.14 in 1.4,
+/// whose quotient rounds to 0.10000000000000002) is within it.
+pub const RATIO_ROUNDING: f64 = 1.0 + 4.0 * f64::EPSILON;
+
 /// The steepest worn profile, |dh/dθ| / (c + h), that the paper's gap `δ = |e| − c − h(θ)`
 /// describes (θ the eccentricity's angle, the normal force along e/|e|). That gap is the
 /// deepest overlap of journal and worn bore only while the profile is flat on the clearance's
@@ -350,6 +355,14 @@ pub struct RunOutput {
     pub period: f64,
     /// Wall-clock time of the run (s).
     pub wall_time: f64,
+}
+
+impl RunOutput {
+    /// Rotations simulated from the start under `run`: its rotations, plus the settling
+    /// rotations of a run that settles.
+    pub fn rotations_simulated(&self, run: &RunSettings) -> u32 {
+        self.settling.map_or(0, |s| s.rotations) + run.rotations
+    }
 }
 
 /// Simulates a scene.

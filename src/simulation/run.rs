@@ -535,7 +535,7 @@ impl Simulation {
                 .enumerate()
                 .all(|(i, ((time, depths), mark))| {
                     let after = i == 0 || history[i - 1].0 < *time;
-                    after && *time >= mark * (1.0 - 1e-12) && *time <= t && profiles_fit(depths)
+                    after && history_due(*time, *mark) && *time <= t && profiles_fit(depths)
                 });
         if !history_fits {
             return Err(misfit(
@@ -1129,7 +1129,7 @@ impl Simulation {
         if let Some(k) = (0..joints.len()).find(|&k| gap(k) > joints[k].penetration_limit()) {
             return Err(self.penetration_error(t_stop, k, gap(k)));
         }
-        if t_stop >= self.next_history * (1.0 - 1e-12) {
+        if history_due(t_stop, self.next_history) {
             self.out
                 .profile_history
                 .push((t_stop, wear_depths(&self.state)));
@@ -1158,6 +1158,12 @@ impl Simulation {
         self.out.wall_time += self.clock.elapsed().as_secs_f64();
         self.out
     }
+}
+
+/// Whether a step ending at `t` has reached the wear-history mark `mark` (within rounding of
+/// the marks' sum): the run saves a profile there, and a checkpoint's profiles must be so.
+fn history_due(t: f64, mark: f64) -> bool {
+    t >= mark * (1.0 - 1e-12)
 }
 
 /// A checkpoint field that no run of the scene can have written.

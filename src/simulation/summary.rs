@@ -57,7 +57,7 @@ pub fn summarize(scene: &Scene, out: &RunOutput) -> Vec<JointSummary> {
                 motion: trace
                     .map(|t| Motion::classify(&t.delta, dt, scene.run.record_rotations as f64)),
                 regions: wear_regions(&out.final_wear[k]),
-                rotations_simulated: out.settling.map_or(0, |s| s.rotations) + scene.run.rotations,
+                rotations_simulated: out.rotations_simulated(&scene.run),
             }
         })
         .collect()
@@ -79,7 +79,7 @@ impl JointSummary {
             deepest.map_or(f64::NAN, |p| p.depth),
             motion(|m| m.contact_fraction),
             motion(|m| m.impacts_per_rotation),
-            motion(|m| f64::from(u8::from(m.mode() == "continuous contact"))),
+            motion(|m| f64::from(u8::from(m.continuous()))),
             f64::from(self.rotations_simulated),
         ];
         std::array::from_fn(|i| (SCALARS[i], values[i]))

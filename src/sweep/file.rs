@@ -173,7 +173,7 @@ impl SweepFile {
             path,
             MAX_SWEEP_FILE_BYTES,
             "a sweep file",
-            "a million cases of rows up to 4 KiB",
+            "a million cases of rows up to 8 KiB",
         )?;
         let complete = &text[..text.rfind('\n').map_or(0, |i| i + 1)];
         let (mut header, all) = parse_rows(path, complete)?;
@@ -500,8 +500,10 @@ impl<'a> JournaledSweep<'a> {
             Vec::new()
         };
         // A row's set values are its case's: an edited one would label results it did not run.
+        let mut finished = HashSet::new();
         for (k, row) in kept.iter().enumerate() {
             let case = case_of(out, row)?;
+            finished.insert(case);
             let values = case_values(&sweep.sets, case);
             if let Some((i, (value, v))) =
                 (row[1..].iter().zip(&values).enumerate()).find(|(_, (value, v))| value != *v)
@@ -518,8 +520,7 @@ impl<'a> JournaledSweep<'a> {
                 ));
             }
         }
-        // The rows were read as a sweep file: their cases are numbers of this shard.
-        sweep.skip(kept.iter().filter_map(|r| r[0].parse().ok()).collect());
+        sweep.skip(finished);
         let journal = Journal::create(out, &id, &header, &kept)?;
         Ok(JournaledSweep {
             sweep,
@@ -622,10 +623,8 @@ pub fn resume_rows(path: &Path, id: &SweepId, header: &[String]) -> Result<Vec<V
 /// (some of its cases finished, not all); None for a missing, complete, unreadable or other
 /// sweep's file, which a new run may replace.
 fn unfinished_rows(path: &Path, id: &SweepId, header: &[String]) -> Option<usize> {
-    let file = SweepFile::read(path).ok()?;
-    let same = file.id.fingerprint == id.fingerprint && file.id.shard == id.shard;
-    let rows = file.rows.len();
-    (same && file.header == header && rows > 0 && rows < id.cases).then_some(rows)
+    let rows = resume_rows(path, id, header).ok()?.len();
+    (rows > 0 && rows < id.cases).then_some(rows)
 }
 
 /// Joins the shard files of one sweep into `out`, sorted by case, as the file of the whole

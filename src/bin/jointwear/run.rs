@@ -76,6 +76,11 @@ pub fn run(
     let loaded = load_variant(path, sets, rotations, (&kind, out))?;
     let (scene, dir) = (&loaded.scene, &loaded.dir);
     let fingerprint = &loaded.variant.fingerprint();
+    // A member's protocol is checked before the folder is touched (a checkpoint discarded,
+    // say); a resumed one is the run it saved.
+    if let (Some((ensemble, _)), false) = (&member, saved_run == Saved::Resume) {
+        fits(path, ensemble, scene)?;
+    }
     let _claim = claim_outputs(path, dir)?;
     if checkpoint_every == Some(0) {
         return Err(Failure::input(
@@ -132,7 +137,6 @@ pub fn run(
         );
         sim
     } else if let Some((ensemble, k)) = &member {
-        fits(path, ensemble, scene)?;
         member_simulation(scene, &scene.run, ensemble, *k).map_err(bad)?
     } else {
         Simulation::start(scene).map_err(bad)?

@@ -280,25 +280,37 @@ type MemberCheck<'a> = dyn Fn(&SteadyMember) -> bool + 'a;
 
 /// The paper's Table 3 results of one case as tests of one window's (or one member's) value:
 /// a window run reproduces a result when all its windows pass, an ensemble member when it does.
-struct Table3Test<'a> {
+pub(crate) struct Table3Test<'a> {
     paper: &'a Table3Golden,
     tol: f64,
 }
 
-impl Table3Test<'_> {
-    fn motion(&self, mode: &str) -> bool {
+impl<'a> Table3Test<'a> {
+    /// The tests of `paper` at `golden`'s concordance tolerance.
+    pub fn new(paper: &'a Table3Golden, golden: &Golden) -> Self {
+        Table3Test {
+            paper,
+            tol: golden.concordance_tolerance,
+        }
+    }
+
+    /// The paper's motion mode.
+    pub fn motion(&self, mode: &str) -> bool {
         mode == self.paper.motion
     }
 
-    fn dominance(&self, dominant: &str) -> bool {
+    /// The paper's dominant driver.
+    pub fn dominance(&self, dominant: &str) -> bool {
         dominant == self.paper.dominant()
     }
 
-    fn pw(&self, v: f64) -> bool {
+    /// A P-w concordance within the tolerance of the paper's.
+    pub fn pw(&self, v: f64) -> bool {
         (v - self.paper.pw).abs() <= self.tol
     }
 
-    fn sw(&self, v: f64) -> bool {
+    /// An s-w concordance within the tolerance of the paper's.
+    pub fn sw(&self, v: f64) -> bool {
         (v - self.paper.sw).abs() <= self.tol
     }
 }
@@ -330,10 +342,7 @@ pub fn ensemble_checks(
     else {
         return Vec::new();
     };
-    let t = Table3Test {
-        paper: g,
-        tol: golden.concordance_tolerance,
-    };
+    let t = Table3Test::new(g, golden);
     let tests: [(&str, &MemberCheck); 4] = [
         ("motion", &|m| t.motion(m.motion.mode())),
         ("dominance", &|m| t.dominance(m.concordance.dominant())),
@@ -454,7 +463,7 @@ pub fn accuracy_dependence(progress: &dyn Progress) -> Result<AccuracyDependence
         })
     };
     for &(case, g) in CASES.zip(&golden.table3).list() {
-        let t = Table3Test { paper: g, tol };
+        let t = Table3Test::new(g, &golden);
         let checks: [(&str, String, &Check); 4] = [
             ("motion", g.motion.clone(), &|r| {
                 r.modes.iter().all(|m| t.motion(m))

@@ -40,6 +40,7 @@ use crate::paper::cases::{case_of_scene, Case, Need, Runs, SteadyMember, WearMem
 use crate::paper::figures::output_path;
 use crate::paper::format::{csv_statistic, parse_statistic};
 use crate::paper::golden::{angle_distance, angle_offset, Golden};
+use crate::paper::studies::accuracy::Table3Test;
 use crate::scene::{ContactSpec, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
 use crate::{Error, Result};
@@ -323,21 +324,19 @@ fn measure_steady(case: &Case, members: &[SteadyMember], golden: &Golden) -> Mea
     ];
     if let Some(g) = g {
         let tol = golden.concordance_tolerance;
+        let t = Table3Test::new(g, golden);
         shares.extend([
             share(
                 &format!("{CLAIM_PREFIX}table3_motion_{}", g.motion.replace(' ', "_")),
-                count(&|m| m.motion.mode() == g.motion),
+                count(&|m| t.motion(m.motion.mode())),
             ),
             share(
                 &format!("{CLAIM_PREFIX}table3_{}_dominant", g.dominant()),
-                count(&|m| m.concordance.dominant() == g.dominant()),
+                count(&|m| t.dominance(m.concordance.dominant())),
             ),
             share(
                 &format!("{CLAIM_PREFIX}table3_concordances_within_{tol}"),
-                count(&|m| {
-                    (m.concordance.pressure_wear - g.pw).abs() <= tol
-                        && (m.concordance.sliding_wear - g.sw).abs() <= tol
-                }),
+                count(&|m| t.pw(m.concordance.pressure_wear) && t.sw(m.concordance.sliding_wear)),
             ),
         ]);
     }

@@ -294,7 +294,7 @@ impl RunSummary {
                 driver_period_s: out.period,
             },
             counts: Counts {
-                rotations_simulated: settling + run.rotations,
+                rotations_simulated: out.rotations_simulated(run),
                 settling_rotations: settling,
                 recorded_samples: out.recording.time.len(),
                 steps: out.stats.steps,
