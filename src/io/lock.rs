@@ -6,7 +6,8 @@
 //! is refused with an error naming them. A lock whose holder is no longer alive on this host
 //! (a process killed with SIGKILL cannot remove it) is stale: it is taken over, with a message,
 //! by exactly one of the processes that find it so at once (the one that claims the takeover
-//! marker `<lock>.takeover-<pid>` beside it).
+//! marker `<lock>.takeover-<pid>` beside it), which also removes the hidden temporary files
+//! that holder left beside the lock in the middle of a write.
 //! The lock is removed when its [`Lock`] drops, and by the interrupt handler
 //! ([`crate::io::interrupt`]) on SIGINT, SIGTERM or SIGHUP, with the folder the claim created
 //! if nothing was written into it.
@@ -15,6 +16,7 @@
 //! shared file system) is never taken over, as its holder cannot be seen from here.
 
 use crate::io::interrupt;
+use crate::io::output::is_temporary_of;
 use crate::{Error, Result};
 use std::ffi::OsString;
 use std::fs;
@@ -163,6 +165,8 @@ fn claim_nested(
         source,
     };
     let text = holder_text();
+    // The content of a stale lock this process took over.
+    let mut taken: Option<String> = None;
     // Two attempts: the second after taking over a stale lock.
     for _ in 0..2 {
         match fs::OpenOptions::new()
@@ -172,7 +176,7 @@ fn claim_nested(
         {
             Ok(mut file) => {
                 let registered = interrupt::claim(lock, created);
-                let lock = Lock {
+                let claimed = Lock {
                     path: lock.to_path_buf(),
                     created: created.map(Path::to_path_buf),
                     _registered: registered,
@@ -180,7 +184,10 @@ fn claim_nested(
                 file.write_all(text.as_bytes())
                     .and_then(|()| file.sync_all())
                     .map_err(io)?;
-                return Ok(lock);
+                if let Some(gone) = &taken {
+                    remove_temporaries_left(lock, gone);
+                }
+                return Ok(claimed);
             }
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
                 let held = fs::read_to_string(lock).unwrap_or_default();
@@ -203,6 +210,7 @@ fn claim_nested(
                         lock.display(),
                         describe(&held)
                     );
+                    taken = Some(held);
                 }
             }
             Err(e) => return Err(io(e)),
@@ -217,6 +225,38 @@ fn claim_nested(
             lock.display()
         ),
     ))
+}
+
+/// Removes the temporary files ([`crate::io::output`]'s hidden `.<name>.tmp-<pid>-<n>` files)
+/// that the gone holder recorded in `held` left beside its lock `lock` when it was killed in
+/// the middle of a write, and says which. It no longer runs, so no file of its process id
+/// can be one being written (another process's are never touched). Best effort, as their
+/// content is never read: a file that cannot be removed stays.
+fn remove_temporaries_left(lock: &Path, held: &str) {
+    let Some(pid) = field(held, "pid").and_then(|p| p.parse::<u32>().ok()) else {
+        return;
+    };
+    let dir = lock.parent().filter(|d| !d.as_os_str().is_empty());
+    let Ok(entries) = fs::read_dir(dir.unwrap_or(Path::new("."))) else {
+        return;
+    };
+    let mut removed: Vec<String> = entries
+        .flatten()
+        .filter(|e| e.file_type().is_ok_and(|t| t.is_file()))
+        .filter_map(|e| {
+            let name = e.file_name().into_string().ok()?;
+            let left = is_temporary_of(&name, pid) && fs::remove_file(e.path()).is_ok();
+            left.then_some(name)
+        })
+        .collect();
+    if !removed.is_empty() {
+        removed.sort();
+        eprintln!(
+            "note: removed {} temporary file(s) that process {pid} left unfinished: {}",
+            removed.len(),
+            removed.join(", ")
+        );
+    }
 }
 
 /// Removes the stale lock `lock` whose content was `held`, if it still holds it; returns
@@ -283,6 +323,33 @@ mod tests {
         fs::write(dir.join(FOLDER_LOCK), &gone).unwrap();
         let taken = claim_folder("--out", &dir).unwrap();
         assert_eq!(fs::read_to_string(taken.path()).unwrap(), held);
+        drop(taken);
+        // The temporary files the gone holder left mid-write go with its lock; another
+        // process's temporaries, and names that only look alike, stay.
+        let left = [".wear.tmp-4194305-3.csv", ".checkpoint.tmp-4194305-12"];
+        let others = [
+            format!(".wear.tmp-{}-1.csv", std::process::id()),
+            ".wear.tmp-41943050-1.csv".into(),
+            ".wear.tmp-4194305-x.csv".into(),
+            "wear.tmp-4194305-2.csv".into(),
+            "wear.csv".into(),
+        ];
+        for name in left
+            .iter()
+            .copied()
+            .chain(others.iter().map(String::as_str))
+        {
+            fs::write(dir.join(name), "x").unwrap();
+        }
+        fs::write(dir.join(FOLDER_LOCK), &gone).unwrap();
+        let taken = claim_folder("--out", &dir).unwrap();
+        for name in left {
+            assert!(!dir.join(name).exists(), "{name} left behind");
+        }
+        for name in &others {
+            assert!(dir.join(name).exists(), "{name} removed");
+            fs::remove_file(dir.join(name)).unwrap();
+        }
         // Another host's holder is never judged gone.
         assert!(!stale("pid=4194305\nhost=elsewhere.invalid\ncommand=x\n"));
         drop(taken);

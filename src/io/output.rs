@@ -52,6 +52,21 @@ fn temp_path(path: &Path) -> PathBuf {
     path.with_file_name(name)
 }
 
+/// Whether `name` is a temporary file name of [`temp_path`] written by process `pid`
+/// (`.<stem>.tmp-<pid>-<n>` with an optional extension).
+pub(crate) fn is_temporary_of(name: &str, pid: u32) -> bool {
+    let tag = format!(".tmp-{pid}-");
+    let Some((stem, rest)) = name.split_once(&tag) else {
+        return false;
+    };
+    let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
+    let ext = &rest[digits..];
+    stem.len() > 1
+        && stem.starts_with('.')
+        && digits > 0
+        && (ext.is_empty() || ext.starts_with('.'))
+}
+
 /// Writes `path` atomically: creates the parent directory, lets `write` produce the content
 /// at a temporary path next to `path`, then renames it into place. On failure the temporary
 /// file is removed and `path` is left untouched. Inside [`write_outputs`], a file of its

@@ -1085,6 +1085,19 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              rejections, events and wear between attempts as now) and the ensemble runner feeding it; the \
              prototype's lane-by-lane arithmetic keeps each member's bits whatever the lanes hold, which is what \
              the determinism of such a runner would rest on. \
+             Side by side alone does not pay (measured 2026-11-27, not kept): the library's own evaluation \
+             (`Mechanism::ode_rhs`, joint coordinates) run for L members with each stage, a link's pose and \
+             Jacobian, a joint's contact geometry and laws, Lagrange's sums, the solve, done for every member \
+             before the next (the same scalar functions, so each member's results were its bits alone, checked \
+             at the 32 states) took 89.4 ns per member evaluation with one member, 97.2 with two, 101.6 with four \
+             and 99.0 with eight (best of 5 runs of 10⁶ dependent evaluations per chain, as above); with the \
+             contact geometry and the laws as two stages, 87.1 with two and 98.6 with four, while one member \
+             alone slowed to 126.5 ns, as the compiler then computed the other contact laws' `pow` and `log` \
+             ahead of their branch. So the prototype's gain comes from its arithmetic lane by lane in packed \
+             instructions with selections for branches, not from placing members' work side by side: a runner \
+             needs the evaluation itself written lane-wise and, for bit-identical members, either that form \
+             matched to the scalar one operation by operation (the prototype agrees to 2.3×10⁻¹¹, not to the \
+             bit) or the scalar path replaced by its one-lane form, which moves every trajectory. \
              (iii) Why the default trajectory costs twice the median member: eq. 3's damping divides by the \
              normal velocity δ̇⁻ of the contact's onset (floored at the scene's grazing velocity, 1 mm/s), and in \
              continuous contact that one value holds for as long as the contact lasts. The default trajectory's \
