@@ -235,6 +235,25 @@ fn unknown_point_and_material() {
     );
 }
 
+/// Fails on the code before: an unused material or ground point was never checked, so an
+/// absurd value sat in the scene until an edit used it.
+#[test]
+fn unused_materials_and_ground_points_are_checked_too() {
+    let msg = error_of(&replaced(
+        "[materials.steel]",
+        "[materials.bronze]\nyoungs_modulus_gpa = -110.0\npoisson_ratio = 0.34\n\n[materials.steel]",
+    ));
+    assert!(
+        msg.contains("materials.bronze.youngs_modulus_gpa") && msg.contains("-110"),
+        "{msg}"
+    );
+    let msg = error_of(&replaced(
+        "points_mm = { O = [0.0, 0.0] }",
+        "points_mm = { O = [0.0, 0.0], P = [1e9, 0.0] }",
+    ));
+    assert!(msg.contains("ground.points_mm.P"), "{msg}");
+}
+
 #[test]
 fn friction_switch_velocities_ordered() {
     let msg = error_of(&replaced("v_d = 1e-3", "v_d = 1e-5"));

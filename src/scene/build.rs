@@ -24,6 +24,14 @@ impl SceneFile {
     /// Validates every value and converts the scene to SI.
     pub fn build(&self) -> Result<Scene> {
         self.check_sizes()?;
+        // Every material and ground point is checked, used or not: a value out of its range
+        // is a mistake either way, and one unused today is used by the next edit.
+        for name in self.materials.keys() {
+            self.material(&format!("materials.{name}"), name)?;
+        }
+        for (name, p) in &self.ground.points_mm {
+            check_coordinates(&format!("ground.points_mm.{name}"), p)?;
+        }
         if let Some(g) =
             (self.gravity_m_s2.iter()).find(|g| !(g.is_finite() && g.abs() <= GRAVITY_M_S2))
         {
