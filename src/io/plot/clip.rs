@@ -122,6 +122,45 @@ pub(super) fn clip_polygon(points: &[(f64, f64)], r: Rect) -> Vec<(f64, f64)> {
     poly
 }
 
+/// `points` split at every turn sharper than 120° of its path in pixels (`px` maps a point to
+/// the pixel plotters draws it at), the turning point ending one piece and starting the next.
+/// Plotters fills a line wider than a pixel as one polygon with mitred joins, and a joint's
+/// inner corner lies half a width over sin(θ/2) from it (θ the angle the path turns back by,
+/// its interior angle): unbounded as a path doubles back, so a curve that reverses (the
+/// work-precision lines, whose rtol order is not their evaluation order) drew a long thin
+/// sliver past its turn. At 120° or less the corner stays within a width; a cut joint shows the
+/// pieces' square ends. Pixels repeated in a row count once, as plotters draws them.
+pub(super) fn split_at_sharp_turns(
+    points: &[(f64, f64)],
+    px: impl Fn((f64, f64)) -> (i32, i32),
+) -> Vec<Vec<(f64, f64)>> {
+    let mut pieces = vec![Vec::new()];
+    // The last two distinct pixels of the current piece.
+    let (mut before, mut last) = (None::<(i32, i32)>, None::<(i32, i32)>);
+    for &p in points {
+        let here = px(p);
+        if last == Some(here) {
+            pieces.last_mut().expect("a piece").push(p);
+            continue;
+        }
+        if let (Some(a), Some(b)) = (before, last) {
+            let (u, v) = (
+                (f64::from(b.0 - a.0), f64::from(b.1 - a.1)),
+                (f64::from(here.0 - b.0), f64::from(here.1 - b.1)),
+            );
+            // cos of the turn below −1/2: sharper than 120°.
+            let dot = u.0 * v.0 + u.1 * v.1;
+            if 2.0 * dot < -(u.0.hypot(u.1) * v.0.hypot(v.1)) {
+                let joint = *pieces.last().and_then(|p| p.last()).expect("a joint");
+                pieces.push(vec![joint]);
+            }
+        }
+        pieces.last_mut().expect("a piece").push(p);
+        (before, last) = (last, Some(here));
+    }
+    pieces
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -142,5 +181,29 @@ mod tests {
         let cut = clip_polygon(&square, (0.0, 1.0, 0.0, 1.0));
         assert_eq!(cut.len(), 4);
         assert!(cut.iter().all(|&p| inside(p, (0.0, 1.0, 0.0, 1.0))));
+    }
+
+    /// A path that doubles back is cut at the turn, a gentle bend and repeated pixels are
+    /// not; the pieces share the turning point.
+    #[test]
+    fn a_path_is_cut_where_it_turns_back() {
+        let px = |p: (f64, f64)| (p.0.round() as i32, p.1.round() as i32);
+        let zigzag = [(0.0, 0.0), (10.0, 0.0), (10.2, 0.0), (0.0, 1.0), (0.0, 9.0)];
+        let pieces = split_at_sharp_turns(&zigzag, px);
+        assert_eq!(
+            pieces,
+            vec![
+                vec![(0.0, 0.0), (10.0, 0.0), (10.2, 0.0)],
+                vec![(10.2, 0.0), (0.0, 1.0), (0.0, 9.0)],
+            ]
+        );
+        // 90° and 120° turns keep their joints.
+        let bends = [
+            (0.0, 0.0),
+            (10.0, 0.0),
+            (10.0, 10.0),
+            (10.0 - 75f64.sqrt(), 5.0),
+        ];
+        assert_eq!(split_at_sharp_turns(&bends, px).len(), 1);
     }
 }

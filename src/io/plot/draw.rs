@@ -11,7 +11,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::TRANSPARENT;
 
 use super::axis::Axis;
-use super::clip::{clip_polygon, clip_polyline, inside, Rect};
+use super::clip::{clip_polygon, clip_polyline, inside, split_at_sharp_turns, Rect};
 use super::panel::{left_label_area, InsetView, Panel};
 use super::plot_error;
 use super::polar::{draw_polar_grid, Chart};
@@ -326,10 +326,26 @@ fn draw_data<'a, 'b: 'a>(
         let line = c.color.stroke_width(LINE_WIDTH);
         let marker = |q| Circle::new(q, MARKER_PX, c.color.filled());
         let mut labelled = !legend || c.label.is_empty();
+        // Dashes are drawn piece by piece already: only joined lines are cut at sharp turns.
+        let joined = !matches!(c.style, Style::Dashed | Style::Reference | Style::Points);
+        let px = |q: (f64, f64)| {
+            if secondary {
+                chart.borrow_secondary().as_coord_spec().translate(&q)
+            } else {
+                chart.as_coord_spec().translate(&q)
+            }
+        };
         let runs: Vec<Vec<(f64, f64)>> = c
             .segments
             .iter()
             .flat_map(|run| clip_polyline(run, clip))
+            .flat_map(|run| {
+                if joined {
+                    split_at_sharp_turns(&run, px)
+                } else {
+                    vec![run]
+                }
+            })
             .chain(std::iter::once(Vec::new())) // an empty run carries the legend entry
             .collect();
         for run in runs {
