@@ -226,6 +226,30 @@ fn a_driver_too_slow_for_the_steps_of_the_dynamics_is_named_at_once() {
 }
 
 #[test]
+fn a_driver_too_slow_for_a_resting_contact_is_not_blamed_on_a_switching_force() {
+    // Before: 0.001 r/min with max_step_s = 1 s was blamed on a force that switches at zero
+    // velocity, as its steps of about 2.4e-4 s are under the chatter ratio of that largest
+    // step; they are the resting contact's time scale (its period about 5e-4 s), at which the
+    // 6e4 s driver period needs 2.5e8 steps. Pure Coulomb friction, whose steps fall to 1e-10
+    // s, is still named (tests/stability.rs). Bounded: 1e6 steps (two 100 000-step windows).
+    let mut f = one_rotation();
+    f.driver.speed_rpm = -0.001;
+    f.run.max_step_s = 1.0;
+    f.run.max_steps = 1_000_000;
+    let (_, cause) = run_failure(&f);
+    assert_contains(
+        &cause,
+        &[
+            "the run is too slow for its step limit: after 200000 steps",
+            "the driver turns too slowly for the time scale of the dynamics: steps of 2.4e-4 s",
+            "a closed contact oscillates with a period of 5.0e-4 s; run.max_step_s = 1e0 s",
+            "per driver period of 6.0000e4 s",
+        ],
+    );
+    assert!(!cause.contains("switches at zero velocity"), "{cause}");
+}
+
+#[test]
 fn a_driver_too_slow_for_the_step_limit_is_named_within_two_windows() {
     // Before: 0.1 r/min over 10 rotations ran 7 min into the default 2e7-step limit (t = 5123
     // of 6000 s; its steps of 2.4e-4 s need 2.5e7), as its windows advance 4 % of its 600 s

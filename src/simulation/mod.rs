@@ -173,6 +173,13 @@ pub const CRAWL_FRACTION: f64 = 0.01;
 /// impacts at 2000 r/min; measured over up to 300 rotations) at 2.1e-3.
 pub const CHATTER_STEP_RATIO: f64 = 1e-3;
 
+/// Share of a closed contact's oscillation period (2π √(m/k)) from which a run's mean step is
+/// the contact's time scale rather than a switching force's chatter: the standard scene at
+/// 0.01 r/min and below steps 0.48 of it (2.4e-4 s against 5.0e-4 s) while resting in
+/// contact, pure Coulomb friction (`coulomb_0.5.toml`) 1.3e-6 of it (1.0e-10 s against
+/// 7.7e-5 s) in sticking contact.
+pub const CONTACT_STEP_SHARE: f64 = 1e-3;
+
 /// How far before the driver angle where its ideal loop stops closing a failed run counts as
 /// locked there (deg): the clearance and the contacts' compliance let the linkage go on a
 /// little, or give way a little earlier (a rod shorter than the crank passed 20 clearances

@@ -903,21 +903,28 @@ impl Simulation {
 
     /// What a mean step of `mean` (s) over a [`CRAWL_WINDOW`] points to as the cause of a run
     /// too slow for its step limit: by the mean step against the largest
-    /// ([`CHATTER_STEP_RATIO`]) a switching force, else a driver whose period takes more than
-    /// a window of steps (a crawling run's takes over a hundred), else a run simply longer
-    /// than its limit.
+    /// ([`CHATTER_STEP_RATIO`]) a switching force, unless the steps are a closed contact's
+    /// time scale ([`CONTACT_STEP_SHARE`] of its period); else a driver whose period takes
+    /// more than a window of steps (a crawling run's takes over a hundred), else a run simply
+    /// longer than its limit.
     fn slowness_cause(&self, mean: f64) -> String {
         let (field, largest) = self.settings.largest_step();
         let per_period = self.period / mean;
-        if self.chatters(mean) {
+        // Steps on the scale of a closed contact's oscillation are the contact's, however
+        // small against the largest step: a slow driver, not a switching force.
+        let held = (self.contact_period()).filter(|&p| mean >= CONTACT_STEP_SHARE * p);
+        if self.chatters(mean) && held.is_none() {
             "a force that switches at zero velocity, such as pure Coulomb friction in sticking \
              contact (the modified law of eq. 4 regularises it), or a contact far stiffer than \
              the integrator can follow"
                 .to_string()
         } else if per_period > CRAWL_WINDOW as f64 {
+            let allowed = held.map_or(String::new(), |p| {
+                format!(": a closed contact oscillates with a period of {p:.1e} s")
+            });
             format!(
                 "the driver turns too slowly for the time scale of the dynamics: steps of \
-                 {mean:.1e} s (what the contacts allow; {field} = {largest:e} s) make \
+                 {mean:.1e} s (what the contacts allow{allowed}; {field} = {largest:e} s) make \
                  {per_period:.1e} steps per driver period of {:.4e} s; simulate fewer \
                  rotations, drive faster or raise run.max_steps",
                 self.period
@@ -930,6 +937,29 @@ impl Simulation {
                 self.period
             )
         }
+    }
+
+    /// The shortest period (s) of the clearance joints in contact at the last step's end, as
+    /// undamped oscillators: 2π √(m/k), `k` the elastic law's stiffness dF/dδ at the joint's
+    /// penetration (on its radial clearance: the wear changes it little) and `m` the reduced
+    /// mass of its two bodies (the ground's infinite). The time scale an explicit integrator is
+    /// held to while a contact stays closed; `None` when no joint is in contact.
+    fn contact_period(&self) -> Option<f64> {
+        let m = &self.mechanism;
+        let mass = |b: Option<usize>| b.map_or(f64::INFINITY, |i| m.bodies()[i].mass);
+        (m.clearance_joints.iter().zip(&self.gaps))
+            .filter(|(_, g)| g.value > 0.0)
+            .map(|(cj, g)| {
+                let (delta, c) = (g.value, cj.clearance());
+                let force = |d: f64| cj.contact.elastic_force(d, c);
+                let k = (force(1.001 * delta) - force(0.999 * delta)) / (0.002 * delta);
+                let (a, b) = (mass(cj.journal.body), mass(cj.bearing.body));
+                // (1/a + 1/b)⁻¹, exact when either is the ground's infinity.
+                let reduced = 1.0 / (1.0 / a + 1.0 / b);
+                TAU * (reduced / k).sqrt()
+            })
+            .filter(|p| p.is_finite() && *p > 0.0)
+            .reduce(f64::min)
     }
 
     /// Whether a mean step of `mean` (s) is the integrator chattering: under
