@@ -385,7 +385,15 @@ fn readme_job_array_on_slurm_merges_into_the_one_machine_sweep() {
         whole[0]
     );
     assert_eq!(whole.len(), 1 + 4);
-    // Every case ran, none failed: the error column is empty (as is the id column after it).
-    assert!(whole[1..].iter().all(|r| r.ends_with(",,")), "{whole:?}");
+    // Every case ran, none failed: the error column is empty; the id column after it holds
+    // the row's label check (`label-` and 16 hex digits).
+    assert!(
+        whole[1..].iter().all(|r| {
+            let (rest, check) = r.rsplit_once(',').unwrap_or_default();
+            let hash = check.strip_prefix("label-").unwrap_or_default();
+            rest.ends_with(',') && hash.len() == 16 && hash.chars().all(|c| c.is_ascii_hexdigit())
+        }),
+        "{whole:?}"
+    );
     fs::remove_dir_all(&dir).unwrap();
 }

@@ -10,7 +10,7 @@ use jointwear::io::output::fnv1a;
 use jointwear::io::progress::Silent;
 use jointwear::simulation::checkpoint::{read_checkpoint, write_checkpoint};
 use jointwear::simulation::{Scene, Simulation};
-use jointwear::sweep::file::SweepFile;
+use jointwear::sweep::file::{label_check, SweepFile, SweepId};
 use jointwear::Error;
 use serde_json::Value;
 use std::fs;
@@ -408,7 +408,11 @@ fn edited_cells_of_sweep_files_are_refused_naming_row_column_and_value() {
         (column("wall_time_s"), "", "a finite number"),
         (column("driver.speed_rpm"), "", "a set value"),
         (column("error"), "boom", "the row of a failed case"),
-        (header.len() - 1, "x", "empty, as the id column's cells are"),
+        (
+            header.len() - 1,
+            "x",
+            "the label check of its case and set values",
+        ),
     ] {
         let mut cells: Vec<&str> = lines[2].split(',').collect();
         let name = header[at];
@@ -442,22 +446,42 @@ fn edited_cells_of_sweep_files_are_refused_naming_row_column_and_value() {
             );
         }
     }
-    // A set value changed to another valid value: merge cannot tell, resume can.
-    let relabelled = lines[2].replacen("-1000", "-3000", 1);
-    fs::write(
-        &edited,
-        format!("{}\n{}\n{relabelled}\n", lines[0], lines[1]),
-    )
-    .unwrap();
-    let resumed = resume();
+    // A set value changed to another valid value, or a row given another case: its label
+    // check no longer matches, which merge and resume both tell (before the check, merge
+    // filed the results under the new label).
+    for relabelled in [
+        lines[2].replacen("-1000", "-2000", 1),
+        lines[2].replacen("1,", "0,", 1),
+    ] {
+        let row = if relabelled.starts_with("0,") {
+            format!("{relabelled}\n")
+        } else {
+            format!("{}\n{relabelled}\n", lines[1])
+        };
+        fs::write(&edited, format!("{}\n{row}", lines[0])).unwrap();
+        let needles = [
+            "the label check of its case and set values",
+            "a set value is not the one the sweep wrote",
+        ];
+        let merge = jointwear(&["sweep-merge", s(&edited), "--out", s(&merged)]);
+        assert_fails(&merge, 2, &needles);
+        assert_fails(&resume(), 2, &needles);
+    }
+    // A row with a cell too few (a complete line, not one cut by a kill) is refused; it was
+    // dropped without a word, and `sweep-merge --allow-partial` merged without its case.
+    let short = lines[2].replacen(",", "", 1);
+    fs::write(&edited, format!("{}\n{}\n{short}\n", lines[0], lines[1])).unwrap();
+    let merge = jointwear(&[
+        "sweep-merge",
+        s(&edited),
+        "--out",
+        s(&merged),
+        "--allow-partial",
+    ]);
     assert_fails(
-        &resumed,
+        &merge,
         2,
-        &[
-            "row 2 (case 1)",
-            "`driver.speed_rpm`: `-3000`",
-            "case 1 has `-1000`",
-        ],
+        &[s(&edited), "row 2 has", "cells where the header has"],
     );
     // A joint's column renamed: its group no longer parses, so the header is not a sweep's.
     let renamed = lines[0].replacen(".motion_mode", ".motion", 1);
@@ -466,8 +490,15 @@ fn edited_cells_of_sweep_files_are_refused_naming_row_column_and_value() {
     assert_fails(&merge, 2, &[s(&edited), "is not a sweep's"]);
     // A failed case's row as the writer writes it is read back.
     let columns = header.len() - 3;
-    let failed = format!("1,-1000{},some error,", ",".repeat(columns - 1));
-    fs::write(&edited, format!("{}\n{}\n{failed}\n", lines[0], lines[1])).unwrap();
+    let failed = format!("1,-1000{},some error", ",".repeat(columns - 1));
+    let cells: Vec<String> = failed.split(',').map(String::from).collect();
+    let id = SweepId::parse(header[header.len() - 1]).unwrap();
+    let check = label_check(&id.fingerprint, &cells, 2);
+    fs::write(
+        &edited,
+        format!("{}\n{}\n{failed},{check}\n", lines[0], lines[1]),
+    )
+    .unwrap();
     assert_eq!(SweepFile::read(&edited).unwrap().rows.len(), 2);
     fs::remove_dir_all(&dir).unwrap();
 }

@@ -94,6 +94,15 @@ fn an_interrupted_sweep_keeps_its_finished_cases() {
     let o = sweep(&scene, &["--set", "run.rotations=1,100000"], &out);
     assert_fails(&o, 2, &["--resume", "the rows of 1 of the 2 cases"]);
     assert_eq!(fs::read_to_string(&out).unwrap(), before);
+    // So is another sweep into the same file (the default --out is one per scene): it
+    // replaced the unfinished file with exit 0 before.
+    let o = sweep(&scene, &["--set", "run.rotations=1,2"], &out);
+    assert_fails(
+        &o,
+        2,
+        &["--out", "1 of the 2 cases of another sweep", "remove the file"],
+    );
+    assert_eq!(fs::read_to_string(&out).unwrap(), before);
     fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -1,7 +1,8 @@
 //! Sweep CSV files that lose no work.
 //!
 //! A sweep file is plain CSV, the header then one row per finished case; the name of its last
-//! column names the sweep, and that column is empty:
+//! column names the sweep, and that column holds each row's label check (a hash of the
+//! fingerprint, the case number and the set values, which a row relabelled by hand fails):
 //! ```text
 //! case,clearance.0.clearance_mm,…,wall_time_s,error,jointwear sweep fingerprint=5f1c0a9e3b7d2c41 shard=2/4 cases=3 total=12
 //! ```
@@ -23,9 +24,7 @@ use crate::io::output::{fnv1a, parse_rows, read_bounded_text, write_table, Growi
 use crate::io::progress::{Counter, Progress};
 use crate::simulation::ensemble::MAX_MEMBERS;
 use crate::simulation::summary::{JOINT_COLUMNS, SCALARS};
-use crate::sweep::{
-    case_values, shard_cases, Assignment, Shard, Sweep, ENSEMBLE_COLUMNS, MAX_CASES,
-};
+use crate::sweep::{shard_cases, Assignment, Shard, Sweep, ENSEMBLE_COLUMNS, MAX_CASES};
 use crate::{Error, Result};
 use std::collections::{BTreeMap, HashSet};
 use std::path::Path;
@@ -216,32 +215,26 @@ impl SweepFile {
         })?;
         let mut rows = Vec::new();
         let mut seen = HashSet::new();
-        // a complete row has the (empty) cell of the id column too
-        let complete = all.into_iter().filter(|row| row.len() == header.len() + 1);
-        for (k, mut row) in complete.enumerate() {
-            let id_cell = row.pop().unwrap_or_default();
-            let case = case_of(path, &row)?;
-            let misfit = if id_cell.is_empty() {
-                misfit_cell(&cells, &row)
-            } else {
-                Some((
-                    header.len(),
-                    id_cell,
-                    "empty, as the id column's cells are".into(),
-                ))
-            };
-            if let Some((column, value, expected)) = misfit {
-                let name = header.get(column).unwrap_or(&id.column_name()).clone();
+        let labels = label_columns(&header);
+        // Every line here ends with its newline (a line cut by a kill was dropped above), so a
+        // row of another length was edited: dropping it would lose a case without a word.
+        for (k, mut row) in all.into_iter().enumerate() {
+            if row.len() != header.len() + 1 {
                 return Err(parse_error(
                     path,
                     format!(
-                        "row {} (case {case}), column `{name}`: `{value}` where a sweep writes \
-                         {expected}; likely cause: the file was edited (remove the row and \
-                         resume the sweep to run its case again)",
-                        k + 1
+                        "row {} has {} cells where the header has {} (`{}`); likely cause: \
+                         the file was edited (remove the row and resume the sweep to run its \
+                         case again)",
+                        k + 1,
+                        row.len(),
+                        header.len() + 1,
+                        row.join(",")
                     ),
                 ));
             }
+            let check = row.pop().unwrap_or_default();
+            let case = case_of(path, &row)?;
             if case >= id.total || !id.shard.contains(case) || !seen.insert(case) {
                 return Err(parse_error(
                     path,
@@ -252,6 +245,32 @@ impl SweepFile {
                         id.shard.count,
                         id.total,
                         row.join(",")
+                    ),
+                ));
+            }
+            let expected = label_check(&id.fingerprint, &row, labels);
+            let misfit = misfit_cell(&cells, &row).or_else(|| {
+                (check != expected).then(|| {
+                    let what = if check.is_empty() {
+                        "(an empty cell: a file of an earlier version, whose labels cannot be \
+                         checked; run its sweep again)"
+                    } else {
+                        "(its case number or a set value is not the one the sweep wrote: merged \
+                         or resumed, its results would be filed under another case)"
+                    };
+                    let expected = format!("the label check of its case and set values {what}");
+                    (header.len(), check, expected)
+                })
+            });
+            if let Some((column, value, expected)) = misfit {
+                let name = header.get(column).unwrap_or(&id.column_name()).clone();
+                return Err(parse_error(
+                    path,
+                    format!(
+                        "row {} (case {case}), column `{name}`: `{value}` where a sweep writes \
+                         {expected}; likely cause: the file was edited (remove the row and \
+                         resume the sweep to run its case again)",
+                        k + 1
                     ),
                 ));
             }
@@ -394,25 +413,47 @@ fn misfit_cell(cells: &[Cell], row: &[String]) -> Option<(usize, String, String)
         })
 }
 
-/// Writes a sweep file atomically: the header with the id column, the rows.
+/// Writes a sweep file atomically: the header with the id column, the rows with their label
+/// checks.
 fn write_file(path: &Path, id: &SweepId, header: &[String], rows: Vec<Vec<String>>) -> Result<()> {
+    let labels = label_columns(header);
     write_table(
         path,
         None,
         &with_id(header, id),
-        rows.into_iter().map(with_cell),
+        rows.into_iter()
+            .map(|r| with_check(r, &id.fingerprint, labels)),
     )
+}
+
+/// How many leading cells of a row under `header` label its case: `case` and the set values.
+fn label_columns(header: &[String]) -> usize {
+    cell_kinds(header).map_or(1, |kinds| {
+        (kinds.iter())
+            .take_while(|c| matches!(c, Cell::Case | Cell::Value))
+            .count()
+    })
+}
+
+/// The label check of a row whose first `labels` cells are its case and set values, in a file
+/// of the sweep `fingerprint`: their hash, written in the row's cell of the id column. A row
+/// relabelled by hand (its case number, or a set value turned into another valid one) no
+/// longer matches it, so that no merge or resume files its results under another case.
+pub fn label_check(fingerprint: &str, row: &[String], labels: usize) -> String {
+    // (Prefixed, so that CSV readers never take the hex digits for a number.)
+    let hash = salted(fingerprint, &row[..labels.min(row.len())].join("\u{1f}"));
+    format!("label-{hash}")
+}
+
+/// `row` and its label check in the cell of the id column.
+fn with_check(mut row: Vec<String>, fingerprint: &str, labels: usize) -> Vec<String> {
+    row.push(label_check(fingerprint, &row, labels));
+    row
 }
 
 /// `header` and the name of the id column.
 fn with_id(header: &[String], id: &SweepId) -> Vec<String> {
     header.iter().cloned().chain([id.column_name()]).collect()
-}
-
-/// `row` and its empty cell of the id column.
-fn with_cell(mut row: Vec<String>) -> Vec<String> {
-    row.push(String::new());
-    row
 }
 
 /// Writes a sweep file with `rows` in case order, atomically.
@@ -430,6 +471,9 @@ pub fn write_sweep_file(
 #[derive(Debug)]
 pub struct Journal {
     table: GrowingTable,
+    /// The sweep's fingerprint and its rows' label cells, for their checks.
+    fingerprint: String,
+    labels: usize,
 }
 
 impl Journal {
@@ -440,14 +484,20 @@ impl Journal {
         header: &[String],
         kept: &[Vec<String>],
     ) -> Result<Journal> {
-        let kept = kept.iter().cloned().map(with_cell);
+        let (fingerprint, labels) = (id.fingerprint.clone(), label_columns(header));
+        let kept = (kept.iter().cloned()).map(|r| with_check(r, &fingerprint, labels));
         let table = GrowingTable::create(path, None, &with_id(header, id), kept)?;
-        Ok(Journal { table })
+        Ok(Journal {
+            table,
+            fingerprint,
+            labels,
+        })
     }
 
     /// Appends one row in a single write, so that rows of parallel cases never interleave.
     pub fn append(&self, row: &[String]) -> Result<()> {
-        self.table.append(&with_cell(row.to_vec()))
+        let row = with_check(row.to_vec(), &self.fingerprint, self.labels);
+        self.table.append(&row)
     }
 
     /// The file.
@@ -484,41 +534,42 @@ impl<'a> JournaledSweep<'a> {
         let kept = if resume {
             resume_rows(out, &id, &header)?
         } else {
-            if let Some(finished) = unfinished_rows(out, &id, &header) {
-                return Err(Error::invalid(
-                    "--resume",
-                    "not given",
-                    format!(
-                        "--resume with {}, which holds the rows of {finished} of the {} cases \
-                         of this sweep and shard, finished before it stopped: --resume keeps \
-                         them and runs the rest; to start over, remove the file",
+            if let Some(file) = unfinished(out) {
+                let (finished, cases) = (file.rows.len(), file.id.cases);
+                let ours = file.id == id && file.header == header;
+                return Err(if ours {
+                    Error::invalid(
+                        "--resume",
+                        "not given",
+                        format!(
+                            "--resume with {}, which holds the rows of {finished} of the \
+                             {cases} cases of this sweep and shard, finished before it \
+                             stopped: --resume keeps them and runs the rest; to start over, \
+                             remove the file",
+                            out.display(),
+                        ),
+                    )
+                } else {
+                    Error::invalid(
+                        "--out",
                         out.display(),
-                        id.cases
-                    ),
-                ));
+                        format!(
+                            "a file no unfinished sweep needs: it holds {finished} of the \
+                             {cases} cases of another sweep or shard (fingerprint {}, shard \
+                             {}/{}: another scene, other --set values or another --shard), \
+                             which this sweep would lose; give another --out, finish that \
+                             sweep with its own command and --resume, or remove the file",
+                            file.id.fingerprint, file.id.shard.index, file.id.shard.count
+                        ),
+                    )
+                });
             }
             Vec::new()
         };
-        // A row's set values are its case's: an edited one would label results it did not run.
+        // (A kept row's set values are its case's: its label check says so, `SweepFile::read`.)
         let mut finished = HashSet::new();
-        for (k, row) in kept.iter().enumerate() {
-            let case = case_of(out, row)?;
-            finished.insert(case);
-            let values = case_values(&sweep.sets, case);
-            if let Some((i, (value, v))) =
-                (row[1..].iter().zip(&values).enumerate()).find(|(_, (value, v))| value != *v)
-            {
-                return Err(parse_error(
-                    out,
-                    format!(
-                        "row {} (case {case}), column `{}`: `{value}` where this sweep's case \
-                         {case} has `{v}`; likely cause: the file was edited (remove the row \
-                         to run its case again)",
-                        k + 1,
-                        header[i + 1]
-                    ),
-                ));
-            }
+        for row in &kept {
+            finished.insert(case_of(out, row)?);
         }
         sweep.skip(finished);
         let journal = Journal::create(out, &id, &header, &kept)?;
@@ -619,12 +670,12 @@ pub fn resume_rows(path: &Path, id: &SweepId, header: &[String]) -> Result<Vec<V
     Ok(file.rows)
 }
 
-/// The number of rows of `path` if it is an unfinished file of the sweep `id` with `header`
-/// (some of its cases finished, not all); None for a missing, complete, unreadable or other
-/// sweep's file, which a new run may replace.
-fn unfinished_rows(path: &Path, id: &SweepId, header: &[String]) -> Option<usize> {
-    let rows = resume_rows(path, id, header).ok()?.len();
-    (rows > 0 && rows < id.cases).then_some(rows)
+/// The sweep file at `path` if it is unfinished (some of its cases finished, not all), of
+/// whichever sweep; None for a missing, complete or unreadable file, which a new run may
+/// replace.
+fn unfinished(path: &Path) -> Option<SweepFile> {
+    let file = SweepFile::read(path).ok()?;
+    (!file.rows.is_empty() && file.rows.len() < file.id.cases).then_some(file)
 }
 
 /// Joins the shard files of one sweep into `out`, sorted by case, as the file of the whole
