@@ -150,6 +150,19 @@ fn bad_input_exits_2_naming_file_field_and_range() {
         let o = jointwear(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
     }
+    // longlife's options are named as given: written into the scene first, --k-over-h was
+    // reported as `clearance[0].wear.k_over_h_per_pa`, --max-change as `max_change`, and
+    // --until NaN as "n/a mm".
+    for (option, value, named) in [
+        ("--k-over-h", "1e-3", "`--k-over-h`: 0.001"),
+        ("--k-over-h", "NaN", "`--k-over-h`: NaN"),
+        ("--max-change", "0", "`--max-change`: 0"),
+        ("--until", "NaN", "`--until`: NaN for joint"),
+    ] {
+        let o = jointwear(&["longlife", s(&std), option, value]);
+        assert_eq!(o.status.code(), Some(2), "{option}: {}", stderr(&o));
+        assert!(stderr(&o).contains(named), "{named}: {}", stderr(&o));
+    }
     fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -252,6 +252,17 @@ fn a_limit_reached_while_settling_stops_at_its_rotation() {
     assert_eq!((last.rotations, life.simulated), (2, 2));
     assert!(last.max_depth(0) > 0.0);
     assert_eq!(life.snapshots.last().unwrap(), last);
+    // Snapshots asked for within the settling rotations are taken there, each once (they
+    // were all taken after settling, at its end: rot6 three times in the profiles' header).
+    let settings = LongLifeSettings {
+        rotations: 10,
+        settle_rotations: 5,
+        snapshots: vec![2, 4, 6, 8],
+        ..LongLifeSettings::default()
+    };
+    let life = predict(&scene, &settings, &Silent).unwrap();
+    let at: Vec<u64> = life.snapshots.iter().map(|s| s.rotations).collect();
+    assert_eq!(at, [2, 4, 6, 8, 10]);
 }
 
 #[test]

@@ -100,7 +100,11 @@ fn an_interrupted_sweep_keeps_its_finished_cases() {
     assert_fails(
         &o,
         2,
-        &["--out", "1 of the 2 cases of another sweep", "remove the file"],
+        &[
+            "--out",
+            "1 of the 2 cases of another sweep",
+            "remove the file",
+        ],
     );
     assert_eq!(fs::read_to_string(&out).unwrap(), before);
     fs::remove_dir_all(&dir).unwrap();

@@ -450,7 +450,12 @@ impl SceneFile {
                         "an integer in [8, 36000]",
                     ));
                 }
-                let k_over_h = check(&f("wear.k_over_h_per_pa"), w.k_over_h_per_pa, 0.0, 1e-6)?;
+                let k_over_h = check(
+                    &f("wear.k_over_h_per_pa"),
+                    w.k_over_h_per_pa,
+                    0.0,
+                    MAX_K_OVER_H_PER_PA,
+                )?;
                 if c.clearance_mm == 0.0 && k_over_h > 0.0 {
                     return Err(Error::invalid(
                         f("wear.k_over_h_per_pa"),

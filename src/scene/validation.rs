@@ -67,6 +67,9 @@ pub const INERTIA_KG_M2: Limit = Limit {
           cannot be resolved; likely cause: an inertia in g mm² or another unit",
 };
 
+/// Largest Archard coefficient k/H (1/Pa) of a scene's wear law (and of `longlife --k-over-h`).
+pub const MAX_K_OVER_H_PER_PA: f64 = 1e-6;
+
 /// Young's modulus (GPa).
 pub const YOUNGS_MODULUS_GPA: Limit = Limit {
     lo: 0.1,

@@ -182,6 +182,14 @@ pub fn predict(
     if settings.sample_rotations == 0 {
         return Err(Error::invalid("sample_rotations", 0, "at least 1"));
     }
+    // A depth (m) in mm as messages give it; a value that is not a number as it was given.
+    let length_mm = |l: f64| {
+        if l.is_finite() {
+            quantity(l * 1e3, "mm")
+        } else {
+            exact(l)
+        }
+    };
     let mechanism = scene.mechanism.clone();
     let y0 = mechanism.assemble(&scene.guess)?;
     // as the scene gives them: the default limit and the clearance reported beside the wear
@@ -209,7 +217,7 @@ pub fn predict(
         if !(l >= MIN_WEAR_LIMIT && l <= most) {
             return Err(Error::invalid(
                 "--until",
-                format!("{} for joint `{}`", quantity(l * 1e3, "mm"), cj.name),
+                format!("{} for joint `{}`", length_mm(l), cj.name),
                 format!(
                     "a wear depth in [{}, {}]: at least an atomic layer (0.1 nm), and the wear \
                      model holds to {:.0} % of the bearing radius (the default, the radial \
@@ -308,8 +316,24 @@ pub fn predict(
     };
     // Settled one rotation at a time, to stop at the rotation that reaches the limit, as the
     // sample rotations do (the steps are those of one call for all: a call only ends them).
+    // The profile at `done` rotations if a requested snapshot count has been reached since
+    // the last (a snapshot within a block's sampled rotations is taken at its end, labelled
+    // with the rotations it holds; two there are one).
+    let snapshot_due = |next: &mut std::iter::Peekable<std::slice::Iter<'_, u64>>,
+                        snapshots: &[Stage],
+                        done: u64| {
+        let mut due = false;
+        while next.peek().is_some_and(|&&s| s <= done) {
+            next.next();
+            due = true;
+        }
+        due && snapshots.last().is_none_or(|s| s.rotations != done)
+    };
     for _ in 0..(settings.settle_rotations as u64).min(target) {
         steep = simulate_within(&mut sim, 1, &mut done)?.err();
+        if snapshot_due(&mut next_snapshot, &snapshots, done) {
+            snapshots.push(stage(&sim, done));
+        }
         reached = at_limit(&sim).map(|k| (done, k));
         if reached.is_some() || steep.is_some() {
             history.push(stage(&sim, done));
@@ -399,8 +423,7 @@ pub fn predict(
             rotations: done,
             joints: samples,
         });
-        while next_snapshot.peek().is_some_and(|&&s| s <= done) {
-            next_snapshot.next();
+        if snapshot_due(&mut next_snapshot, &snapshots, done) {
             snapshots.push(stage(&sim, done));
         }
         progress.observe(done, Some(target));

@@ -12,7 +12,7 @@ use jointwear::io::format::{self as people, quantity};
 use jointwear::io::output::{number, write_rows};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::progress_bar;
-use jointwear::scene::SceneFile;
+use jointwear::scene::{SceneFile, MAX_K_OVER_H_PER_PA};
 use jointwear::simulation::ensemble::{Perturbation, MAX_MEMBERS};
 use jointwear::simulation::folder::{
     body_name, conventions, joint_file, write_folder, write_profiles, write_summary, BLOCKS_FILE,
@@ -59,6 +59,22 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
             "--rotations",
             people::exact(rotations),
             "an integer in [1, 1e12]",
+        )));
+    }
+    // The options by their own names (written into the scene, they were reported as its
+    // fields).
+    if let Some(k) = k_over_h.filter(|k| !(0.0..=MAX_K_OVER_H_PER_PA).contains(k)) {
+        return Err(bad(Error::invalid(
+            "--k-over-h",
+            people::exact(k),
+            format!("an Archard coefficient k/H in [0, {MAX_K_OVER_H_PER_PA:e}] 1/Pa"),
+        )));
+    }
+    if !(max_change > 0.0 && max_change <= 1.0) {
+        return Err(bad(Error::invalid(
+            "--max-change",
+            people::exact(max_change),
+            "a fraction in (0, 1]",
         )));
     }
     let mut file = SceneFile::read(path).map_err(|e| Failure::input(path, e))?;
@@ -154,8 +170,9 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
         let validated = quantity(100.0 * VALIDATED_WEAR_RATIO, "%");
         match j.validated_until_rotations {
             Some(at) => println!(
-                "    after {at} rotations the wear passes {validated} of the clearance: beyond \
-                 the regime where the cycle jump was checked against simulating every rotation"
+                "    after {at} rotations (interpolated within the block that crosses it) the \
+                 wear passes {validated} of the clearance: beyond the regime where the cycle \
+                 jump was checked against simulating every rotation"
             ),
             None => println!(
                 "    within the validated regime throughout (wear up to {validated} of the \
@@ -465,7 +482,8 @@ fn readme(title: &str, scene: &Scene) -> String {
          too steep for the paper's gap and the prediction stopped short of its target, or \
          null); joints (bodies, clearance_m as the scene gives it, wear_limit_m, \
          max_wear_depth_m, effective_clearance_m, validated_until_rotations: after how many \
-         rotations the wear passes {validated} of the clearance, the regime tests/longlife.rs \
+         rotations (interpolated within the block that crosses it, rounded down) the wear \
+         passes {validated} of the clearance, the regime tests/longlife.rs \
          checks the cycle jump in against simulating every rotation, or null; changes: in order \
          of rotations, each `at` (rotations), `kind`, `from`, `to` and `what` (as printed): \
          `motion_mode` when the sample's mode changes for at least {HOLD_BLOCKS} blocks, \
