@@ -154,7 +154,7 @@ fn resume_skips_finished_cases_and_refuses_another_sweep() {
             2,
             &[
                 "`--resume`",
-                "another scene, other --set values or another shard",
+                "another scene, other --set values, another shard or another program version",
             ],
         );
     }

@@ -33,7 +33,8 @@ class Run:
 
     Attributes:
         title: the scene's title.
-        rotations: driver rotations simulated.
+        rotations: driver rotations simulated, settling included (the scene's
+            ``run.rotations`` after the settling rotations of :attr:`settling`, if any).
         period_s: driver period (s).
         wall_time_s: wall-clock time of the run (s).
         timeseries: column name -> array over the recorded rotations: the columns of
@@ -113,6 +114,13 @@ class Run:
         if table == "wear":
             if not self.wear:
                 return pd.DataFrame()
+            sectors = {name: len(a) for name, a in self.angles_deg.items()}
+            if len(set(sectors.values())) > 1:
+                raise ValueError(
+                    f"the joints' wear profiles have different sector counts ({sectors}): "
+                    'one table cannot index them by angle; use Run.wear and Run.angles_deg, or '
+                    'to_pandas("snapshots")'
+                )
             first = next(iter(self.angles_deg.values()))
             frame = pd.DataFrame(self.wear, index=pd.Index(first, name="angle_deg"))
             return frame
@@ -144,7 +152,10 @@ class Ensemble:
     """The members of an ensemble and their statistics.
 
     Attributes:
-        title, rotations, wall_time_s: as for :class:`Run`.
+        title, wall_time_s: as for :class:`Run`.
+        rotations: the scene's ``run.rotations``, which each member simulated after its own
+            settling, if the scene settles (members settle in different numbers of
+            rotations: each member's total is its ``rotations_simulated`` scalar).
         members: the member count; seed: the seed of their initial offsets.
         joints: names of the clearance joints.
         scalar_names: the names of the per-member scalar results (as in :attr:`Run.summary`).

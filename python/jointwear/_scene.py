@@ -183,7 +183,8 @@ class Scene:
         values = []
         for key in keys:
             v = grid[key]
-            if isinstance(v, (str, bytes)) or not isinstance(v, Iterable):
+            # (A mapping iterates its keys: {-600: 1} swept -600 without a word.)
+            if isinstance(v, (str, bytes, Mapping)) or not isinstance(v, Iterable):
                 raise TypeError(
                     f"sweep values must be a sequence: {key!r} has {v!r}; "
                     f"write [{v!r}] for a single value"
@@ -192,11 +193,13 @@ class Scene:
         if members is not None:
             members = _count("members", members, "a positive integer")
         seed = _count("seed", seed, "an integer in [0, 2^64)")
+        # (Both calls give back the keys as the program's sweep header spells them: an alias
+        # such as clearance.00.clearance_mm as clearance.0.clearance_mm.)
         if executor is None:
-            cases = self._doc.sweep(keys, values, members, seed)
+            keys, cases = self._doc.sweep(keys, values, members, seed)
         else:
             _check_executor(executor)
-            total = self._doc.check_sweep(keys, values, members, seed)
+            total, keys = self._doc.check_sweep(keys, values, members, seed)
             state = self._doc.state()
             tasks = [
                 executor.submit(_case, state, keys, values, k, members, seed) for k in range(total)

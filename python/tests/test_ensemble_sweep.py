@@ -213,3 +213,12 @@ def test_a_grid_beyond_the_case_limit_or_with_a_key_twice_raises_scene_error(tmp
         scene.sweep(grid)
     with pytest.raises(jointwear.SceneError, match="each key once"):
         scene.sweep({"clearance.0.clearance_mm": [0.1], "clearance.00.clearance_mm": [0.2]})
+
+
+def test_a_keys_alias_is_labelled_as_the_program_spells_it(tmp_path):
+    """The program's header names `clearance.00.clearance_mm` as `clearance.0.clearance_mm`;
+    Python's columns kept the alias."""
+    scene = jointwear.Scene.load(short_file(tmp_path))
+    sweep = scene.sweep({"clearance.00.clearance_mm": [0.02]})
+    assert sweep.keys == ["clearance.0.clearance_mm"]
+    assert "clearance.0.clearance_mm" in sweep.columns

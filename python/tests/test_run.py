@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import jointwear
-from conftest import STANDARD, short, short_file
+from conftest import SCENES, STANDARD, short, short_file
 
 
 def read_csv(path):
@@ -161,3 +161,24 @@ def test_to_pandas_without_pandas_says_what_to_install(short_run, monkeypatch):
     monkeypatch.setitem(sys.modules, "pandas", None)  # import pandas now fails
     with pytest.raises(ImportError, match="Run.to_pandas\\(\\) needs pandas.*pip install pandas"):
         short_run.to_pandas()
+
+
+def test_a_settling_run_counts_its_settling_rotations():
+    """`Run.rotations` is what was simulated: it was the scene's `run.rotations` (3 here)
+    while the wear and the whole-run values covered 10."""
+    scene = jointwear.Scene.load(STANDARD)
+    scene.set("run.rotations", 3).set("run.wear_snapshots", [1, 3]).set("run.record_rotations", 1)
+    run = scene.set("run.settle", True).run()
+    assert run.settling is not None
+    assert run.rotations == run.settling["rotations"] + 3
+    assert run.summary[run.joints[0]]["rotations_simulated"] == run.rotations
+
+
+def test_wear_of_joints_with_different_sector_counts_is_refused_naming_them():
+    """One table cannot index them by angle; pandas' own length error named neither."""
+    pytest.importorskip("pandas")
+    scene = short(jointwear.Scene.load(SCENES / "two_clearance.toml"))
+    run = scene.set("clearance.1.wear.sectors", 72).run()
+    with pytest.raises(ValueError, match="different sector counts") as e:
+        run.to_pandas("wear")
+    assert all(name in str(e.value) for name in run.joints)

@@ -199,8 +199,9 @@ def test_ensemble_and_sweep_arguments_are_checked_at_the_call():
         scene.ensemble(members=-1)
     with pytest.raises(jointwear.SceneError, match="`seed`: -1"):
         scene.ensemble(members=2, seed=-1)
-    # a bare value (or a string, which would sweep its characters) is not a list of values
-    for bad in (1000, "1000"):
+    # a bare value (or a string, which would sweep its characters, or a dict, its keys) is
+    # not a list of values
+    for bad in (1000, "1000", {-600: 1}):
         with pytest.raises(TypeError, match="sweep values must be a sequence") as e:
             scene.sweep({"driver.speed_rpm": bad})
         assert "'driver.speed_rpm'" in str(e.value)

@@ -371,9 +371,11 @@ impl Document {
 
     /// Runs the cartesian product of `values[i]` at `keys[i]` (the last key varying fastest,
     /// as `jointwear sweep`), each case once or as an ensemble of `members`, in parallel with
-    /// the GIL released; every case is validated before any runs. Returns one dict per case:
-    /// `case`, `error` (None, or the message of a case that failed while running, as in the
-    /// program's sweep file), `wall_time_s` and the columns of the program's sweep file.
+    /// the GIL released; every case is validated before any runs. Returns the keys as the
+    /// program's sweep header spells them (canonical: an array index as its number) and one
+    /// dict per case: `case`, `error` (None, or the message of a case that failed while
+    /// running, as in the program's sweep file), `wall_time_s` and the columns of the
+    /// program's sweep file.
     #[pyo3(signature = (keys, values, members=None, seed=1))]
     fn sweep<'py>(
         &self,
@@ -382,7 +384,7 @@ impl Document {
         values: Vec<Vec<Bound<'py, PyAny>>>,
         members: Option<usize>,
         seed: u64,
-    ) -> PyResult<Bound<'py, PyList>> {
+    ) -> PyResult<(Vec<String>, Bound<'py, PyList>)> {
         let sweep = self.make_sweep(&keys, &values, members, seed)?;
         let results = interruptible(py, |cancel| {
             let results = Mutex::new(Vec::new());
@@ -396,11 +398,12 @@ impl Document {
         for r in &results {
             cases.append(case_dict(py, r)?)?;
         }
-        Ok(cases)
+        Ok((sweep.sets.into_iter().map(|a| a.key).collect(), cases))
     }
 
-    /// Checks the sweep of [`Document::sweep`] without running it and returns its case count:
-    /// before an executor's workers run its cases.
+    /// Checks the sweep of [`Document::sweep`] without running it and returns its case count
+    /// and its keys as the program's sweep header spells them (canonical: an array index as
+    /// its number), before any case runs.
     #[pyo3(signature = (keys, values, members=None, seed=1))]
     fn check_sweep<'py>(
         &self,
@@ -408,8 +411,9 @@ impl Document {
         values: Vec<Vec<Bound<'py, PyAny>>>,
         members: Option<usize>,
         seed: u64,
-    ) -> PyResult<usize> {
-        Ok(self.make_sweep(&keys, &values, members, seed)?.total)
+    ) -> PyResult<(usize, Vec<String>)> {
+        let sweep = self.make_sweep(&keys, &values, members, seed)?;
+        Ok((sweep.total, sweep.sets.into_iter().map(|a| a.key).collect()))
     }
 
     /// Runs case `case` of the sweep of [`Document::sweep`] with the GIL released, for a
@@ -591,7 +595,7 @@ fn run_dict<'py>(py: Python<'py>, scene: &Scene, out: &RunOutput) -> PyResult<Bo
     let rec = &out.recording;
     let d = PyDict::new(py);
     d.set_item("title", &scene.title)?;
-    d.set_item("rotations", scene.run.rotations)?;
+    d.set_item("rotations", out.rotations_simulated(&scene.run))?;
     d.set_item("period_s", out.period)?;
     d.set_item("wall_time_s", out.wall_time)?;
     // The columns of `jointwear run`'s timeseries.csv, in its order, then the positions.

@@ -22,6 +22,7 @@
 use crate::analysis::MOTION_MODES;
 use crate::io::output::{fnv1a, parse_rows, read_bounded_text, write_table, GrowingTable};
 use crate::io::progress::{Counter, Progress};
+use crate::simulation::checkpoint::ARITHMETIC;
 use crate::simulation::ensemble::MAX_MEMBERS;
 use crate::simulation::summary::{JOINT_COLUMNS, SCALARS};
 use crate::sweep::{shard_cases, Assignment, Shard, Sweep, ENSEMBLE_COLUMNS, MAX_CASES};
@@ -107,10 +108,16 @@ impl SweepId {
     }
 }
 
-/// Fingerprint of a sweep: the scene document (`extends` resolved) and the assignments
-/// ([`crate::scene::variant::fingerprint`]).
+/// Fingerprint of a sweep: the scene document (`extends` resolved), the assignments
+/// ([`crate::scene::variant::fingerprint`]) and the program's [`ARITHMETIC`]: shards run by
+/// programs whose runs differ by rounding are not one sweep, and are not merged or resumed
+/// into one.
 pub fn fingerprint(doc: &toml::Value, sets: &[Assignment]) -> String {
-    crate::scene::variant::fingerprint(doc, sets.iter().map(|a| (a.key.as_str(), &a.values[..])))
+    let definition = crate::scene::variant::fingerprint(
+        doc,
+        sets.iter().map(|a| (a.key.as_str(), &a.values[..])),
+    );
+    salted(&definition, &format!("arithmetic={ARITHMETIC}"))
 }
 
 /// A fingerprint combined with more of a sweep's definition (e.g. its ensemble size).
@@ -556,7 +563,8 @@ impl<'a> JournaledSweep<'a> {
                         format!(
                             "a file no unfinished sweep needs: it holds {finished} of the \
                              {cases} cases of another sweep or shard (fingerprint {}, shard \
-                             {}/{}: another scene, other --set values or another --shard), \
+                             {}/{}: another scene, other --set values, another --shard or another \
+                             program version's arithmetic), \
                              which this sweep would lose; give another --out, finish that \
                              sweep with its own command and --resume, or remove the file",
                             file.id.fingerprint, file.id.shard.index, file.id.shard.count
@@ -651,8 +659,9 @@ pub fn resume_rows(path: &Path, id: &SweepId, header: &[String]) -> Result<Vec<V
             path.display(),
             format!(
                 "a file of this sweep and shard (fingerprint {}, shard {}/{}); it holds \
-                 fingerprint {}, shard {}/{}{}: another scene, other --set values or another \
-                 shard (use another --out, or remove the file to start over)",
+                 fingerprint {}, shard {}/{}{}: another scene, other --set values, another \
+                 shard or another program version's arithmetic (use another --out, or remove \
+                 the file to start over)",
                 id.fingerprint,
                 id.shard.index,
                 id.shard.count,
@@ -710,7 +719,8 @@ pub fn merge(inputs: &[impl AsRef<Path>], out: &Path, allow_partial: bool) -> Re
                 ),
                 format!(
                     "a shard of the sweep of {} (fingerprint {}, {} shards): this is a shard of \
-                     another sweep (another scene, other --set values or another shard count)",
+                     another sweep (another scene, other --set values, another shard count or another \
+                     program version's arithmetic)",
                     first_path.display(),
                     first.id.fingerprint,
                     first.id.shard.count
