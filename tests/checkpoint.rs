@@ -7,11 +7,11 @@ mod common;
 use common::{assert_same_run, jointwear, temp_dir};
 use jointwear::io::output::read_csv;
 use jointwear::io::progress::Silent;
+use jointwear::scene::variant::fingerprint;
 use jointwear::scene::{scene_path, SceneFile};
 use jointwear::simulation::checkpoint::{read_checkpoint, write_checkpoint, CHECKPOINT_FILE};
 use jointwear::simulation::Scene;
 use jointwear::simulation::{RunOutput, Simulation};
-use jointwear::sweep::file::fingerprint;
 use std::path::{Path, PathBuf};
 
 /// The chaotic 0.5 mm scene, 5 rotations, the last 2 recorded, snapshots and history on.
@@ -111,7 +111,12 @@ fn command_line_resumes_and_refuses_what_it_cannot() {
         sim.advance_rotation().unwrap();
     }
     let saved = out.join(CHECKPOINT_FILE);
-    write_checkpoint(&saved, &fingerprint(&doc, &[]), sim.checkpoint()).unwrap();
+    write_checkpoint(
+        &saved,
+        &fingerprint(&doc, std::iter::empty()),
+        sim.checkpoint(),
+    )
+    .unwrap();
     let r = jointwear(&["run", p, "--out", o, "--resume"]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     assert!(!saved.exists(), "a completed run removes its checkpoint");
@@ -123,7 +128,12 @@ fn command_line_resumes_and_refuses_what_it_cannot() {
     assert_eq!(r.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&r.stderr).contains("edited since"));
     // so is one of the scene as it is, resumed with a --set it was not started with
-    write_checkpoint(&saved, &fingerprint(&doc, &[]), sim.checkpoint()).unwrap();
+    write_checkpoint(
+        &saved,
+        &fingerprint(&doc, std::iter::empty()),
+        sim.checkpoint(),
+    )
+    .unwrap();
     let set = ["--set", "driver.speed_rpm=1000"];
     let r = jointwear(&[&["run", p, "--out", o, "--resume"][..], &set].concat());
     assert_eq!(r.status.code(), Some(2));

@@ -107,6 +107,21 @@ fn an_interrupted_sweep_keeps_its_finished_cases() {
         ],
     );
     assert_eq!(fs::read_to_string(&out).unwrap(), before);
+    // So is a sweep file that cannot be read back (here an earlier version's, without its
+    // label check): it was replaced unseen.
+    let (head, check) = before.trim_end().rsplit_once(',').unwrap();
+    assert!(check.starts_with("label-"), "{before}");
+    fs::write(&out, format!("{head},\n")).unwrap();
+    let o = sweep(&scene, &["--set", "run.rotations=1,2"], &out);
+    assert_fails(
+        &o,
+        2,
+        &[
+            "--out",
+            "a sweep file that cannot be read back",
+            "remove it",
+        ],
+    );
     fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -55,14 +55,14 @@ class Document:
         values: List[Sequence[Any]],
         members: Optional[int] = None,
         seed: int = 1,
-    ) -> List[Dict[str, Any]]: ...
+    ) -> Tuple[List[str], List[Dict[str, Any]]]: ...
     def check_sweep(
         self,
         keys: List[str],
         values: List[Sequence[Any]],
         members: Optional[int] = None,
         seed: int = 1,
-    ) -> int: ...
+    ) -> Tuple[List[str], int]: ...
     def sweep_case(
         self,
         keys: List[str],

@@ -199,7 +199,7 @@ class Scene:
             keys, cases = self._doc.sweep(keys, values, members, seed)
         else:
             _check_executor(executor)
-            total, keys = self._doc.check_sweep(keys, values, members, seed)
+            keys, total = self._doc.check_sweep(keys, values, members, seed)
             state = self._doc.state()
             tasks = [
                 executor.submit(_case, state, keys, values, k, members, seed) for k in range(total)

@@ -16,7 +16,7 @@
 //! shared file system) is never taken over, as its holder cannot be seen from here.
 
 use crate::io::interrupt;
-use crate::io::output::is_temporary_of;
+use crate::io::output::temporary_of;
 use crate::{Error, Result};
 use std::ffi::OsString;
 use std::fs;
@@ -185,7 +185,11 @@ fn claim_nested(
                     .and_then(|()| file.sync_all())
                     .map_err(io)?;
                 if let Some(gone) = &taken {
-                    remove_temporaries_left(lock, gone);
+                    // (A takeover marker of a folder's lock starts with the lock's name.)
+                    let folder = (lock.file_name().and_then(|n| n.to_str()))
+                        .is_some_and(|n| n.starts_with(FOLDER_LOCK));
+                    let stem = target.file_stem().and_then(|s| s.to_str());
+                    remove_temporaries_left(lock, gone, if folder { None } else { stem });
                 }
                 return Ok(claimed);
             }
@@ -227,12 +231,14 @@ fn claim_nested(
     ))
 }
 
-/// Removes the temporary files ([`crate::io::output`]'s hidden `.<name>.tmp-<pid>-<n>` files)
+/// Removes the temporary files ([`crate::io::output`]'s hidden `.<stem>.tmp-<pid>-<n>` files)
 /// that the gone holder recorded in `held` left beside its lock `lock` when it was killed in
-/// the middle of a write, and says which. It no longer runs, so no file of its process id
-/// can be one being written (another process's are never touched). Best effort, as their
-/// content is never read: a file that cannot be removed stays.
-fn remove_temporaries_left(lock: &Path, held: &str) {
+/// the middle of a write, and says which: of a folder's lock, every one in the folder (the
+/// folder was the holder's alone); of a file's lock, only the claimed file's (`stem`), as the
+/// folder may hold other outputs. The holder no longer runs on this host, so no file of its
+/// process id is being written here. Best effort, as their content is never read: a file that
+/// cannot be removed stays.
+fn remove_temporaries_left(lock: &Path, held: &str, stem: Option<&str>) {
     let Some(pid) = field(held, "pid").and_then(|p| p.parse::<u32>().ok()) else {
         return;
     };
@@ -240,13 +246,15 @@ fn remove_temporaries_left(lock: &Path, held: &str) {
     let Ok(entries) = fs::read_dir(dir.unwrap_or(Path::new("."))) else {
         return;
     };
+    let left = |name: &str| {
+        temporary_of(name).is_some_and(|(s, p)| p == pid && stem.is_none_or(|stem| s == stem))
+    };
     let mut removed: Vec<String> = entries
         .flatten()
         .filter(|e| e.file_type().is_ok_and(|t| t.is_file()))
         .filter_map(|e| {
             let name = e.file_name().into_string().ok()?;
-            let left = is_temporary_of(&name, pid) && fs::remove_file(e.path()).is_ok();
-            left.then_some(name)
+            (left(&name) && fs::remove_file(e.path()).is_ok()).then_some(name)
         })
         .collect();
     if !removed.is_empty() {
@@ -331,6 +339,8 @@ mod tests {
             format!(".wear.tmp-{}-1.csv", std::process::id()),
             ".wear.tmp-41943050-1.csv".into(),
             ".wear.tmp-4194305-x.csv".into(),
+            // a live process's temporary of an output named `x.tmp-4194305-1.csv`
+            format!(".x.tmp-4194305-1.tmp-{}-0.csv", std::process::id()),
             "wear.tmp-4194305-2.csv".into(),
             "wear.csv".into(),
         ];
@@ -350,6 +360,18 @@ mod tests {
             assert!(dir.join(name).exists(), "{name} removed");
             fs::remove_file(dir.join(name)).unwrap();
         }
+        drop(taken);
+        // Of a file's lock (a sweep's), only that file's temporaries go: the folder may hold
+        // other outputs.
+        let file = dir.join("s.csv");
+        let (own, other) = (".s.tmp-4194305-2.csv", ".t.tmp-4194305-1.csv");
+        for name in [own, other] {
+            fs::write(dir.join(name), "x").unwrap();
+        }
+        fs::write(dir.join(".s.csv.lock"), &gone).unwrap();
+        let taken = claim_file("--out", &file).unwrap();
+        assert!(!dir.join(own).exists() && dir.join(other).exists());
+        fs::remove_file(dir.join(other)).unwrap();
         // Another host's holder is never judged gone.
         assert!(!stale("pid=4194305\nhost=elsewhere.invalid\ncommand=x\n"));
         drop(taken);

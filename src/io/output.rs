@@ -52,19 +52,20 @@ fn temp_path(path: &Path) -> PathBuf {
     path.with_file_name(name)
 }
 
-/// Whether `name` is a temporary file name of [`temp_path`] written by process `pid`
-/// (`.<stem>.tmp-<pid>-<n>` with an optional extension).
-pub(crate) fn is_temporary_of(name: &str, pid: u32) -> bool {
-    let tag = format!(".tmp-{pid}-");
-    let Some((stem, rest)) = name.split_once(&tag) else {
-        return false;
-    };
+/// The output stem and the writing process's id of a temporary file name of [`temp_path`]
+/// (`.<stem>.tmp-<pid>-<n>` with an optional extension), read from the right (a stem may
+/// itself hold `.tmp-`); None for any other name.
+pub(crate) fn temporary_of(name: &str) -> Option<(&str, u32)> {
+    let (stem, tag) = name.strip_prefix('.')?.rsplit_once(".tmp-")?;
+    let (pid, rest) = tag.split_once('-')?;
     let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
     let ext = &rest[digits..];
-    stem.len() > 1
-        && stem.starts_with('.')
-        && digits > 0
-        && (ext.is_empty() || ext.starts_with('.'))
+    let tail = ext.is_empty() || ext.strip_prefix('.').is_some_and(|e| !e.contains('.'));
+    let pid_digits = !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit());
+    if stem.is_empty() || digits == 0 || !tail || !pid_digits {
+        return None;
+    }
+    Some((stem, pid.parse().ok()?))
 }
 
 /// Writes `path` atomically: creates the parent directory, lets `write` produce the content

@@ -401,9 +401,9 @@ impl Document {
         Ok((sweep.sets.into_iter().map(|a| a.key).collect(), cases))
     }
 
-    /// Checks the sweep of [`Document::sweep`] without running it and returns its case count
-    /// and its keys as the program's sweep header spells them (canonical: an array index as
-    /// its number), before any case runs.
+    /// Checks the sweep of [`Document::sweep`] without running it and returns its keys as the
+    /// program's sweep header spells them (canonical: an array index as its number) and its
+    /// case count, before any case runs.
     #[pyo3(signature = (keys, values, members=None, seed=1))]
     fn check_sweep<'py>(
         &self,
@@ -411,9 +411,9 @@ impl Document {
         values: Vec<Vec<Bound<'py, PyAny>>>,
         members: Option<usize>,
         seed: u64,
-    ) -> PyResult<(usize, Vec<String>)> {
+    ) -> PyResult<(Vec<String>, usize)> {
         let sweep = self.make_sweep(&keys, &values, members, seed)?;
-        Ok((sweep.total, sweep.sets.into_iter().map(|a| a.key).collect()))
+        Ok((sweep.sets.into_iter().map(|a| a.key).collect(), sweep.total))
     }
 
     /// Runs case `case` of the sweep of [`Document::sweep`] with the GIL released, for a

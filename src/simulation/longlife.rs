@@ -156,6 +156,16 @@ pub struct LongLife {
     pub wall_time: f64,
 }
 
+/// Checks [`LongLifeSettings::max_change`] (the share of a joint's effective clearance a sector
+/// may deepen by in one block), given as `name`: a fraction in (0, 1].
+pub fn check_max_change(name: &str, value: f64) -> Result<()> {
+    if value > 0.0 && value <= 1.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(name, exact(value), "a fraction in (0, 1]"))
+    }
+}
+
 /// Predicts the wear after `settings.rotations` rotations by cycle-jump extrapolation (see
 /// the module documentation); `progress` is told the rotations done after each block.
 pub fn predict(
@@ -172,13 +182,7 @@ pub fn predict(
             "an integer in [1, 1e12]",
         ));
     }
-    if !(settings.max_change > 0.0 && settings.max_change <= 1.0) {
-        return Err(Error::invalid(
-            "max_change",
-            exact(settings.max_change),
-            "a fraction in (0, 1]",
-        ));
-    }
+    check_max_change("max_change", settings.max_change)?;
     if settings.sample_rotations == 0 {
         return Err(Error::invalid("sample_rotations", 0, "at least 1"));
     }
@@ -314,8 +318,6 @@ pub fn predict(
             r => r.map(Ok),
         }
     };
-    // Settled one rotation at a time, to stop at the rotation that reaches the limit, as the
-    // sample rotations do (the steps are those of one call for all: a call only ends them).
     // The profile at `done` rotations if a requested snapshot count has been reached since
     // the last (a snapshot within a block's sampled rotations is taken at its end, labelled
     // with the rotations it holds; two there are one).
@@ -329,6 +331,8 @@ pub fn predict(
         }
         due && snapshots.last().is_none_or(|s| s.rotations != done)
     };
+    // Settled one rotation at a time, to stop at the rotation that reaches the limit, as the
+    // sample rotations do (the steps are those of one call for all: a call only ends them).
     for _ in 0..(settings.settle_rotations as u64).min(target) {
         steep = simulate_within(&mut sim, 1, &mut done)?.err();
         if snapshot_due(&mut next_snapshot, &snapshots, done) {

@@ -14,9 +14,9 @@
 //!   `jointwear sweep --resume` skips the cases it holds. A line
 //!   cut by a kill (no final newline) is dropped when the file is read back. A sweep that
 //!   finishes rewrites its file in case order, atomically.
-//! * The fingerprint is a hash (64-bit FNV-1a) of the scene document, `extends` resolved, and
-//!   of the `--set` assignments: a file of another sweep is recognised when resuming or
-//!   merging. `shard=I/N` and `cases` (rows the shard holds when complete) let [`merge`]
+//! * The fingerprint is a hash (64-bit FNV-1a) of the scene document, `extends` resolved, of
+//!   the `--set` assignments and of the program's arithmetic version: a file of another sweep
+//!   is recognised when resuming or merging. `shard=I/N` and `cases` (rows the shard holds when complete) let [`merge`]
 //!   refuse a missing, repeated or unfinished shard; `total` is the whole sweep's case count.
 
 use crate::analysis::MOTION_MODES;
@@ -113,11 +113,16 @@ impl SweepId {
 /// programs whose runs differ by rounding are not one sweep, and are not merged or resumed
 /// into one.
 pub fn fingerprint(doc: &toml::Value, sets: &[Assignment]) -> String {
+    fingerprint_of(doc, sets, ARITHMETIC)
+}
+
+/// [`fingerprint`] for the program whose arithmetic version is `arithmetic`.
+fn fingerprint_of(doc: &toml::Value, sets: &[Assignment], arithmetic: u32) -> String {
     let definition = crate::scene::variant::fingerprint(
         doc,
         sets.iter().map(|a| (a.key.as_str(), &a.values[..])),
     );
-    salted(&definition, &format!("arithmetic={ARITHMETIC}"))
+    salted(&definition, &format!("arithmetic={arithmetic}"))
 }
 
 /// A fingerprint combined with more of a sweep's definition (e.g. its ensemble size).
@@ -255,28 +260,33 @@ impl SweepFile {
                     ),
                 ));
             }
+            // (A cell's misfit, else the label check's, each with its likely cause.)
             let expected = label_check(&id.fingerprint, &row, labels);
-            let misfit = misfit_cell(&cells, &row).or_else(|| {
-                (check != expected).then(|| {
-                    let what = if check.is_empty() {
-                        "(an empty cell: a file of an earlier version, whose labels cannot be \
-                         checked; run its sweep again)"
-                    } else {
-                        "(its case number or a set value is not the one the sweep wrote: merged \
-                         or resumed, its results would be filed under another case)"
-                    };
-                    let expected = format!("the label check of its case and set values {what}");
-                    (header.len(), check, expected)
+            let misfit = misfit_cell(&cells, &row)
+                .map(|(column, value, writes)| {
+                    let cause = "the file was edited (remove the row and resume the sweep to \
+                                 run its case again)";
+                    (header[column].clone(), value, writes, cause)
                 })
-            });
-            if let Some((column, value, expected)) = misfit {
-                let name = header.get(column).unwrap_or(&id.column_name()).clone();
+                .or_else(|| {
+                    let writes = "the label check of its case and set values".to_string();
+                    let cause = if check.is_empty() {
+                        "a file of an earlier version, whose labels cannot be checked (run its \
+                         sweep again)"
+                    } else {
+                        "the file was edited: its case number or a set value is not the one the \
+                         sweep wrote, and merged or resumed its results would be filed under \
+                         another case (remove the row and resume the sweep to run its case \
+                         again)"
+                    };
+                    (check != expected).then(|| (id.column_name(), check, writes, cause))
+                });
+            if let Some((name, value, writes, cause)) = misfit {
                 return Err(parse_error(
                     path,
                     format!(
                         "row {} (case {case}), column `{name}`: `{value}` where a sweep writes \
-                         {expected}; likely cause: the file was edited (remove the row and \
-                         resume the sweep to run its case again)",
+                         {writes}; likely cause: {cause}",
                         k + 1
                     ),
                 ));
@@ -533,15 +543,16 @@ pub struct JournaledSweep<'a> {
 impl<'a> JournaledSweep<'a> {
     /// Starts the file `out` of `sweep`; with `resume`, keeps the rows the file holds of the
     /// same sweep and shard (an error if it holds another) and skips their cases in `sweep`.
-    /// Without it, an unfinished file of the same sweep and shard is an error rather than
-    /// started over: its finished cases would be lost to a rerun that forgot `--resume`.
+    /// Without it, an unfinished sweep file (of this sweep and shard, or of another), or one
+    /// that cannot be read back, is an error rather than started over: its finished cases
+    /// would be lost to a rerun that forgot `--resume`, or to another sweep into the same file.
     pub fn open(sweep: &'a mut Sweep, out: &Path, resume: bool) -> Result<JournaledSweep<'a>> {
         let id = sweep.id();
         let header = sweep.header();
         let kept = if resume {
             resume_rows(out, &id, &header)?
         } else {
-            if let Some(file) = unfinished(out) {
+            if let Some(file) = unfinished(out)? {
                 let (finished, cases) = (file.rows.len(), file.id.cases);
                 let ours = file.id == id && file.header == header;
                 return Err(if ours {
@@ -680,11 +691,39 @@ pub fn resume_rows(path: &Path, id: &SweepId, header: &[String]) -> Result<Vec<V
 }
 
 /// The sweep file at `path` if it is unfinished (some of its cases finished, not all), of
-/// whichever sweep; None for a missing, complete or unreadable file, which a new run may
-/// replace.
-fn unfinished(path: &Path) -> Option<SweepFile> {
-    let file = SweepFile::read(path).ok()?;
-    (!file.rows.is_empty() && file.rows.len() < file.id.cases).then_some(file)
+/// whichever sweep; None for a missing or complete file, a file without rows, or one that is
+/// not a sweep file, which a new run may replace. A sweep file that cannot be read back (an
+/// edited row, an earlier version's) is an error: replacing it would lose its cases unseen.
+fn unfinished(path: &Path) -> Result<Option<SweepFile>> {
+    match SweepFile::read(path) {
+        Ok(file) => Ok((!file.rows.is_empty() && file.rows.len() < file.id.cases).then_some(file)),
+        Err(e) if names_a_sweep(path) => Err(Error::invalid(
+            "--out",
+            path.display(),
+            format!(
+                "a file a new sweep may replace: it is a sweep file that cannot be read back \
+                 ({e}), whose finished cases a new sweep would lose unseen; remove it, or \
+                 mend it and resume its sweep"
+            ),
+        )),
+        Err(_) => Ok(None),
+    }
+}
+
+/// Whether `path` is a regular file whose first line is a sweep file's header (its last
+/// column names a sweep), whatever the rest holds. Reads at most 64 KiB, the header's bound.
+fn names_a_sweep(path: &Path) -> bool {
+    use std::io::{BufRead, BufReader, Read};
+    // (Not opened unless regular: a FIFO would wait for a writer.)
+    let regular = std::fs::metadata(path).is_ok_and(|m| m.is_file());
+    let Some(file) = regular.then(|| std::fs::File::open(path).ok()).flatten() else {
+        return false;
+    };
+    let mut line = String::new();
+    let read = BufReader::new(file.take(65536))
+        .read_line(&mut line)
+        .is_ok();
+    read && (line.trim_end().rsplit(',').next()).is_some_and(|c| SweepId::parse(c).is_some())
 }
 
 /// Joins the shard files of one sweep into `out`, sorted by case, as the file of the whole
@@ -797,6 +836,8 @@ mod tests {
         assert_ne!(f, fingerprint(&doc, &sets("b.c=12")));
         let other = table("a = 2\n[b]\nc = 2.5\n");
         assert_ne!(f, fingerprint(&other, &sets("b.c=1,2")));
+        // Another program version's arithmetic, another sweep: its runs differ by rounding.
+        assert_ne!(f, fingerprint_of(&doc, &sets("b.c=1,2"), ARITHMETIC + 1));
     }
 
     #[test]

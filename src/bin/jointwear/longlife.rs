@@ -18,7 +18,7 @@ use jointwear::simulation::folder::{
     body_name, conventions, joint_file, write_folder, write_profiles, write_summary, BLOCKS_FILE,
     GROWTH_FIGURE, GROWTH_FILE, PROFILES_FIGURE, PROFILES_STEM, PROGRAM, SUMMARY_FILE,
 };
-use jointwear::simulation::longlife::{predict, LongLife, LongLifeSettings};
+use jointwear::simulation::longlife::{check_max_change, predict, LongLife, LongLifeSettings};
 use jointwear::simulation::Scene;
 use jointwear::Error;
 use serde::Serialize;
@@ -70,13 +70,7 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
             format!("an Archard coefficient k/H in [0, {MAX_K_OVER_H_PER_PA:e}] 1/Pa"),
         )));
     }
-    if !(max_change > 0.0 && max_change <= 1.0) {
-        return Err(bad(Error::invalid(
-            "--max-change",
-            people::exact(max_change),
-            "a fraction in (0, 1]",
-        )));
-    }
+    check_max_change("--max-change", max_change).map_err(bad)?;
     let mut file = SceneFile::read(path).map_err(|e| Failure::input(path, e))?;
     if let Some(k) = k_over_h {
         for w in file.clearance.iter_mut().filter_map(|c| c.wear.as_mut()) {
