@@ -50,13 +50,14 @@ class Run:
         snapshots: joint -> array (snapshot, sector) of wear depths (m).
         summary: joint -> dict: ``max_normal_force_recorded_n`` and
             ``max_penetration_recorded_m`` (over the recorded rotations; NaN when none were
-            recorded), ``max_penetration_whole_run_m`` (at every accepted step's end from the start,
-            the start-up transient included), ``max_wear_angle_deg``, ``max_wear_depth_m`` (angle and depth
-            of the deepest sector), ``contact_fraction``, ``impacts_per_rotation``,
-            ``continuous_contact`` (1 or 0), ``rotations_simulated`` (from the start, settling
-            included: the window of the whole-run maximum and of the wear), ``motion_mode``,
-            ``impacts`` (contact onsets of the
-            run) and ``wear_regions`` (every wear region, most prominent first: ``angle_deg``,
+            recorded), ``max_penetration_whole_run_m`` (at every accepted step's end from the
+            start, the start-up transient included), ``max_wear_angle_deg``,
+            ``max_wear_depth_m`` (angle and depth of the deepest sector), ``contact_fraction``,
+            ``impacts_per_rotation`` and ``continuous_contact`` (1 or 0; these three over the
+            recorded rotations), ``rotations_simulated`` (from the start, settling included: the
+            window of the whole-run maximum, of the wear and of ``impacts``), ``motion_mode``,
+            ``impacts`` (contact onsets over the whole run, settling included, not per
+            rotation) and ``wear_regions`` (every wear region, most prominent first: ``angle_deg``,
             ``depth_m``, ``prominence_m``, ``width_deg``; the README's "Wear regions").
         stats: integrator counters (``steps``, ``rejected``, ``evaluations``,
             ``contact_onsets``).
