@@ -163,6 +163,15 @@ fn bad_input_exits_2_naming_file_field_and_range() {
         assert_eq!(o.status.code(), Some(2), "{option}: {}", stderr(&o));
         assert!(stderr(&o).contains(named), "{named}: {}", stderr(&o));
     }
+    // So is a wear coefficient for a joint without clearance, which its scene refuses.
+    let zero = scene_path("standard").with_file_name("stability/zero_clearance.toml");
+    let o = jointwear(&["longlife", s(&zero), "--k-over-h", "1e-12"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("`--k-over-h`: 1e-12 (expected 0 for this scene: its joint"),
+        "{}",
+        stderr(&o)
+    );
     fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -73,6 +73,20 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
     check_max_change("--max-change", max_change).map_err(bad)?;
     let mut file = SceneFile::read(path).map_err(|e| Failure::input(path, e))?;
     if let Some(k) = k_over_h {
+        let worn = |c: &&jointwear::scene::ClearanceSpec| c.wear.is_some();
+        if let Some(c) =
+            (file.clearance.iter().filter(worn)).find(|c| k > 0.0 && c.clearance_mm == 0.0)
+        {
+            return Err(bad(Error::invalid(
+                "--k-over-h",
+                people::exact(k),
+                format!(
+                    "0 for this scene: its joint `{}` has no clearance, against which any uneven \
+                     wear is steeper than the paper's gap describes (README, validity limits)",
+                    c.name
+                ),
+            )));
+        }
         for w in file.clearance.iter_mut().filter_map(|c| c.wear.as_mut()) {
             w.k_over_h_per_pa = k;
         }
