@@ -825,3 +825,32 @@ fn offsets_beyond_the_clearance_are_refused_naming_the_perturbation() {
     assert!(o.status.success(), "{}", stderr(&o));
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Fails on the code before: `run --ensemble` wrote its outputs beside a plain run's
+/// unfinished checkpoint (exit 0; a later --resume would have replaced them), and `animate`,
+/// which records every rotation, skipped the record budget and aborted on a failed allocation.
+#[test]
+fn an_ensemble_and_an_animation_refuse_what_a_run_refuses() {
+    let dir = temp_dir("ensemble-animate");
+    let scene = short_standard(&dir, 1);
+    let out = dir.join("out");
+    fs::create_dir_all(&out).unwrap();
+    fs::write(out.join("checkpoint.json"), "{}").unwrap();
+    let o = jointwear(&["run", s(&scene), "--ensemble", "2", "--out", s(&out)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("holds one"), "{}", stderr(&o));
+    assert!(!out.join("summary.json").exists());
+    let dense = dir.join("dense.toml");
+    let text = fs::read_to_string(&scene).unwrap();
+    let text = text.replace("record_interval_s = 1e-5", "record_interval_s = 1e-8");
+    assert!(text.contains("record_interval_s = 1e-8"), "{text}");
+    fs::write(&dense, text).unwrap();
+    let o = jointwear(&["animate", s(&dense), "--rotations", "4", "--out", s(&dir)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("`run.record_interval_s`: 1e-8 s"),
+        "{}",
+        stderr(&o)
+    );
+    fs::remove_dir_all(&dir).unwrap();
+}

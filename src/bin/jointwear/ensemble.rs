@@ -5,6 +5,7 @@ use crate::failure::{CliResult, Failure};
 use crate::{claim_outputs, load_variant};
 use jointwear::io::format::{self as people, quantity, Reading};
 use jointwear::io::progress::progress_bar;
+use jointwear::simulation::checkpoint::CHECKPOINT_FILE;
 use jointwear::simulation::ensemble::{self, EnsembleSettings};
 use jointwear::simulation::folder::ensemble::{write_ensemble, Member};
 use jointwear::simulation::summary::summarize;
@@ -54,6 +55,24 @@ pub fn run_ensemble(
     let (scene, dir) = (&variant.scene, &variant.dir);
     fits(path, &settings, scene)?;
     let _claim = claim_outputs(path, dir)?;
+    // A plain run's unfinished checkpoint is not an ensemble's to overwrite or leave beside its
+    // outputs (a later --resume would replace them).
+    let saved = dir.join(CHECKPOINT_FILE);
+    if saved.exists() {
+        return Err(Failure::input(
+            path,
+            Error::invalid(
+                "--out",
+                dir.display(),
+                format!(
+                    "a folder without the checkpoint of an unfinished run: {} holds one; \
+                     continue that run with `jointwear run ... --resume`, start it over with \
+                     --discard-checkpoint (without --ensemble), or choose another --out",
+                    saved.display()
+                ),
+            ),
+        ));
+    }
     let clock = std::time::Instant::now();
     let bar = progress_bar(settings.members as u64, "members");
     let members = ensemble::run(
