@@ -345,34 +345,60 @@ pub fn study(progress: &dyn Progress) -> Result<Study> {
 /// One set as studied: its index, group, parameters and outcome ([`outcome`]).
 type Done = (usize, String, Params, std::result::Result<Metrics, String>);
 
+/// The header of `data/calibration.csv`.
+const CALIBRATION_HEADER: [&str; 22] = [
+    "index",
+    GROUP_COLUMN,
+    "rotation",
+    "mu_d",
+    "v_s_m_s",
+    "pressure",
+    "grazing_m_s",
+    "k_over_h_per_pa",
+    "length_mm",
+    "sectors",
+    "admissible",
+    "region1_deg",
+    "region2_deg",
+    "region3_deg",
+    "region_error_deg",
+    "largest_at_180",
+    "modes_matched",
+    "dominance_matched",
+    "concordance_rms",
+    "low_speed_angle_deg",
+    SCORE_COLUMN,
+    FAILURE_COLUMN,
+];
+
+/// The header and rows of `data/calibration.csv`, the study whole: its header, one row of the
+/// header's length per candidate set of the standard scene ([`candidates`]), indexed in order.
+/// A file cut short, or with sets edited out, printed counts and findings over the sets left
+/// as if every set had been tried.
+pub fn read_study() -> Result<(Vec<String>, Vec<Vec<String>>)> {
+    let path = output_path("data", "calibration.csv");
+    let (header, rows) = crate::io::output::read_rows(&path)?;
+    let golden = Golden::load()?;
+    let scene = crate::scene::scene_path(&golden.standard_wear.scene);
+    let sets = candidates(Params::of_scene(&SceneFile::read(scene)?)).len();
+    let indexed =
+        (rows.iter().enumerate()).all(|(i, r)| r.len() == header.len() && r[0] == i.to_string());
+    if header != CALIBRATION_HEADER || rows.len() != sets || !indexed {
+        return Err(Error::Parse {
+            path,
+            message: format!(
+                "not the calibration study's whole table ({sets} sets under its header, indexed \
+                 in order): rerun `cargo run --release --bin calibration`"
+            ),
+        });
+    }
+    Ok((header, rows))
+}
+
 fn write_study(done: &[Done]) -> Result<()> {
-    let header = [
-        "index",
-        GROUP_COLUMN,
-        "rotation",
-        "mu_d",
-        "v_s_m_s",
-        "pressure",
-        "grazing_m_s",
-        "k_over_h_per_pa",
-        "length_mm",
-        "sectors",
-        "admissible",
-        "region1_deg",
-        "region2_deg",
-        "region3_deg",
-        "region_error_deg",
-        "largest_at_180",
-        "modes_matched",
-        "dominance_matched",
-        "concordance_rms",
-        "low_speed_angle_deg",
-        SCORE_COLUMN,
-        FAILURE_COLUMN,
-    ];
     write_rows(
         &output_path("data", "calibration.csv"),
-        &header,
+        &CALIBRATION_HEADER,
         done.iter().map(|(i, g, p, m)| {
             let mut row = vec![
                 i.to_string(),
@@ -411,7 +437,7 @@ fn write_study(done: &[Done]) -> Result<()> {
                 // No metrics and no score: the set is missing from the ranking, not last in it.
                 Err(why) => {
                     // every column but the failure's empty
-                    row.resize(header.len() - 1, String::new());
+                    row.resize(CALIBRATION_HEADER.len() - 1, String::new());
                     row.push(why.clone());
                 }
             }

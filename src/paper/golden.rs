@@ -17,6 +17,7 @@
 
 use crate::analysis::statistics::Distribution;
 use crate::analysis::CONTINUOUS_CONTACT_FRACTION;
+use crate::io::format::exact;
 use crate::paper::cases::{
     case_of_scene, Case, Need, PerCase, Runs, SteadyMember, WearMember, CASES,
 };
@@ -138,6 +139,42 @@ impl Golden {
 
     /// The golden numbers of a parsed file, with its Table 3 rows looked up by scene.
     fn from_file(file: GoldenFile) -> Result<Golden> {
+        // A tolerance out of its range passes or fails every verdict it decides (a NaN one
+        // failed them all, an angle's of 400 deg passed any angle), and angles must be angles.
+        let (standard, low) = (&file.standard_wear, &file.low_speed_wear);
+        let tolerances = [
+            ("concordance_tolerance", file.concordance_tolerance, 1.0),
+            (
+                "standard_wear.angle_tolerance_deg",
+                standard.angle_tolerance_deg,
+                180.0,
+            ),
+            (
+                "low_speed_wear.angle_tolerance_deg",
+                low.angle_tolerance_deg,
+                180.0,
+            ),
+        ];
+        if let Some((name, v, hi)) = tolerances.iter().find(|(_, v, hi)| !(*v > 0.0 && v <= hi)) {
+            return Err(Error::invalid(
+                format!("data/golden/paper.toml {name}"),
+                exact(*v),
+                format!("a tolerance in (0, {hi}]"),
+            ));
+        }
+        for (name, claim) in [("standard_wear", standard), ("low_speed_wear", low)] {
+            let angles = claim
+                .peak_angles_deg
+                .iter()
+                .chain([&claim.largest_peak_deg]);
+            if let Some(a) = angles.copied().find(|a| !(0.0..360.0).contains(a)) {
+                return Err(Error::invalid(
+                    format!("data/golden/paper.toml {name}"),
+                    exact(a),
+                    "angles in [0, 360) deg",
+                ));
+            }
+        }
         const FIELD: &str = "data/golden/paper.toml table3";
         if let Some(row) = file
             .table3
@@ -564,5 +601,34 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(inconsistent.contains("speed_600rpm"), "{inconsistent}");
+    }
+
+    /// A tolerance out of its range decided every verdict it judges (NaN failed them all, an
+    /// angle's 400 deg passed any angle): it is refused, naming it.
+    #[test]
+    fn a_tolerance_or_angle_out_of_its_range_is_an_error_naming_it() {
+        let edited = |key: &str, sub: Option<&str>, v: f64| {
+            let text = std::fs::read_to_string(golden_path()).unwrap();
+            let mut value: toml::Table = toml::from_str(&text).unwrap();
+            let table = match sub {
+                Some(t) => value[t].as_table_mut().unwrap(),
+                None => &mut value,
+            };
+            table.insert(key.into(), toml::Value::from(v));
+            let e = Golden::from_file(toml::Value::Table(value).try_into().unwrap());
+            e.unwrap_err().to_string()
+        };
+        let e = edited("concordance_tolerance", None, f64::NAN);
+        assert!(
+            e.contains("concordance_tolerance") && e.contains("NaN"),
+            "{e}"
+        );
+        let e = edited("angle_tolerance_deg", Some("standard_wear"), 400.0);
+        assert!(e.contains("standard_wear.angle_tolerance_deg"), "{e}");
+        let e = edited("largest_peak_deg", Some("low_speed_wear"), -5.0);
+        assert!(
+            e.contains("low_speed_wear") && e.contains("[0, 360)"),
+            "{e}"
+        );
     }
 }

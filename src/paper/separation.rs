@@ -210,7 +210,11 @@ const INDEPENDENT: &str = "_independent";
 /// this study's.
 pub fn read_separation() -> Option<Vec<Separation>> {
     let (header, columns) = read_csv(&output_path("data", SEPARATION_FILE)).ok()?;
-    if header.first().map(String::as_str) != Some(ROTATION_COLUMN) {
+    // One row per rotation of the study, every value a number: a file cut short changed the
+    // levels the report quotes "over their last four of 12 rotations".
+    let whole = (columns.iter())
+        .all(|c| c.len() == SEPARATION_ROTATIONS as usize && c.iter().all(|v| v.is_finite()));
+    if header.first().map(String::as_str) != Some(ROTATION_COLUMN) || !whole {
         return None;
     }
     let column = |name: String| {

@@ -6,7 +6,7 @@
 
 use super::markdown::md_table;
 use super::verdict::{Verdict, MEMBER_MAJORITY};
-use crate::laws::contact::DissipationLaw;
+use crate::laws::contact::{DissipationLaw, StiffnessLaw};
 use crate::paper::cases::{case_of_scene, CASES};
 use crate::paper::figures::output_path;
 use crate::paper::format::{number, sci, sig};
@@ -14,7 +14,7 @@ use crate::paper::studies::contact_law_wear::{
     pairs_of, pooled, read_commented, read_law_wear, wear_window, LawRow, PaperResult,
     CLAIM_PREFIX, LAW_WEAR_FIGURE, ONE_REGION_SD_DEG, PAPER_LAW, RUN_FAILED, SIGNIFICANT_P,
 };
-use crate::paper::studies::contact_laws::CONTACT_LAWS_HEADER;
+use crate::paper::studies::contact_laws::{CONTACT_LAWS_HEADER, RESTITUTIONS};
 use std::fmt::Write as _;
 
 /// The heading of the section.
@@ -277,6 +277,25 @@ fn case_label(scene: &str) -> String {
     case_of_scene(scene).map_or(scene.to_string(), |c| c.label())
 }
 
+/// Whether `rows` are the restitution sweep's, whole and in its order (every stiffness law
+/// with every dissipation law at every c_e of [`RESTITUTIONS`]), each of the header's length
+/// with finite achieved restitutions: a row lost, cut or edited printed a wrong range (or
+/// `inf to -inf`) without a word, and a short row panicked.
+fn complete_sweep(rows: &[Vec<String>]) -> bool {
+    let sweep = StiffnessLaw::ALL.iter().flat_map(|s| {
+        (DissipationLaw::ALL.iter()).flat_map(move |d| RESTITUTIONS.iter().map(move |c| (s, d, c)))
+    });
+    let finite = |v: &String| v.parse::<f64>().is_ok_and(f64::is_finite);
+    let count = StiffnessLaw::ALL.len() * DissipationLaw::ALL.len() * RESTITUTIONS.len();
+    rows.len() == count
+        && rows.iter().zip(sweep).all(|(r, (s, d, &ce))| {
+            r.len() == CONTACT_LAWS_HEADER.len()
+                && (r[0] == s.name() && r[1] == d.name())
+                && r[2].parse::<f64>() == Ok(ce)
+                && r[3..5].iter().all(finite)
+        })
+}
+
 /// The restitution study's summary: per dissipation law, the achieved restitution at the wear
 /// study's nominal c_e and the largest |achieved − given| over the sweep with where it is.
 fn restitution_summary(md: &mut String) {
@@ -287,8 +306,8 @@ fn restitution_summary(md: &mut String) {
         );
         return;
     };
-    if header != CONTACT_LAWS_HEADER {
-        md.push_str("`data/contact_laws_restitution.csv` has another layout: rerun `cargo run --release --bin contact_laws`.\n\n");
+    if header != CONTACT_LAWS_HEADER || !complete_sweep(&rows) {
+        md.push_str("`data/contact_laws_restitution.csv` has another layout or is not the whole sweep (a row lost, cut or edited): rerun `cargo run --release --bin contact_laws`.\n\n");
         return;
     }
     let x = |r: &Vec<String>, i: usize| r[i].parse::<f64>().unwrap_or(f64::NAN);
@@ -626,6 +645,24 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow], larger: &[PaperRes
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The committed restitution sweep is whole; a row lost, a row cut short (which panicked
+    /// the report) or a law renamed is not.
+    #[test]
+    fn only_the_whole_restitution_sweep_is_summarised() {
+        let path = output_path("data", "contact_laws_restitution.csv");
+        let (_, rows) = read_commented(&path).unwrap();
+        assert!(complete_sweep(&rows));
+        let mut lost = rows.clone();
+        lost.remove(40);
+        let mut cut = rows.clone();
+        cut[17].truncate(4);
+        let mut renamed = rows.clone();
+        renamed[3][1] = "flores2".into();
+        for damaged in [lost, cut, renamed] {
+            assert!(!complete_sweep(&damaged));
+        }
+    }
 
     /// The row of a law that could not run the case, with its error.
     fn failed_run(pair: (&str, &str), error: &str) -> LawRow {

@@ -7,7 +7,7 @@ use super::markdown::md_table;
 use crate::analysis::statistics::{fractions, Distribution};
 use crate::io::output::read_rows;
 use crate::paper::cases::{Runs, SteadyMember, CASES};
-use crate::paper::convergence::{MAX_MEMBERS, SE_SHARE};
+use crate::paper::convergence::{MAX_MEMBERS, SE_SHARE, SIZES};
 use crate::paper::figures::output_path;
 use crate::paper::format::sci;
 use crate::paper::golden::Golden;
@@ -142,7 +142,7 @@ fn separation_section(runs: &Runs) -> Result<String> {
         1e9 * pair_offset_distance()
     );
     let Some(study) = read_separation() else {
-        md.push_str("*`data/member_separation.csv` is missing: run `cargo run --release --bin separation`.*\n\n");
+        md.push_str("*`data/member_separation.csv` is missing or not the study's whole table (a number for each of its rotations): run `cargo run --release --bin separation`.*\n\n");
         return Ok(md);
     };
     const SHOWN: [usize; 5] = [1, 2, 4, 8, 12];
@@ -236,8 +236,21 @@ fn convergence_section(golden: &Golden) -> String {
         golden.standard_wear.angle_tolerance_deg,
         DEFAULT_MEMBERS
     );
+    // The study's table, whole: its sizes in order (the first column, which names each row),
+    // every row of the header's length and the profile columns the note below explains; a
+    // renamed or lost column or row was dropped from the table without a word.
+    let whole = |header: &[String], rows: &[Vec<String>]| {
+        let sizes = rows.iter().map(|r| r.first()?.parse::<usize>().ok());
+        header.first().is_some_and(|h| h == "members")
+            && rows.len() == SIZES.len()
+            && rows.iter().all(|r| r.len() == header.len())
+            && sizes.eq(SIZES.map(Some))
+            && ["standard.mean_profile_rms_rel", "standard.band_width_rel"]
+                .iter()
+                .all(|c| header.iter().any(|h| h == c))
+    };
     match read_rows(&output_path("data", "ensemble_convergence.csv")) {
-        Ok((header, rows)) => {
+        Ok((header, rows)) if whole(&header, &rows) => {
             let pick: Vec<usize> = header
                 .iter()
                 .enumerate()
@@ -264,8 +277,8 @@ fn convergence_section(golden: &Golden) -> String {
                 .collect();
             md_table(&mut md, &h, &rows);
         }
-        Err(_) => md.push_str(
-            "*`data/ensemble_convergence.csv` is missing: run `cargo run --release --bin convergence`.*\n\n",
+        _ => md.push_str(
+            "*`data/ensemble_convergence.csv` is missing or not the study's whole table: run `cargo run --release --bin convergence`.*\n\n",
         ),
     }
     md.push_str(

@@ -565,6 +565,26 @@ fn ensemble_tolerance_findings(rows: &[ToleranceRow], scene: &SceneSetting) -> S
             )
         }
     };
+    // Every case at every tolerance, once: a case missing at a looser rtol left that rtol's
+    // test (and moved the loosest tolerance recommended) without a word.
+    let count = |case: &str, tol: f64| {
+        (rows.iter())
+            .filter(|r| r.case == case && r.rtol == tol)
+            .count()
+    };
+    let cases = (rows.iter())
+        .filter(|r| r.rtol == RTOLS[0])
+        .map(|r| r.case.as_str());
+    let gap = cases
+        .flat_map(|case| RTOLS.iter().map(move |&tol| (case, tol)))
+        .find(|&(case, tol)| count(case, tol) != 1);
+    if let Some((case, tol)) = gap {
+        return format!(
+            "*No findings: case {case} has not one row at rtol {tol:e} in \
+             `data/{ENSEMBLE_TOLERANCE_FILE}` (incomplete or edited; rerun `cargo run --release --bin \
+             ensemble_tolerance`).*\n\n"
+        );
+    }
     let tight = |r: &ToleranceRow| r.pw.se < TIGHT_SE && r.sw.se < TIGHT_SE;
     let mut parts = Vec::new();
     let mut lost = Vec::new();
@@ -1145,14 +1165,25 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
 
 /// Why steps are rejected: the causes of the 40-rotation run of `data/scaling.csv`.
 fn rejections() -> String {
+    let damaged = "**Why steps are rejected**: `data/scaling.csv` is missing, or lacks the \
+                   40-rotation run's row or one of its `rejected_*` columns: rerun `cargo run \
+                   --release --bin scaling`.\n\n";
     let Ok((header, rows)) = read_rows(&output_path("data", "scaling.csv")) else {
-        return String::new();
+        return damaged.into();
     };
     let col = |name: &str| header.iter().position(|h| h == name);
-    let Some(row) = rows.iter().rfind(|r| r[0] == "rotations") else {
-        return String::new();
+    // The row of the run the text names, not whichever row is last.
+    let Some(row) = rows
+        .iter()
+        .find(|r| r[0] == "rotations" && r.get(1).is_some_and(|v| v == "40"))
+    else {
+        return damaged.into();
     };
-    let value = |name: &str| col(name).and_then(|c| row[c].parse::<f64>().ok());
+    let value = |name: &str| {
+        col(name)
+            .and_then(|c| row.get(c)?.parse::<f64>().ok())
+            .filter(|v| v.is_finite() && *v >= 0.0)
+    };
     let causes = [
         (
             "rejected_after_increase",
@@ -1167,14 +1198,14 @@ fn rejections() -> String {
         ("rejected_failed", "had a failed or non-finite evaluation"),
     ];
     let (Some(rejected), Some(steps)) = (value("rejected"), value("steps")) else {
-        return String::new();
+        return damaged.into();
     };
-    let parts: Vec<String> = causes
-        .iter()
-        .filter_map(|(name, what)| {
-            value(name).map(|v| format!("{:.0} % {what}", 100.0 * v / rejected))
-        })
-        .collect();
+    let Some(parts) = (causes.iter())
+        .map(|(name, what)| value(name).map(|v| format!("{:.0} % {what}", 100.0 * v / rejected)))
+        .collect::<Option<Vec<String>>>()
+    else {
+        return damaged.into();
+    };
     format!(
         "**Why steps are rejected** (the `rejected_*` columns, `ode::Rejections`): of the {} rejected \
          attempts of the 40-rotation run ({:.0} % of attempts), {}: the controller probing the largest step the \
@@ -1192,6 +1223,27 @@ fn step_limit() -> String {
     let Ok((header, columns)) = read_csv(&output_path("data", STEP_LIMIT_FILE)) else {
         return String::new();
     };
+    // Every column the summary reads, whole and finite, or a note: a renamed one gave NaN.
+    let needed = [
+        "lambda_re_per_s",
+        "lambda_im_per_s",
+        "step_s",
+        "stability_boundary",
+        "fraction_of_stable_step",
+        "max_penetration_m",
+    ];
+    let whole = needed.iter().all(|name| {
+        (header.iter().position(|h| h == name))
+            .is_some_and(|c| !columns[c].is_empty() && columns[c].iter().all(|v| v.is_finite()))
+    });
+    if !whole {
+        return format!(
+            "**What limits the step**: `data/{STEP_LIMIT_FILE}` lacks one of its columns \
+             ({}) or holds a value that is not a number: rerun `cargo run --release --bin \
+             scaling`.\n\n",
+            needed.join(", ")
+        );
+    }
     let column = |name: &str| -> Vec<f64> {
         let c = header.iter().position(|h| h == name);
         c.map_or_else(Vec::new, |c| columns[c].clone())
@@ -1560,10 +1612,19 @@ mod tests {
             integration: Integration::adaptive(Method::Dopri5, 3.0 * RTOLS[0]),
             clearance_m: 1e-4,
         };
-        let complete = [row("standard", RTOLS[0]), row("standard", RTOLS[1])];
+        let complete: Vec<ToleranceRow> = RTOLS.iter().map(|&t| row("standard", t)).collect();
         let text = ensemble_tolerance_findings(&complete, &scene);
         assert!(
             text.starts_with(&format!("Against rtol {:e}", RTOLS[0])),
+            "{text}"
+        );
+        // A case missing at a looser rtol is named (it left that rtol's test, and moved the
+        // tolerance recommended, without a word).
+        let gap = &complete[..RTOLS.len() - 1];
+        let text = ensemble_tolerance_findings(gap, &scene);
+        let last = RTOLS[RTOLS.len() - 1];
+        assert!(
+            text.contains(&format!("case standard has not one row at rtol {last:e}")),
             "{text}"
         );
         let stale = [row("standard", RTOLS[0]), row("fast", RTOLS[1])];

@@ -43,19 +43,28 @@ pub(super) fn verdict_changes(claim: &Claim, rows: Option<&[SensitivityRow]>) ->
     let Some((default, _)) = claim_under(rows, &id, &PROTOCOLS[0].key()) else {
         return (false, format!("not in the study's file: {rerun}"));
     };
-    let changed: Vec<String> = PROTOCOLS[1..]
-        .iter()
-        .filter_map(|p| {
-            let key = p.key();
-            let (v, t) = claim_under(rows, &id, &key)?;
-            (v != default).then(|| format!("`{key}`: {t}"))
-        })
-        .collect();
-    let mut note = if changed.is_empty() {
-        format!("same under all {} others", PROTOCOLS.len() - 1)
-    } else {
-        format!("changes under {}", changed.join("; "))
+    // A protocol whose rows are missing is named, not counted as the same.
+    let (mut changed, mut missing) = (Vec::new(), Vec::new());
+    for key in PROTOCOLS[1..].iter().map(|p| p.key()) {
+        match claim_under(rows, &id, &key) {
+            Some((v, t)) if v != default => changed.push(format!("`{key}`: {t}")),
+            Some(_) => {}
+            None => missing.push(format!("`{key}`")),
+        }
+    }
+    let studied = PROTOCOLS.len() - 1 - missing.len();
+    let mut note = match (changed.is_empty(), missing.is_empty()) {
+        (true, true) => format!("same under all {studied} others"),
+        (true, false) => format!("same under the {studied} others in the study's file"),
+        (false, _) => format!("changes under {}", changed.join("; ")),
     };
+    if !missing.is_empty() {
+        let _ = write!(
+            note,
+            " (not in the study's file under {}: {rerun})",
+            missing.join(", ")
+        );
+    }
     if default != claim.verdict() {
         let _ = write!(
             note,
@@ -294,6 +303,17 @@ mod tests {
         let (_, note) = verdict_changes(&claim([10, 22, 0, 0]), Some(&rows));
         assert!(
             note.contains("the study's default run gave reproduced, this run partly"),
+            "{note}"
+        );
+        // a protocol whose rows are missing is named, not counted as the same (it was:
+        // "same under all 5 others")
+        let mut partial = study([all, all, all, all, all, all]);
+        partial.retain(|r| r.protocol != PROTOCOLS[2].key());
+        let (changed, note) = verdict_changes(&c, Some(&partial));
+        assert!(!changed, "{note}");
+        assert!(
+            note.starts_with("same under the 4 others in the study's file")
+                && note.contains(&format!("under `{}`", PROTOCOLS[2].key())),
             "{note}"
         );
         assert!(verdict_changes(&c, None).1.contains("not studied"));

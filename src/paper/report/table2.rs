@@ -4,13 +4,11 @@
 //! ones.
 
 use super::markdown::md_table;
-use crate::io::output::read_rows;
 use crate::paper::calibration::{
     Params, FACTORIAL_GROUP, FAILURE_COLUMN, GROUP_COLUMN, SCORE_ANGLE_DEG, SCORE_COLUMN,
     SCORE_CONCORDANCE, SCORE_DEEPEST_MISPLACED,
 };
 use crate::paper::cases::CASES;
-use crate::paper::figures::output_path;
 use crate::paper::format::{cell, friction_name, pressure_name, sci};
 use crate::scene::{scene_path, MethodSpec, SceneFile};
 use std::fmt::Write as _;
@@ -127,7 +125,7 @@ pub(super) fn table2_section() -> String {
          with friction are admissible (the paper's method includes eq. 4); frictionless sets are \
          run as a diagnostic. The best sets:\n\n",
     );
-    match read_rows(&output_path("data", "calibration.csv")) {
+    match crate::paper::calibration::read_study() {
         Ok((header, mut rows)) => {
             let col = |name: &str| header.iter().position(|h| h == name);
             if let Some(score) = col(SCORE_COLUMN) {

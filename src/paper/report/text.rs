@@ -4,10 +4,8 @@
 use super::verdict::MEMBER_MAJORITY;
 use crate::analysis::regions::Region;
 use crate::analysis::CONTINUOUS_CONTACT_FRACTION;
-use crate::io::output::read_rows;
 use crate::paper::calibration::{Params, FACTORIAL_GROUP, FAILURE_COLUMN, GROUP_COLUMN};
 use crate::paper::cases::{Case, CASES};
-use crate::paper::figures::output_path;
 use crate::paper::format::{sci, sig, sig_n};
 use crate::paper::golden::{angle_distance, PeakClaim};
 use crate::paper::studies::accuracy::csv_number;
@@ -241,7 +239,7 @@ pub(super) struct CalibrationFindings {
 /// angles judged against `low_speed` (the paper's, with its tolerance); `None` when the file
 /// or a column is missing.
 pub(super) fn calibration_findings(low_speed: &PeakClaim) -> Option<CalibrationFindings> {
-    let (header, rows) = read_rows(&output_path("data", "calibration.csv")).ok()?;
+    let (header, rows) = crate::paper::calibration::read_study().ok()?;
     let col = |name: &str| header.iter().position(|h| h == name);
     let (group, mu, ok, deepest, modes, low) = (
         col(GROUP_COLUMN)?,

@@ -221,6 +221,13 @@ impl LawRow {
     fn parse(f: &[String]) -> Option<LawRow> {
         let x = |i: usize| parse_statistic(f.get(i)?);
         let text = |i: usize| f.get(i).cloned();
+        // A row of another length, or a count of members beyond the members (160 of 16 read as
+        // a robust reproduction), is not the study's.
+        let members: usize = f.get(7)?.parse().ok()?;
+        let count: Option<usize> = f.get(8)?.parse().ok();
+        if f.len() != LAW_WEAR_HEADER.len() || count.is_some_and(|c| c > members) {
+            return None;
+        }
         Some(LawRow {
             stiffness: text(0)?,
             dissipation: text(1)?,
@@ -229,8 +236,8 @@ impl LawRow {
             unit: text(4)?,
             window: text(5)?,
             state: text(6)?,
-            members: f.get(7)?.parse().ok()?,
-            count: f.get(8)?.parse().ok(),
+            members,
+            count,
             mean: x(9)?,
             sd: x(10)?,
             test: text(11)?,
@@ -983,6 +990,20 @@ pub fn draw_law_wear(rows: &[LawRow]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The committed study reads back; a row whose count of members exceeds its members
+    /// (read as 160 of 16 reproducing), or that lost a cell, does not.
+    #[test]
+    fn a_count_beyond_the_members_or_a_short_row_is_not_the_studys() {
+        assert!(read_law_wear().is_some());
+        let (_, rows) = read_commented(&output_path("data", LAW_WEAR_FILE)).unwrap();
+        let counted = rows.iter().find(|r| !r[8].is_empty()).unwrap();
+        assert!(LawRow::parse(counted).is_some());
+        let mut over = counted.clone();
+        over[8] = (over[7].parse::<usize>().unwrap() + 1).to_string();
+        let short = &counted[..counted.len() - 1];
+        assert!(LawRow::parse(&over).is_none() && LawRow::parse(short).is_none());
+    }
 
     #[test]
     fn the_pairs_are_every_law_once_with_the_papers_first() {
