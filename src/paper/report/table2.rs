@@ -181,7 +181,7 @@ pub(super) fn table2_section() -> String {
             md.push_str("![calibration](figures/calibration.png)\n\n");
         }
         Err(_) => md.push_str(
-            "*`data/calibration.csv` is missing: run `cargo run --release --bin calibration`.*\n\n",
+            "*`data/calibration.csv` is missing or not the study's whole table: run `cargo run --release --bin calibration`.*\n\n",
         ),
     }
     md
