@@ -319,6 +319,8 @@ fn command_line_member_reproduces_its_ensemble_member_bit_for_bit() {
         );
     }
     assert_eq!(summary["ensemble_member"]["member"], 2);
+    // its protocol as the ensemble's summary and --perturbation name it (it was the prose)
+    assert_eq!(summary["ensemble_member"]["perturbation"], "disc_10nm");
     // its wear profile and time series are the library's member 2, to the bit
     let scene = jointwear::scene::SceneFile::read(&file)
         .unwrap()

@@ -305,7 +305,8 @@ fn calibration_sentences(
     low_speed: &PeakClaim,
 ) -> (String, String) {
     let Some(f) = found else {
-        let missing = "`data/calibration.csv` is missing or not the study's whole table (section 4)";
+        let missing =
+            "`data/calibration.csv` is missing or not the study's whole table (section 4)";
         return (format!("Friction: {missing}."), String::new());
     };
     let fewer = if f.modes_max_mu.1 < f.modes_calibrated.1 {

@@ -41,7 +41,8 @@ pub fn write_run(
         summary.ensemble_member = Some(EnsembleMember {
             member: k,
             seed: e.seed,
-            perturbation: e.perturbation.describe(),
+            perturbation: e.perturbation.key(),
+            perturbation_description: e.perturbation.describe(),
         });
     }
     write_folder(dir, &title, || {
@@ -177,7 +178,10 @@ struct EnsembleMember {
     /// 0-based.
     member: usize,
     seed: u64,
+    /// The protocol's key, as `--perturbation` takes it and the ensemble's summary writes it.
     perturbation: String,
+    /// What the protocol does, in words.
+    perturbation_description: String,
 }
 
 #[derive(Serialize)]
