@@ -854,3 +854,40 @@ fn an_ensemble_and_an_animation_refuse_what_a_run_refuses() {
     );
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Fails on the code before: a settling run that reached `steady_state.max_rotations` with its
+/// orbit still changing was printed as "3 settling + 3 rotations" like a settled one, and the
+/// motion's figures did not say they cover the recorded rotations only.
+#[test]
+fn a_run_that_did_not_settle_says_so_and_the_motion_names_its_window() {
+    let dir = temp_dir("unsettled");
+    let scene = short_standard(&dir, 3);
+    let capped = [
+        "--set",
+        "run.settle=true",
+        "--set",
+        "run.steady_state.orbit_tolerance=1e-9",
+        "--set",
+        "run.steady_state.max_rotations=3",
+    ];
+    let out = dir.join("run");
+    let o = jointwear(&[&["run", s(&scene), "--out", s(&out)], &capped[..]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(
+        text.contains("not settled: after 3 settling rotations"),
+        "{text}"
+    );
+    assert!(
+        text.contains("impacts per rotation; recorded rotations)"),
+        "{text}"
+    );
+    let out = dir.join("ensemble");
+    let args = ["run", s(&scene), "--ensemble", "2", "--out", s(&out)];
+    let o = jointwear(&[&args[..], &capped[..]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.contains("not settled: 2 of 2 members"), "{text}");
+    assert!(text.contains("impacts per rotation (recorded)"), "{text}");
+    fs::remove_dir_all(&dir).unwrap();
+}

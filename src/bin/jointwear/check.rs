@@ -79,8 +79,13 @@ pub fn check(path: &Path, out: Option<PathBuf>) -> CliResult<()> {
         }
     }
     let r = &file.run;
+    // A settling run simulates its settling rotations first (they wear too).
+    let settling = scene.run.settle.map_or(String::new(), |s| {
+        format!(" after settling (up to {} rotations)", s.max_rotations)
+    });
     println!(
-        "run: {} rotations ({} recorded every {} s), method {}, rtol {}, atol {}, max step {} s",
+        "run: {} rotations{settling} ({} recorded every {} s), method {}, rtol {}, atol {}, max \
+         step {} s",
         r.rotations,
         r.record_rotations,
         given(r.record_interval_s),

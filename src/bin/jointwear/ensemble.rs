@@ -78,11 +78,19 @@ pub fn run_ensemble(
     let members = ensemble::run(
         scene,
         &settings,
-        |_, o| ((summarize(scene, &o), o.final_wear), o.wall_time),
+        |_, o| {
+            let unsettled = o.settling.is_some_and(|s| !s.steady);
+            (
+                (summarize(scene, &o), o.final_wear),
+                (o.wall_time, unsettled),
+            )
+        },
         &bar,
     );
     bar.finish_and_clear();
-    let (members, walls): (Vec<Member>, Vec<f64>) = members.map_err(bad)?.into_iter().unzip();
+    let (members, runs): (Vec<Member>, Vec<(f64, bool)>) =
+        members.map_err(bad)?.into_iter().unzip();
+    let (walls, unsettled): (Vec<f64>, Vec<bool>) = runs.into_iter().unzip();
     let wall = clock.elapsed().as_secs_f64();
     let origin = variant.variant.origin();
     let stats =
@@ -101,6 +109,16 @@ pub fn run_ensemble(
         },
         quantity(wall, "s")
     );
+    let unsettled = unsettled.iter().filter(|&&u| u).count();
+    if unsettled > 0 {
+        // A cap reached is not a steady state: those members' recorded rotations are not
+        // after settling.
+        println!(
+            "  not settled: {unsettled} of {} members reached run.steady_state.max_rotations \
+             with their orbit still changing beyond run.steady_state.orbit_tolerance",
+            settings.members
+        );
+    }
     println!(
         "  perturbation {}: {}",
         settings.perturbation.key(),
@@ -110,12 +128,19 @@ pub fn run_ensemble(
         println!("  joint {} (mean ± sd, [5 %, 95 %]):", j.name);
         for (name, states) in &j.quantities {
             let d = &states.pooled;
-            let r = Reading::of(name);
+            let mut r = Reading::of(name);
+            // The motion's figures cover the recorded rotations, as the forces' do.
+            if matches!(*name, "contact_fraction" | "impacts_per_rotation") {
+                r.label.push_str(" (recorded)");
+            }
             if d.n == 0 {
                 println!("    {:36} not recorded (run.record_rotations = 0)", r.label);
             } else if name == &"continuous_contact" {
                 let k = (d.mean * d.n as f64).round();
-                println!("    continuous contact in {k} of {} members", d.n);
+                println!(
+                    "    continuous contact in {k} of {} members (recorded rotations)",
+                    d.n
+                );
             } else {
                 println!(
                     "    {:36} {}  [{}, {}]",

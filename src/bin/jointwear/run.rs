@@ -198,6 +198,16 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
         Some(settled) => format!("{} settling + {}", settled.rotations, scene.run.rotations),
         None => scene.run.rotations.to_string(),
     };
+    // A cap reached is not a steady state: the recorded rotations are not after settling.
+    let unsettled = out.settling.filter(|s| !s.steady).map(|s| {
+        format!(
+            "  not settled: after {} settling rotations (run.steady_state.max_rotations) the \
+             orbit still changed by {} of the clearance per rotation, above \
+             run.steady_state.orbit_tolerance; the recorded rotations are not a steady state\n",
+            s.rotations,
+            number(s.orbit_change)
+        )
+    });
     println!(
         "  {rotations} rotations in {} of wall time: {} steps, {} rejected, {} evaluations, {} \
          contact onsets",
@@ -207,6 +217,7 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
         s.evaluations,
         s.events
     );
+    print!("{}", unsettled.unwrap_or_default());
     if let Some(e) = out.energy {
         println!(
             "  energy balance residual {} (relative)",
@@ -231,7 +242,7 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
         );
         if let Some(m) = j.motion {
             println!(
-                "    motion: {} ({} in contact, {} impacts per rotation)",
+                "    motion: {} ({} in contact, {} impacts per rotation; recorded rotations)",
                 m.mode(),
                 quantity(100.0 * m.contact_fraction, "%"),
                 number(m.impacts_per_rotation)

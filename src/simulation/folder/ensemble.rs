@@ -146,8 +146,14 @@ fn write_files(
         series.push((k, angles, mean, lo, hi));
     }
     if !series.is_empty() {
+        // A settling member wears through its own settling rotations too.
+        let after = if scene.run.settle.is_some() {
+            "each member's settling + "
+        } else {
+            ""
+        };
         let title = format!(
-            "wear after {} rotations, mean of {} members, 5-95 % shaded",
+            "wear after {after}{} rotations, mean of {} members, 5-95 % shaded",
             scene.run.rotations, settings.members
         );
         // one panel per joint: their angles are in different bearings' frames
@@ -252,8 +258,8 @@ fn readme(
          whole-run maximum and of the final wear: run.rotations plus the member's own settling \
          rotations where the scene settles\n\
          \x20 wall_time_s, error                   the member's wall time (s); empty error\n\
-         ensemble_summary.csv: per joint and quantity (the numeric columns above, and \
-         continuous_contact, 1 or 0 per member, whose mean is the share in continuous \
+         ensemble_summary.csv: per joint and quantity (the joints' numeric columns above, \
+         and continuous_contact, 1 or 0 per member, whose mean is the share in continuous \
          contact): n (finite values), mean, sd, min, q05, q25, q50, q75, q95, max (empty \
          fields where n is 0: nothing recorded); then the \
          states the members fall into (largest-gap rule: split at the largest gap of the sorted \
@@ -268,11 +274,16 @@ fn readme(
     ));
     if !worn.is_empty() {
         text.push_str(&format!(
-            "{}: per sector of the final wear profiles: angle_deg (sector centre, bearing \
-             frame), then mean_m, sd_m, min_m, q05_m ... q95_m, max_m of the depth worn into \
-             the bearing (m).\n\
+            "{}: per sector of the final wear profiles (each member's after its \
+             rotations_simulated{}): angle_deg (sector centre, bearing frame), then mean_m, \
+             sd_m, min_m, q05_m ... q95_m, max_m of the depth worn into the bearing (m).\n\
              wear.png: the mean profile (µm), 5-95 % band shaded.\n",
-            worn.join(", ")
+            worn.join(", "),
+            if scene.run.settle.is_some() {
+                ", which differ between members as each settles in its own number of rotations"
+            } else {
+                ""
+            }
         ));
     }
     text.push_str(&format!(

@@ -90,7 +90,11 @@ fn write_files(scene: &Scene, out: &RunOutput, dir: &Path) -> Result<()> {
         .collect();
     write_profiles(dir, SNAPSHOTS_STEM, EVOLUTION_FIGURE, m, &snapshots)?;
     if !worn.is_empty() {
-        let title = format!("wear after {} rotations", scene.run.rotations);
+        // (From the start: settling rotations wear too.)
+        let title = format!(
+            "wear after {} rotations",
+            out.rotations_simulated(&scene.run)
+        );
         let panels: Vec<Axes> = worn
             .iter()
             .map(|(k, a, um)| {
@@ -409,7 +413,13 @@ fn readme(title: &str, scene: &Scene, out: &RunOutput) -> String {
          the key names; method and tolerances; driver_speed_rpm signed, positive \
          counter-clockwise); counts (rotations simulated, settling rotations, recorded samples, \
          steps, rejected steps, right-hand-side evaluations, contact onsets); wall_time_s; \
-         energy_balance_residual; settling; joints (per clearance joint: bodies, radial \
+         energy_balance_residual (with run.energy_accounting: driver work less the mechanical \
+         energy's change and the damping and friction losses, over the whole run from the \
+         start, relative to the larger of the driver work and the mechanical change; else \
+         null); settling (rotations, orbit_change: the last settling rotation's RMS orbit \
+         change over the clearance, steady: false where run.steady_state.max_rotations was \
+         reached first, and the recorded rotations are then not a steady state; null without \
+         settling); joints (per clearance joint: bodies, radial \
          clearance, max_normal_force_recorded_n and max_penetration_recorded_m over the \
          recorded rotations or null if none were recorded, max_penetration_whole_run_m over \
          every step from the start (the start-up transient, the impact after the centred \
