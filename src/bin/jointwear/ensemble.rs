@@ -59,19 +59,9 @@ pub fn run_ensemble(
     // outputs (a later --resume would replace them).
     let saved = dir.join(CHECKPOINT_FILE);
     if saved.exists() {
-        return Err(Failure::input(
-            path,
-            Error::invalid(
-                "--out",
-                dir.display(),
-                format!(
-                    "a folder without the checkpoint of an unfinished run: {} holds one; \
-                     continue that run with `jointwear run ... --resume`, start it over with \
-                     --discard-checkpoint (without --ensemble), or choose another --out",
-                    saved.display()
-                ),
-            ),
-        ));
+        let how = "continue that run with `jointwear run ... --resume`, start it over with \
+                   --discard-checkpoint (without --ensemble)";
+        return Err(crate::run::checkpoint_in_the_way(path, dir, &saved, how));
     }
     let clock = std::time::Instant::now();
     let bar = progress_bar(settings.members as u64, "members");

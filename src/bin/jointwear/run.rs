@@ -102,19 +102,8 @@ pub fn run(
             saved.display()
         );
     } else if saved.exists() && saved_run == Saved::Keep {
-        return Err(Failure::input(
-            path,
-            Error::invalid(
-                "--out",
-                dir.display(),
-                format!(
-                    "a folder without the checkpoint of an unfinished run: {} holds one; \
-                     continue that run with --resume, start over with --discard-checkpoint, \
-                     or choose another --out",
-                    saved.display()
-                ),
-            ),
-        ));
+        let how = "continue that run with --resume, start over with --discard-checkpoint";
+        return Err(checkpoint_in_the_way(path, dir, &saved, how));
     }
     let mut sim = if saved_run == Saved::Resume {
         let checkpoint = read_checkpoint(&saved, fingerprint).map_err(|e| match e {
@@ -267,4 +256,22 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
             );
         }
     }
+}
+
+/// The error of an output folder `dir` that holds `saved`, the checkpoint of an unfinished
+/// run, which the command would overwrite or leave beside its outputs; `how` says what the
+/// user can do about it besides choosing another --out.
+pub fn checkpoint_in_the_way(path: &Path, dir: &Path, saved: &Path, how: &str) -> Failure {
+    Failure::input(
+        path,
+        Error::invalid(
+            "--out",
+            dir.display(),
+            format!(
+                "a folder without the checkpoint of an unfinished run: {} holds one; {how}, \
+                 or choose another --out",
+                saved.display()
+            ),
+        ),
+    )
 }
