@@ -371,14 +371,17 @@ const CALIBRATION_HEADER: [&str; 22] = [
     FAILURE_COLUMN,
 ];
 
-/// The header and rows of `data/calibration.csv`, the study whole: its header, one row of the
+/// The header and rows of a CSV table.
+pub type StudyTable = (Vec<String>, Vec<Vec<String>>);
+
+/// The header and rows of `data/calibration.csv`, the study whole (its sets those of `golden`'s
+/// standard scene): its header, one row of the
 /// header's length per candidate set of the standard scene ([`candidates`]), indexed in order.
 /// A file cut short, or with sets edited out, printed counts and findings over the sets left
 /// as if every set had been tried.
-pub fn read_study() -> Result<(Vec<String>, Vec<Vec<String>>)> {
+pub fn read_study(golden: &Golden) -> Result<StudyTable> {
     let path = output_path("data", "calibration.csv");
     let (header, rows) = crate::io::output::read_rows(&path)?;
-    let golden = Golden::load()?;
     let scene = crate::scene::scene_path(&golden.standard_wear.scene);
     let sets = candidates(Params::of_scene(&SceneFile::read(scene)?)).len();
     let indexed =

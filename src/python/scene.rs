@@ -398,7 +398,7 @@ impl Document {
         for r in &results {
             cases.append(case_dict(py, r)?)?;
         }
-        Ok((sweep.sets.into_iter().map(|a| a.key).collect(), cases))
+        Ok((canonical_keys(&sweep), cases))
     }
 
     /// Checks the sweep of [`Document::sweep`] without running it and returns its keys as the
@@ -413,7 +413,7 @@ impl Document {
         seed: u64,
     ) -> PyResult<(Vec<String>, usize)> {
         let sweep = self.make_sweep(&keys, &values, members, seed)?;
-        Ok((sweep.sets.into_iter().map(|a| a.key).collect(), sweep.total))
+        Ok((canonical_keys(&sweep), sweep.total))
     }
 
     /// Runs case `case` of the sweep of [`Document::sweep`] with the GIL released, for a
@@ -587,6 +587,12 @@ fn sweep_columns(d: &Bound<'_, PyDict>, outcome: &Outcome) -> PyResult<()> {
         }
     }
     Ok(())
+}
+
+/// The keys of `sweep` as the program's sweep header spells them (canonical: an array index as
+/// its number).
+fn canonical_keys(sweep: &Sweep) -> Vec<String> {
+    sweep.sets.iter().map(|a| a.key.clone()).collect()
 }
 
 /// A run's output as a dict (see [`Document::run`]).

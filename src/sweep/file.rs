@@ -16,8 +16,9 @@
 //!   finishes rewrites its file in case order, atomically.
 //! * The fingerprint is a hash (64-bit FNV-1a) of the scene document, `extends` resolved, of
 //!   the `--set` assignments and of the program's arithmetic version: a file of another sweep
-//!   is recognised when resuming or merging. `shard=I/N` and `cases` (rows the shard holds when complete) let [`merge`]
-//!   refuse a missing, repeated or unfinished shard; `total` is the whole sweep's case count.
+//!   is recognised when resuming or merging. `shard=I/N` and `cases` (rows the shard holds
+//!   when complete) let [`merge`] refuse a missing, repeated or unfinished shard; `total` is
+//!   the whole sweep's case count.
 
 use crate::analysis::MOTION_MODES;
 use crate::io::output::{fnv1a, parse_rows, read_bounded_text, write_table, GrowingTable};
@@ -227,7 +228,7 @@ impl SweepFile {
         })?;
         let mut rows = Vec::new();
         let mut seen = HashSet::new();
-        let labels = label_columns(&header);
+        let labels = labels_of(&cells);
         // Every line here ends with its newline (a line cut by a kill was dropped above), so a
         // row of another length was edited: dropping it would lose a case without a word.
         for (k, mut row) in all.into_iter().enumerate() {
@@ -445,12 +446,19 @@ fn write_file(path: &Path, id: &SweepId, header: &[String], rows: Vec<Vec<String
 
 /// How many leading cells of a row under `header` label its case: `case` and the set values.
 fn label_columns(header: &[String]) -> usize {
-    cell_kinds(header).map_or(1, |kinds| {
-        (kinds.iter())
-            .take_while(|c| matches!(c, Cell::Case | Cell::Value))
-            .count()
-    })
+    cell_kinds(header).map_or(1, |kinds| labels_of(&kinds))
 }
+
+/// How many leading cells of a row of `kinds` ([`cell_kinds`]) label its case.
+fn labels_of(kinds: &[Cell]) -> usize {
+    (kinds.iter())
+        .take_while(|c| matches!(c, Cell::Case | Cell::Value))
+        .count()
+}
+
+/// Why a file may hold another sweep's rows, for the messages that refuse it.
+const ANOTHER_SWEEP: &str = "another scene, other --set values, another shard or another \
+                             program version's arithmetic";
 
 /// The label check of a row whose first `labels` cells are its case and set values, in a file
 /// of the sweep `fingerprint`: their hash, written in the row's cell of the id column. A row
@@ -574,9 +582,7 @@ impl<'a> JournaledSweep<'a> {
                         format!(
                             "a file no unfinished sweep needs: it holds {finished} of the \
                              {cases} cases of another sweep or shard (fingerprint {}, shard \
-                             {}/{}: another scene, other --set values, another --shard or another \
-                             program version's arithmetic), \
-                             which this sweep would lose; give another --out, finish that \
+                             {}/{}: {ANOTHER_SWEEP}), which this sweep would lose; give another --out, finish that \
                              sweep with its own command and --resume, or remove the file",
                             file.id.fingerprint, file.id.shard.index, file.id.shard.count
                         ),
@@ -670,8 +676,7 @@ pub fn resume_rows(path: &Path, id: &SweepId, header: &[String]) -> Result<Vec<V
             path.display(),
             format!(
                 "a file of this sweep and shard (fingerprint {}, shard {}/{}); it holds \
-                 fingerprint {}, shard {}/{}{}: another scene, other --set values, another \
-                 shard or another program version's arithmetic (use another --out, or remove \
+                 fingerprint {}, shard {}/{}{}: {ANOTHER_SWEEP} (use another --out, or remove \
                  the file to start over)",
                 id.fingerprint,
                 id.shard.index,

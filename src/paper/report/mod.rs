@@ -105,6 +105,8 @@ pub fn write(
     total_seconds: f64,
 ) -> Result<()> {
     let mut md = String::new();
+    // Read once for the Why paragraph and section 4's tables.
+    let calibration = crate::paper::calibration::read_study(golden).ok();
     let claims = claims(runs, golden)?;
     let count = |v: Verdict| claims.iter().filter(|c| c.verdict() == v).count();
     let n = runs.ensemble.members;
@@ -257,7 +259,7 @@ pub fn write(
         &mean_profile_regions(runs.wear(CASES.standard.scene)?),
         &golden.standard_wear,
         &golden.low_speed_wear,
-        calibration_findings(&golden.low_speed_wear).as_ref(),
+        calibration_findings(calibration.as_ref(), &golden.low_speed_wear).as_ref(),
         &ensemble,
     ));
 
@@ -266,7 +268,7 @@ pub fn write(
 
     figures::figures_section(&mut md, n, drawn);
 
-    md.push_str(&table2::table2_section());
+    md.push_str(&table2::table2_section(calibration.as_ref()));
     // Sections 5 and 7 state the default tolerance from one reading of its inputs.
     let tolerance = numerical::ToleranceInputs::read();
     numerical::work_precision_section(&mut md, studies.accuracy, &ensemble, &tolerance);

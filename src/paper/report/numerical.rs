@@ -15,7 +15,7 @@ use crate::paper::cases::CASES;
 use crate::paper::figures::output_path;
 use crate::paper::format::{count, number, sci};
 use crate::paper::golden::Golden;
-use crate::paper::performance::{STEP_LIMIT_EVERY, STEP_LIMIT_FILE, TARGETS};
+use crate::paper::performance::{ROTATIONS, STEP_LIMIT_EVERY, STEP_LIMIT_FILE, TARGETS};
 use crate::paper::studies::accuracy::{EnsembleCheck, Finding, WINDOWS, WINDOW_ROTATIONS};
 use crate::paper::studies::ensemble_tolerance::{
     read_ensemble_tolerance, ToleranceRow, ENSEMBLE_TOLERANCE_FILE, RTOLS, Z_FAMILY,
@@ -1173,9 +1173,8 @@ fn rejections() -> String {
     };
     let col = |name: &str| header.iter().position(|h| h == name);
     // The row of the run the text names, not whichever row is last.
-    let Some(row) = rows
-        .iter()
-        .find(|r| r[0] == "rotations" && r.get(1).is_some_and(|v| v == "40"))
+    let longest = ROTATIONS[ROTATIONS.len() - 1].to_string();
+    let Some(row) = (rows.iter()).find(|r| r[0] == "rotations" && r.get(1) == Some(&longest))
     else {
         return damaged.into();
     };

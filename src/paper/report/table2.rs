@@ -5,8 +5,8 @@
 
 use super::markdown::md_table;
 use crate::paper::calibration::{
-    Params, FACTORIAL_GROUP, FAILURE_COLUMN, GROUP_COLUMN, SCORE_ANGLE_DEG, SCORE_COLUMN,
-    SCORE_CONCORDANCE, SCORE_DEEPEST_MISPLACED,
+    Params, StudyTable, FACTORIAL_GROUP, FAILURE_COLUMN, GROUP_COLUMN, SCORE_ANGLE_DEG,
+    SCORE_COLUMN, SCORE_CONCORDANCE, SCORE_DEEPEST_MISPLACED,
 };
 use crate::paper::cases::CASES;
 use crate::paper::format::{cell, friction_name, pressure_name, sci};
@@ -23,7 +23,7 @@ fn method_name(m: MethodSpec) -> &'static str {
 }
 
 /// The reconstruction of Table 2: every value, its source, and how much results move with it.
-pub(super) fn table2_section() -> String {
+pub(super) fn table2_section(calibration: Option<&StudyTable>) -> String {
     let mut md = String::from("## 4. Table 2 reconstructed\n\n");
     md.push_str(
         "Table 2 of the paper is lost. The values used (`data/scenes/standard.toml`, inherited by every case scene) \
@@ -125,8 +125,9 @@ pub(super) fn table2_section() -> String {
          with friction are admissible (the paper's method includes eq. 4); frictionless sets are \
          run as a diagnostic. The best sets:\n\n",
     );
-    match crate::paper::calibration::read_study() {
-        Ok((header, mut rows)) => {
+    match calibration {
+        Some((header, rows)) => {
+            let mut rows = rows.clone();
             let col = |name: &str| header.iter().position(|h| h == name);
             if let Some(score) = col(SCORE_COLUMN) {
                 rows.sort_by(|a, b| {
@@ -167,7 +168,7 @@ pub(super) fn table2_section() -> String {
                         .collect()
                 })
                 .unwrap_or_default();
-            if let Some(text) = scene_set_against_noise(&header, &rows, scene.as_ref().ok()) {
+            if let Some(text) = scene_set_against_noise(header, &rows, scene.as_ref().ok()) {
                 md.push_str(&text);
             }
             if !failed.is_empty() {
@@ -180,7 +181,7 @@ pub(super) fn table2_section() -> String {
             }
             md.push_str("![calibration](figures/calibration.png)\n\n");
         }
-        Err(_) => md.push_str(
+        None => md.push_str(
             "*`data/calibration.csv` is missing or not the study's whole table: run `cargo run --release --bin calibration`.*\n\n",
         ),
     }

@@ -4,7 +4,9 @@
 use super::verdict::MEMBER_MAJORITY;
 use crate::analysis::regions::Region;
 use crate::analysis::CONTINUOUS_CONTACT_FRACTION;
-use crate::paper::calibration::{Params, FACTORIAL_GROUP, FAILURE_COLUMN, GROUP_COLUMN};
+use crate::paper::calibration::{
+    Params, StudyTable, FACTORIAL_GROUP, FAILURE_COLUMN, GROUP_COLUMN,
+};
 use crate::paper::cases::{Case, CASES};
 use crate::paper::format::{sci, sig, sig_n};
 use crate::paper::golden::{angle_distance, PeakClaim};
@@ -235,11 +237,14 @@ pub(super) struct CalibrationFindings {
     pub low_speed_as_paper: usize,
 }
 
-/// What `data/calibration.csv` says across its sets ([`CalibrationFindings`]), the 30 r/min
-/// angles judged against `low_speed` (the paper's, with its tolerance); `None` when the file
-/// or a column is missing.
-pub(super) fn calibration_findings(low_speed: &PeakClaim) -> Option<CalibrationFindings> {
-    let (header, rows) = crate::paper::calibration::read_study().ok()?;
+/// What the calibration study (`study`, [`crate::paper::calibration::read_study`]) says across
+/// its sets ([`CalibrationFindings`]), the 30 r/min angles judged against `low_speed` (the
+/// paper's, with its tolerance); `None` when the file or a column is missing.
+pub(super) fn calibration_findings(
+    study: Option<&StudyTable>,
+    low_speed: &PeakClaim,
+) -> Option<CalibrationFindings> {
+    let (header, rows) = study?;
     let col = |name: &str| header.iter().position(|h| h == name);
     let (group, mu, ok, deepest, modes, low) = (
         col(GROUP_COLUMN)?,
@@ -607,7 +612,10 @@ mod tests {
         let (friction, robust) = calibration_sentences(None, &paper(), &low_speed());
         assert!(friction.contains("missing") && robust.is_empty());
         // the committed study reads, and its calibrated friction is the scene's
-        let committed = calibration_findings(&low_speed()).expect("data/calibration.csv reads");
+        let golden = crate::paper::golden::Golden::load().unwrap();
+        let study = crate::paper::calibration::read_study(&golden).ok();
+        let committed =
+            calibration_findings(study.as_ref(), &low_speed()).expect("data/calibration.csv reads");
         let (friction, robust) = calibration_sentences(Some(&committed), &paper(), &low_speed());
         println!("{friction}{robust}");
         assert!(committed.admissible > 0 && committed.calibrated_mu_d > 0.0);
