@@ -1118,6 +1118,26 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              needs the evaluation itself written lane-wise and, for bit-identical members, either that form \
              matched to the scalar one operation by operation (the prototype agrees to 2.3×10⁻¹¹, not to the \
              bit) or the scalar path replaced by its one-lane form, which moves every trajectory. \
+             End to end, lanes pay less than the evaluation's ratio (measured 2026-11-27, not kept): each \
+             member ran as it is (`Simulation` with its integrator, onsets and wear unchanged) on a stack of its \
+             own as a coroutine (the `corosensei` crate), its right-hand side handing its state to a batch of its \
+             thread and suspending; when every lane's member waited, the prototype's lane-wise evaluation above \
+             served them all at once, and a finished member's lane took the next member. Its accelerations \
+             matched the library's at each of the first 20 000 evaluations of four members (to 10⁻⁷ relative, \
+             the penetrations to 10⁻¹² m), not to the bit, so its members followed their own trajectories: \
+             11 543 262 evaluations for the 16 members of the standard ensemble against the library's \
+             12 459 244. On 2 threads (5 alternating runs, median and range): the library 0.82 s (0.80-0.83), \
+             129 ns of CPU per member evaluation; one lane 0.92 s, 156 ns; two lanes 0.67 s (0.66-0.70), \
+             114 ns; four lanes 0.67 s (0.66-0.69), 113 ns, the lanes busy in 94-95 % of the batches. A member's \
+             CPU per evaluation fell by 12 %, not by the 30-40 % estimated above: in the running program a \
+             four-lane batch with its gathering took about 50 ns per member evaluation (44 % of the CPU by \
+             `perf record`), not the 32 ns of the isolated chains; the hand-over to and from the coroutine about \
+             9 ns (8 %); and the work the lanes do not share, the integrator's stages and step control, the \
+             onset test and the wear, about 55 ns, most of it the wear of each step (in the library's run the \
+             Hertz arc's update is 12.5 % of the CPU and the contact state at the step's midpoint 9.2 %). At the \
+             library's evaluation count the four-lane runner would take about 0.72 s: the 0.6 s target needs \
+             both the lane-wise evaluation and the unshared work cheaper, and this runner would cost a second, \
+             bit-identical copy of the slider-crank's evaluation and a coroutine dependency for 12 %. \
              (iii) Why the default trajectory costs twice the median member: eq. 3's damping divides by the \
              normal velocity δ̇⁻ of the contact's onset (floored at the scene's grazing velocity, 1 mm/s), and in \
              continuous contact that one value holds for as long as the contact lasts. The default trajectory's \
