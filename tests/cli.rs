@@ -667,7 +667,13 @@ fn ensemble_outputs_are_documented() {
     let (header, rows) =
         jointwear::io::output::read_rows(&out.join("ensemble_summary.csv")).unwrap();
     let mean = header.iter().position(|h| h == "mean").unwrap();
+    let n = header.iter().position(|h| h == "n").unwrap();
     for r in &rows {
+        // Empty where no member has a value: `settled` of a scene that does not settle.
+        if r[n] == "0" {
+            assert!(r[mean].is_empty() && r[1] == "settled", "{r:?}");
+            continue;
+        }
         let x: f64 = r[mean].parse().unwrap();
         assert_eq!(number(x), r[mean]);
     }
@@ -889,5 +895,73 @@ fn a_run_that_did_not_settle_says_so_and_the_motion_names_its_window() {
     let text = stdout(&o);
     assert!(text.contains("not settled: 2 of 2 members"), "{text}");
     assert!(text.contains("impacts per rotation (recorded)"), "{text}");
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The column `settled` of a member's and a sweep case's row; `None` when it is missing.
+fn settled_column(path: &Path) -> Option<Vec<String>> {
+    let (header, rows) = jointwear::io::output::read_rows(path).unwrap();
+    let i = header.iter().position(|h| h == "rod-slider.settled")?;
+    Some(rows.iter().map(|r| r[i].clone()).collect())
+}
+
+/// Fails on the code before: the members' rows had no `settled` column, and a member that
+/// stopped at `steady_state.max_rotations` unsettled had the same `rotations_simulated` as one
+/// that settled in its last allowed rotation (seen: 8 and 8 at `max_rotations = 6`).
+#[test]
+fn member_and_sweep_rows_say_whether_the_run_settled() {
+    let dir = temp_dir("settled-column");
+    let scene = short_standard(&dir, 2);
+    let settle = |tolerance: &str| {
+        [
+            "--set".to_string(),
+            "run.settle=true".to_string(),
+            "--set".to_string(),
+            format!("run.steady_state.orbit_tolerance={tolerance}"),
+            "--set".to_string(),
+            "run.steady_state.max_rotations=3".to_string(),
+        ]
+    };
+    let ensemble = |name: &str, extra: &[String]| {
+        let out = dir.join(name);
+        let args = ["run", s(&scene), "--ensemble", "2", "--out", s(&out)];
+        let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
+        let o = jointwear(&[&args[..], &extra[..]].concat());
+        assert!(o.status.success(), "{}", stderr(&o));
+        settled_column(&out.join("ensemble_members.csv"))
+    };
+    // An orbit that must not change by more than 1e-9 clearances cannot settle in 3 rotations;
+    // one allowed to change by a whole clearance settles after its first.
+    assert_eq!(
+        ensemble("capped", &settle("1e-9")),
+        Some(vec!["false".into(); 2])
+    );
+    assert_eq!(
+        ensemble("loose", &settle("1")),
+        Some(vec!["true".into(); 2])
+    );
+    assert_eq!(ensemble("plain", &[]), Some(vec![String::new(); 2]));
+    let summary = fs::read_to_string(dir.join("capped/ensemble_summary.csv")).unwrap();
+    assert!(
+        summary
+            .lines()
+            .any(|l| l.starts_with("rod-slider,settled,2,0,")),
+        "{summary}"
+    );
+    let file = dir.join("sweep.csv");
+    let mut args = vec!["sweep", s(&scene), "--out", s(&file), "--set"];
+    args.push("run.steady_state.orbit_tolerance=1e-9,1");
+    let extra = [
+        "--set",
+        "run.settle=true",
+        "--set",
+        "run.steady_state.max_rotations=3",
+    ];
+    let o = jointwear(&[&args[..], &extra[..]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        settled_column(&file),
+        Some(vec!["false".into(), "true".into()])
+    );
     fs::remove_dir_all(&dir).unwrap();
 }

@@ -55,7 +55,10 @@ class Run:
             ``max_wear_depth_m`` (angle and depth of the deepest sector), ``contact_fraction``,
             ``impacts_per_rotation`` and ``continuous_contact`` (1 or 0; these three over the
             recorded rotations), ``rotations_simulated`` (from the start, settling included: the
-            window of the whole-run maximum, of the wear and of ``impacts``), ``motion_mode``,
+            window of the whole-run maximum, of the wear and of ``impacts``), ``settled`` (1 if
+            a settling run met its steady-state criterion, 0 if it stopped at
+            ``steady_state.max_rotations`` with its orbit still changing, NaN for a scene that
+            does not settle), ``motion_mode``,
             ``impacts`` (contact onsets over the whole run, settling included, not per
             rotation) and ``wear_regions`` (every wear region, most prominent first: ``angle_deg``,
             ``depth_m``, ``prominence_m``, ``width_deg``; the README's "Wear regions").

@@ -174,6 +174,18 @@ def test_a_settling_run_counts_its_settling_rotations():
     assert run.summary[run.joints[0]]["rotations_simulated"] == run.rotations
 
 
+def test_the_summary_says_whether_the_run_settled():
+    """`settled` tells a run that stopped at `steady_state.max_rotations` with its orbit still
+    changing (0) from one that settled (1); a scene that does not settle has NaN."""
+    scene = short(jointwear.Scene.load(STANDARD)).set("run.record_rotations", 1)
+    assert np.isnan(scene.run().summary["rod-slider"]["settled"])
+    scene.set("run.settle", True).set("run.steady_state.max_rotations", 2)
+    capped = scene.set("run.steady_state.orbit_tolerance", 1e-9).run()
+    assert capped.summary["rod-slider"]["settled"] == 0 and not capped.settling["steady"]
+    loose = scene.set("run.steady_state.orbit_tolerance", 1).run()
+    assert loose.summary["rod-slider"]["settled"] == 1 and loose.settling["steady"]
+
+
 def test_wear_of_joints_with_different_sector_counts_is_refused_naming_them():
     """One table cannot index them by angle; pandas' own length error named neither."""
     pytest.importorskip("pandas")

@@ -35,6 +35,10 @@ pub struct JointSummary {
     /// final wear: `run.rotations`, plus the settling rotations of a run that settles (which
     /// differ between the members of an ensemble).
     pub rotations_simulated: u32,
+    /// Whether the run met its steady-state criterion before `steady_state.max_rotations`
+    /// (`Some(false)`: it stopped settling there, the orbit still changing); `None` for a scene
+    /// that does not settle. An unsettled member's recorded rotations are no steady state.
+    pub settled: Option<bool>,
 }
 
 /// Summarises every clearance joint of a run of `scene`.
@@ -58,6 +62,7 @@ pub fn summarize(scene: &Scene, out: &RunOutput) -> Vec<JointSummary> {
                     .map(|t| Motion::classify(&t.delta, dt, scene.run.record_rotations as f64)),
                 regions: wear_regions(&out.final_wear[k]),
                 rotations_simulated: out.rotations_simulated(&scene.run),
+                settled: out.settling.map(|s| s.steady),
             }
         })
         .collect()
@@ -65,10 +70,11 @@ pub fn summarize(scene: &Scene, out: &RunOutput) -> Vec<JointSummary> {
 
 impl JointSummary {
     /// The joint's scalar results by name: the numeric sweep columns, and
-    /// `continuous_contact` as 1 or 0, whose mean over an ensemble is the share of members in
-    /// continuous contact. What was not recorded is NaN here, and an empty field or "not
+    /// `continuous_contact` and `settled` as 1 or 0, whose means over an ensemble are the shares
+    /// of members in continuous contact and of members that settled. What was not recorded (or
+    /// a scene that does not settle) is NaN here, and an empty field or "not
     /// recorded" wherever it is written or printed.
-    pub fn scalars(&self) -> [(&'static str, f64); 9] {
+    pub fn scalars(&self) -> [(&'static str, f64); 10] {
         let deepest = self.regions.first();
         let motion = |f: fn(&Motion) -> f64| self.motion.as_ref().map_or(f64::NAN, f);
         let values = [
@@ -81,6 +87,7 @@ impl JointSummary {
             motion(|m| m.impacts_per_rotation),
             motion(|m| f64::from(u8::from(m.continuous()))),
             f64::from(self.rotations_simulated),
+            self.settled.map_or(f64::NAN, |s| f64::from(u8::from(s))),
         ];
         std::array::from_fn(|i| (SCALARS[i], values[i]))
     }
@@ -140,8 +147,8 @@ pub fn joint_statistics(
 
 impl JointSummary {
     /// The joint's [`JOINT_COLUMNS`] cells of a CSV row: numbers by [`number`], an empty field
-    /// where nothing was recorded or there is no wear.
-    pub fn cells(&self) -> [String; 9] {
+    /// where nothing was recorded, there is no wear or the scene does not settle.
+    pub fn cells(&self) -> [String; 10] {
         let deepest = self.regions.first();
         let recorded = |x: Option<f64>| x.map_or(String::new(), number);
         let motion = |f: fn(&Motion) -> String| self.motion.as_ref().map_or(String::new(), f);
@@ -155,6 +162,7 @@ impl JointSummary {
             motion(|m| number(m.contact_fraction)),
             motion(|m| number(m.impacts_per_rotation)),
             self.rotations_simulated.to_string(),
+            self.settled.map_or(String::new(), |s| s.to_string()),
         ]
     }
 }
@@ -162,8 +170,10 @@ impl JointSummary {
 /// Per-joint columns of a run's summary row ([`JointSummary::cells`]: a sweep case's and an
 /// ensemble member's), after the joint's name and a dot. Each maximum names its window:
 /// `recorded` the recorded rotations (empty when none were recorded), `whole_run` every step
-/// from the start, whose rotations `rotations_simulated` counts (with the final wear's).
-pub const JOINT_COLUMNS: [&str; 9] = [
+/// from the start, whose rotations `rotations_simulated` counts (with the final wear's);
+/// `settled` says whether a settling run met its criterion (`true`, `false`, empty for a scene
+/// that does not settle).
+pub const JOINT_COLUMNS: [&str; 10] = [
     "max_normal_force_recorded_n",
     "max_penetration_recorded_m",
     "max_penetration_whole_run_m",
@@ -173,10 +183,11 @@ pub const JOINT_COLUMNS: [&str; 9] = [
     "contact_fraction",
     "impacts_per_rotation",
     "rotations_simulated",
+    "settled",
 ];
 
 /// The names of [`JointSummary::scalars`], in order.
-pub const SCALARS: [&str; 9] = [
+pub const SCALARS: [&str; 10] = [
     "max_normal_force_recorded_n",
     "max_penetration_recorded_m",
     "max_penetration_whole_run_m",
@@ -186,4 +197,5 @@ pub const SCALARS: [&str; 9] = [
     "impacts_per_rotation",
     "continuous_contact",
     "rotations_simulated",
+    "settled",
 ];

@@ -313,6 +313,8 @@ enum Cell {
     Measured,
     /// A motion mode, or empty where nothing was recorded.
     Mode,
+    /// Whether a settling run settled: `true`, `false`, or empty for a scene that does not settle.
+    Settled,
     /// The error of a failed case, empty for a case that ran.
     Error,
 }
@@ -335,6 +337,7 @@ fn cell_kinds(header: &[String]) -> Option<Vec<Cell>> {
             let cell = match c {
                 "max_penetration_whole_run_m" => Cell::Number,
                 "motion_mode" => Cell::Mode,
+                "settled" => Cell::Settled,
                 _ => Cell::Measured,
             };
             (format!(".{c}"), cell)
@@ -409,6 +412,7 @@ fn misfit_cell(cells: &[Cell], row: &[String]) -> Option<(usize, String, String)
                 Cell::Number => finite(v),
                 Cell::Measured => v.is_empty() || finite(v),
                 Cell::Mode => v.is_empty() || MOTION_MODES.contains(&v),
+                Cell::Settled => matches!(v, "" | "true" | "false"),
             };
             (!fits).then(|| {
                 let expected = match cell {
@@ -421,6 +425,7 @@ fn misfit_cell(cells: &[Cell], row: &[String]) -> Option<(usize, String, String)
                     Cell::Measured => {
                         "a finite number, or an empty cell where nothing was measured".to_string()
                     }
+                    Cell::Settled => "`true`, `false` or an empty cell".to_string(),
                     _ => format!(
                         "`{}`, `{}` or an empty cell",
                         MOTION_MODES[0], MOTION_MODES[1]

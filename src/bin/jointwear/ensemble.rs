@@ -117,6 +117,10 @@ pub fn run_ensemble(
     for j in &stats {
         println!("  joint {} (mean ± sd, [5 %, 95 %]):", j.name);
         for (name, states) in &j.quantities {
+            // Said once for the run above ("not settled: …"), not per joint.
+            if name == &"settled" {
+                continue;
+            }
             let d = &states.pooled;
             let mut r = Reading::of(name);
             // The motion's figures cover the recorded rotations, as the forces' do.

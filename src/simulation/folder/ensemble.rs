@@ -257,10 +257,14 @@ fn readme(
          \x20 J.rotations_simulated                rotations from the start, the window of the \
          whole-run maximum and of the final wear: run.rotations plus the member's own settling \
          rotations where the scene settles\n\
+         \x20 J.settled                            true if the member met the steady-state \
+         criterion, false if it stopped settling at steady_state.max_rotations with its orbit \
+         still changing (its recorded rotations are then no steady state); empty where the \
+         scene does not settle\n\
          \x20 wall_time_s, error                   the member's wall time (s); empty error\n\
          ensemble_summary.csv: per joint and quantity (the joints' numeric columns above, \
-         and continuous_contact, 1 or 0 per member, whose mean is the share in continuous \
-         contact): n (finite values), mean, sd, min, q05, q25, q50, q75, q95, max (empty \
+         continuous_contact, 1 or 0 per member, whose mean is the share in continuous \
+         contact, and settled as 1 or 0, whose mean is the share that settled): n (finite values), mean, sd, min, q05, q25, q50, q75, q95, max (empty \
          fields where n is 0: nothing recorded); then the \
          states the members fall into (largest-gap rule: split at the largest gap of the sorted \
          values that leaves max(2, ceil(n/10)) members on each side, when it exceeds 2 pooled \
