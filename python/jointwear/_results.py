@@ -55,12 +55,13 @@ class Run:
             ``max_wear_depth_m`` (angle and depth of the deepest sector), ``contact_fraction``,
             ``impacts_per_rotation`` and ``continuous_contact`` (1 or 0; these three over the
             recorded rotations), ``rotations_simulated`` (from the start, settling included: the
-            window of the whole-run maximum, of the wear and of ``impacts``), ``settled`` (1 if
+            window of the whole-run maximum, of the wear and of ``contact_onsets``), ``settled`` (1 if
             a settling run met its steady-state criterion, 0 if it stopped at
             ``steady_state.max_rotations`` with its orbit still changing, NaN for a scene that
             does not settle), ``motion_mode``,
-            ``impacts`` (contact onsets over the whole run, settling included, not per
-            rotation) and ``wear_regions`` (every wear region, most prominent first: ``angle_deg``,
+            ``contact_onsets`` (the joint's contact onsets over the whole run, settling
+            included, as ``summary.json`` of ``jointwear run`` counts them; not the recorded
+            window of ``impacts_per_rotation``) and ``wear_regions`` (every wear region, most prominent first: ``angle_deg``,
             ``depth_m``, ``prominence_m``, ``width_deg``; the README's "Wear regions").
         stats: integrator counters (``steps``, ``rejected``, ``evaluations``,
             ``contact_onsets``).

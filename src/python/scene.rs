@@ -624,7 +624,7 @@ fn run_dict<'py>(py: Python<'py>, scene: &Scene, out: &RunOutput) -> PyResult<Bo
     for (k, (cj, s)) in m.clearance_joints.iter().zip(&summaries).enumerate() {
         let j = PyDict::new(py);
         j.set_item("name", &cj.name)?;
-        j.set_item("impacts", out.impacts[k])?;
+        j.set_item("contact_onsets", out.impacts[k])?;
         j.set_item("motion_mode", s.motion.as_ref().map(Motion::mode))?;
         for (name, x) in s.scalars() {
             j.set_item(name, x)?;
