@@ -15,7 +15,7 @@ use crate::analysis::statistics::Band;
 use crate::io::output::write_csv;
 use crate::io::plot::{render, render_polar, Axes, Series, Shade, Style};
 use crate::laws::wear::sector_angles_deg;
-use crate::paper::cases::{Runs, WearEnsemble, CASES};
+use crate::paper::cases::{Runs, WearEnsemble, WearMember, CASES};
 use crate::paper::format::{sci, sig};
 use crate::{Error, Result};
 
@@ -279,6 +279,29 @@ pub fn fig14(runs: &Runs) -> Result<Vec<String>> {
     profile_figure(runs, "fig14", &Varied::Speed.panels("Bearing wear"))
 }
 
+/// The line of a case's (deepest − third most prominent region) / deepest
+/// ([`WearMember::region_spread`]): mean ± sd with its states, and over how many members it is
+/// taken. A member with fewer than three regions has no such ratio, and those that have one
+/// may be a few of the ensemble (2 of 32 at 600 r/min): a mean that hid its count would read
+/// as the ensemble's.
+fn spread_line(label: &str, members: &[WearMember]) -> String {
+    let n = members.len();
+    let values: Vec<f64> = (members.iter())
+        .map(|m| m.region_spread().unwrap_or(f64::NAN))
+        .collect();
+    let states = States::of(&values);
+    let k = states.pooled.n;
+    let ratio = if k == 0 {
+        "n/a".to_string()
+    } else {
+        states.mean_sd_with_states(1.0, 2)
+    };
+    format!(
+        "{label}: (deepest − third most prominent region) / deepest {ratio}, over the {k} of {n} \
+         members with three regions"
+    )
+}
+
 /// Final mean profiles of the three cases of `varied` with their bands in one panel
 /// (figures 11, 15).
 fn comparison_figure(runs: &Runs, name: &str, title: &str, varied: Varied) -> Result<Vec<String>> {
@@ -289,12 +312,7 @@ fn comparison_figure(runs: &Runs, name: &str, title: &str, varied: Varied) -> Re
     for case in varied.cases() {
         let e = runs.wear(case.scene)?;
         lines.push(wear_line(&case.label(), e));
-        let spread = e.stat(|m| m.region_spread().unwrap_or(f64::NAN));
-        lines.push(format!(
-            "{}: (deepest − third most prominent region) / deepest {}",
-            case.label(),
-            spread.mean_sd(1.0, 2)
-        ));
+        lines.push(spread_line(&case.label(), &e.members));
         let (label, tag) = (varied.label(&case), varied.tag(&case));
         let states = state_curves(e, &label, &tag);
         let pooled = BandCurve::new(label, tag, &e.band(), 1e6);
@@ -512,6 +530,60 @@ mod tests {
             ("40rotationsq95", "40 rotations, per-sector 95 % quantile")
         );
         assert!(lo.2.iter().all(|&d| (d - 0.05).abs() < 1e-12), "{:?}", lo.2);
+    }
+
+    /// A member whose final profile has `regions` regions, the first `depth` deep, the
+    /// others `1 − spread` of it.
+    fn member(regions: usize, spread: f64) -> WearMember {
+        let region = |i: usize| Region {
+            sector: i,
+            angle_deg: i as f64,
+            depth: if i == 0 { 1.0 } else { 1.0 - spread },
+            prominence: 1.0,
+            width_deg: 1.0,
+        };
+        WearMember {
+            final_wear: vec![1.0; 4],
+            snapshots: Vec::new(),
+            regions: (0..regions).map(region).collect(),
+            history: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn the_region_spread_line_says_over_how_many_members_and_their_states() {
+        // two of five members have three regions (as 2 of 32 at 600 r/min): the line said
+        // "0.61 ± 0.01" as if of every member
+        let few = [
+            member(3, 0.6),
+            member(2, 0.0),
+            member(3, 0.62),
+            member(2, 0.0),
+        ];
+        assert_eq!(
+            spread_line("case", &few),
+            "case: (deepest − third most prominent region) / deepest 0.61 ± 0.01, over the 2 of \
+             4 members with three regions"
+        );
+        // members in two states: both given beside the pooled mean
+        let split: Vec<WearMember> = [0.02, 0.03, 0.30, 0.31, 0.29, 0.30]
+            .iter()
+            .map(|&s| member(3, s))
+            .collect();
+        let line = spread_line("case", &split);
+        assert!(
+            line.contains("(pooled over two states: low 2/6 0.03 ± 0.01, high 4/6 0.30 ± 0.01)"),
+            "{line}"
+        );
+        assert!(
+            line.ends_with("over the 6 of 6 members with three regions"),
+            "{line}"
+        );
+        assert_eq!(
+            spread_line("case", &[member(2, 0.0)]),
+            "case: (deepest − third most prominent region) / deepest n/a, over the 0 of 1 members \
+             with three regions"
+        );
     }
 
     #[test]
