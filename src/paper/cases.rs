@@ -220,6 +220,19 @@ pub struct SteadyMember {
     pub traces: Option<Traces>,
 }
 
+impl SteadyMember {
+    /// The steady state it settled in, as section 2 of `paper.md` lists them: its motion mode,
+    /// continuous contact split by whether the journal still leaves the wall at times (contact
+    /// onsets in the recorded rotations).
+    pub fn steady_state(&self) -> &'static str {
+        match (self.motion.mode(), self.motion.impacts_per_rotation > 0.0) {
+            ("continuous contact", false) => "continuous contact, no onsets",
+            ("continuous contact", true) => "continuous contact with onsets",
+            _ => "free flight and impact",
+        }
+    }
+}
+
 /// What one member of a wear run measured.
 #[derive(Clone, Debug)]
 pub struct WearMember {

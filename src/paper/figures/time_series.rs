@@ -4,7 +4,7 @@
 //! speeds (section 6.3).
 //!
 //! Each draws the first member of each case's steady ensemble (a trajectory cannot be
-//! averaged), writes its series to `data/<name>.csv` in long format (one block per case) and
+//! averaged), noting its steady state and how many members share it, writes its series to `data/<name>.csv` in long format (one block per case) and
 //! returns summary lines of mean ± sd over all members.
 
 use super::{first_of, output_path, standard_panel, CasePanel, Varied};
@@ -111,7 +111,7 @@ fn steady_lines(name: &str, e: &SteadyEnsemble) -> String {
     format!(
         "{name} ({n} members): {}; in contact {} %, {} impacts/rotation; over the recorded \
          rotations max |slider acc| {} m/s², max force {} N, max penetration {} µm; CMF P-w {}, \
-         s-w {}{}",
+         s-w {}{}; {}",
         modes.join(", "),
         stat(&|m| m.motion.contact_fraction, 100.0, 1),
         stat(&|m| m.motion.impacts_per_rotation, 1.0, 1),
@@ -125,8 +125,36 @@ fn steady_lines(name: &str, e: &SteadyEnsemble) -> String {
             format!("; the orbit of {unsteady} {members} never repeated (chaotic; recorded anyway)")
         } else {
             String::new()
-        }
+        },
+        drawn_member(&e.members, "; ")
     )
+}
+
+/// What a time-series figure draws of a steady ensemble's `members`: the first, in its steady
+/// state ([`SteadyMember::steady_state`]) with how many members share it, then the other
+/// states after `separator`. The members of a case may settle in different states, and the
+/// first member's need not be the common one (0.02 mm, 2000 r/min: contact onsets in 5 of 32,
+/// member 0 among them).
+pub(crate) fn drawn_member(members: &[SteadyMember], separator: &str) -> String {
+    let n = members.len();
+    let Some(first) = members.first().map(SteadyMember::steady_state) else {
+        return "no member drawn".into();
+    };
+    let states = fractions(members.iter().map(SteadyMember::steady_state));
+    let k = states
+        .iter()
+        .find(|(s, _)| *s == first)
+        .map_or(0, |(_, k)| *k);
+    let others: Vec<String> = (states.iter())
+        .filter(|(s, _)| *s != first)
+        .map(|(s, k)| format!("{s} in {k} of {n}"))
+        .collect();
+    let others = if others.is_empty() {
+        String::new()
+    } else {
+        format!("{separator}the others: {}", others.join(", "))
+    };
+    format!("drawn: member 0 (0-based), {first}, the state of {k} of {n} members{others}")
 }
 
 /// The first member's traces of a steady ensemble.
@@ -173,14 +201,19 @@ fn steady_figure(
         let e = runs.steady(case.scene)?;
         lines.push(steady_lines(&case.label(), e));
         let title = format!("{title} ({})", first_of(e.members.len()));
-        drawn.push((*key, title, first_traces(e)?, clearance(&e.scene)));
+        // the drawn member's state, which may not be most members' (`drawn_member`)
+        let note = drawn_member(&e.members, "\n");
+        drawn.push((*key, title, first_traces(e)?, clearance(&e.scene), note));
     }
     let panels: Vec<Axes> = drawn
         .iter()
-        .map(|(_, title, t, c)| panel(title.clone(), t, *c))
+        .map(|(_, title, t, c, note)| Axes {
+            note: Some(note.clone()),
+            ..panel(title.clone(), t, *c)
+        })
         .collect();
     render(&output_path("figures", &format!("{name}.png")), &panels)?;
-    let csv: Vec<(f64, &Traces)> = drawn.iter().map(|(key, _, t, _)| (*key, *t)).collect();
+    let csv: Vec<(f64, &Traces)> = drawn.iter().map(|(key, _, t, ..)| (*key, *t)).collect();
     write_steady_csv(name, &csv)?;
     Ok(lines)
 }
@@ -221,4 +254,89 @@ pub fn fig12(runs: &Runs) -> Result<Vec<String>> {
 pub fn fig13(runs: &Runs) -> Result<Vec<String>> {
     let panels = Varied::Speed.panels("Slider acceleration and wear rate");
     steady_figure(runs, "fig13", &panels, |t, tr, _| acceleration_panel(t, tr))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::concordance::Concordance;
+    use crate::analysis::Motion;
+    use crate::simulation::Settling;
+
+    /// A steady member in contact `contact_fraction` of the time with `onsets` per rotation.
+    fn member(contact_fraction: f64, onsets: f64) -> SteadyMember {
+        SteadyMember {
+            settling: Settling {
+                rotations: 6,
+                orbit_change: 0.0,
+                steady: true,
+            },
+            motion: Motion {
+                contact_fraction,
+                impacts_per_rotation: onsets,
+                mean_flight_time: f64::NAN,
+            },
+            concordance: Concordance {
+                pressure_wear: 0.9,
+                sliding_wear: 0.98,
+                pressure_wear_centred: 0.0,
+                sliding_wear_centred: 0.0,
+            },
+            max_slider_acc: 0.0,
+            max_normal_force: 0.0,
+            max_penetration: 0.0,
+            contact_coverage: 1.0,
+            max_wear_rate: 0.0,
+            acc_wear_correlation: 0.0,
+            force_wear_correlation: 0.0,
+            evaluations: 0,
+            traces: None,
+        }
+    }
+
+    #[test]
+    fn the_drawn_member_is_named_with_its_state_and_how_many_share_it() {
+        // as the standard case: member 0 among the few with contact onsets
+        let members = [
+            member(0.986, 3.0),
+            member(1.0, 0.0),
+            member(1.0, 0.0),
+            member(0.986, 3.0),
+            member(1.0, 0.0),
+        ];
+        assert_eq!(
+            drawn_member(&members, "; "),
+            "drawn: member 0 (0-based), continuous contact with onsets, the state of 2 of 5 \
+             members; the others: continuous contact, no onsets in 3 of 5"
+        );
+        // and the figure's printed line says it (the report quotes that line)
+        let scene = crate::scene::SceneFile::read(crate::scene::scene_path("standard"))
+            .and_then(|f| f.build())
+            .expect("the standard scene");
+        let e = SteadyEnsemble {
+            scene,
+            members: members.to_vec(),
+        };
+        let line = steady_lines("case", &e);
+        assert!(
+            line.ends_with(
+                "; drawn: member 0 (0-based), continuous contact with onsets, the state of 2 of 5 \
+                 members; the others: continuous contact, no onsets in 3 of 5"
+            ),
+            "{line}"
+        );
+        assert_eq!(
+            drawn_member(&members[1..3], "; "),
+            "drawn: member 0 (0-based), continuous contact, no onsets, the state of 2 of 2 members"
+        );
+        assert_eq!(
+            drawn_member(
+                &[member(0.8, 12.0), member(0.95, 4.0), member(1.0, 0.0)],
+                "\n"
+            ),
+            "drawn: member 0 (0-based), free flight and impact, the state of 1 of 3 members\nthe \
+             others: continuous contact with onsets in 1 of 3, continuous contact, no onsets in 1 \
+             of 3"
+        );
+    }
 }

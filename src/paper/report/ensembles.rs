@@ -18,16 +18,6 @@ use crate::simulation::ensemble::DEFAULT_MEMBERS;
 use crate::Result;
 use std::fmt::Write as _;
 
-/// The steady state a member settled in: its motion mode, continuous contact split by whether
-/// the journal still leaves the wall at times (contact onsets in the recorded rotations).
-fn steady_state(m: &SteadyMember) -> &'static str {
-    match (m.motion.mode(), m.motion.impacts_per_rotation > 0.0) {
-        ("continuous contact", false) => "continuous contact, no onsets",
-        ("continuous contact", true) => "continuous contact with onsets",
-        _ => "free flight and impact",
-    }
-}
-
 /// What the ensembles reveal: the steady states each case settles in, with their basins.
 pub(super) fn ensemble_section(runs: &Runs, golden: &Golden) -> Result<String> {
     let n = runs.ensemble.members;
@@ -50,11 +40,11 @@ pub(super) fn ensemble_section(runs: &Runs, golden: &Golden) -> Result<String> {
     let mut rows = Vec::new();
     for (case, e) in CASES.zip(&runs.steady_cases()?).list() {
         let (c_mm, rpm) = (case.clearance_mm, case.speed_rpm);
-        for (mode, k) in fractions(e.members.iter().map(steady_state)) {
+        for (mode, k) in fractions(e.members.iter().map(SteadyMember::steady_state)) {
             let of_mode: Vec<&SteadyMember> = e
                 .members
                 .iter()
-                .filter(|m| steady_state(m) == mode)
+                .filter(|m| m.steady_state() == mode)
                 .collect();
             let stat =
                 |f: &dyn Fn(&SteadyMember) -> f64| Distribution::of(of_mode.iter().map(|m| f(m)));

@@ -42,8 +42,8 @@ pub(super) fn figures_section(md: &mut String, n: usize, drawn: &[DrawnFigure]) 
     let _ = writeln!(
         md,
         "Wear figures draw the mean of the {n} members with the 5-95 % band shaded; time-series and \
-         trajectory figures draw the first member (a trajectory cannot be averaged), and their lines give \
-         mean ± sd over all members. Each program computes only the ensembles it draws; a case's \
+         trajectory figures draw the first member (a trajectory cannot be averaged) and name its steady \
+         state and how many members share it, and their lines give mean ± sd over all members. Each program computes only the ensembles it draws; a case's \
          statistics are listed under the first figure that draws it.\n"
     );
     // line -> heading of the figure that listed it first
