@@ -13,7 +13,6 @@ use plotters::style::TRANSPARENT;
 use super::axis::Axis;
 use super::clip::{clip_polygon, clip_polyline, inside, split_at_sharp_turns, Rect};
 use super::panel::{left_label_area, InsetView, Panel};
-use super::plot_error;
 use super::polar::{draw_polar_grid, Chart};
 use super::text::GlyphBackend;
 use super::theme::{
@@ -22,6 +21,7 @@ use super::theme::{
     X_LABEL_AREA,
 };
 use super::Style;
+use super::{magnified_title, plot_error};
 use crate::io::output::{write_atomic, write_bytes};
 use crate::Result;
 
@@ -414,11 +414,6 @@ fn draw_inset<'b>(
     let view = area.clone().shrink((left, top), size);
     view.fill(&WHITE)?;
     let (title_area, body) = view.split_vertically(INSET_TICK_PX + 12);
-    title_area.draw_text(
-        &inset.title,
-        &text(INSET_TICK_PX).pos(Pos::new(HPos::Center, VPos::Center)),
-        ((size.0 / 2) as i32, ((INSET_TICK_PX + 12) / 2) as i32),
-    )?;
     let y_area = y.label_area() * INSET_TICK_PX / TICK_PX;
     let mut zoom = ChartBuilder::on(&body)
         .margin(6)
@@ -426,6 +421,25 @@ fn draw_inset<'b>(
         .y_label_area_size(y_area)
         .build_cartesian_2d(x.lo..x.hi, y.lo..y.hi)?
         .set_secondary_coord(x.lo..x.hi, y.lo..y.hi);
+    let title = if inset.magnification {
+        // pixels per data unit of the view's chart over the panel's, on each axis
+        let (zx, zy) = zoom.plotting_area().get_pixel_range();
+        let per =
+            |px: &std::ops::Range<i32>, a: &Axis| f64::from(px.end - px.start) / (a.hi - a.lo);
+        let magnify = |z, zoomed, main, axis| per(z, zoomed) / per(main, axis);
+        magnified_title(
+            &inset.title,
+            magnify(&zx, x, &xs, &p.x),
+            magnify(&zy, y, &ys, &p.y),
+        )
+    } else {
+        inset.title.clone()
+    };
+    title_area.draw_text(
+        &title,
+        &text(INSET_TICK_PX).pos(Pos::new(HPos::Center, VPos::Center)),
+        ((size.0 / 2) as i32, ((INSET_TICK_PX + 12) / 2) as i32),
+    )?;
     draw_axes(&mut zoom, p, (x, y), (INSET_TICK_PX, INSET_TICK_PX), false)?;
     draw_data(&mut zoom, p, false, (x.lo, x.hi, y.lo, y.hi), None)?;
     view.draw(&Rectangle::new(

@@ -23,7 +23,7 @@ use super::axis::Axis;
 use super::draw::{draw_animation, draw_figure};
 use super::panel::{circle_points, legend_height_px, plot_size, Panel};
 use super::theme::{INSET_TICK_PX, NOTE_LINE_PX, TICK_PX, Y_TICKS};
-use super::{plot_error, Axes, Inset, Series, Style};
+use super::{plot_error, round2, Axes, Inset, Series, Style};
 use crate::Result;
 
 /// A point in the plane (mm).
@@ -303,13 +303,9 @@ fn inset(p: &MechanismPicture, view: View, (w, h): (f64, f64)) -> Option<Inset> 
         y_range,
         at: view.inset_at,
         title: format!("{}: journal in its clearance, ×{}", c.name, round2(magnify)),
+        // equal on both axes by construction, and laid out before drawing
+        magnification: false,
     })
-}
-
-/// `v` rounded to two significant digits.
-fn round2(v: f64) -> f64 {
-    let scale = 10f64.powi(v.abs().log10().floor() as i32 - 1);
-    (v / scale).round() * scale
 }
 
 /// The label of each clearance joint (name and clearance), above its bearing circle and

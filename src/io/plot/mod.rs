@@ -166,6 +166,26 @@ pub struct Inset {
     pub at: (f64, f64, f64, f64),
     /// A short title above the inset, e.g. `"magnified"`.
     pub title: String,
+    /// Whether the title ends with the view's magnification against the panel on each axis,
+    /// measured from the pixels drawn ([`magnified_title`]): the view's box loses its own
+    /// title and axes, so no fraction of the panel gives it in advance.
+    pub magnification: bool,
+}
+
+/// `title` followed by the magnifications `x` and `y` (an inset's pixels per data unit over
+/// its panel's), each to two significant digits: one `×N` where they agree to 2 %.
+pub(super) fn magnified_title(title: &str, x: f64, y: f64) -> String {
+    if (x / y - 1.0).abs() < 0.02 {
+        format!("{title}, ×{}", round2(x))
+    } else {
+        format!("{title}, x ×{}, y ×{}", round2(x), round2(y))
+    }
+}
+
+/// `v` rounded to two significant digits.
+pub(super) fn round2(v: f64) -> f64 {
+    let scale = 10f64.powi(v.abs().log10().floor() as i32 - 1);
+    (v / scale).round() * scale
 }
 
 impl<'a> Axes<'a> {
@@ -229,5 +249,17 @@ fn plot_error(path: &Path, message: impl ToString) -> Error {
     Error::Plot {
         path: path.to_path_buf(),
         message: message.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_inset_title_gives_each_axis_magnification_unless_they_agree() {
+        assert_eq!(magnified_title("zoom", 61.3, 14.04), "zoom, x ×61, y ×14");
+        assert_eq!(magnified_title("zoom", 133.0, 131.0), "zoom, ×130");
+        assert_eq!(round2(0.0456), 0.046);
     }
 }

@@ -73,6 +73,8 @@ pub(super) struct InsetView {
     pub(super) at: (f64, f64, f64, f64),
     /// Title above the view.
     pub(super) title: String,
+    /// Whether the title gets the magnifications as drawn ([`super::Inset::magnification`]).
+    pub(super) magnification: bool,
 }
 
 /// log10 of `v` on a logarithmic axis (NaN, so not drawn, for v ≤ 0), `v` itself otherwise.
@@ -352,6 +354,7 @@ impl Panel {
             y: Axis::new((fy(i.y_range.0), fy(i.y_range.1)), 4),
             at: i.at,
             title: i.title.clone(),
+            magnification: i.magnification,
         });
         let sides = [(&axes.point_labels, false), (&axes.point_labels_left, true)];
         let point_labels = (sides.iter())

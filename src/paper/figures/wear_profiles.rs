@@ -552,7 +552,7 @@ mod tests {
 
     #[test]
     fn the_region_spread_line_says_over_how_many_members_and_their_states() {
-        // two of five members have three regions (as 2 of 32 at 600 r/min): the line said
+        // two of four members have three regions (as 2 of 32 at 600 r/min): the line said
         // "0.61 ± 0.01" as if of every member
         let few = [
             member(3, 0.6),
