@@ -286,3 +286,28 @@ fn contact_catalogue_spelling_is_checked() {
         "{msg}"
     );
 }
+
+#[test]
+fn a_recording_grid_coarser_than_ten_degrees_of_driver_angle_is_refused() {
+    // Before: 1 s on the 30 ms period recorded t = 0 alone and reported 0 N, -20 µm and 0 % in
+    // contact with exit 0; 0.01 s (10 ms for 10 µs) sampled three driver angles per rotation.
+    // The limit is the period over 36, 8.33e-4 s.
+    for interval in [1.0, 0.01, 1e-3] {
+        let mut f = standard();
+        f.run.record_interval_s = interval;
+        let msg = refused(&f);
+        assert!(
+            msg.contains("`run.record_interval_s`")
+                && msg.contains("at most 8.3333e-4 s")
+                && msg.contains("a sample per 10 degrees of driver angle")
+                && msg.contains("likely cause"),
+            "{msg}"
+        );
+        // Nothing recorded, nothing to resolve.
+        f.run.record_rotations = 0;
+        f.build().unwrap();
+    }
+    let mut f = standard();
+    f.run.record_interval_s = 8e-4;
+    f.build().unwrap();
+}

@@ -174,7 +174,7 @@ impl SceneFile {
             guess,
             run,
         };
-        scene.check_record_budget()?;
+        scene.check_recording()?;
         scene.check_step_budget()?;
         Ok(scene)
     }

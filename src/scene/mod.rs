@@ -23,7 +23,8 @@ pub use validation::{
     Limit, ABSOLUTE_TOLERANCE, BEARING_LENGTH_MM, BEARING_RADIUS_MM, COORDINATE_MM, GRAVITY_M_S2,
     GRAZING_VELOCITY_M_S, INERTIA_KG_M2, MASS_KG, MAX_CLEARANCE_RATIO, MAX_K_OVER_H_PER_PA,
     MAX_NAME_BYTES, MAX_RUN_STEPS, MAX_SCENE_BYTES, MAX_STEP_S, MAX_TITLE_BYTES,
-    MIN_HERTZ_CLEARANCE_RATIO, MIN_SPEED_RPM, RECORD_BUDGET_BYTES, RESTITUTION, YOUNGS_MODULUS_GPA,
+    MIN_HERTZ_CLEARANCE_RATIO, MIN_RECORD_SAMPLES_PER_ROTATION, MIN_SPEED_RPM, RECORD_BUDGET_BYTES,
+    RESTITUTION, YOUNGS_MODULUS_GPA,
 };
 
 use crate::laws::contact::{DissipationLaw, NormalForceModel, StiffnessLaw};
@@ -268,7 +269,8 @@ pub struct RunSpec {
     pub rotations: u32,
     /// How many of the last rotations to record as time series, [0, rotations].
     pub record_rotations: u32,
-    /// Recording grid spacing (s), (0, 1].
+    /// Recording grid spacing (s), (0, 1] and at most the driver period over
+    /// [`MIN_RECORD_SAMPLES_PER_ROTATION`] when rotations are recorded.
     pub record_interval_s: f64,
     /// Rotation counts after which the wear profile is saved, each in [1, rotations].
     #[serde(default)]
