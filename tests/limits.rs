@@ -250,6 +250,30 @@ fn a_driver_too_slow_for_a_resting_contact_is_not_blamed_on_a_switching_force() 
 }
 
 #[test]
+fn a_fixed_step_too_long_for_the_contact_is_named_as_a_cause() {
+    // Before: rk4 at 1e-3 s (1e-5 s meant) "penetrated" 863 m, blamed on the linkage or a
+    // material alone; 5e-5 s passed 20 clearances the same way. Adaptive methods control
+    // their error, and their message stays as it was (the 1e5 r/min test above).
+    for step in [1e-3, 5e-5] {
+        let mut f = one_rotation();
+        f.run.method = jointwear::scene::MethodSpec::Rk4;
+        f.run.fixed_step_s = Some(step);
+        let (_, cause) = run_failure(&f);
+        assert_contains(
+            &cause,
+            &[
+                "penetrates",
+                &format!("with run.method = \"rk4\", which does not control its error, also likely: run.fixed_step_s = {step:e} s too long for the contact"),
+            ],
+        );
+    }
+    let mut f = one_rotation();
+    f.driver.speed_rpm = -1e5;
+    f.run.max_steps = 10_000;
+    assert!(!run_failure(&f).1.contains("rk4"));
+}
+
+#[test]
 fn a_driver_too_slow_for_the_step_limit_is_named_within_two_windows() {
     // Before: 0.1 r/min over 10 rotations ran 7 min into the default 2e7-step limit (t = 5123
     // of 6000 s; its steps of 2.4e-4 s need 2.5e7), as its windows advance 4 % of its 600 s
