@@ -110,6 +110,36 @@ impl Integrator {
     }
 }
 
+impl Integrator {
+    /// The largest value of an event function inside the last accepted step, where its rate
+    /// turns from positive at the start (`a`, value and rate) to negative at the end (`b`),
+    /// when the ends' tangents meet above `above` (the screen of [`Integrator::earliest_event`],
+    /// a bound for a concave bump): the zero of the rate located on the dense output to
+    /// `1e-12·max(t, 1)`, and the function there. `None` when neither holds: the largest value
+    /// is then at an end, or not above `above` (for a concave bump). `g` and `scratch` as in
+    /// `earliest_event`.
+    pub fn peak_inside(
+        &self,
+        a: EventValue,
+        b: EventValue,
+        above: f64,
+        mut g: impl FnMut(f64, &[f64]) -> EventValue,
+        scratch: &mut [f64],
+    ) -> Option<f64> {
+        let (ta, tb) = (self.t_prev(), self.t());
+        if !(a.rate > 0.0 && b.rate < 0.0 && tangents_meet(ta, a, tb, b) > above) {
+            return None;
+        }
+        let mut on_dense = |t| {
+            self.dense(t, scratch);
+            g(t, scratch)
+        };
+        let tol = 1e-12 * tb.max(1.0);
+        let t = locate_root(|t| on_dense(t).rate, ta, a.rate, tb, b.rate, tol);
+        Some(on_dense(t).value)
+    }
+}
+
 /// Where the tangents of an event function at the ends of a step `[ta, tb]` (values and rates
 /// `a`, `b`, the rates of opposite signs or one zero) meet, clamped to the step: a bound on its
 /// extremum when it is convex over the step (a minimum: the function lies above both tangents)

@@ -348,9 +348,9 @@ pub struct RunOutput {
     pub final_state: Vec<f64>,
     /// Integrator work counters of the whole run.
     pub stats: Stats,
-    /// Largest penetration of each joint at the accepted step ends of the whole run (m): the
-    /// start-up transient and settling included, unlike the recorded rotations' statistics; a
-    /// peak between two step ends reads low by up to the integration error (README, windows).
+    /// Largest penetration of each joint over the accepted steps of the whole run (m), at their
+    /// ends and at a maximum inside them on the dense output: the start-up transient and
+    /// settling included, unlike the recorded rotations' statistics (README, windows).
     pub max_penetration_whole_run: Vec<f64>,
     /// Contact onsets of each joint.
     pub impacts: Vec<u64>,

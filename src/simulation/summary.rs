@@ -23,7 +23,8 @@ pub struct JointSummary {
     /// Largest sampled penetration of the recorded rotations (m), the window of the force;
     /// `None` when none were recorded.
     pub max_penetration_recorded: Option<f64>,
-    /// Largest penetration at the accepted steps of the whole run (m): the start-up transient
+    /// Largest penetration over the accepted steps of the whole run, at their ends and peaks
+    /// inside them (m): the start-up transient
     /// (the impact after the centred start) and any settling included.
     pub max_penetration_whole_run: f64,
     /// Motion of the recorded rotations, if any were recorded.
