@@ -323,7 +323,9 @@ fn default_tolerance(
         ],
         &table,
     );
-    text.push_str(
+    let differing: usize = rows.iter().map(|r| r.onsets_differ).sum();
+    let _ = write!(
+        text,
         "The last column counts the members whose run locates another number of contact onsets in the \
          first rotation than their reference: they make the table's largest orbit errors, several µm. Within \
          a contact the journal can lift off by about a nanometre for a few µs and land again, and each landing \
@@ -332,13 +334,16 @@ fn default_tolerance(
          inside a step whose ends are both in contact or both free (its rate changes sign; `src/ode/events.rs`). \
          Before, a step that spanned a lift-off located no landing and the contact kept the previous δ̇⁻: \
          member 19 at rtol 2e-7 then had an orbit error of 7.33 µm, and 0.09 µm with the search (its \
-         reference agrees with DOP853 at rtol 1e-13 to 0.001 µm). Summed over the ten settings, the column \
-         fell from 51 to 18; at 5e-8 it rose from 0 to 1, as member 124's reference now locates a landing. The \
-         members still counted have run and reference disagree on whether a lift-off happens \
-         at all; for member 124 at rtol 1e-6 the search runs, and the run's gap at the minimum stays positive \
-         where the reference's dips about a nanometre below zero, a difference within a candidate's accuracy \
-         that the memory of δ̇⁻ turns into micrometres. They are kept, their errors are the runs' real ones, and the rule's median ratio is a rank \
-         statistic they move by at most their share (`src/paper/studies/tolerance_rule.rs`).\n\n",
+         reference agrees with DOP853 at rtol 1e-13 to 0.001 µm). Over the 128 members the rule then used, \
+         the column summed over the ten settings fell from 51 to 18, and at 5e-8 it rose from 0 to 1, as member \
+         124's reference now locates a landing; over this table's {members} members it sums to {differing} of \
+         {} member-settings. The members still counted have run and reference disagree on whether a lift-off \
+         happens at all; for member 124 at rtol 1e-6 the search runs, and the run's gap at the minimum stays \
+         positive where the reference's dips about a nanometre below zero, a difference within a candidate's \
+         accuracy that the memory of δ̇⁻ turns into micrometres. They are kept, their errors are the runs' real \
+         ones, and the rule's median ratio is a rank statistic they move by at most their share \
+         (`src/paper/studies/tolerance_rule.rs`).\n\n",
+        count((members * rows.len()) as u64),
     );
     let _ = write!(
         text,
@@ -1603,6 +1608,22 @@ mod tests {
             missing.contains("measurement is missing or damaged: invalid value for `data/")
                 && missing.contains("No tolerance is chosen"),
             "{missing}"
+        );
+    }
+
+    // Fails on the old literal text, which said the column "fell from 51 to 18" beside a table of
+    // 512 members whose column summed to 43: 51 and 18 were counted over the 128 members of then.
+    #[test]
+    fn the_onset_count_sum_is_the_tables_and_the_old_one_names_its_members() {
+        let mut rows = rule(&[2e-7, 1e-7], &[0.95, 0.9], 0.01);
+        rows[0].onsets_differ = 3;
+        rows[1].onsets_differ = 4;
+        let text = default_tolerance(&scene(2e-7, 0.02), Ok((&rows, 16)), "r");
+        assert!(
+            text.contains("over this table's 16 members it sums to 7 of 48 member-settings")
+                && text.contains("Over the 128 members the rule then used, the column summed")
+                && !text.contains("Summed over the ten settings, the column fell"),
+            "{text}"
         );
     }
 
