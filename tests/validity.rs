@@ -311,3 +311,27 @@ fn a_recording_grid_coarser_than_ten_degrees_of_driver_angle_is_refused() {
     f.run.record_interval_s = 8e-4;
     f.build().unwrap();
 }
+
+#[test]
+fn an_absolute_tolerance_coarser_than_a_tenth_of_the_clearance_is_refused() {
+    // Before: rtol 0.01 with atol 1e-4 m (5 clearances) ran with exit 0 and turned the standard
+    // joint's continuous contact into free flight with 119 impacts a rotation and 20 kN.
+    let mut f = standard();
+    f.run.atol = 1e-4;
+    let msg = refused(&f);
+    assert!(
+        msg.contains("`run.atol")
+            && msg.contains("at most 2e-6 m")
+            && msg.contains("`rod-slider` (2e-5 m)")
+            && msg.contains("likely cause"),
+        "{msg}"
+    );
+    // MATLAB's ode45 default, which the accuracy study runs, is a twentieth of it.
+    f.run.atol = 1e-6;
+    f.build().unwrap();
+    // rk4 does not use atol (the paper's rk4 settings give it 1).
+    f.run.atol = 1.0;
+    f.run.method = MethodSpec::Rk4;
+    f.run.fixed_step_s = Some(1e-5);
+    f.build().unwrap();
+}

@@ -176,6 +176,7 @@ impl SceneFile {
         };
         scene.check_recording()?;
         scene.check_step_budget()?;
+        scene.check_tolerances()?;
         Ok(scene)
     }
 
