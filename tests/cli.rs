@@ -800,6 +800,29 @@ fn offsets_beyond_the_clearance_are_refused_naming_the_perturbation() {
             "{err}"
         );
     }
+    // A velocity in m/s typed as µm/s: 1000 m/s failed while running, blamed on a speed or
+    // load, and 10²⁴ m/s on dependent joints.
+    for key in [
+        "velocity_1000000000um_s",
+        "velocity_1000000000000000000000000000000um_s",
+    ] {
+        let o = jointwear(&[
+            "run",
+            s(&scene),
+            "--out",
+            &out,
+            "--member",
+            "0",
+            "--perturbation",
+            key,
+        ]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(
+            err.contains("`--perturbation`") && err.contains("at most 1000000 µm/s"),
+            "{err}"
+        );
+    }
     // Just inside the clearance, the member runs.
     let o = jointwear(&[
         "run",

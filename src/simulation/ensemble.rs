@@ -49,6 +49,13 @@ use std::f64::consts::TAU;
 /// Radius of the disc the initial journal offsets are drawn from (m).
 pub const OFFSET_RADIUS: f64 = 10e-9;
 
+/// Largest initial velocity of the journal relative to its bearing that a `velocity_<V>um_s`
+/// protocol draws (m/s): a perturbation, a million times the study's 10 µm/s, and still below
+/// the contact onsets of the shipped scenes' own motion (a few to a few tens of mm/s in
+/// continuous contact). Faster draws failed as something else: 1000 m/s as a speed or load
+/// far beyond the contact laws, 10²⁴ m/s as dependent joints.
+pub const MAX_PERTURBATION_VELOCITY: f64 = 1.0;
+
 /// Members of an ensemble unless asked otherwise: the size the convergence study picks
 /// ([`crate::paper::convergence`]: the smallest at which the standard error of every Table 3
 /// concordance is at most a fifth of its 0.03 tolerance; at 16 the 0.5 mm case's s-w is not).
@@ -188,9 +195,24 @@ impl Perturbation {
     /// joint, or members start with the journal pressed into its bearing (1 mm against 0.02 mm
     /// failed while running, blaming a material). Offsets up to the default's are always
     /// taken: at a zero clearance they start the journal 10 nm into its bearing, deep inside
-    /// the small-strain contact laws, as ensembles of such scenes always have. An error names
-    /// the field `perturbation`.
+    /// the small-strain contact laws, as ensembles of such scenes always have. A velocity
+    /// protocol's draws must stay at most [`MAX_PERTURBATION_VELOCITY`]. An error names the
+    /// field `perturbation`.
     pub fn check(&self, scene: &Scene) -> Result<()> {
+        if let Perturbation::Velocity(v) = *self {
+            if v > MAX_PERTURBATION_VELOCITY {
+                return Err(Error::invalid(
+                    "perturbation",
+                    self.key(),
+                    format!(
+                        "a velocity of at most {} µm/s ({MAX_PERTURBATION_VELOCITY} m/s), a \
+                         perturbation below the speeds of the run's own contacts; likely cause: \
+                         a speed in another unit than µm/s",
+                        number(shift_decimal(MAX_PERTURBATION_VELOCITY, 6))
+                    ),
+                ));
+            }
+        }
         let (Perturbation::Disc(r) | Perturbation::Axis(r)) = *self else {
             return Ok(());
         };
