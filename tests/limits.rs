@@ -118,6 +118,23 @@ fn devices_and_fifos_are_refused_without_reading_them() {
         let msg = SceneFile::read(&fifo).unwrap_err().to_string();
         assert_contains(&msg, &["scene.fifo", "not a regular file"]);
     });
+    // A checkpoint as well: `--resume` read it without bound (a FIFO waited for its writer).
+    let read = |p: &std::path::Path| match jointwear::simulation::checkpoint::read_checkpoint(
+        p,
+        "fingerprint",
+    ) {
+        Ok(_) => panic!("{} was read as a checkpoint", p.display()),
+        Err(e) => e.to_string(),
+    };
+    assert_contains(
+        &read("/dev/null".as_ref()),
+        &["/dev/null", "not a regular file"],
+    );
+    let fifo = temp("checkpoint.fifo");
+    let _ = fs::remove_file(&fifo);
+    with_waiting_writer(&fifo, || {
+        assert_contains(&read(&fifo), &["checkpoint.fifo", "not a regular file"]);
+    });
 }
 
 #[test]

@@ -15,8 +15,9 @@
 
 use super::record::{Sampler, Settler};
 use super::RunOutput;
-use crate::io::output::{fnv1a, write_atomic, write_json_file};
+use crate::io::output::{fnv1a, read_bounded_text, write_atomic, write_json_file};
 use crate::ode::IntegratorState;
+use crate::scene::RECORD_BUDGET_BYTES;
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -85,13 +86,21 @@ pub fn write_checkpoint(path: &Path, fingerprint: &str, checkpoint: Checkpoint) 
     write_atomic(path, |tmp| write_json_file(tmp, &file))
 }
 
-/// Reads the checkpoint at `path`, which must be of the scene with `fingerprint` and match
-/// its checksum.
+/// Largest checkpoint file read back (bytes): the record budget's `f64`s
+/// ([`RECORD_BUDGET_BYTES`]) as JSON text, at most about 25 bytes of text each, with room for
+/// the rest. It bounds what a wrong file makes `--resume` read.
+pub const MAX_CHECKPOINT_BYTES: u64 = (RECORD_BUDGET_BYTES as u64 / 8) * 32;
+
+/// Reads the checkpoint at `path`, which must be a regular file of at most
+/// [`MAX_CHECKPOINT_BYTES`] (a FIFO or device named like it made `--resume` wait or read
+/// without end), of the scene with `fingerprint`, and match its checksum.
 pub fn read_checkpoint(path: &Path, fingerprint: &str) -> Result<Checkpoint> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text = read_bounded_text(
+        path,
+        MAX_CHECKPOINT_BYTES,
+        "a checkpoint",
+        "the record budget's numbers as JSON text",
+    )?;
     let parse = |e: serde_json::Error| Error::Parse {
         path: path.to_path_buf(),
         message: e.to_string(),
