@@ -18,7 +18,7 @@ use crate::paper::golden::Golden;
 use crate::paper::performance::{ROTATIONS, STEP_LIMIT_EVERY, STEP_LIMIT_FILE, TARGETS};
 use crate::paper::studies::accuracy::{EnsembleCheck, Finding, WINDOWS, WINDOW_ROTATIONS};
 use crate::paper::studies::ensemble_tolerance::{
-    read_ensemble_tolerance, ToleranceRow, ENSEMBLE_TOLERANCE_FILE, RTOLS, Z_FAMILY,
+    family_z, read_ensemble_tolerance, ToleranceRow, ENSEMBLE_TOLERANCE_FILE, RTOLS,
 };
 use crate::paper::studies::integration::ATOL_PER_RTOL;
 use crate::paper::studies::stability::STABILITY_ROTATIONS;
@@ -551,7 +551,7 @@ const TIGHT_SE: f64 = 1e-5;
 
 /// Per looser tolerance of `data/ensemble_tolerance.csv`: the largest |z| of the cases whose
 /// members spread and the largest change of those that agree ([`TIGHT_SE`]); the loosest
-/// tolerance within [`Z_FAMILY`]; cases that lose continuous contact; the largest change
+/// tolerance within [`family_z`] of the statistics tested; cases that lose continuous contact; the largest change
 /// against the concordance tolerance of the golden data; and what that tolerance saves. A case
 /// without a row at the study's base rtol ([`RTOLS`]'s first: the CSV is of another setting or
 /// incomplete) is named instead, as nothing can be compared with it.
@@ -591,6 +591,14 @@ fn ensemble_tolerance_findings(rows: &[ToleranceRow], scene: &SceneSetting) -> S
         );
     }
     let tight = |r: &ToleranceRow| r.pw.se < TIGHT_SE && r.sw.se < TIGHT_SE;
+    // The statistics z-tested at each tolerance (both of each case whose members spread at the
+    // base), and their family's bound over the fewest members among them.
+    let spread: Vec<&ToleranceRow> = (rows.iter())
+        .filter(|r| r.rtol == RTOLS[0] && !tight(r))
+        .collect();
+    let tested = 2 * spread.len();
+    let members = spread.iter().map(|r| r.members).min().unwrap_or(0);
+    let bound = family_z(tested, members);
     let mut parts = Vec::new();
     let mut lost = Vec::new();
     let (mut loosest, mut previous) = (None, None);
@@ -637,7 +645,7 @@ fn ensemble_tolerance_findings(rows: &[ToleranceRow], scene: &SceneSetting) -> S
         }
         parts.push(part);
         // The loosest tolerance up to which every looser step stayed within sampling.
-        if worst_z.is_none_or(|(z, _)| z.abs() <= Z_FAMILY) && loosest == previous {
+        if worst_z.is_none_or(|(z, _)| z.abs() <= bound) && loosest == previous {
             loosest = Some(tol);
         }
         previous = Some(tol);
@@ -645,11 +653,13 @@ fn ensemble_tolerance_findings(rows: &[ToleranceRow], scene: &SceneSetting) -> S
     let mut text = format!(
         "Against rtol {:e}, by tolerance: the largest |z| among the cases whose members spread (standard \
          error of a mean at least {}), and the change of a case whose members agree closer than that (its \
-         standard error is tiny, so any integration error is many of them): {}. With ten statistics per \
-         tolerance, sampling alone gives |z| up to {Z_FAMILY} (5 % over the ten, Bonferroni). ",
+         standard error is tiny, so any integration error is many of them): {}. With {tested} statistics \
+         tested per tolerance, each a paired mean over {members} members (Student's t with {} degrees \
+         of freedom), sampling alone gives |z| up to {bound:.2} (5 % over the {tested}, Bonferroni). ",
         RTOLS[0],
         sci(TIGHT_SE),
-        parts.join("; ")
+        parts.join("; "),
+        members.saturating_sub(1)
     );
     text += &match loosest {
         Some(tol) => format!(

@@ -11,14 +11,15 @@
 //! z = mean(d) / (sd(d) / sqrt(N))
 //! ```
 //!
-//! With ten statistics per tolerance, `|z|` up to [`Z_FAMILY`] is what sampling alone gives
-//! (Bonferroni, 5 % over the ten). It also
+//! `z` is Student's t with N − 1 degrees of freedom; over the statistics tested at a tolerance,
+//! `|z|` up to [`family_z`] is what sampling alone gives (Bonferroni, 5 % over them). It also
 //! counts the members in continuous contact and those whose P-w concordance dominates (Table 3's
 //! motion mode and dominance). Writes `data/ensemble_tolerance.csv`; the report's section 5 reads
 //! it. The scenes keep their tolerance: this measures what a looser one would change.
 
 use super::integration::Integration;
 use super::work_precision::SCENE_RTOL;
+use crate::analysis::significance::student_two_sided;
 use crate::analysis::statistics::Distribution;
 use crate::io::output::{read_rows, write_rows};
 use crate::io::progress::Progress;
@@ -142,9 +143,26 @@ pub fn read_ensemble_tolerance() -> Option<Vec<ToleranceRow>> {
     rows.iter().map(|r| ToleranceRow::parse(r)).collect()
 }
 
-/// Largest `|z|` that sampling alone gives to one of the ten statistics of a tolerance with
-/// 95 % probability over all ten (Bonferroni: the two-sided normal quantile of 0.5 %).
-pub const Z_FAMILY: f64 = 2.81;
+/// Largest `|z|` that sampling alone gives to one of `tested` statistics of a tolerance, each
+/// a paired mean change over `members` members, with 95 % probability over all of them
+/// (Bonferroni): `z` is Student's t with `members − 1` degrees of freedom, and the bound its
+/// two-sided quantile of 5 % / `tested`, found by bisection on [`student_two_sided`]. (It was
+/// the normal quantile over ten, 2.81, where eight were tested: with 31 degrees of freedom,
+/// 2.93.)
+pub fn family_z(tested: usize, members: usize) -> f64 {
+    let p = 0.05 / tested.max(1) as f64;
+    let dof = members.saturating_sub(1).max(1) as f64;
+    let (mut lo, mut hi) = (0.0, 1e3);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if student_two_sided(mid, dof) > p {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
 
 /// Paired `z` of `values` against `base`, member by member (see the module documentation);
 /// NaN with fewer than two members, ±∞ (or 0) when every member changed alike.
@@ -226,6 +244,17 @@ pub fn ensemble_tolerance(progress: &dyn Progress) -> Result<Vec<ToleranceRow>> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Student's two-sided quantiles, computed independently by Simpson's rule on the t density
+    /// and bisection: 3.0221 at 5 %/10 with 31 degrees of freedom (ten statistics of 32
+    /// members), 2.9338 at 5 %/8; with many degrees of freedom the normal 2.8070 (`statistics.
+    /// NormalDist().inv_cdf(1 - 0.0025)` in Python), the bound the study used before.
+    #[test]
+    fn the_family_bound_is_students_bonferroni_quantile() {
+        approx::assert_abs_diff_eq!(family_z(10, 32), 3.0221, epsilon = 1e-4);
+        approx::assert_abs_diff_eq!(family_z(8, 32), 2.9338, epsilon = 1e-4);
+        approx::assert_abs_diff_eq!(family_z(10, 100_000), 2.8070, epsilon = 1e-3);
+    }
     use approx::assert_relative_eq;
 
     #[test]
