@@ -281,9 +281,11 @@ fn bad_scene_file_reports_field_and_path() {
 #[test]
 fn driver_on_a_locked_angle() {
     // The translational joint already holds the slider's angle: driving it too is redundant.
+    // The message named the translational joint alone ("already fixed by the others"); the
+    // driver, the change made, goes unnamed.
     let msg = error_of(&replaced("body = \"crank\"", "body = \"slider\""));
     assert!(
-        msg.contains("translational[0]") && msg.contains("already fixed by the others"),
+        msg.contains("translational[0] (") && msg.contains("already fixed by driver (slider)"),
         "{msg}"
     );
 }

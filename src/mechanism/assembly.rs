@@ -250,7 +250,7 @@ impl Mechanism {
     /// The joint of constraint equation `e`, named as in the scene (`revolute[1] (crank-rod)`),
     /// in constraint order: two equations per revolute, two per translational joint, then the
     /// driver. The last `held.len()` revolutes are those clearance joints held ideal (assembly).
-    fn equation_joint(&self, e: usize, held: &[ClearanceJoint]) -> String {
+    pub(super) fn equation_joint(&self, e: usize, held: &[ClearanceJoint]) -> String {
         let (r, t) = (self.revolutes.len(), self.translationals.len());
         let pair = |a: &BodyPoint, b: &BodyPoint| {
             format!("{}-{}", self.body_name(a.body), self.body_name(b.body))

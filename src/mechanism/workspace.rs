@@ -230,7 +230,8 @@ impl Workspace {
             ws.rows.clone()
         };
         let (p1, p2) = (pattern(&mut ws, 0.3), pattern(&mut ws, 1.1));
-        let mut fixed = vec![false; n];
+        // The equation that fixed each coordinate, if one has.
+        let mut fixed: Vec<Option<usize>> = vec![None; n];
         let mut order = Vec::new();
         // The driver (the last equation) first, then sweeps until no equation qualifies.
         let candidates: Vec<usize> = std::iter::once(equations - 1)
@@ -244,28 +245,34 @@ impl Workspace {
                     continue;
                 }
                 let free: Vec<(usize, f64)> = (p1[e].entries().chain(p2[e].entries()))
-                    .filter(|&(k, _)| !fixed[k])
+                    .filter(|&(k, _)| fixed[k].is_none())
                     .collect();
                 let coord = free.first().map(|f| f.0);
                 if let Some(k) = coord.filter(|&k| free.iter().all(|f| f.0 == k)) {
                     let coefs = |p: &[Row]| p[e].entries().find(|f| f.0 == k).map(|f| f.1);
                     if let (Some(c), Some(c2)) = (coefs(&p1), coefs(&p2)) {
                         if c == c2 {
-                            fixed[k] = true;
+                            fixed[k] = Some(e);
                             order.push((e, k, c));
                             progress = true;
                         }
                     }
                 } else if free.is_empty() {
-                    let (r, t) = (2 * m.revolutes.len(), 2 * m.translationals.len());
-                    let joint = match e {
-                        e if e < r => format!("revolute[{}]", e / 2),
-                        e if e < r + t => format!("translational[{}]", (e - r) / 2),
-                        _ => "driver".into(),
-                    };
+                    // Name the joints that fixed its coordinates: a driver on a body whose
+                    // angle a translational joint holds was reported as that joint's fault.
+                    let mut by: Vec<usize> = (p1[e].entries().chain(p2[e].entries()))
+                        .filter_map(|(k, _)| fixed[k])
+                        .collect();
+                    by.sort_unstable();
+                    by.dedup();
+                    let by: Vec<String> = by.iter().map(|&o| m.equation_joint(o, &[])).collect();
                     return Err(Error::invalid(
                         "joints",
-                        format!("{joint} constrains coordinates already fixed by the others"),
+                        format!(
+                            "{} constrains coordinates already fixed by {}",
+                            m.equation_joint(e, &[]),
+                            by.join(" and ")
+                        ),
                         "independent joints (no locked or redundant joint)",
                     ));
                 }

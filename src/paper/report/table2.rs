@@ -247,7 +247,7 @@ fn scene_set_against_noise(
     };
     Some(format!(
         "**The scenes' set against the score's noise.** Each set is scored on one trajectory per case, and \
-         the motion is chaotic. The scenes' set ({}) scores {:.3} in this run; the best admissible factorial \
+         the motion is chaotic. The scenes' set ({}) scores {:.3} in the calibration study's run (`data/calibration.csv`); the best admissible factorial \
          set ({}) {:.3}. The one-at-a-time rows, each one parameter away from the scenes' set (grazing floor, \
          k/H, length, sector count), score {:.3}-{:.3}: with the \
          scenes' own row, one trajectory's score moves by {:.2} units with no change that matters, and {} of \
