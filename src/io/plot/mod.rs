@@ -167,8 +167,8 @@ pub struct Inset {
     /// A short title above the inset, e.g. `"magnified"`.
     pub title: String,
     /// Whether the title ends with the view's magnification against the panel on each axis,
-    /// measured from the pixels drawn (as `x ×N, y ×M`, or `×N` where they agree): the view's box loses its own
-    /// title and axes, so no fraction of the panel gives it in advance.
+    /// measured from the pixels drawn (as `x ×N, y ×M`, or `×N` where they agree): the view's
+    /// box loses its own title and axes, so no fraction of the panel gives it in advance.
     pub magnification: bool,
 }
 
