@@ -220,8 +220,8 @@ fn reduced_constraint_solve_matches_the_dense_system() {
 
 /// The whole run's largest penetration is at least every recorded sample's: the recorded
 /// rotation holds the start-up impact, sampled every microsecond on the dense output. Fails on
-/// the code that read it at the step ends alone (10.184 µm against a recorded 10.204 µm; the
-/// peak, located inside its step, is 10.206 µm).
+/// the code that read it at the step ends alone (10.185 µm against a recorded 10.2055 µm; the
+/// peak, located inside its step, is 10.2075 µm).
 #[test]
 fn the_whole_runs_largest_penetration_is_not_below_a_recorded_one() {
     let mut f = short(standard(), 1);

@@ -289,3 +289,37 @@ fn driver_on_a_locked_angle() {
         "{msg}"
     );
 }
+
+/// A joint with both ends on the ground fixes nothing: the message listed no joint ("already
+/// fixed by  (expected"). A clearance joint held ideal for the assembly was named as a revolute
+/// beyond the scene's (`revolute[3]`).
+#[test]
+fn a_redundant_joint_is_named_as_the_scene_names_it() {
+    let ground = "[[revolute]]\na = \"ground.O\"\nb = \"ground.O\"\n\n[driver]";
+    let msg = error_of(&replaced("[driver]", ground));
+    assert!(
+        msg.contains("revolute[2] (ground-ground) constrains no coordinate"),
+        "{msg}"
+    );
+    let text = replaced(
+        "journal = \"rod.B\"\nbearing = \"slider.C\"",
+        "journal = \"slider.C\"\nbearing = \"ground.O\"",
+    )
+    .replacen(
+        "[driver]",
+        "[[revolute]]\na = \"rod.B\"\nb = \"slider.C\"\n\n[driver]",
+        1,
+    );
+    // (found when the scene is assembled with its clearance joints held ideal)
+    let scene = SceneFile::parse(&text, Path::new("test.toml"))
+        .and_then(|f| f.build())
+        .unwrap();
+    let msg = match scene.mechanism.assemble(&scene.guess) {
+        Ok(_) => panic!("assembled"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        msg.contains("already fixed by clearance joint `rod-slider` (slider-ground, held ideal)"),
+        "{msg}"
+    );
+}

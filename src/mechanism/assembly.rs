@@ -14,8 +14,8 @@ impl Mechanism {
     /// Mass-weighted minimum-norm corrections make it work for any number of degrees of freedom.
     pub fn assemble(&self, guess: &[f64]) -> Result<Vec<f64>> {
         let ideal = self.held_ideal();
-        let mut ws = Workspace::new(&ideal)?;
         let held = &self.clearance_joints;
+        let mut ws = Workspace::holding(&ideal, held)?;
         let n = self.coordinates();
         let zeros = vec![0.0; n];
         let mut q = guess.to_vec();
@@ -82,8 +82,8 @@ impl Mechanism {
     /// joints left open, or `None` if the loop closes at every angle.
     pub fn check_rotation(&self, t0: f64, q0: &[f64]) -> Result<Option<Lock>> {
         let ideal = self.held_ideal();
-        let mut ws = Workspace::new(&ideal)?;
         let held = &self.clearance_joints;
+        let mut ws = Workspace::holding(&ideal, held)?;
         let mut q = q0[..self.coordinates()].to_vec();
         ideal.close(&mut ws, t0, &mut q, held)?;
         let step = SWEEP_STEP_DEG.to_radians() / self.driver.omega.abs();

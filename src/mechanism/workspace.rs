@@ -2,7 +2,7 @@
 //! the sparse rows of the others and their Schur complement `Φ_q M⁻¹ Φ_qᵀ`, factorised by
 //! LDLᵀ ([`Workspace::project`]). Sized once per run; nothing here allocates per evaluation.
 
-use super::{BodyIndex, Mechanism, MIN_RELATIVE_PIVOT};
+use super::{BodyIndex, ClearanceJoint, Mechanism, MIN_RELATIVE_PIVOT};
 use crate::ode::EventValue;
 use crate::{Error, Result};
 use nalgebra::Vector2;
@@ -188,6 +188,12 @@ impl Workspace {
     /// the sparse rows of the others, the pairs of blocks that meet) and sizes every buffer.
     /// Errors when a joint constrains coordinates the others already fix (redundant joints).
     pub fn new(m: &Mechanism) -> Result<Workspace> {
+        Workspace::holding(m, &[])
+    }
+
+    /// [`Workspace::new`] for `m` with its last `held.len()` revolutes the clearance joints
+    /// `held`, held ideal (assembly): an error names them as the scene does.
+    pub(super) fn holding(m: &Mechanism, held: &[ClearanceJoint]) -> Result<Workspace> {
         let n = m.coordinates();
         let equations = m.constraint_count();
         let mass: Vec<f64> = (m.bodies.iter())
@@ -265,14 +271,21 @@ impl Workspace {
                         .collect();
                     by.sort_unstable();
                     by.dedup();
-                    let by: Vec<String> = by.iter().map(|&o| m.equation_joint(o, &[])).collect();
+                    let by: Vec<String> = by.iter().map(|&o| m.equation_joint(o, held)).collect();
+                    let joint = m.equation_joint(e, held);
                     return Err(Error::invalid(
                         "joints",
-                        format!(
-                            "{} constrains coordinates already fixed by {}",
-                            m.equation_joint(e, &[]),
-                            by.join(" and ")
-                        ),
+                        if by.is_empty() {
+                            format!(
+                                "{joint} constrains no coordinate (both its ends on one body or \
+                                 on the ground)"
+                            )
+                        } else {
+                            format!(
+                                "{joint} constrains coordinates already fixed by {}",
+                                by.join(" and ")
+                            )
+                        },
                         "independent joints (no locked or redundant joint)",
                     ));
                 }

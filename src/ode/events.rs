@@ -117,7 +117,7 @@ impl Integrator {
     /// a bound for a concave bump): the zero of the rate located on the dense output to
     /// `1e-12·max(t, 1)`, and the function there. `None` when neither holds: the largest value
     /// is then at an end, or not above `above` (for a concave bump). `g` and `scratch` as in
-    /// `earliest_event`.
+    /// `earliest_event`. Returns the peak's time and value.
     pub fn peak_inside(
         &self,
         a: EventValue,
@@ -125,7 +125,7 @@ impl Integrator {
         above: f64,
         mut g: impl FnMut(f64, &[f64]) -> EventValue,
         scratch: &mut [f64],
-    ) -> Option<f64> {
+    ) -> Option<(f64, f64)> {
         let (ta, tb) = (self.t_prev(), self.t());
         if !(a.rate > 0.0 && b.rate < 0.0 && tangents_meet(ta, a, tb, b) > above) {
             return None;
@@ -136,7 +136,7 @@ impl Integrator {
         };
         let tol = 1e-12 * tb.max(1.0);
         let t = locate_root(|t| on_dense(t).rate, ta, a.rate, tb, b.rate, tol);
-        Some(on_dense(t).value)
+        Some((t, on_dense(t).value))
     }
 }
 

@@ -174,7 +174,7 @@ impl SceneFile {
             guess,
             run,
         };
-        scene.check_recording()?;
+        scene.check_recording(false)?;
         scene.check_step_budget()?;
         scene.check_tolerances()?;
         Ok(scene)

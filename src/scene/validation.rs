@@ -363,7 +363,9 @@ impl Scene {
     /// Checks what a run records: its grid resolves the driver's rotation
     /// ([`MIN_RECORD_SAMPLES_PER_ROTATION`]) and its outputs fit the record budget
     /// ([`Scene::check_record_budget`]). A run that records nothing has no grid to check.
-    pub fn check_recording(&self) -> Result<()> {
+    /// `always` says that the caller records whatever `run.record_rotations` says (a sweep, at
+    /// least one rotation; `animate`, all): recording none is then no remedy to offer.
+    pub fn check_recording(&self, always: bool) -> Result<()> {
         let run = &self.run;
         let period = self.period();
         let coarsest = period / MIN_RECORD_SAMPLES_PER_ROTATION;
@@ -376,9 +378,13 @@ impl Scene {
                      over {MIN_RECORD_SAMPLES_PER_ROTATION} (a sample per 10 degrees of driver angle): \
                      a coarser grid misses the contacts, forces and motion the recorded \
                      rotations report ({:.3} samples per rotation); likely cause: an interval \
-                     in ms or another unit (seconds), or a driver speed changed without it (or \
-                     record no rotations, run.record_rotations = 0)",
-                    period / run.record_interval
+                     in ms or another unit (seconds), or a driver speed changed without it{}",
+                    period / run.record_interval,
+                    if always {
+                        " (this command records rotations whatever run.record_rotations says)"
+                    } else {
+                        " (or record no rotations, run.record_rotations = 0)"
+                    }
                 ),
             ));
         }

@@ -50,11 +50,12 @@ pub struct Checkpoint {
     pub(super) out: RunOutput,
 }
 
-/// The version of the floating-point operations a run performs. A change that moves runs by
-/// rounding alone (2: the right-hand side's shorter dependency chains of 2026-11-27) raises it,
-/// so that a checkpoint written before is refused rather than continued under other arithmetic,
-/// which would match neither program's uninterrupted run.
-pub const ARITHMETIC: u32 = 2;
+/// The version of what a run computes from its steps. A change that moves runs by rounding
+/// alone (2: the right-hand side's shorter dependency chains of 2026-11-27), or what a run
+/// accumulates over them (3: the whole run's largest penetration taken at peaks inside steps
+/// too), raises it, so that a checkpoint written before is refused rather than continued under
+/// other rules, which would match neither program's uninterrupted run.
+pub const ARITHMETIC: u32 = 3;
 
 /// File name of a run's checkpoint in its output folder.
 pub const CHECKPOINT_FILE: &str = "checkpoint.json";

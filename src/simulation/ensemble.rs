@@ -51,10 +51,11 @@ pub const OFFSET_RADIUS: f64 = 10e-9;
 
 /// Largest initial velocity of the journal relative to its bearing that a `velocity_<V>um_s`
 /// protocol draws (m/s): a million times the study's 10 µm/s and above the contact onsets of
-/// the shipped scenes' own motion (a few to a few tens of mm/s in continuous contact), yet
-/// small against the links' own speeds (the standard crank pin moves at 10.5 m/s). Faster
-/// draws failed as something else: 1000 m/s as a speed or load far beyond the contact laws,
-/// 10²⁴ m/s as dependent joints.
+/// the shipped scenes' own motion (a few to a few tens of mm/s in continuous contact), and of
+/// the order of the links' own speeds in the slowest (the crank pin moves at 10.5 m/s at 2000
+/// r/min, 0.16 m/s at 30 r/min): beyond it a draw is a launch, not a perturbation. Faster draws
+/// failed as something else: 1000 m/s as a speed or load far beyond the contact laws, 10²⁴ m/s
+/// as dependent joints.
 pub const MAX_PERTURBATION_VELOCITY: f64 = 1.0;
 
 /// Members of an ensemble unless asked otherwise: the size the convergence study picks
@@ -206,9 +207,9 @@ impl Perturbation {
                     "perturbation",
                     self.key(),
                     format!(
-                        "a velocity of at most {} µm/s ({MAX_PERTURBATION_VELOCITY} m/s), a \
-                         perturbation small against the links' own speeds; likely cause: a \
-                         speed in another unit than µm/s",
+                        "a velocity of at most {} µm/s ({MAX_PERTURBATION_VELOCITY} m/s), of \
+                         the order of the links' own speeds: a perturbation, not a launch; likely \
+                         cause: a speed in another unit than µm/s",
                         number(shift_decimal(MAX_PERTURBATION_VELOCITY, 6))
                     ),
                 ));

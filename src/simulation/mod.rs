@@ -349,7 +349,9 @@ pub struct RunOutput {
     /// Integrator work counters of the whole run.
     pub stats: Stats,
     /// Largest penetration of each joint over the accepted steps of the whole run (m), at their
-    /// ends and at a maximum inside them on the dense output: the start-up transient and
+    /// ends and at a maximum inside them on the dense output ([`crate::ode::Integrator::
+    /// peak_inside`]: searched where the ends' tangents reach above the largest so far, a bound
+    /// for a concave peak): the start-up transient and
     /// settling included, unlike the recorded rotations' statistics (README, windows).
     pub max_penetration_whole_run: Vec<f64>,
     /// Contact onsets of each joint.

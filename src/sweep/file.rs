@@ -220,8 +220,8 @@ impl SweepFile {
                 format!(
                     "header `{}` is not a sweep's: `case`, the set keys, per clearance joint \
                      its summary columns (or `members` and per quantity its n, mean, sd and \
-                     states), `wall_time_s`, `error` (an ensemble sweep of an earlier version, \
-                     with means and sds alone, must be run again)",
+                     states), `wall_time_s`, `error` (a sweep of an earlier version must be run \
+                     again: its runs' rows lack `settled`, its ensembles' the states)",
                     header.join(",")
                 ),
             )

@@ -348,7 +348,7 @@ impl Sweep {
         let in_this = |e| in_case(e, case, &self.sets, &values);
         let mut scene = vary(&self.doc, &self.path, &self.sets, &values).map_err(in_this)?;
         scene.run.record_rotations = scene.run.record_rotations.max(1);
-        scene.check_recording().map_err(in_this)?;
+        scene.check_recording(true).map_err(in_this)?;
         scene.mechanism.assemble(&scene.guess).map_err(in_this)?;
         let names = joint_names(&scene);
         if !self.joints.is_empty() && names != self.joints {

@@ -36,7 +36,7 @@ pub fn animate(path: &Path, out: Option<PathBuf>, rotations: u32, frames: usize)
     scene.run.wear_snapshots.clear();
     // Every rotation is recorded here: the scene's own check counted its record_rotations.
     scene
-        .check_recording()
+        .check_recording(true)
         .map_err(|e| Failure::input(path, e))?;
     let started = Instant::now();
     let run = simulate(&scene).map_err(|e| Failure::from(path, e))?;

@@ -653,13 +653,20 @@ fn ensemble_tolerance_findings(rows: &[ToleranceRow], scene: &SceneSetting) -> S
     let mut text = format!(
         "Against rtol {:e}, by tolerance: the largest |z| among the cases whose members spread (standard \
          error of a mean at least {}), and the change of a case whose members agree closer than that (its \
-         standard error is tiny, so any integration error is many of them): {}. With {tested} statistics \
-         tested per tolerance, each a paired mean over {members} members (Student's t with {} degrees \
-         of freedom), sampling alone gives |z| up to {bound:.2} (5 % over the {tested}, Bonferroni). ",
+         standard error is tiny, so any integration error is many of them): {}. {}",
         RTOLS[0],
         sci(TIGHT_SE),
         parts.join("; "),
-        members.saturating_sub(1)
+        if tested == 0 {
+            "No statistic is z-tested: every case's members agree closer than that. ".to_string()
+        } else {
+            format!(
+                "With {tested} statistics tested per tolerance, each a paired mean over {members} \
+                 members (Student's t with {} degrees of freedom), sampling alone gives |z| up to \
+                 {bound:.2} (5 % over the {tested}, Bonferroni). ",
+                members.saturating_sub(1)
+            )
+        }
     );
     text += &match loosest {
         Some(tol) => format!(
