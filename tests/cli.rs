@@ -800,13 +800,9 @@ fn offsets_beyond_the_clearance_are_refused_naming_the_perturbation() {
             "{err}"
         );
     }
-    // A velocity in m/s typed as µm/s: 1000 m/s failed while running, blamed on a speed or
-    // load, and 10²⁴ m/s on dependent joints.
-    for key in [
-        "velocity_1000000000um_s",
-        "velocity_1000000000000000000000000000000um_s",
-    ] {
-        let o = jointwear(&[
+    // Member 0 under protocol `key`.
+    let member = |key: &str| {
+        jointwear(&[
             "run",
             s(&scene),
             "--out",
@@ -815,7 +811,15 @@ fn offsets_beyond_the_clearance_are_refused_naming_the_perturbation() {
             "0",
             "--perturbation",
             key,
-        ]);
+        ])
+    };
+    // A velocity in m/s typed as µm/s: 1000 m/s failed while running, blamed on a speed or
+    // load, and 10²⁴ m/s on dependent joints.
+    for key in [
+        "velocity_1000000000um_s",
+        "velocity_1000000000000000000000000000000um_s",
+    ] {
+        let o = member(key);
         let err = stderr(&o);
         assert_eq!(o.status.code(), Some(2), "{err}");
         assert!(
@@ -824,16 +828,7 @@ fn offsets_beyond_the_clearance_are_refused_naming_the_perturbation() {
         );
     }
     // Just inside the clearance, the member runs.
-    let o = jointwear(&[
-        "run",
-        s(&scene),
-        "--out",
-        &out,
-        "--member",
-        "0",
-        "--perturbation",
-        "disc_19999nm",
-    ]);
+    let o = member("disc_19999nm");
     assert!(o.status.success(), "{}", stderr(&o));
     // The default's 10 nm is taken at any clearance, zero included (refused at first, with
     // advice about units for a protocol nobody had given).
