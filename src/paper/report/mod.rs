@@ -153,7 +153,9 @@ pub fn write(
          each verdict holds. In a member where a quantity the rule compares does not exist (a ratio of \
          wear regions the member does not have; each rule says which) the rule is *undefined*: counted \
          apart, neither a success nor a failure, and a mean beside it says over how many members it is \
-         taken.\n",
+         taken. The paper's claims are words; where a rule needs a number the paper does not give (a \
+         correlation that \"follows\", a depth \"not seriously affected\"), the rule says it is ours \
+         and what it means.\n",
         runs.ensemble.perturbation.key(),
         runs.ensemble.perturbation.describe(),
         100.0 * MEMBER_MAJORITY,

@@ -113,7 +113,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "Fig. 11",
         "although the contact force is much larger, the accumulated wear depth is not seriously affected by clearance",
         format!(
-            "max wear ratio 0.5 mm : 0.02 mm within [{}, {}]",
+            "max wear ratio 0.5 mm : 0.02 mm within [{}, {}] (our number for \"not seriously\": \
+             within a factor of two either way)",
             NOT_SERIOUSLY_AFFECTED.0, NOT_SERIOUSLY_AFFECTED.1
         ),
         format!(
