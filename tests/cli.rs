@@ -983,3 +983,33 @@ fn member_and_sweep_rows_say_whether_the_run_settled() {
     );
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A sweep records at least one rotation whatever `run.record_rotations` says, so its refusal of
+/// a coarse recording grid must not advise recording none (it did, to a user who had).
+#[test]
+fn a_sweeps_coarse_recording_grid_is_refused_without_advising_no_recording() {
+    let dir = temp_dir("sweep-grid");
+    let scene = short_standard(&dir, 1);
+    let file = dir.join("sweep.csv");
+    let o = jointwear(&[
+        "sweep",
+        s(&scene),
+        "--out",
+        s(&file),
+        "--set",
+        "run.record_rotations=0",
+        "--set",
+        "run.record_interval_s=1e-3",
+        "--set",
+        "driver.speed_rpm=-2000,-1000",
+    ]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("`run.record_interval_s")
+            && err.contains("records rotations whatever run.record_rotations says")
+            && !err.contains("record no rotations"),
+        "{err}"
+    );
+    fs::remove_dir_all(&dir).unwrap();
+}
