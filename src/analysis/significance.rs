@@ -54,6 +54,21 @@ pub fn student_two_sided(t: f64, dof: f64) -> f64 {
     incomplete_beta(dof / (dof + t * t), 0.5 * dof, 0.5)
 }
 
+/// The `t` at which Student's two-sided p value with `dof` degrees of freedom is `p`
+/// ([`student_two_sided`] inverted by bisection).
+pub fn student_two_sided_quantile(p: f64, dof: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, 1e3);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if student_two_sided(mid, dof) > p {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
 /// Fisher's exact two-sided p value of `k1` of `n1` against `k2` of `n2`.
 pub fn fisher_two_sided(k1: usize, n1: usize, k2: usize, n2: usize) -> f64 {
     assert!(k1 <= n1 && k2 <= n2, "counts {k1} of {n1}, {k2} of {n2}");

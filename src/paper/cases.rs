@@ -297,6 +297,23 @@ impl SteadyEnsemble {
         States::of(&self.members.iter().map(f).collect::<Vec<f64>>())
     }
 
+    /// The members grouped by `label` (a motion mode, a steady state), the groups in the order
+    /// their first members come.
+    pub fn groups(
+        &self,
+        label: impl Fn(&SteadyMember) -> &'static str,
+    ) -> Vec<(&'static str, Vec<&SteadyMember>)> {
+        let mut groups: Vec<(&'static str, Vec<&SteadyMember>)> = Vec::new();
+        for m in &self.members {
+            let l = label(m);
+            match groups.iter_mut().find(|(g, _)| *g == l) {
+                Some((_, of)) => of.push(m),
+                None => groups.push((l, vec![m])),
+            }
+        }
+        groups
+    }
+
     /// Members in continuous contact.
     pub fn continuous(&self) -> usize {
         let mode = |m: &&SteadyMember| m.motion.continuous();

@@ -820,7 +820,7 @@ impl Simulation {
     /// [`crate::mechanism::ClearanceJoint::penetration_limit`].
     fn penetration_error(&self, t: f64, k: usize, delta: f64) -> Error {
         let cj = &self.mechanism.clearance_joints[k];
-        Error::Integration {
+        let e = Error::Integration {
             time: t,
             cause: format!(
                 "clearance joint `{}` penetrates {} ({:.1} x its radial clearance of {}) at \
@@ -839,7 +839,8 @@ impl Simulation {
                 100.0 * MIN_PENETRATION_LIMIT_RATIO,
                 100.0 * MAX_PENETRATION_RATIO,
             ),
-        }
+        };
+        blame_fixed_step(self.settings.method, e)
     }
 
     /// Stops a run whose wear left the model's validity ([`MAX_WEAR_RATIO`]).
@@ -1103,9 +1104,9 @@ impl Simulation {
         // The whole run's largest penetrations, at a maximum inside the step where its ends'
         // tangents could reach above the largest so far (the step ends miss a peak between
         // them: by 0.02 of 10.2 µm for the standard scene's first impact, which its recorded
-        // samples caught). A step cut at an onset is not searched: the
-        // other joints' peaks there are a coincidence of one step.
-        // A peak beyond the contact laws' limit fails the run as one at a step's end does.
+        // samples caught). A step cut at an onset is not searched: the other joints' peaks
+        // there are a coincidence of one step. A peak beyond the contact laws' limit fails the
+        // run as one at a step's end does.
         let mut beyond = None;
         if onset.is_none() {
             let largest = &mut self.out.max_penetration_whole_run;
@@ -1127,8 +1128,7 @@ impl Simulation {
             }
         }
         if let Some((t, k, peak)) = beyond {
-            let e = self.penetration_error(t, k, peak);
-            return Err(blame_fixed_step(self.settings.method, e));
+            return Err(self.penetration_error(t, k, peak));
         }
         // 2. Wear at the interval midpoint, 3. samples, both over [ta, t_stop].
         if self.wears {
@@ -1193,8 +1193,7 @@ impl Simulation {
         let joints = &self.mechanism.clearance_joints;
         let gap = |k: usize| self.gaps[k].value;
         if let Some(k) = (0..joints.len()).find(|&k| gap(k) > joints[k].penetration_limit()) {
-            let e = self.penetration_error(t_stop, k, gap(k));
-            return Err(blame_fixed_step(self.settings.method, e));
+            return Err(self.penetration_error(t_stop, k, gap(k)));
         }
         if history_due(t_stop, self.next_history) {
             self.out

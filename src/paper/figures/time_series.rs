@@ -100,9 +100,9 @@ fn orbit_inset(x: &[f64], y: &[f64], c_um: f64) -> Option<Inset> {
 /// states where the members split ([`States`](crate::analysis::states::States)).
 fn steady_lines(name: &str, e: &SteadyEnsemble) -> String {
     let n = e.members.len();
-    let modes: Vec<String> = fractions(e.members.iter().map(|m| m.motion.mode()))
-        .iter()
-        .map(|(mode, k)| format!("{mode} in {k} of {n}"))
+    let groups = e.groups(|m| m.motion.mode());
+    let modes: Vec<String> = (groups.iter())
+        .map(|(mode, of)| format!("{mode} in {} of {n}", of.len()))
         .collect();
     let unsteady = e.members.iter().filter(|m| !m.settling.steady).count();
     let stat = |f: &dyn Fn(&SteadyMember) -> f64, scale, digits| {
@@ -111,19 +111,16 @@ fn steady_lines(name: &str, e: &SteadyEnsemble) -> String {
     // Members in different motion modes are states of the case however close their values:
     // each mode's own statistics (at 0.2 mm, 13 members in free flight and 19 in continuous
     // contact were pooled into one "in contact 91.2 ± 5.2 %").
-    let by_mode = if modes.len() > 1 {
-        let parts: Vec<String> = fractions(e.members.iter().map(|m| m.motion.mode()))
-            .iter()
-            .map(|(mode, k)| {
-                let of: Vec<&SteadyMember> = (e.members.iter())
-                    .filter(|m| m.motion.mode() == *mode)
-                    .collect();
+    let by_mode = if groups.len() > 1 {
+        let parts: Vec<String> = (groups.iter())
+            .map(|(mode, of)| {
                 let stat = |f: &dyn Fn(&SteadyMember) -> f64, scale, digits| {
                     Distribution::of(of.iter().map(|m| f(m))).mean_sd(scale, digits)
                 };
                 format!(
-                    "{mode} ({k} of {n}): in contact {} %, {} contact onsets per rotation, max \
+                    "{mode} ({} of {n}): in contact {} %, {} contact onsets per rotation, max \
                      force {} N, max penetration {} µm, CMF P-w {}, s-w {}",
+                    of.len(),
                     stat(&|m| m.motion.contact_fraction, 100.0, 1),
                     stat(&|m| m.motion.impacts_per_rotation, 1.0, 1),
                     stat(&|m| m.max_normal_force, 1.0, 0),

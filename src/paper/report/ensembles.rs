@@ -4,7 +4,7 @@
 //! (`data/member_separation.csv`, [`crate::paper::separation`]).
 
 use super::markdown::md_table;
-use crate::analysis::statistics::{fractions, Distribution};
+use crate::analysis::statistics::Distribution;
 use crate::io::output::read_rows;
 use crate::paper::cases::{Runs, SteadyMember, CASES};
 use crate::paper::convergence::{MAX_MEMBERS, SE_SHARE, SIZES};
@@ -40,12 +40,8 @@ pub(super) fn ensemble_section(runs: &Runs, golden: &Golden) -> Result<String> {
     let mut rows = Vec::new();
     for (case, e) in CASES.zip(&runs.steady_cases()?).list() {
         let (c_mm, rpm) = (case.clearance_mm, case.speed_rpm);
-        for (mode, k) in fractions(e.members.iter().map(SteadyMember::steady_state)) {
-            let of_mode: Vec<&SteadyMember> = e
-                .members
-                .iter()
-                .filter(|m| m.steady_state() == mode)
-                .collect();
+        for (mode, of_mode) in e.groups(SteadyMember::steady_state) {
+            let k = of_mode.len();
             let stat =
                 |f: &dyn Fn(&SteadyMember) -> f64| Distribution::of(of_mode.iter().map(|m| f(m)));
             rows.push(vec![

@@ -19,7 +19,7 @@
 
 use super::integration::Integration;
 use super::work_precision::SCENE_RTOL;
-use crate::analysis::significance::student_two_sided;
+use crate::analysis::significance::student_two_sided_quantile;
 use crate::analysis::statistics::Distribution;
 use crate::io::output::{read_rows, write_rows};
 use crate::io::progress::Progress;
@@ -146,22 +146,12 @@ pub fn read_ensemble_tolerance() -> Option<Vec<ToleranceRow>> {
 /// Largest `|z|` that sampling alone gives to one of `tested` statistics of a tolerance, each
 /// a paired mean change over `members` members, with 95 % probability over all of them
 /// (Bonferroni): `z` is Student's t with `members − 1` degrees of freedom, and the bound its
-/// two-sided quantile of 5 % / `tested`, found by bisection on [`student_two_sided`]. (It was
+/// two-sided quantile of 5 % / `tested` ([`student_two_sided_quantile`]). (It was
 /// the normal quantile over ten, 2.81, where eight were tested: with 31 degrees of freedom,
 /// 2.93.)
 pub fn family_z(tested: usize, members: usize) -> f64 {
-    let p = 0.05 / tested.max(1) as f64;
     let dof = members.saturating_sub(1).max(1) as f64;
-    let (mut lo, mut hi) = (0.0, 1e3);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if student_two_sided(mid, dof) > p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    hi
+    student_two_sided_quantile(0.05 / tested.max(1) as f64, dof)
 }
 
 /// Paired `z` of `values` against `base`, member by member (see the module documentation);
