@@ -47,7 +47,7 @@ type Case = (&'static str, fn(&mut SceneFile), &'static [&'static str]);
 
 #[test]
 fn implausible_masses_moduli_and_lengths_are_refused_with_their_reason() {
-    let cases: [Case; 6] = [
+    let cases: [Case; 7] = [
         (
             "slider mass",
             |f| f.bodies[2].mass_kg = 1e-300,
@@ -62,6 +62,17 @@ fn implausible_masses_moduli_and_lengths_are_refused_with_their_reason() {
             "inertia",
             |f| f.bodies[0].inertia_kg_m2 = 1e-20,
             &["`bodies[0].inertia_kg_m2`: 1e-20", "[1e-12, 1000000]"],
+        ),
+        (
+            "inertia in kg mm²",
+            |f| f.bodies[1].inertia_kg_m2 = 1000.0,
+            &[
+                "`bodies[1].inertia_kg_m2`: 1000",
+                "at most 0.6069 kg m²",
+                "radius of gyration √(I/m), 69.01 m",
+                "mechanism's size of 0.17 m",
+                "kg mm² or g cm²",
+            ],
         ),
         (
             "modulus",
@@ -108,9 +119,13 @@ fn implausible_masses_moduli_and_lengths_are_refused_with_their_reason() {
             assert!(msg.contains(n), "{what}: lacks `{n}`: {msg}");
         }
     }
-    // The limits themselves are valid.
+    // The limits themselves are valid: the lightest slider with an inertia to match (1 mm
+    // radius of gyration), and a rod whose radius of gyration is 9.9 times the linkage's
+    // 0.17 m.
     let mut f = standard();
     f.bodies[2].mass_kg = 1e-6;
+    f.bodies[2].inertia_kg_m2 = 1e-12;
+    f.bodies[1].inertia_kg_m2 = 0.21 * (9.9f64 * 0.17).powi(2);
     f.bodies[0].inertia_kg_m2 = 1e-12;
     f.materials.get_mut("steel").unwrap().youngs_modulus_gpa = 0.1;
     f.clearance[0].wear.as_mut().unwrap().length_mm = 0.1;

@@ -74,6 +74,7 @@ impl SceneFile {
                 b.angle_deg.to_radians(),
             ]);
         }
+        check_gyration(self)?;
         let revolutes = self
             .revolute
             .iter()

@@ -22,9 +22,9 @@ pub use layering::{reversal_note, scene_path, set_dotted};
 pub use validation::{
     Limit, ABSOLUTE_TOLERANCE, ATOL_PER_CLEARANCE, BEARING_LENGTH_MM, BEARING_RADIUS_MM,
     COORDINATE_MM, GRAVITY_M_S2, GRAZING_VELOCITY_M_S, INERTIA_KG_M2, MASS_KG, MAX_CLEARANCE_RATIO,
-    MAX_K_OVER_H_PER_PA, MAX_NAME_BYTES, MAX_RUN_STEPS, MAX_SCENE_BYTES, MAX_STEP_S,
-    MAX_TITLE_BYTES, MIN_HERTZ_CLEARANCE_RATIO, MIN_RECORD_SAMPLES_PER_ROTATION, MIN_SPEED_RPM,
-    RECORD_BUDGET_BYTES, RESTITUTION, YOUNGS_MODULUS_GPA,
+    MAX_GYRATION_PER_SIZE, MAX_K_OVER_H_PER_PA, MAX_NAME_BYTES, MAX_RUN_STEPS, MAX_SCENE_BYTES,
+    MAX_STEP_S, MAX_TITLE_BYTES, MIN_HERTZ_CLEARANCE_RATIO, MIN_RECORD_SAMPLES_PER_ROTATION,
+    MIN_SPEED_RPM, RECORD_BUDGET_BYTES, RESTITUTION, YOUNGS_MODULUS_GPA,
 };
 
 use crate::laws::contact::{DissipationLaw, NormalForceModel, StiffnessLaw};
@@ -120,7 +120,9 @@ pub struct BodySpec {
     pub name: String,
     /// Mass (kg), [1e-6, 1000000] ([`MASS_KG`]).
     pub mass_kg: f64,
-    /// Moment of inertia about the centre of mass (kg m²), [1e-12, 1000000] ([`INERTIA_KG_M2`]).
+    /// Moment of inertia about the centre of mass (kg m²), [1e-12, 1000000] ([`INERTIA_KG_M2`]),
+    /// with a radius of gyration √(I/m) of at most [`MAX_GYRATION_PER_SIZE`] times the
+    /// mechanism's size.
     pub inertia_kg_m2: f64,
     /// Initial guess of the centre of mass (mm); assembled exactly at load.
     pub position_mm: [f64; 2],

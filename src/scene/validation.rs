@@ -68,6 +68,64 @@ pub const INERTIA_KG_M2: Limit = Limit {
           cannot be resolved; likely cause: an inertia in g mm² or another unit",
 };
 
+/// Largest radius of gyration √(I/m) of a body, as a multiple of the mechanism's size (the
+/// diagonal of the box holding its points at their initial positions, or the farthest point
+/// from a body's centre of mass if that is larger). A flywheel ten times the size of the
+/// linkage is not a joint-wear scene; an inertia typed in kg mm² (10⁶ times its value in
+/// kg m², so a radius of gyration 1000 times too long) or in g cm² (10⁷) is.
+pub const MAX_GYRATION_PER_SIZE: f64 = 10.0;
+
+/// Checks every body's radius of gyration against [`MAX_GYRATION_PER_SIZE`] times the size of
+/// the mechanism `f` describes (its values already checked to be finite and in range).
+pub(super) fn check_gyration(f: &SceneFile) -> Result<()> {
+    let mut farthest: f64 = 0.0;
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    let mut hold = |p: [f64; 2]| {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    };
+    f.ground.points_mm.values().for_each(|&p| hold(p));
+    for b in &f.bodies {
+        let (s, c) = b.angle_deg.to_radians().sin_cos();
+        hold(b.position_mm);
+        for p in b.points_mm.values() {
+            farthest = farthest.max(p[0].hypot(p[1]));
+            hold([
+                b.position_mm[0] + c * p[0] - s * p[1],
+                b.position_mm[1] + s * p[0] + c * p[1],
+            ]);
+        }
+    }
+    let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]).max(farthest) * 1e-3;
+    if size <= 0.0 {
+        return Ok(());
+    }
+    let limit = MAX_GYRATION_PER_SIZE * size;
+    match f
+        .bodies
+        .iter()
+        .enumerate()
+        .find(|(_, b)| (b.inertia_kg_m2 / b.mass_kg).sqrt() > limit)
+    {
+        None => Ok(()),
+        Some((i, b)) => Err(Error::invalid(
+            format!("bodies[{i}].inertia_kg_m2"),
+            exact(b.inertia_kg_m2),
+            format!(
+                "at most {} kg m² for its mass of {} kg: its radius of gyration √(I/m), {} m, \
+                 is over {MAX_GYRATION_PER_SIZE} times the mechanism's size of {} m; likely \
+                 cause: an inertia in kg mm² or g cm² instead of kg m²",
+                terminal(b.mass_kg * limit * limit),
+                terminal(b.mass_kg),
+                terminal((b.inertia_kg_m2 / b.mass_kg).sqrt()),
+                terminal(size)
+            ),
+        )),
+    }
+}
+
 /// Largest Archard coefficient k/H (1/Pa) of a scene's wear law (and of `longlife --k-over-h`).
 pub const MAX_K_OVER_H_PER_PA: f64 = 1e-6;
 

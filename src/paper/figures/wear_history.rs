@@ -78,8 +78,8 @@ pub fn fig07(runs: &Runs) -> Result<Vec<String>> {
                 })
                 .collect(),
         };
-        let label = format!("region at {:.0} deg", p.angle_deg);
-        let tag = format!("region_at_{:.0}_deg", p.angle_deg);
+        let label = format!("region at {:.1} deg", p.angle_deg);
+        let tag = format!("region_at_{:.1}_deg", p.angle_deg);
         curves.push(BandCurve::new(label, tag, &per_point, 1.0));
     }
     let lines: Vec<String> = region_share_stats(&staircase_shares(e))
