@@ -1201,7 +1201,25 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              evaluations, 5.2 times Dopri5's: the free flight and impacts of the first rotation need the \
              higher order. (Its median peak-force error at the picked setting is 28 times smaller than \
              Dopri5's, 4.3×10⁻⁷ against 1.2×10⁻⁵; the rule's bound on it, 10⁻⁴, binds neither.) With DOP853 above, \
-             three pairs of other orders and error constants do no better than Dopri5 on this problem.\n\n",
+             three pairs of other orders and error constants do no better than Dopri5 on this problem.\n\n\
+             **Two other C² profiles that pass through the sector depths (2026-11-27, measured, not \
+             kept).** The B-spline above smooths the scar of the 30 r/min case; two interpolants keep \
+             every sector depth and make the profile C², each tried in `WearProfile` (scratch) and run \
+             on members 0-31 of seed 1 at the scenes' setting (`--member m --seed 1`, no recording), \
+             paired against the Catmull-Rom profile. The quintic Hermite spline with the same four \
+             depths (slopes and curvatures at the centres by central differences; local, so no \
+             per-step work): median ratio of evaluations 1.028 (quartiles 0.940-1.080, 13 of 32 \
+             members fewer). Smoothness alone does not pay: its third derivative jumps at every centre \
+             by 9 times the depths' fourth difference. The periodic interpolating cubic spline \
+             (control points P with (P_(i−1) + 4P_i + P_(i+1))/6 = h_i, kept current after each step's \
+             wear through the inverse's kernel √3 (√3 − 2)^|k|, 30 sectors each side): 0.916 \
+             (0.856-0.959, 26 of 32 fewer; 0.932 with the control points summed in another order). \
+             Its upkeep, though, is a convolution of each step's 10-20 deepened sectors with that \
+             kernel: member 3's `add_wear` took 4 340 instructions per step against 885, more than \
+             the 8 % of evaluations it saves. A recursive filter would cut that upkeep to two passes \
+             of about 80 dependent multiply-adds a step, by estimate (not built) still about 5 % of \
+             the cost per evaluation, for a net gain of a few per cent. Moreover, its control points would be \
+             state to checkpoint beside the depths: they could not be recomputed on resume to the bit.\n\n",
         );
     md.push_str("How run time grows with simulated rotations and with clearance (`cargo run --release --bin scaling`):\n\n");
     csv_table(md, "scaling.csv", "cargo run --release --bin scaling");
