@@ -903,7 +903,7 @@ fn a_run_that_did_not_settle_says_so_and_the_motion_names_its_window() {
         "{text}"
     );
     assert!(
-        text.contains("impacts per rotation; recorded rotations)"),
+        text.contains("contact onsets per rotation; recorded rotations, samples every"),
         "{text}"
     );
     let out = dir.join("ensemble");

@@ -95,7 +95,8 @@ fn maxima_are_taken_over_the_window_they_name() {
     let whole = value("max_penetration_whole_run_m");
     assert!(whole > value("max_penetration_recorded_m"), "{joint}");
     let printed = format!(
-        "max normal force {}, max penetration {} (recorded rotations)",
+        "max normal force {}, max penetration {} (recorded rotations, largest of the samples \
+         every 1e-5 s)",
         quantity(value("max_normal_force_recorded_n"), "N"),
         quantity(value("max_penetration_recorded_m") * 1e6, "µm")
     );

@@ -213,11 +213,14 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
             number(e.residual())
         );
     }
+    // The recorded window's numbers are read off its samples, which may miss a peak or a
+    // contact onset between them: the printout names the grid.
+    let grid = format!("samples every {} s", number(scene.run.record_interval));
     for j in joints {
         println!("  joint {}:", j.name);
         match (j.max_normal_force_recorded, j.max_penetration_recorded) {
             (Some(f), Some(p)) => println!(
-                "    max normal force {}, max penetration {} (recorded rotations)",
+                "    max normal force {}, max penetration {} (recorded rotations, largest of the {grid})",
                 quantity(f, "N"),
                 quantity(p * 1e6, "µm")
             ),
@@ -231,7 +234,8 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
         );
         if let Some(m) = j.motion {
             println!(
-                "    motion: {} ({} in contact, {} impacts per rotation; recorded rotations)",
+                "    motion: {} ({} in contact, {} contact onsets per rotation; recorded \
+                 rotations, {grid})",
                 m.mode(),
                 quantity(100.0 * m.contact_fraction, "%"),
                 number(m.impacts_per_rotation)

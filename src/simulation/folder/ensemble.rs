@@ -241,9 +241,10 @@ fn readme(
          \x20 member                               0-based member number\n\
          \x20 J.offset_body_x_m, J.offset_body_y_m  initial journal offset, in the frame of the \
          journal's body (m); zero where the protocol starts the journal centred\n\
-         \x20 J.max_normal_force_recorded_n        largest normal force of the recorded \
-         rotations (N); empty when none were recorded\n\
-         \x20 J.max_penetration_recorded_m         largest penetration of the recorded \
+         \x20 J.max_normal_force_recorded_n        largest sampled normal force of the \
+         recorded rotations (N; samples every run.record_interval_s); empty when none were \
+         recorded\n\
+         \x20 J.max_penetration_recorded_m         largest sampled penetration of the recorded \
          rotations (m), positive = overlap; empty when none were recorded\n\
          \x20 J.max_penetration_whole_run_m        largest penetration of the whole run (m), \
          the start-up transient (impact after the centred start) included\n\

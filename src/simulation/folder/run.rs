@@ -420,8 +420,9 @@ fn readme(title: &str, scene: &Scene, out: &RunOutput) -> String {
          change over the clearance, steady: false where run.steady_state.max_rotations was \
          reached first, and the recorded rotations are then not a steady state; null without \
          settling); joints (per clearance joint: bodies, radial \
-         clearance, max_normal_force_recorded_n and max_penetration_recorded_m over the \
-         recorded rotations or null if none were recorded, max_penetration_whole_run_m over \
+         clearance, max_normal_force_recorded_n and max_penetration_recorded_m, the largest \
+         samples (every run.record_interval_s) of the recorded rotations, or null if none were \
+         recorded, max_penetration_whole_run_m over \
          every step from the start (the start-up transient, the impact after the centred \
          start, included), contact onsets, motion (mode: \
          `continuous contact` or `free flight and impact`, contact fraction, impacts per \
