@@ -119,6 +119,27 @@ fn implausible_masses_moduli_and_lengths_are_refused_with_their_reason() {
             assert!(msg.contains(n), "{what}: lacks `{n}`: {msg}");
         }
     }
+    // A linkage whose points all lie at one place is as large as its bearing (20 mm): a
+    // journal free in a bearing at the origin, its inertia in kg mm², is refused, and one
+    // 0.01 mm off-centre with its inertia in kg m² is not (with the points alone its size was
+    // 1e-5 m, and every inertia above 1e-8 kg m² was refused).
+    let mut f = standard();
+    f.ground
+        .points_mm
+        .values_mut()
+        .for_each(|p| *p = [0.0, 0.0]);
+    for b in &mut f.bodies {
+        b.position_mm = [0.0, 0.0];
+        b.points_mm.values_mut().for_each(|p| *p = [0.0, 0.0]);
+    }
+    f.bodies[1].inertia_kg_m2 = 1000.0;
+    let msg = refused(&f);
+    assert!(msg.contains("mechanism's size of 0.02 m"), "{msg}");
+    f.bodies[1].inertia_kg_m2 = 0.001;
+    f.bodies[2].position_mm = [0.01, 0.0];
+    if let Err(e) = f.build() {
+        assert!(!e.to_string().contains("radius of gyration"), "{e}");
+    }
     // The limits themselves are valid: the lightest slider with an inertia to match (1 mm
     // radius of gyration), and a rod whose radius of gyration is 9.9 times the linkage's
     // 0.17 m.

@@ -69,9 +69,10 @@ pub const INERTIA_KG_M2: Limit = Limit {
 };
 
 /// Largest radius of gyration √(I/m) of a body, as a multiple of the mechanism's size (the
-/// diagonal of the box holding its points at their initial positions, or the farthest point
-/// from a body's centre of mass if that is larger). A flywheel ten times the size of the
-/// linkage is not a joint-wear scene; an inertia typed in kg mm² (10⁶ times its value in
+/// diagonal of the box holding its points at their initial positions, the farthest point from a
+/// body's centre of mass, or the largest bearing's diameter, whichever is largest: a journal
+/// free in a bearing at the origin has all its points there). A flywheel ten times the size of
+/// the linkage is not a joint-wear scene; an inertia typed in kg mm² (10⁶ times its value in
 /// kg m², so a radius of gyration 1000 times too long) or in g cm² (10⁷) is.
 pub const MAX_GYRATION_PER_SIZE: f64 = 10.0;
 
@@ -98,8 +99,14 @@ pub(super) fn check_gyration(f: &SceneFile) -> Result<()> {
             ]);
         }
     }
-    let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]).max(farthest) * 1e-3;
+    let bearing = (f.clearance.iter()).fold(0.0, |d: f64, c| d.max(2.0 * c.bearing_radius_mm));
+    let size = (hi[0] - lo[0])
+        .hypot(hi[1] - lo[1])
+        .max(farthest)
+        .max(bearing)
+        * 1e-3;
     if size <= 0.0 {
+        // every point at one place and no bearing: no length to compare with
         return Ok(());
     }
     let limit = MAX_GYRATION_PER_SIZE * size;

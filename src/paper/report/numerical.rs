@@ -1058,8 +1058,9 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              (interval 0.981-1.129), so the move came from the 128 members' sampling rather than from the \
              rounding: the rule now uses 512 members and the scenes run at 1.5e-7. Net, at the scenes' accuracy: over members 0-31 of seed 1 \
              (`jointwear run data/scenes/standard.toml --set run.record_rotations=0 --member m --seed 1`) the \
-             40-rotation run takes median 773 423 evaluations at 1.5e-7 against 739 140 at 2e-7 before \
-             (+4.6 %; ranges 634 544-1 079 929 and 638 406-1 297 657), and the 16-member ensemble (`--ensemble \
+             40-rotation run takes median 775 189 evaluations at 1.5e-7 (the 16th of the 32, member 18 \
+             with 773 423, was compared then with 739 140 at 2e-7 before: +4.6 %; ranges 634 544-1 079 929 \
+             and 638 406-1 297 657), and the 16-member ensemble (`--ensemble \
              16`) 0.83-0.85 s (1.62-1.67 s of CPU) against 0.86-0.88 s (1.60-1.66 s) for the program before at \
              its 2e-7 (4 alternating runs each): the cost per evaluation saved about pays for the tighter \
              tolerance, and the 0.6 s target stays missed. The unperturbed default trajectory is now an outlier \
@@ -1201,7 +1202,7 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              evaluations, 5.2 times Dopri5's: the free flight and impacts of the first rotation need the \
              higher order. (Its median peak-force error at the picked setting is 28 times smaller than \
              Dopri5's, 4.3×10⁻⁷ against 1.2×10⁻⁵; the rule's bound on it, 10⁻⁴, binds neither.) With DOP853 above, \
-             three pairs of other orders and error constants do no better than Dopri5 on this problem.\n\n\
+             no pair of another order or error constant does better than Dopri5 over 40 rotations.\n\n\
              **Two other C² profiles that pass through the sector depths (2026-11-27, measured, not \
              kept).** The B-spline above smooths the scar of the 30 r/min case; two interpolants keep \
              every sector depth and make the profile C², each tried in `WearProfile` (scratch) and run \
@@ -1210,15 +1211,16 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              depths (slopes and curvatures at the centres by central differences; local, so no \
              per-step work): median ratio of evaluations 1.028 (quartiles 0.940-1.080, 13 of 32 \
              members fewer). Smoothness alone does not pay: its third derivative jumps at every centre \
-             by 9 times the depths' fourth difference. The periodic interpolating cubic spline \
+             by 9 times the depths' fourth difference, against once for the B-spline. The periodic interpolating cubic spline \
              (control points P with (P_(i−1) + 4P_i + P_(i+1))/6 = h_i, kept current after each step's \
              wear through the inverse's kernel √3 (√3 − 2)^|k|, 30 sectors each side): 0.916 \
              (0.856-0.959, 26 of 32 fewer; 0.932 with the control points summed in another order). \
              Its upkeep, though, is a convolution of each step's 10-20 deepened sectors with that \
              kernel: member 3's `add_wear` took 4 340 instructions per step against 885, more than \
              the 8 % of evaluations it saves. A recursive filter would cut that upkeep to two passes \
-             of about 80 dependent multiply-adds a step, by estimate (not built) still about 5 % of \
-             the cost per evaluation, for a net gain of a few per cent. Moreover, its control points would be \
+             of about 80 dependent multiply-adds a step (not built): 3-5 % of a step's instructions, \
+             but at about 4 cycles each some 640 cycles, 10-15 % of a step's 1.5 µs, more than the \
+             evaluations it saves. Moreover, its control points would be \
              state to checkpoint beside the depths: they could not be recomputed on resume to the bit.\n\n",
         );
     md.push_str("How run time grows with simulated rotations and with clearance (`cargo run --release --bin scaling`):\n\n");
