@@ -70,7 +70,8 @@ STATES = ("states", "low_n", "low_mean", "low_sd", "high_n", "high_mean", "high_
 def test_an_ensemble_has_the_programs_states(tmp_path, cli):
     # 12 members with seed 5: max_penetration_recorded_m and impacts_per_rotation split into
     # two states, the force into one, so both branches are compared. Checked to fail when the
-    # low and high states are swapped in src/python/scene.rs.
+    # low and high states are swapped in src/python/scene.rs. `settled` has no value (the
+    # scene does not settle), so no state: checked to fail when it was given one.
     path = short_file(tmp_path)
     out = tmp_path / "out"
     program = cli("run", path, "--ensemble", 12, "--seed", 5, "--out", out)
@@ -85,13 +86,16 @@ def test_an_ensemble_has_the_programs_states(tmp_path, cli):
         expected = {k: (float(summary[q][k]) if summary[q][k] else None) for k in STATES}
         assert {k: stats[k] for k in STATES} == expected, q
         counts.add(stats["states"])
-        if stats["states"] == 1:
+        if stats["states"] is None:
+            # no value, no state (`settled` of a scene that does not settle); was states 1
+            assert stats["n"] == 0 and all(stats[k] is None for k in STATES), q
+        elif stats["states"] == 1:
             assert all(stats[k] is None for k in STATES[1:]), q
         else:
             assert stats["low_n"] + stats["high_n"] == stats["n"], q
             # an angle's states are the two sides of a cut on the circle, not ordered
             assert q.endswith("_deg") or stats["low_mean"] < stats["high_mean"], q
-    assert counts == {1, 2}
+    assert counts == {None, 1, 2}
 
 
 def test_a_bad_member_count_is_a_scene_error():

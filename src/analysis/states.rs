@@ -47,6 +47,10 @@ pub const STATE_COLUMNS: [&str; 7] = [
     "high_sd",
 ];
 
+/// The counts among [`STATE_COLUMNS`] (the state count and each state's members), by index:
+/// written as integers, the others as numbers.
+pub const STATE_COUNTS: [usize; 3] = [0, 1, 4];
+
 /// One state of an ensemble.
 #[derive(Clone, Debug, PartialEq)]
 pub struct State {
@@ -61,7 +65,8 @@ pub struct State {
 pub struct States {
     /// Distribution of all finite values.
     pub pooled: Distribution,
-    /// One state (no split) or two, the lower first; non-finite values are in none.
+    /// One state (no split) or two, the lower first; none without a finite value.
+    /// Non-finite values are in none.
     pub states: Vec<State>,
     /// The largest admissible gap over the pooled within-group sd (NaN when no split was
     /// admissible: too few members or no spread).
@@ -116,6 +121,8 @@ impl States {
             Some(k) if gap_ratio > GAP_OVER_SPREAD && sorted[k] - sorted[k - 1] > min_gap => {
                 vec![state(&order[..k]), state(&order[k..])]
             }
+            // no value, no state (a quantity nothing recorded)
+            _ if n == 0 => Vec::new(),
             _ => vec![state(&order)],
         };
         States {
@@ -161,7 +168,8 @@ impl States {
     }
 
     /// The [`STATE_COLUMNS`] values: the state count, then the low and the high state's
-    /// members, mean and sd (those six `None` with one state).
+    /// members, mean and sd (those six `None` with one state; all seven `None` without a
+    /// finite value, which is in no state).
     pub fn values(&self) -> [Option<f64>; 7] {
         let part = |s: Option<&State>| {
             let d = s.map(|s| &s.distribution);
@@ -170,17 +178,17 @@ impl States {
         let split = self.low_high();
         let ([ln, lm, ls], [hn, hm, hs]) =
             (part(split.map(|(l, _)| l)), part(split.map(|(_, h)| h)));
-        [Some(self.states.len() as f64), ln, lm, ls, hn, hm, hs]
+        let count = (!self.states.is_empty()).then_some(self.states.len() as f64);
+        [count, ln, lm, ls, hn, hm, hs]
     }
 
     /// The [`STATE_COLUMNS`] cells of [`States::values`]: counts (the state count and each
     /// state's members) as integers, means and sds written by `number`, empty where `None`.
     pub fn cells(&self, number: impl Fn(f64) -> String) -> Vec<String> {
-        const COUNTS: [usize; 3] = [0, 1, 4];
         (self.values().iter().enumerate())
             .map(|(i, v)| match v {
                 None => String::new(),
-                Some(x) if COUNTS.contains(&i) => (*x as usize).to_string(),
+                Some(x) if STATE_COUNTS.contains(&i) => (*x as usize).to_string(),
                 Some(x) => number(*x),
             })
             .collect()
@@ -201,10 +209,11 @@ impl States {
         }
     }
 
-    /// The states as a person reads them: `one state` or `low 5/32 0.601 ± 0.004, high 27/32
-    /// 0.681 ± 0.006` (values × `scale`, `digits` decimals).
+    /// The states as a person reads them: `no state` (no finite value), `one state` or `low
+    /// 5/32 0.601 ± 0.004, high 27/32 0.681 ± 0.006` (values × `scale`, `digits` decimals).
     pub fn describe(&self, scale: f64, digits: usize) -> String {
         match self.low_high() {
+            None if self.states.is_empty() => "no state".into(),
             None => "one state".into(),
             Some((low, high)) => {
                 let part = |name: &str, s: &State| {
@@ -342,6 +351,14 @@ mod tests {
         assert!(s.split());
         assert_eq!(s.states[1].members, vec![3, 4]);
         assert_eq!(s.pooled.n, 4);
+        // No finite value (nothing recorded): no state, every state column empty. Was one
+        // state of no members, `states` 1 beside n = 0.
+        for none in [States::of(&[f64::NAN; 3]), States::of_angles_deg([])] {
+            assert!(none.states.is_empty(), "{none:?}");
+            assert_eq!(none.values(), [None; 7]);
+            assert_eq!(none.cells(|x| x.to_string()), [""; 7]);
+            assert_eq!(none.describe(1.0, 2), "no state");
+        }
     }
 
     #[test]

@@ -271,7 +271,7 @@ fn readme(
          values that leaves max(2, ceil(n/10)) members on each side, when it exceeds 2 pooled \
          within-state sds; angles cut at their largest gap on the circle first, so that low \
          and high are the two sides of the cut, and split only at a gap over 10 deg): states \
-         (1 or 2), and with two low_n, low_mean, \
+         (1 or 2; empty where n is 0), and with two low_n, low_mean, \
          low_sd, high_n, high_mean, high_sd. Where a quantity has two states, its pooled mean \
          depends on the share in each, and that share on how members are perturbed.\n",
         settings.perturbation.key(),
