@@ -163,14 +163,18 @@ fn an_empty_window_is_not_recorded_never_nan() {
         assert_eq!(row[recorded], "", "{members}");
         assert!(row[whole].parse::<f64>().unwrap() > 0.0, "{members}");
     }
-    // A quantity with no value is in no state: its state columns are empty. Failed before:
-    // `contact_fraction,0,,…,1`, one state of no members.
+    // A quantity with no value is in no state: its state columns are empty (null in
+    // summary.json). Failed before: `contact_fraction,0,,…,1`, one state of no members.
     let (head, rows) = jointwear::io::output::read_rows(&out.join("ensemble_summary.csv")).unwrap();
     let states = head.iter().position(|h| h == "states").unwrap();
     let empty: Vec<&Vec<String>> = rows.iter().filter(|r| r[2] == "0").collect();
     assert!(empty.iter().any(|r| r[1] == "contact_fraction"), "{rows:?}");
     for r in &empty {
         assert!(r[states..].iter().all(String::is_empty), "{r:?}");
+    }
+    let summary = json(&out.join("summary.json"));
+    for q in summary["joints"][0]["quantities"].as_array().unwrap() {
+        assert_eq!(q[1]["n"] == 0, q[1]["states"].is_null(), "{q}");
     }
     fs::remove_dir_all(&dir).unwrap();
 }

@@ -152,6 +152,77 @@ fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// summary.json gives every quantity as ensemble_summary.csv's row has it, its states
+/// included, and names the window it is taken over. Failed before: only the pooled statistics
+/// (`impacts_per_rotation` "mean" 9.375 over members in two states, 4 of 8 at 3 and 4 at 15.75,
+/// with no state key) and no window beside names such as `contact_fraction`.
+#[test]
+fn summary_json_has_the_states_and_the_window_of_every_quantity() {
+    let dir = temp_dir("ensemble", "summary_states");
+    let file = two_rotation_scene(&dir);
+    let out = dir.join("out");
+    let r = jointwear(&[
+        "run",
+        file.to_str().unwrap(),
+        "--set",
+        "run.settle=true",
+        "--set",
+        "run.steady_state.max_rotations=4",
+        "--ensemble",
+        "8",
+        "--seed",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let quantities = summary["joints"][0]["quantities"].as_array().unwrap();
+    let quantity = |name: &str| {
+        let q = quantities.iter().find(|q| q[0] == name);
+        q.unwrap_or_else(|| panic!("{name} not in {summary}"))[1].clone()
+    };
+    let (head, rows) = jointwear::io::output::read_rows(&out.join("ensemble_summary.csv")).unwrap();
+    assert_eq!(rows.len(), quantities.len());
+    let mut split = 0;
+    for row in &rows {
+        let q = quantity(&row[1]);
+        // every field of the row, empty as null, counts as integers
+        for (key, cell) in head.iter().zip(row).skip(2) {
+            let value = &q[key.as_str()];
+            match cell.as_str() {
+                "" => assert!(value.is_null(), "{} {key}: {value}", row[1]),
+                _ if ["n", "states", "low_n", "high_n"].contains(&key.as_str()) => {
+                    let count = value.as_u64().map(|x| x.to_string());
+                    assert_eq!(count.as_ref(), Some(cell), "{} {key}", row[1]);
+                }
+                _ => assert_eq!(value.as_f64(), cell.parse().ok(), "{} {key}", row[1]),
+            }
+        }
+        split += usize::from(q["states"] == 2);
+    }
+    // continuous contact in some members and not in others: the motion splits
+    assert!(split > 0, "{summary}");
+    for (name, window) in [
+        ("max_normal_force_recorded_n", "recorded"),
+        ("contact_fraction", "recorded"),
+        ("impacts_per_rotation", "recorded"),
+        ("continuous_contact", "recorded"),
+        ("max_penetration_whole_run_m", "whole_run"),
+        ("max_wear_depth_m", "whole_run"),
+        ("settled", "settling"),
+    ] {
+        assert_eq!(quantity(name)["window"], window, "{name}");
+    }
+    let readme = std::fs::read_to_string(out.join("README.txt")).unwrap();
+    assert!(
+        readme.contains("`window` in summary.json") && readme.contains("high_mean, high_sd (null"),
+        "{readme}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn sweep_runs_each_case_as_an_ensemble_with_mean_and_sd_columns() {
     let dir = temp_dir("ensemble", "sweep");

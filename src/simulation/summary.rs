@@ -200,3 +200,45 @@ pub const SCALARS: [&str; 10] = [
     "rotations_simulated",
     "settled",
 ];
+
+/// The windows a scalar is taken over, each with the part of the run it covers (as the
+/// folders' READMEs say it).
+pub const WINDOWS: [(&str, &str); 3] = [
+    (
+        "recorded",
+        "the recorded rotations, the last run.record_rotations (no value when none were recorded)",
+    ),
+    (
+        "whole_run",
+        "every rotation from the start, settling included, rotations_simulated of them (the \
+         final wear is the whole run's)",
+    ),
+    (
+        "settling",
+        "the settling phase (no value where the scene does not settle)",
+    ),
+];
+
+/// The window ([`WINDOWS`]) of each of [`SCALARS`], in order. Not every name says it:
+/// `contact_fraction`, `impacts_per_rotation` and `continuous_contact` are of the recorded
+/// rotations.
+pub const SCALAR_WINDOWS: [&str; 10] = [
+    "recorded",
+    "recorded",
+    "whole_run",
+    "whole_run",
+    "whole_run",
+    "recorded",
+    "recorded",
+    "recorded",
+    "whole_run",
+    "settling",
+];
+
+/// The window of the scalar `name` ([`SCALAR_WINDOWS`]); `None` for a name not in [`SCALARS`].
+pub fn window(name: &str) -> Option<&'static str> {
+    SCALARS
+        .iter()
+        .position(|s| *s == name)
+        .map(|i| SCALAR_WINDOWS[i])
+}

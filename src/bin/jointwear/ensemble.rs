@@ -8,7 +8,7 @@ use jointwear::io::progress::progress_bar;
 use jointwear::simulation::checkpoint::CHECKPOINT_FILE;
 use jointwear::simulation::ensemble::{self, EnsembleSettings};
 use jointwear::simulation::folder::ensemble::{write_ensemble, Member};
-use jointwear::simulation::summary::summarize;
+use jointwear::simulation::summary::{summarize, window};
 use jointwear::simulation::Scene;
 use jointwear::Error;
 use std::path::{Path, PathBuf};
@@ -123,8 +123,9 @@ pub fn run_ensemble(
             }
             let d = &states.pooled;
             let mut r = Reading::of(name);
-            // The motion's figures cover the recorded rotations, as the forces' do.
-            if matches!(*name, "contact_fraction" | "impacts_per_rotation") {
+            // A quantity of the recorded rotations says so where its name does not (the
+            // motion's figures, as the forces' do).
+            if window(name) == Some("recorded") && !name.contains("recorded") {
                 r.label.push_str(" (recorded)");
             }
             if d.n == 0 {

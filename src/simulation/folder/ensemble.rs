@@ -6,13 +6,16 @@ use super::{
     conventions, joint_file, perturbation_arg, wear_panel, write_folder, write_summary, Origin,
     BAND_STEM, MEMBERS_FILE, PROGRAM, STATISTICS_FILE, SUMMARY_FILE, WEAR_FIGURE,
 };
-use crate::analysis::states::STATE_COLUMNS;
+use crate::analysis::states::{States, STATE_COLUMNS, STATE_COUNTS};
 use crate::analysis::statistics::{Distribution, VALUE_KEYS};
 use crate::io::output::{number, number_or_empty, write_rows};
 use crate::io::plot::{render, Axes, Series, Shade, Style};
 use crate::laws::wear::sector_angles_deg;
 use crate::simulation::ensemble::EnsembleSettings;
-use crate::simulation::summary::{joint_statistics, JointStatistics, JointSummary, JOINT_COLUMNS};
+use crate::simulation::summary::{
+    joint_statistics, window, JointStatistics, JointSummary, JOINT_COLUMNS, SCALARS,
+    SCALAR_WINDOWS, WINDOWS,
+};
 use crate::simulation::Scene;
 use crate::Result;
 use serde::Serialize;
@@ -62,7 +65,7 @@ pub fn write_ensemble(
                     quantities: j
                         .quantities
                         .iter()
-                        .map(|(name, s)| (name.to_string(), DistributionSummary(s.pooled)))
+                        .map(|(name, s)| (name.to_string(), QuantitySummary { name, states: s }))
                         .collect(),
                 })
                 .collect(),
@@ -177,7 +180,7 @@ fn write_files(
 
 /// `summary.json` of `run --ensemble`: the ensemble and the distribution of every quantity.
 #[derive(Serialize)]
-struct EnsembleSummary {
+struct EnsembleSummary<'a> {
     program: String,
     scene: String,
     title: String,
@@ -192,26 +195,41 @@ struct EnsembleSummary {
     record_rotations: u32,
     /// Wall-clock time of all members, in parallel (s).
     wall_time_s: f64,
-    joints: Vec<JointDistributions>,
+    joints: Vec<JointDistributions<'a>>,
 }
 
 #[derive(Serialize)]
-struct JointDistributions {
+struct JointDistributions<'a> {
     name: String,
     /// By quantity name (the `quantity` column of `ensemble_summary.csv`).
-    quantities: Vec<(String, DistributionSummary)>,
+    quantities: Vec<(String, QuantitySummary<'a>)>,
 }
 
-/// A distribution in summary.json: `n`, then [`VALUE_KEYS`] with their values.
-struct DistributionSummary(Distribution);
+/// A quantity in summary.json, as a row of `ensemble_summary.csv` has it and its window named:
+/// `window` ([`SCALAR_WINDOWS`]), `n`, [`VALUE_KEYS`] of the pooled distribution, then
+/// [`STATE_COLUMNS`] (counts as integers, `null` where a value does not exist), so that a mean
+/// pooled over two states is never read alone.
+struct QuantitySummary<'a> {
+    name: &'static str,
+    states: &'a States,
+}
 
-impl Serialize for DistributionSummary {
+impl Serialize for QuantitySummary<'_> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
         use serde::ser::SerializeMap;
-        let mut map = s.serialize_map(Some(1 + VALUE_KEYS.len()))?;
-        map.serialize_entry("n", &self.0.n)?;
-        for (key, value) in VALUE_KEYS.iter().zip(self.0.values()) {
+        let pooled = &self.states.pooled;
+        let mut map = s.serialize_map(Some(2 + VALUE_KEYS.len() + STATE_COLUMNS.len()))?;
+        map.serialize_entry("window", &window(self.name))?;
+        map.serialize_entry("n", &pooled.n)?;
+        for (key, value) in VALUE_KEYS.iter().zip(pooled.values()) {
             map.serialize_entry(key, &value)?;
+        }
+        for (i, (key, value)) in STATE_COLUMNS.iter().zip(self.states.values()).enumerate() {
+            if STATE_COUNTS.contains(&i) {
+                map.serialize_entry(key, &value.map(|x| x as usize))?;
+            } else {
+                map.serialize_entry(key, &value)?;
+            }
         }
         map.end()
     }
@@ -273,10 +291,18 @@ fn readme(
          and high are the two sides of the cut, and split only at a gap over 10 deg): states \
          (1 or 2; empty where n is 0), and with two low_n, low_mean, \
          low_sd, high_n, high_mean, high_sd. Where a quantity has two states, its pooled mean \
-         depends on the share in each, and that share on how members are perturbed.\n",
+         depends on the share in each, and that share on how members are perturbed.\n\
+         \x20 Each quantity is taken over a window of each member's run (`window` in {SUMMARY_FILE}):\n",
         settings.perturbation.key(),
         settings.perturbation.describe()
     ));
+    for (w, covers) in WINDOWS {
+        let names: Vec<&str> = (SCALARS.iter().zip(SCALAR_WINDOWS))
+            .filter(|&(_, sw)| sw == w)
+            .map(|(name, _)| *name)
+            .collect();
+        text.push_str(&format!("  {w:10} {covers}: {}\n", names.join(", ")));
+    }
     if !worn.is_empty() {
         text.push_str(&format!(
             "{}: per sector of the final wear profiles (each member's after its \
@@ -295,8 +321,9 @@ fn readme(
         "{SUMMARY_FILE}: the ensemble as JSON: program, scene, title, fingerprint, changes \
          (--set and --rotations as [key, value]), members, seed, perturbation, rotations, \
          record_rotations, \
-         wall_time_s, and per joint every quantity's n, mean, sd, min, q05 ... q95, max \
-         (null where no value exists).\n"
+         wall_time_s, and per joint every quantity as [name, statistics]: its window (above), \
+         then its row of ensemble_summary.csv: n, mean, sd, min, q05 ... q95, max, states, \
+         low_n, low_mean, low_sd, high_n, high_mean, high_sd (null where no value exists).\n"
     ));
     text
 }
