@@ -518,6 +518,49 @@ fn command_line_protocols_reproduce_the_perturbation_study_members_bit_for_bit()
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A member of a `tolerance_S` ensemble reports the tolerances it ran with: `--member`'s
+/// summary.json settings and the ensemble's members file give the scene's rtol and atol times
+/// the member's factor. Failed before: member 1 of `--seed 1 --perturbation tolerance_1e-3`
+/// of the standard scene wrote the scene's "rtol": 1.5e-7 while it ran at
+/// 1.4995248939320002e-7, and ensemble_members.csv had no tolerance column.
+#[test]
+fn a_tolerance_member_reports_the_tolerances_it_ran_with() {
+    let dir = temp_dir("ensemble", "tolerances");
+    let file = two_rotation_scene(&dir);
+    let (ens, one) = (dir.join("ensemble"), dir.join("member"));
+    let run = |args: &[&str]| {
+        let mut all = vec!["run", file.to_str().unwrap()];
+        all.extend(args);
+        all.extend(["--seed", "1", "--perturbation", "tolerance_1e-3"]);
+        let r = jointwear(&all);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    };
+    run(&["--member", "1", "--out", one.to_str().unwrap()]);
+    run(&["--ensemble", "2", "--out", ens.to_str().unwrap()]);
+    let scene = SceneFile::read(&file).unwrap().build().unwrap();
+    let ran = |member: usize| {
+        let (settings, _) = Perturbation::Tolerance(1e-3)
+            .start(&scene, &scene.run, 1, member)
+            .unwrap();
+        assert_ne!(settings.tolerances.rtol, scene.run.tolerances.rtol);
+        settings.tolerances
+    };
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(one.join("summary.json")).unwrap()).unwrap();
+    let settings = &summary["settings"];
+    assert_eq!(settings["rtol"].as_f64(), Some(ran(1).rtol), "{settings}");
+    assert_eq!(settings["atol"].as_f64(), Some(ran(1).atol), "{settings}");
+    let (header, rows) =
+        jointwear::io::output::read_rows(&ens.join("ensemble_members.csv")).unwrap();
+    let col = |name: &str| header.iter().position(|h| h == name);
+    let (rtol, atol) = (col("rtol").expect("rtol"), col("atol").expect("atol"));
+    for (member, row) in rows.iter().enumerate() {
+        assert_eq!(row[rtol].parse::<f64>().ok(), Some(ran(member).rtol));
+        assert_eq!(row[atol].parse::<f64>().ok(), Some(ran(member).atol));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn the_velocity_protocol_moves_the_journal_at_its_drawn_velocity() {
     // the four-bar's journal body starts at 50 deg, so a wrong frame shows (the standard

@@ -275,7 +275,33 @@ impl Perturbation {
         )
     }
 
-    /// The run settings and initial state of member `member` of `scene` run with `settings`.
+    /// The factor member `member` multiplies `rtol` and `atol` by: uniform in [1 − S, 1 + S]
+    /// under [`Perturbation::Tolerance`]`(S)`, exactly 1 under the other protocols.
+    pub fn tolerance_factor(&self, seed: u64, member: usize) -> f64 {
+        match *self {
+            Perturbation::Tolerance(s) => {
+                let (u, _) = Perturbation::draws(seed, member, 1)
+                    .next()
+                    .unwrap_or_default();
+                1.0 + s * (2.0 * u - 1.0)
+            }
+            _ => 1.0,
+        }
+    }
+
+    /// The run settings member `member` runs with: `settings` with `rtol` and `atol` multiplied
+    /// by its [`Perturbation::tolerance_factor`] (so unchanged, bit for bit, under every
+    /// protocol but [`Perturbation::Tolerance`]). What its outputs report as simulated.
+    pub fn run_settings(&self, settings: &RunSettings, seed: u64, member: usize) -> RunSettings {
+        let factor = self.tolerance_factor(seed, member);
+        let mut settings = settings.clone();
+        settings.tolerances.rtol *= factor;
+        settings.tolerances.atol *= factor;
+        settings
+    }
+
+    /// The run settings ([`Perturbation::run_settings`]) and initial state of member `member`
+    /// of `scene` run with `settings`.
     ///
     /// For [`Perturbation::Velocity`] the state's velocities are the assembly's plus
     /// `(q(u·τ) − q(0))/τ`, `q(e)` the positions assembled with the journal at `e` from the
@@ -288,7 +314,7 @@ impl Perturbation {
         seed: u64,
         member: usize,
     ) -> Result<(RunSettings, Vec<f64>)> {
-        let mut settings = settings.clone();
+        let settings = self.run_settings(settings, seed, member);
         let y0 = match *self {
             Perturbation::Disc(_) | Perturbation::Axis(_) => {
                 self.mechanism(scene, seed, member).assemble(&scene.guess)?
@@ -312,15 +338,7 @@ impl Perturbation {
                 }
                 y
             }
-            Perturbation::Tolerance(s) => {
-                let (u, _) = Perturbation::draws(seed, member, 1)
-                    .next()
-                    .unwrap_or_default();
-                let factor = 1.0 + s * (2.0 * u - 1.0);
-                settings.tolerances.rtol *= factor;
-                settings.tolerances.atol *= factor;
-                scene.mechanism.assemble(&scene.guess)?
-            }
+            Perturbation::Tolerance(_) => scene.mechanism.assemble(&scene.guess)?,
         };
         Ok((settings, y0))
     }

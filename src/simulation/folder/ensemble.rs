@@ -85,7 +85,8 @@ fn write_files(
 ) -> Result<Vec<JointStatistics>> {
     let m = &scene.mechanism;
     let joints: Vec<String> = m.clearance_joints.iter().map(|c| c.name.clone()).collect();
-    // One row per member: its offsets d (journal body frame), then a sweep row's joint columns.
+    // One row per member: its offsets d (journal body frame), its tolerances, then a sweep
+    // row's joint columns.
     let mut head = vec!["member".to_string()];
     for j in &joints {
         head.extend([
@@ -93,6 +94,7 @@ fn write_files(
             format!("{j}.offset_body_y_m"),
         ]);
     }
+    head.extend(["rtol".to_string(), "atol".to_string()]);
     for j in &joints {
         head.extend(JOINT_COLUMNS.iter().map(|c| format!("{j}.{c}")));
     }
@@ -102,13 +104,13 @@ fn write_files(
         .zip(walls)
         .enumerate()
         .map(|(i, ((summary, _), secs))| {
+            let p = &settings.perturbation;
             let mut row = vec![i.to_string()];
-            for d in settings
-                .perturbation
-                .offsets(settings.seed, i, joints.len())
-            {
+            for d in p.offsets(settings.seed, i, joints.len()) {
                 row.extend([number(d.x), number(d.y)]);
             }
+            let tolerances = p.run_settings(&scene.run, settings.seed, i).tolerances;
+            row.extend([number(tolerances.rtol), number(tolerances.atol)]);
             row.extend(summary.iter().flat_map(JointSummary::cells));
             row.extend([number(*secs), String::new()]);
             row
@@ -259,6 +261,9 @@ fn readme(
          \x20 member                               0-based member number\n\
          \x20 J.offset_body_x_m, J.offset_body_y_m  initial journal offset, in the frame of the \
          journal's body (m); zero where the protocol starts the journal centred\n\
+         \x20 rtol, atol                           the member's integration tolerances: the \
+         scene's run.rtol and run.atol, multiplied under tolerance_S by the member's factor, uniform \
+         in [1 - S, 1 + S]\n\
          \x20 J.max_normal_force_recorded_n        largest sampled normal force of the \
          recorded rotations (N; samples every run.record_interval_s); empty when none were \
          recorded\n\

@@ -14,7 +14,7 @@ use crate::laws::wear::sector_angles_deg;
 use crate::ode::Method;
 use crate::simulation::ensemble::EnsembleSettings;
 use crate::simulation::summary::{summarize, JointSummary};
-use crate::simulation::{RunOutput, Scene, Settling};
+use crate::simulation::{RunOutput, RunSettings, Scene, Settling};
 use crate::Result;
 use serde::Serialize;
 use std::path::Path;
@@ -30,7 +30,12 @@ pub fn write_run(
     member: Option<(&EnsembleSettings, usize)>,
 ) -> Result<Vec<JointSummary>> {
     let joints = summarize(scene, out);
-    let mut summary = RunSummary::new(origin, scene, out, &joints);
+    // A member ran with its own settings (its tolerances under `tolerance_S`), not the scene's.
+    let run = member.map_or_else(
+        || scene.run.clone(),
+        |(e, k)| e.perturbation.run_settings(&scene.run, e.seed, k),
+    );
+    let mut summary = RunSummary::new(origin, scene, &run, out, &joints);
     let mut title = origin.command.clone();
     if let Some((e, k)) = member {
         title.push_str(&format!(
@@ -43,6 +48,7 @@ pub fn write_run(
             seed: e.seed,
             perturbation: e.perturbation.key(),
             perturbation_description: e.perturbation.describe(),
+            tolerance_factor: e.perturbation.tolerance_factor(e.seed, k),
         });
     }
     write_folder(dir, &title, || {
@@ -161,7 +167,9 @@ struct RunSummary {
     program: String,
     /// The scene file and what `--set`/`--rotations` changed in it.
     scene: SceneSummary,
-    /// The run settings as simulated.
+    /// The run settings as simulated (a member's its own: [`Perturbation::run_settings`]).
+    ///
+    /// [`Perturbation::run_settings`]: crate::simulation::ensemble::Perturbation::run_settings
     settings: SettingsSummary,
     /// Integrator and recording counters.
     counts: Counts,
@@ -186,6 +194,9 @@ struct EnsembleMember {
     perturbation: String,
     /// What the protocol does, in words.
     perturbation_description: String,
+    /// The member's factor on the scene's rtol and atol (1 but under `tolerance_S`); the
+    /// settings above are the member's, multiplied by it.
+    tolerance_factor: f64,
 }
 
 #[derive(Serialize)]
@@ -274,9 +285,16 @@ struct RegionResult {
 }
 
 impl RunSummary {
-    fn new(origin: &Origin, scene: &Scene, out: &RunOutput, joints: &[JointSummary]) -> RunSummary {
+    /// The summary of run `out` of `scene` simulated with `run` (the scene's settings, or an
+    /// ensemble member's own).
+    fn new(
+        origin: &Origin,
+        scene: &Scene,
+        run: &RunSettings,
+        out: &RunOutput,
+        joints: &[JointSummary],
+    ) -> RunSummary {
         let m = &scene.mechanism;
-        let run = &scene.run;
         let settling = out.settling.map_or(0, |s| s.rotations);
         RunSummary {
             program: PROGRAM.into(),
@@ -410,7 +428,8 @@ fn readme(title: &str, scene: &Scene, out: &RunOutput) -> String {
     text.push_str(&format!(
         "{SUMMARY_FILE}: the run as JSON: program; scene (path, title, fingerprint, changes: \
          the [key, value] pairs of --set and --rotations); settings (as simulated, SI units in \
-         the key names; method and tolerances; driver_speed_rpm signed, positive \
+         the key names; method and tolerances, a --member run's its own: the scene's rtol and \
+         atol times its tolerance_factor; driver_speed_rpm signed, positive \
          counter-clockwise); counts (rotations simulated, settling rotations, recorded samples, \
          steps, rejected steps, right-hand-side evaluations, contact onsets); wall_time_s; \
          energy_balance_residual (with run.energy_accounting: driver work less the mechanical \
@@ -430,7 +449,10 @@ fn readme(title: &str, scene: &Scene, out: &RunOutput) -> String {
          rotations, null if none) or null, max_wear_depth_m, wear_regions: angle_deg in the \
          bearing frame, depth_m, prominence_m, width_deg at half prominence, most prominent \
          first; a region is a hump of the profile by topographic prominence, at least {:.0} % of \
-         the most prominent one's and {:.0} % of its own height above the shallowest sector).\n",
+         the most prominent one's and {:.0} % of its own height above the shallowest sector); \
+         ensemble_member (with --member: member, seed, perturbation, perturbation_description, \
+         tolerance_factor: the factor on the scene's rtol and atol, uniform in [1 - S, 1 + S] \
+         under tolerance_S, else 1; null without).\n",
         100.0 * MIN_RELATIVE_PROMINENCE,
         100.0 * MIN_PROMINENCE_OF_HEIGHT,
     ));
