@@ -50,8 +50,9 @@ class Run:
         snapshots: joint -> array (snapshot, sector) of wear depths (m).
         summary: joint -> dict: ``max_normal_force_recorded_n`` and
             ``max_penetration_recorded_m`` (over the recorded rotations; NaN when none were
-            recorded), ``max_penetration_whole_run_m`` (at every accepted step's end from the
-            start, the start-up transient included), ``max_wear_angle_deg``,
+            recorded), ``max_penetration_whole_run_m`` (over every accepted step from the
+            start, at its end and at a peak inside it located on the integrator's dense output;
+            the start-up transient and any settling included), ``max_wear_angle_deg``,
             ``max_wear_depth_m`` (angle and depth of the deepest sector), ``contact_fraction``,
             ``impacts_per_rotation`` and ``continuous_contact`` (1 or 0; these three over the
             recorded rotations), ``rotations_simulated`` (from the start, settling included: the
@@ -170,8 +171,11 @@ class Ensemble:
             ``q05``, ``q25``, ``q50``, ``q75``, ``q95``, ``max`` (angles unwrapped around
             their circular mean), and the states the members fall into (largest-gap rule):
             ``states`` 1 or 2, and ``low_n``, ``low_mean``, ``low_sd``, ``high_n``,
-            ``high_mean``, ``high_sd`` (None with one state; all None for angles), as
-            ``ensemble_summary.csv``.
+            ``high_mean``, ``high_sd`` (None with one state; all seven None where ``n`` is 0).
+            Angles are split too: cut at their largest gap on the circle, split only at a gap
+            over 10 deg, low and high being the two sides of the cut (an ensemble whose members
+            wear in two regions has both). As ``ensemble_summary.csv``; ``summary.json`` adds
+            each quantity's ``window`` (``recorded``, ``whole_run`` or ``settling``).
         angles_deg: joint -> sector centres (deg), for joints with wear.
         wear: joint -> array (member, sector) of final wear depths (m).
         snapshot_rotations: rotation counts of the wear snapshots.
@@ -279,7 +283,8 @@ class SweepResult:
             ``<joint>.<quantity>`` for single runs (and ``<joint>.motion_mode``), or
             ``<joint>.<quantity>.n`` (members where it is defined), ``.mean``, ``.sd`` and its
             states (``.states`` 1 or 2, ``.low_n``, ``.low_mean``, ``.low_sd``, ``.high_n``,
-            ``.high_mean``, ``.high_sd``, NaN with one state) for ensembles; ``wall_time_s``;
+            ``.high_mean``, ``.high_sd``, NaN with one state; all NaN where ``.n`` is 0) for
+            ensembles; ``wall_time_s``;
             NaN in the cases that failed.
         errors: the message of each case that failed while running, else None.
     """
