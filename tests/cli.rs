@@ -831,12 +831,13 @@ fn offsets_beyond_the_clearance_are_refused_naming_the_perturbation() {
     let o = member("disc_19999nm");
     assert!(o.status.success(), "{}", stderr(&o));
     // The default's 10 nm is taken at any clearance, zero included (refused at first, with
-    // advice about units for a protocol nobody had given).
+    // advice about units for a protocol nobody had given); into a folder of its own, as the
+    // member's outputs are not an ensemble's to replace.
     let o = jointwear(&[
         "run",
         s(&scene),
         "--out",
-        &out,
+        s(&dir.join("ensemble")),
         "--ensemble",
         "2",
         "--set",

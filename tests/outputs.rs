@@ -408,3 +408,67 @@ fn run_ensemble_and_longlife_keep_their_own_default_folders() {
     }
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A command replaces its own previous outputs in a folder, never another command's:
+/// `longlife`, `run --ensemble` and `run --member` into a `run` folder, and `run` into a
+/// `longlife` one, are refused at once (exit 2, naming `--out`, the folder and the command
+/// whose outputs it holds), every file left as it was; a rerun of the same command still
+/// replaces its own. Fails without the check: `longlife --out` into a run's folder exited 0
+/// having removed its timeseries.csv, wear_rod-slider.csv, trajectory.png, normal_force.png
+/// and wear.png, and overwritten its summary.json.
+#[test]
+fn a_command_refuses_a_folder_of_another_commands_outputs() {
+    let dir = temp_dir("outputs", "other-command");
+    let scene = short_standard(&dir, "scene.toml", 2, &[]);
+    let into = |out: &Path, args: &[&str]| {
+        let mut all = args.to_vec();
+        all.extend(["--out", s(out)]);
+        jointwear(&all)
+    };
+    let run = ["run", s(&scene)];
+    let longlife = ["longlife", s(&scene), "--rotations", "100"];
+    let out = dir.join("run");
+    for _ in 0..2 {
+        let o = into(&out, &run);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let before = file_names(&out);
+    assert!(before.contains(&"timeseries.csv".to_string()), "{before:?}");
+    let summary = fs::read(out.join("summary.json")).unwrap();
+    for (args, command) in [
+        (&longlife[..], "`jointwear longlife`'s own"),
+        (
+            &["run", s(&scene), "--ensemble", "2"],
+            "`jointwear run --ensemble`'s own",
+        ),
+        (
+            &["run", s(&scene), "--member", "1"],
+            "`jointwear run --member`'s own",
+        ),
+    ] {
+        let o = into(&out, args);
+        assert_fails(
+            &o,
+            2,
+            &[
+                "`--out`",
+                s(&out),
+                command,
+                "it holds the outputs of `jointwear run` (`jointwear run ",
+                "give another folder",
+            ],
+        );
+        assert_eq!(file_names(&out), before, "{args:?}");
+        assert_eq!(fs::read(out.join("summary.json")).unwrap(), summary);
+    }
+    let out = dir.join("longlife");
+    for _ in 0..2 {
+        let o = into(&out, &longlife);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let o = into(&out, &run);
+    assert_fails(&o, 2, &["holds the outputs of `jointwear longlife`"]);
+    assert!(out.join("longlife_growth.csv").exists());
+    assert!(!out.join("timeseries.csv").exists());
+    fs::remove_dir_all(&dir).unwrap();
+}

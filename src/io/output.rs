@@ -214,9 +214,8 @@ impl Writing {
 /// outside `dir`, whatever the manifest says.
 pub fn read_manifest(dir: &Path, owned: fn(&str) -> bool) -> Result<Vec<String>> {
     let manifest = dir.join(MANIFEST);
-    let text = match fs::read_to_string(&manifest) {
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        read => read.map_err(|e| io_error(&manifest, e))?,
+    let Some(text) = manifest_text(dir)? else {
+        return Ok(Vec::new());
     };
     let mut names = Vec::new();
     for (i, line) in text.lines().enumerate() {
@@ -236,6 +235,24 @@ pub fn read_manifest(dir: &Path, owned: fn(&str) -> bool) -> Result<Vec<String>>
         names.push(line.to_owned());
     }
     Ok(names)
+}
+
+/// The title at the top of the manifest of `dir` (the command line of the write that made
+/// it, as [`write_outputs`] was given it, control characters escaped), None without a
+/// manifest or without a title line (`# ` first).
+pub fn manifest_title(dir: &Path) -> Result<Option<String>> {
+    let text = manifest_text(dir)?;
+    let first = text.as_deref().and_then(|t| t.lines().next());
+    Ok(first.and_then(|l| l.strip_prefix("# ")).map(str::to_owned))
+}
+
+/// The text of the manifest of `dir`, None if there is none.
+fn manifest_text(dir: &Path) -> Result<Option<String>> {
+    let manifest = dir.join(MANIFEST);
+    match fs::read_to_string(&manifest) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        read => read.map(Some).map_err(|e| io_error(&manifest, e)),
+    }
 }
 
 /// `title` on one line: its control characters (a line break) escaped, so that no text of a

@@ -8,6 +8,7 @@ use jointwear::io::progress::progress_bar;
 use jointwear::simulation::checkpoint::CHECKPOINT_FILE;
 use jointwear::simulation::ensemble::{self, EnsembleSettings};
 use jointwear::simulation::folder::ensemble::{write_ensemble, Member};
+use jointwear::simulation::folder::FolderCommand;
 use jointwear::simulation::summary::{summarize, window};
 use jointwear::simulation::Scene;
 use jointwear::Error;
@@ -54,7 +55,7 @@ pub fn run_ensemble(
     let variant = load_variant(path, sets, rotations, ("ensemble", out))?;
     let (scene, dir) = (&variant.scene, &variant.dir);
     fits(path, &settings, scene)?;
-    let _claim = claim_outputs(path, dir)?;
+    let _claim = claim_outputs(path, dir, FolderCommand::Ensemble)?;
     // A plain run's unfinished checkpoint is not an ensemble's to overwrite or leave beside its
     // outputs (a later --resume would replace them).
     let saved = dir.join(CHECKPOINT_FILE);

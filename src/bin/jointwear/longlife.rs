@@ -15,8 +15,8 @@ use jointwear::io::progress::progress_bar;
 use jointwear::scene::{SceneFile, MAX_K_OVER_H_PER_PA};
 use jointwear::simulation::ensemble::{Perturbation, MAX_MEMBERS};
 use jointwear::simulation::folder::{
-    body_name, conventions, joint_file, write_folder, write_profiles, write_summary, BLOCKS_FILE,
-    GROWTH_FIGURE, GROWTH_FILE, PROFILES_FIGURE, PROFILES_STEM, PROGRAM, SUMMARY_FILE,
+    body_name, conventions, joint_file, write_folder, write_profiles, write_summary, FolderCommand,
+    BLOCKS_FILE, GROWTH_FIGURE, GROWTH_FILE, PROFILES_FIGURE, PROFILES_STEM, PROGRAM, SUMMARY_FILE,
 };
 use jointwear::simulation::longlife::{check_max_change, predict, LongLife, LongLifeSettings};
 use jointwear::simulation::Scene;
@@ -103,7 +103,7 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
         scene.mechanism = Perturbation::default().mechanism(&scene, seed, m);
     }
     let dir = checked_out_dir(path, "longlife", out)?;
-    let _claim = claim_outputs(path, &dir)?;
+    let _claim = claim_outputs(path, &dir, FolderCommand::LongLife)?;
     let target = rotations as u64;
     let settings = LongLifeSettings {
         rotations: target,

@@ -24,7 +24,8 @@ use jointwear::io::lock::{self, Lock};
 use jointwear::scene::reversal_note;
 use jointwear::scene::variant::{parse_value, Variant};
 use jointwear::simulation::ensemble::{EnsembleSettings, Perturbation, DEFAULT_SEED, MAX_MEMBERS};
-use jointwear::simulation::{folder, Scene};
+use jointwear::simulation::folder::{self, FolderCommand};
+use jointwear::simulation::Scene;
 use jointwear::sweep::Assignment;
 use jointwear::Error;
 use std::path::{Path, PathBuf};
@@ -369,7 +370,7 @@ fn parse_perturbation(key: &str) -> Result<Perturbation, String> {
 /// `out/<scene stem>/<kind>` unless given: one default folder per kind of output (`run`,
 /// `ensemble`, `member-<K>`, `longlife`, `animate`, `check`), so that no command replaces
 /// another's results ([`jointwear::simulation::folder::write_folder`] removes the files of the
-/// previous write into a folder).
+/// previous write into a folder, and refuses one holding another command's outputs).
 fn out_dir(scene: &Path, kind: &str, out: Option<PathBuf>) -> PathBuf {
     out.unwrap_or_else(|| scene_out(scene).join(kind))
 }
@@ -401,12 +402,13 @@ fn claim_out(scene: &Path, dir: &Path) -> CliResult<Lock> {
     lock::claim_folder("--out", dir).map_err(|e| Failure::from(scene, e))
 }
 
-/// [`claim_out`] for a command that writes an output folder with a manifest (`run`, `run
-/// --ensemble`, `longlife`): its manifest is checked too, before any work, so that one this
-/// program cannot trust is refused at once (exit 2), not after the run.
-fn claim_outputs(scene: &Path, dir: &Path) -> CliResult<Lock> {
+/// [`claim_out`] for `command`, which writes an output folder with a manifest (`run`, `run
+/// --member`, `run --ensemble`, `longlife`): its manifest is checked too, before any work, so
+/// that one this program cannot trust, or one of another command's outputs, is refused at
+/// once (exit 2), not after the run ([`folder::check_manifest`]).
+fn claim_outputs(scene: &Path, dir: &Path, command: FolderCommand) -> CliResult<Lock> {
     let claim = claim_out(scene, dir)?;
-    folder::check_manifest(dir).map_err(|e| Failure::from(scene, e))?;
+    folder::check_manifest("--out", dir, command).map_err(|e| Failure::from(scene, e))?;
     Ok(claim)
 }
 

@@ -11,7 +11,7 @@ use jointwear::io::progress::{progress_bar, Progress};
 use jointwear::simulation::checkpoint::{read_checkpoint, write_checkpoint, CHECKPOINT_FILE};
 use jointwear::simulation::ensemble::{member_simulation, EnsembleSettings};
 use jointwear::simulation::folder::run::write_run;
-use jointwear::simulation::folder::SUMMARY_FILE;
+use jointwear::simulation::folder::{FolderCommand, SUMMARY_FILE};
 use jointwear::simulation::summary::JointSummary;
 use jointwear::simulation::Scene;
 use jointwear::simulation::{RunOutput, Simulation};
@@ -81,7 +81,11 @@ pub fn run(
     if let (Some((ensemble, _)), false) = (&member, saved_run == Saved::Resume) {
         fits(path, ensemble, scene)?;
     }
-    let _claim = claim_outputs(path, dir)?;
+    let command = match member {
+        Some(_) => FolderCommand::Member,
+        None => FolderCommand::Run,
+    };
+    let _claim = claim_outputs(path, dir, command)?;
     if checkpoint_every == Some(0) {
         return Err(Failure::input(
             path,

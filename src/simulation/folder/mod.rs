@@ -7,18 +7,21 @@
 //!
 //! A folder is written through [`write_folder`] (atomic files and a manifest; the files of the
 //! previous write into the folder that this one did not rewrite are removed, and only names
-//! its writers write, `FOLDER_FILES`); claiming it against other processes
+//! its writers write, `FOLDER_FILES`; a folder holding another command's outputs is refused,
+//! [`FolderCommand`]); claiming it against other processes
 //! ([`crate::io::lock::claim_folder`]) is the caller's, who may hold it from before the run.
 
 pub mod ensemble;
 pub mod run;
 
-use crate::io::output::{read_manifest, write_csv, write_json, write_outputs, write_text};
+use crate::io::output::{
+    manifest_title, read_manifest, write_csv, write_json, write_outputs, write_text, MANIFEST,
+};
 use crate::io::plot::{render, Axes, Series, Style};
 use crate::laws::wear::sector_angles_deg;
 use crate::mechanism::{BodyIndex, Mechanism};
 use crate::simulation::ensemble::Perturbation;
-use crate::Result;
+use crate::{Error, Result};
 use serde::Serialize;
 use std::path::Path;
 
@@ -146,16 +149,102 @@ fn is_folder_file(name: &str) -> bool {
 }
 
 /// Writes an output folder: [`write_outputs`] with the names its writers write (`FOLDER_FILES`),
-/// the only ones it may write or remove.
+/// the only ones it may write or remove. `title` is the command line that makes the folder's
+/// outputs (`jointwear run SCENE …`); a folder holding another command's outputs is refused
+/// ([`check_command`]), whose files the write would remove or overwrite.
 pub fn write_folder<T>(dir: &Path, title: &str, write: impl FnOnce() -> Result<T>) -> Result<T> {
+    check_command("output folder", dir, FolderCommand::of(title))?;
     write_outputs(dir, title, is_folder_file, write)
 }
 
-/// Checks the manifest of the output folder `dir` ([`read_manifest`]), before a run that
-/// will write into it: a manifest listing a file that is not an output is refused at once
-/// (bad input), not after the run.
-pub fn check_manifest(dir: &Path) -> Result<()> {
-    read_manifest(dir, is_folder_file).map(drop)
+/// Checks the output folder `dir`, given as `option` (`--out`), before `command` runs to write
+/// into it: a manifest listing a file that is not an output ([`read_manifest`]), or the
+/// outputs of another command ([`check_command`]), is refused at once (bad input), not after
+/// the run.
+pub fn check_manifest(option: &str, dir: &Path, command: FolderCommand) -> Result<()> {
+    read_manifest(dir, is_folder_file)?;
+    check_command(option, dir, Some(command))
+}
+
+/// A command that writes output folders, as the command line at the top of a folder's
+/// manifest names it. Each replaces the files of its own previous write into a folder and
+/// never another command's: `run` and `longlife` both write `summary.json` and `README.txt`,
+/// and a write removes the files of the previous one it does not rewrite.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FolderCommand {
+    /// `jointwear run` (Python's `Run.save` of a run).
+    Run,
+    /// `jointwear run --member K` (`Run.save` of a member).
+    Member,
+    /// `jointwear run --ensemble N` (`Ensemble.save`).
+    Ensemble,
+    /// `jointwear longlife`.
+    LongLife,
+}
+
+impl FolderCommand {
+    /// The command of the command line `title`, as the writers of folders make it:
+    /// `jointwear longlife SCENE …`, or `jointwear run SCENE …` ending in `--ensemble N --seed
+    /// S` or `--member K --seed S` (then perhaps `--perturbation P`) for an ensemble or a
+    /// member. None for any other line (an edited manifest).
+    pub fn of(title: &str) -> Option<FolderCommand> {
+        let mut words: Vec<&str> = title.split(' ').collect();
+        if words.len() > 2 && words[words.len() - 2] == "--perturbation" {
+            words.truncate(words.len() - 2);
+        }
+        let n = words.len();
+        // `--ensemble N --seed S` or `--member K --seed S`, after `jointwear run SCENE`.
+        let last_flag = (n >= 7 && words[n - 2] == "--seed").then(|| words[n - 4]);
+        match words[..] {
+            ["jointwear", "longlife", ..] => Some(FolderCommand::LongLife),
+            ["jointwear", "run", ..] => Some(match last_flag {
+                Some("--ensemble") => FolderCommand::Ensemble,
+                Some("--member") => FolderCommand::Member,
+                _ => FolderCommand::Run,
+            }),
+            _ => None,
+        }
+    }
+
+    /// The command as it is typed: `run`, `run --member`, `run --ensemble`, `longlife`.
+    pub fn name(self) -> &'static str {
+        match self {
+            FolderCommand::Run => "run",
+            FolderCommand::Member => "run --member",
+            FolderCommand::Ensemble => "run --ensemble",
+            FolderCommand::LongLife => "longlife",
+        }
+    }
+}
+
+/// Refuses (bad input, naming `option` and `dir`) to write the outputs of `command` into
+/// `dir` when its manifest names another command (or none, edited), whose outputs the write
+/// would remove or overwrite; a folder without a manifest, or with one of `command`'s own, is
+/// accepted.
+pub fn check_command(option: &str, dir: &Path, command: Option<FolderCommand>) -> Result<()> {
+    let Some(title) = manifest_title(dir)? else {
+        return Ok(());
+    };
+    let held = FolderCommand::of(&title);
+    if held == command {
+        return Ok(());
+    }
+    let named = |c: Option<FolderCommand>, none: &str| {
+        c.map_or(none.to_string(), |c| format!("`jointwear {}`", c.name()))
+    };
+    Err(Error::invalid(
+        option,
+        dir.display(),
+        format!(
+            "a folder holding no other command's outputs (or {}'s own, which it replaces): it \
+             holds the outputs of {} (`{title}`, as its {MANIFEST} says), which this write \
+             would remove or overwrite; likely cause: the folder of another command given \
+             again; give another folder (each command's default, out/<scene stem>/<kind>, is \
+             its own) or move those files away first",
+            named(command, "this write"),
+            named(held, "an unknown command"),
+        ),
+    ))
 }
 
 /// The machine-readable summary every output folder holds.
@@ -420,5 +509,54 @@ mod tests {
             assert!(d.windows(2).all(|w| w[0] < w[1]));
         }
         assert_eq!(drawn_profiles(40), [4, 9, 14, 19, 24, 29, 34, 39]);
+    }
+
+    /// The command of each writer's command line, whatever its `--set` values say; and
+    /// `write_folder` (Python's `save` writes through it) refuses a folder of another
+    /// command's outputs, removing nothing, while a write of the same command replaces its
+    /// own. Fails without the check: the `run` write removed the longlife's growth file.
+    #[test]
+    fn a_folder_of_another_commands_outputs_is_refused() {
+        use FolderCommand::*;
+        for (title, command) in [
+            ("jointwear run a.toml", Some(Run)),
+            (
+                "jointwear run a.toml --set title=--member --rotations 3",
+                Some(Run),
+            ),
+            ("jointwear run a b.toml --member 3 --seed 1", Some(Member)),
+            ("jointwear run a.toml --ensemble 8 --seed 2", Some(Ensemble)),
+            (
+                "jointwear run a.toml --member 3 --seed 1 --perturbation axis_10nm",
+                Some(Member),
+            ),
+            (
+                "jointwear run a.toml --ensemble 8 --seed 2 --perturbation disc_1nm",
+                Some(Ensemble),
+            ),
+            (
+                "jointwear longlife a.toml --rotations 5 --member 1 --seed 2",
+                Some(LongLife),
+            ),
+            ("edited", None),
+        ] {
+            assert_eq!(FolderCommand::of(title), command, "{title}");
+        }
+        let dir = std::env::temp_dir().join(format!("jointwear-command-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let write = |title: &str, name: &str| {
+            write_folder(&dir, title, || write_text(&dir.join(name), name))
+        };
+        write("jointwear longlife a.toml --rotations 5", GROWTH_FILE).unwrap();
+        write("jointwear longlife a.toml --rotations 6", GROWTH_FILE).unwrap();
+        let e = write("jointwear run a.toml", TIMESERIES_FILE).unwrap_err();
+        let text = e.to_string();
+        assert!(matches!(e, Error::Invalid { .. }), "{text}");
+        assert!(
+            text.contains("`jointwear longlife a.toml --rotations 6`"),
+            "{text}"
+        );
+        assert!(dir.join(GROWTH_FILE).exists() && !dir.join(TIMESERIES_FILE).exists());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
