@@ -759,6 +759,71 @@ fn longlife_predicts_one_member_as_the_library_does() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// The command line a longlife folder records (manifest and README.txt) makes the same
+/// prediction again: every option is in it, and summary.json gives the k/H and depth limit
+/// used. Fails without them: `--until 0.0001 --max-change 0.01 --settle 1` stopped at 640
+/// rotations while the folder named `… --rotations 10000 --k-over-h 1e-14`, which predicts
+/// 10000, and summary.json held no k/H.
+#[test]
+fn longlife_records_the_command_that_makes_it_again() {
+    let dir = temp_dir("longlife_command");
+    let scene = scene_path("standard");
+    let options = [
+        "--rotations",
+        "1e4",
+        "--k-over-h",
+        "1e-14",
+        "--until",
+        "0.0001",
+        "--max-change",
+        "0.01",
+        "--settle",
+        "1",
+        "--member",
+        "2",
+        "--seed",
+        "7",
+    ];
+    let longlife = |args: &[&str], out: &Path| {
+        let o = jointwear(&[args, &["--out", s(out)]].concat());
+        assert!(o.status.success(), "{}", stderr(&o));
+    };
+    let first = dir.join("first");
+    longlife(&[&["longlife", s(&scene)], &options[..]].concat(), &first);
+    let manifest = fs::read_to_string(first.join("jointwear-manifest.txt")).unwrap();
+    let command = manifest.lines().next().unwrap().strip_prefix("# ").unwrap();
+    let readme = fs::read_to_string(first.join("README.txt")).unwrap();
+    assert!(readme.contains(&format!("`{command}`")), "{readme}");
+    let words: Vec<&str> = command.split(' ').collect();
+    assert_eq!(words[..2], ["jointwear", "longlife"], "{command}");
+    let again = dir.join("again");
+    longlife(&words[1..], &again);
+    let (a, b) = (
+        json(&first.join("summary.json")),
+        json(&again.join("summary.json")),
+    );
+    // Stopped at the depth asked for, far short of the rotations.
+    assert!(a["rotations_predicted"].as_u64().unwrap() < 1000, "{a}");
+    for key in [
+        "rotations_predicted",
+        "rotations_simulated",
+        "member",
+        "max_change",
+        "settle_rotations",
+        "joints",
+    ] {
+        assert_eq!(a[key], b[key], "{key}: `{command}`");
+    }
+    assert_eq!(a["k_over_h_per_pa"], 1e-14);
+    assert_eq!(a["until_m"], 1e-7);
+    assert_eq!(a["joints"][0]["k_over_h_per_pa"], 1e-14);
+    assert_eq!(a["joints"][0]["wear_limit_m"], 1e-7);
+    for key in ["k_over_h_per_pa", "until_m"] {
+        assert!(readme.contains(key), "README.txt lacks {key}");
+    }
+    fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A number a person gave is echoed in the project's format: `longlife --rotations 1e300`
 /// printed it with its 301 digits.
 #[test]

@@ -40,6 +40,32 @@ pub struct Options {
     pub member: Option<(usize, u64)>,
 }
 
+impl Options {
+    /// The command line that makes the prediction again: `jointwear longlife SCENE` and every
+    /// option, the defaults of `--max-change` and `--settle` too (so that it holds under
+    /// other defaults), each number exactly (the shortest text that reads back to it);
+    /// `--out` aside.
+    fn command(&self, path: &Path) -> String {
+        let mut command = format!(
+            "jointwear longlife {} --rotations {} --max-change {} --settle {}",
+            path.display(),
+            people::exact(self.rotations),
+            people::exact(self.max_change),
+            self.settle
+        );
+        if let Some(k) = self.k_over_h {
+            command.push_str(&format!(" --k-over-h {}", people::exact(k)));
+        }
+        if let Some(depth) = self.until_mm {
+            command.push_str(&format!(" --until {}", people::exact(depth)));
+        }
+        if let Some((m, seed)) = self.member {
+            command.push_str(&format!(" --member {m} --seed {seed}"));
+        }
+        command
+    }
+}
+
 /// `longlife`: predicts the wear of the scene at `path` (k/H overridden if given; member K's
 /// mechanism, its journal pin shifted by its offset of the default protocol, with `--member`)
 /// after `rotations`, or until a joint's wear reaches `until_mm` (default: its clearance) or
@@ -110,21 +136,15 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
         settle_rotations: settle,
         max_change,
         snapshots: (1..5).map(|i| target * i / 5).collect(),
-        until: until_mm.map(|d| d * 1e-3),
+        until: until_mm.map(|d| people::shift_decimal(d, -3)),
         ..LongLifeSettings::default()
     };
     let bar = progress_bar(target, "rotations");
     let result = predict(&scene, &settings, &bar);
     bar.finish_and_clear();
     let life = result.map_err(bad)?;
-    let mut title = format!("jointwear longlife {} --rotations {target}", path.display());
-    if let Some(k) = k_over_h {
-        title.push_str(&format!(" --k-over-h {k:e}"));
-    }
-    if let Some((m, seed)) = member {
-        title.push_str(&format!(" --member {m} --seed {seed}"));
-    }
-    let summary = LongLifeSummary::new(path, &scene, &settings, member, &life);
+    let title = options.command(path);
+    let summary = LongLifeSummary::new(path, &scene, &settings, options, &life);
     write_folder(&dir, &title, || {
         write_longlife(&scene, &life, &dir)?;
         write_summary(&dir, &summary, &readme(&title, &scene))
@@ -301,6 +321,12 @@ struct LongLifeSummary {
     member: Option<(usize, u64)>,
     settle_rotations: u32,
     max_change: f64,
+    /// `--k-over-h` (1/Pa), every worn joint's k/H; `null`: each joint's own from the scene
+    /// (the k/H of each as used: `joints[].k_over_h_per_pa`).
+    k_over_h_per_pa: Option<f64>,
+    /// `--until` (m), the depth at which a joint's wear stops the prediction; `null`: each
+    /// joint's radial clearance (the limit of each as used: `joints[].wear_limit_m`).
+    until_m: Option<f64>,
     /// Rotations predicted: the target, or where a joint reached its limit or the model's
     /// validity.
     rotations_predicted: u64,
@@ -322,6 +348,8 @@ struct LongLifeJoint {
     journal_body: String,
     bearing_body: String,
     clearance_m: f64,
+    /// The Archard coefficient k/H the prediction used (1/Pa); `null` for a joint without wear.
+    k_over_h_per_pa: Option<f64>,
     /// The depth at which the prediction stops (m).
     wear_limit_m: f64,
     max_wear_depth_m: f64,
@@ -399,7 +427,7 @@ impl LongLifeSummary {
         path: &Path,
         scene: &Scene,
         settings: &LongLifeSettings,
-        member: Option<(usize, u64)>,
+        options: &Options,
         life: &LongLife,
     ) -> Self {
         let m = &scene.mechanism;
@@ -414,6 +442,7 @@ impl LongLifeSummary {
                     journal_body: body_name(m, cj.journal.body).into(),
                     bearing_body: body_name(m, cj.bearing.body).into(),
                     clearance_m: life.clearances[k],
+                    k_over_h_per_pa: cj.wear.map(|w| w.k_over_h),
                     wear_limit_m: life.limits[k],
                     max_wear_depth_m: depth,
                     effective_clearance_m: life.clearances[k] + depth,
@@ -430,9 +459,11 @@ impl LongLifeSummary {
             scene: path.display().to_string(),
             title: scene.title.clone(),
             rotations_asked: settings.rotations,
-            member,
+            member: options.member,
             settle_rotations: settings.settle_rotations,
             max_change: settings.max_change,
+            k_over_h_per_pa: options.k_over_h,
+            until_m: settings.until,
             rotations_predicted: last.map_or(0, |s| s.rotations),
             rotations_simulated: life.simulated,
             blocks: life.blocks.len(),
@@ -484,11 +515,14 @@ fn readme(title: &str, scene: &Scene) -> String {
          \x20 rot<N>_m     depth worn into the bearing after N rotations (m)\n\
          longlife_profiles.png: those profiles (µm), one panel per joint.\n\n\
          {SUMMARY_FILE}: the prediction as JSON: program; scene; the settings (member: [K, \
-         seed] with --member, the member whose mechanism was predicted, or null); rotations \
+         seed] with --member, the member whose mechanism was predicted, or null; \
+         k_over_h_per_pa: --k-over-h in 1/Pa, or null for each joint's own; until_m: --until \
+         in m, or null for each joint's clearance); rotations \
          predicted and simulated, blocks, wall_time_s; limit_reached ([rotations, joint] or \
          null); validity_stop ([rotations, joint, cause] where a joint's worn bearing grew \
          too steep for the paper's gap and the prediction stopped short of its target, or \
-         null); joints (bodies, clearance_m as the scene gives it, wear_limit_m, \
+         null); joints (bodies, clearance_m as the scene gives it, k_over_h_per_pa as used \
+         (null without wear), wear_limit_m, \
          max_wear_depth_m, effective_clearance_m, validated_until_rotations: after how many \
          rotations (interpolated within the block that crosses it, rounded down) the wear \
          passes {validated} of the clearance, the regime tests/longlife.rs \
