@@ -389,6 +389,16 @@ fn longlife_writes_profiles_and_growth() {
         "{stop:?}"
     );
     assert!(summary["rotations_predicted"].as_u64().unwrap() < 1_000_000);
+    // The stop is told at the rotation predicted, and the simulated rotation that found it
+    // named as such: the message said "after simulated driver rotation 11" of a stop at
+    // rotation 160990.
+    let at = format!(
+        " deg after rotation {} of the prediction, its simulated driver rotation {} (",
+        stop[0], summary["rotations_simulated"]
+    );
+    assert!(stop[2].as_str().unwrap().contains(&at), "{at}: {stop:?}");
+    assert!(stdout(&o).contains(&at), "{at}: {}", stdout(&o));
+    assert!(!stdout(&o).contains("after simulated"), "{}", stdout(&o));
     fs::remove_dir_all(&dir).unwrap();
 }
 

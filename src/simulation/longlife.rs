@@ -37,7 +37,8 @@ use crate::io::format::{exact, quantity};
 use crate::io::progress::Progress;
 use crate::simulation::Scene;
 use crate::simulation::{
-    too_steep, wear_limit, RunSettings, Simulation, MAX_WEAR_RATIO, OPEN_ENDED, RATIO_ROUNDING,
+    steepness_cause, too_steep, wear_limit, RunSettings, Simulation, MAX_WEAR_RATIO, OPEN_ENDED,
+    RATIO_ROUNDING,
 };
 use crate::{Error, Result};
 
@@ -125,7 +126,8 @@ pub struct ValidityStop {
     pub rotations: u64,
     /// The clearance joint, in the mechanism's order.
     pub joint: usize,
-    /// The run's account: how steep, where and how deep.
+    /// How steep, where and how deep ([`crate::simulation::steepness_cause`]), after how many
+    /// rotations of the prediction and in which of its simulated rotations it was found.
     pub cause: String,
 }
 
@@ -304,17 +306,28 @@ pub fn predict(
     };
     let mut reached = None;
     let mut steep = None;
-    // `simulate`, counting the rotations done; a stop at the gap's validity is `Ok(Err)`.
+    // `simulate`, counting the rotations done; a stop at the gap's validity is `Ok(Err)`, its
+    // cause told at the rotations predicted (the run's counts only the simulated ones).
     let simulate_within = |sim: &mut Simulation, rotations: u32, done: &mut u64| {
         let start = sim.rotations_done();
         let result = simulate(sim, rotations);
         *done += u64::from(sim.rotations_done() - start);
         match result {
-            Err(Error::Validity { joint, cause, .. }) => Ok(Err(ValidityStop {
-                rotations: *done,
-                joint,
-                cause,
-            })),
+            Err(Error::Validity { joint, cause, .. }) => {
+                let when = format!(
+                    "after rotation {done} of the prediction, its simulated driver rotation {}",
+                    sim.rotations_done()
+                );
+                let (cj, wear) = (
+                    &sim.mechanism().clearance_joints[joint],
+                    &sim.state().joints[joint].wear,
+                );
+                Ok(Err(ValidityStop {
+                    rotations: *done,
+                    joint,
+                    cause: steepness_cause(cj, wear, &when).unwrap_or(cause),
+                }))
+            }
             r => r.map(Ok),
         }
     };

@@ -32,6 +32,7 @@ pub mod summary;
 pub use checkpoint::Checkpoint;
 pub use run::Simulation;
 
+use crate::io::format::quantity;
 use crate::io::progress::{Progress, Silent};
 use crate::laws::wear::WearProfile;
 use crate::mechanism::{ClearanceJoint, Mechanism};
@@ -136,6 +137,23 @@ pub fn too_steep(cj: &ClearanceJoint, profile: &WearProfile) -> Option<(f64, f64
     cj.wear.as_ref()?;
     let (ratio, angle) = profile.steepest(cj.clearance());
     (ratio > MAX_ECCENTRICITY_SLOPE || ratio.is_nan()).then_some((ratio, angle))
+}
+
+/// Why clearance joint `cj` worn to `profile` is [`too_steep`], `when` saying when (`after
+/// simulated driver rotation 3`): how steep, where and how deep, against the bound; the cause
+/// of the [`crate::Error::Validity`] a run stops with. `None` within the bound.
+pub fn steepness_cause(cj: &ClearanceJoint, profile: &WearProfile, when: &str) -> Option<String> {
+    let (ratio, angle) = too_steep(cj, profile)?;
+    Some(format!(
+        "the worn bearing of clearance joint `{}` has |dh/dθ| / (c + h) = {ratio:.4} at {:.1} \
+         deg {when} (deepest wear {} on a radial clearance of {}), above the \
+         {MAX_ECCENTRICITY_SLOPE} up to which the paper's gap δ = |e| − c − h(θ) describes the \
+         worn bore (README, validity limits)",
+        cj.name,
+        angle.to_degrees(),
+        quantity(profile.deepest() * 1e3, "mm"),
+        quantity(cj.given_clearance * 1e3, "mm"),
+    ))
 }
 
 /// The deepest wear (m) the wear model describes in joint `cj` ([`MAX_WEAR_RATIO`]).

@@ -862,25 +862,13 @@ impl Simulation {
             .clearance_joints
             .iter()
             .zip(&self.state.joints);
+        let when = format!("after simulated driver rotation {}", self.rotation);
         for (k, (cj, joint)) in joints.enumerate() {
-            if let Some((ratio, angle)) = too_steep(cj, &joint.wear) {
-                let deepest = joint.wear.deepest();
+            if let Some(cause) = steepness_cause(cj, &joint.wear, &when) {
                 return Err(Error::Validity {
                     time: self.integrator.t(),
                     joint: k,
-                    cause: format!(
-                        "the worn bearing of clearance joint `{}` has |dh/dθ| / (c + h) = {:.4} \
-                         at {:.1} deg after simulated driver rotation {} (deepest wear {} on a radial \
-                         clearance of {}), above the {} up to which the paper's gap \
-                         δ = |e| − c − h(θ) describes the worn bore (README, validity limits)",
-                        cj.name,
-                        ratio,
-                        angle.to_degrees(),
-                        self.rotation,
-                        quantity(deepest * 1e3, "mm"),
-                        quantity(cj.given_clearance * 1e3, "mm"),
-                        MAX_ECCENTRICITY_SLOPE,
-                    ),
+                    cause,
                 });
             }
         }
