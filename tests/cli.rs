@@ -1060,8 +1060,8 @@ fn member_and_sweep_rows_say_whether_the_run_settled() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
-/// A sweep records at least one rotation whatever `run.record_rotations` says, so its refusal of
-/// a coarse recording grid must not advise recording none (it did, to a user who had).
+/// A sweep needs recorded rotations (it refuses `run.record_rotations = 0`), so its refusal of
+/// a coarse recording grid must not advise recording none (it did).
 #[test]
 fn a_sweeps_coarse_recording_grid_is_refused_without_advising_no_recording() {
     let dir = temp_dir("sweep-grid");
@@ -1073,7 +1073,7 @@ fn a_sweeps_coarse_recording_grid_is_refused_without_advising_no_recording() {
         "--out",
         s(&file),
         "--set",
-        "run.record_rotations=0",
+        "run.record_rotations=1",
         "--set",
         "run.record_interval_s=1e-3",
         "--set",
@@ -1083,7 +1083,7 @@ fn a_sweeps_coarse_recording_grid_is_refused_without_advising_no_recording() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(
         err.contains("`run.record_interval_s")
-            && err.contains("records rotations whatever run.record_rotations says")
+            && err.contains("needs recorded rotations: recording none is no remedy")
             && !err.contains("record no rotations"),
         "{err}"
     );

@@ -106,13 +106,8 @@ fn a_recording_beyond_the_memory_budget_fails_at_validation() {
     ] {
         assert_fails(&jointwear(&args), 2, &needles);
     }
-    // A sweep records at least one rotation of every case, even of a scene that records none.
-    let scene = short_standard(
-        &dir,
-        "no-record.toml",
-        2,
-        &[FEW_STEPS, ("record_rotations = 1", "record_rotations = 0")],
-    );
+    // A sweep checks every case's recording against the budget.
+    let scene = short_standard(&dir, "few-steps.toml", 2, &[FEW_STEPS]);
     let o = jointwear(&[
         "sweep",
         s(&scene),

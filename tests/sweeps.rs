@@ -249,3 +249,31 @@ fn merge_refuses_missing_foreign_repeated_and_unfinished_shards() {
     assert_eq!(cases(&SweepFile::read(&merged).unwrap()), ["0", "1"]);
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A sweep refuses `run.record_rotations = 0`, set or in the scene file: it used to record one
+/// rotation silently, its rows saying `run.record_rotations` 0 beside the recorded maxima.
+#[test]
+fn a_sweep_refuses_to_record_no_rotations() {
+    let dir = temp_dir("sweeps", "no-record");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let none = short_standard(
+        &dir,
+        "none.toml",
+        1,
+        &[("record_rotations = 1", "record_rotations = 0")],
+    );
+    let out = dir.join("sweep.csv");
+    for (scene, set) in [
+        (&scene, "run.record_rotations=0"),
+        (&none, "run.rotations=1"),
+    ] {
+        let o = sweep(scene, &["--set", set], &out);
+        assert_fails(
+            &o,
+            2,
+            &["`run.record_rotations (in case 0", "at least 1 in a sweep"],
+        );
+        assert!(!out.exists());
+    }
+    fs::remove_dir_all(&dir).unwrap();
+}

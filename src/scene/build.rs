@@ -23,6 +23,13 @@ const GPA: f64 = 1e9;
 impl SceneFile {
     /// Validates every value and converts the scene to SI.
     pub fn build(&self) -> Result<Scene> {
+        self.build_for(false)
+    }
+
+    /// [`SceneFile::build`] for a command that needs recorded rotations if `always` (a
+    /// sweep): its refusal of a coarse recording grid does not advise recording none
+    /// ([`Scene::check_recording`]).
+    pub fn build_for(&self, always: bool) -> Result<Scene> {
         self.check_sizes()?;
         // Every material and ground point is checked, used or not: a value out of its range
         // is a mistake either way, and one unused today is used by the next edit.
@@ -175,7 +182,7 @@ impl SceneFile {
             guess,
             run,
         };
-        scene.check_recording(false)?;
+        scene.check_recording(always)?;
         scene.check_step_budget()?;
         scene.check_tolerances()?;
         Ok(scene)

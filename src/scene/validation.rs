@@ -428,8 +428,9 @@ impl Scene {
     /// Checks what a run records: its grid resolves the driver's rotation
     /// ([`MIN_RECORD_SAMPLES_PER_ROTATION`]) and its outputs fit the record budget
     /// ([`Scene::check_record_budget`]). A run that records nothing has no grid to check.
-    /// `always` says that the caller records whatever `run.record_rotations` says (a sweep, at
-    /// least one rotation; `animate`, all): recording none is then no remedy to offer.
+    /// `always` says that the caller needs recorded rotations (a sweep, which refuses
+    /// `run.record_rotations = 0`; `animate`, which records all): recording none is then no
+    /// remedy to offer.
     pub fn check_recording(&self, always: bool) -> Result<()> {
         let run = &self.run;
         let period = self.period();
@@ -446,7 +447,7 @@ impl Scene {
                      in ms or another unit (seconds), or a driver speed changed without it{}",
                     period / run.record_interval,
                     if always {
-                        " (this command records rotations whatever run.record_rotations says)"
+                        " (this command needs recorded rotations: recording none is no remedy)"
                     } else {
                         " (or record no rotations, run.record_rotations = 0)"
                     }

@@ -110,6 +110,13 @@ impl Shard {
     }
 }
 
+/// Why a sweep refuses `run.record_rotations = 0`: its row reports the recorded rotations. (It
+/// used to record one rotation instead, silently, beside a `run.record_rotations` column of 0.)
+pub const NO_RECORDED_ROTATIONS: &str = "at least 1 in a sweep: a sweep's row reports the \
+    largest force and penetration, the motion mode, contact fraction and impacts of the \
+    recorded rotations, which a run recording none does not have (set \
+    run.record_rotations=1 or more)";
+
 /// Most cases a sweep may have: its rows, each a run, would take years on any machine long
 /// before the count could overflow.
 pub const MAX_CASES: usize = 1_000_000;
@@ -165,13 +172,14 @@ fn in_case(e: Error, case: usize, sets: &[Assignment], values: &[&str]) -> Error
     e.in_context(&format!("in case {case}: {}", assigned.join(", ")))
 }
 
-/// The scene document `doc` (read from `path`) with `values` assigned to the keys of `sets`.
+/// The scene document `doc` (read from `path`) with `values` assigned to the keys of `sets`,
+/// built as a sweep's case ([`SceneFile::build_for`]: it needs recorded rotations).
 pub fn vary(doc: &toml::Value, path: &Path, sets: &[Assignment], values: &[&str]) -> Result<Scene> {
     let mut doc = doc.clone();
     for (a, v) in sets.iter().zip(values) {
         set_dotted(&mut doc, &a.key, parse_value(v))?;
     }
-    SceneFile::from_document(doc, path)?.build()
+    SceneFile::from_document(doc, path)?.build_for(true)
 }
 
 /// Header of a sweep CSV.
@@ -341,14 +349,19 @@ impl Sweep {
         Ok(sweep)
     }
 
-    /// Case `case` built and checked: at least its last rotation recorded (the motion columns
-    /// need it), within the record budget, its loop closed, the sweep's clearance joints.
+    /// Case `case` built and checked ([`vary`]): at least one rotation recorded
+    /// ([`NO_RECORDED_ROTATIONS`]), its loop closed, the sweep's clearance joints.
     fn build(&self, case: usize) -> Result<Scene> {
         let values = case_values(&self.sets, case);
         let in_this = |e| in_case(e, case, &self.sets, &values);
-        let mut scene = vary(&self.doc, &self.path, &self.sets, &values).map_err(in_this)?;
-        scene.run.record_rotations = scene.run.record_rotations.max(1);
-        scene.check_recording(true).map_err(in_this)?;
+        let scene = vary(&self.doc, &self.path, &self.sets, &values).map_err(in_this)?;
+        if scene.run.record_rotations == 0 {
+            return Err(in_this(Error::invalid(
+                "run.record_rotations",
+                0,
+                NO_RECORDED_ROTATIONS,
+            )));
+        }
         scene.mechanism.assemble(&scene.guess).map_err(in_this)?;
         let names = joint_names(&scene);
         if !self.joints.is_empty() && names != self.joints {
