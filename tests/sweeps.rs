@@ -277,3 +277,82 @@ fn a_sweep_refuses_to_record_no_rotations() {
     }
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The content of a lock file held by this test's process, as a live claim of another run.
+fn live_lock() -> String {
+    let host = fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
+    format!(
+        "pid={}\nhost={}\ncommand=test\n",
+        std::process::id(),
+        host.trim()
+    )
+}
+
+/// An `--out` that is not a sweep file (the swept scene), an unfinished sweep file whose cases
+/// a merge would lose, and a file in another command's output folder are refused, and left as
+/// they were. All were replaced before, exit 0: `sweep scene.toml --out scene.toml` left a CSV
+/// for the scene; `sweep-merge` replaced an unfinished 2-of-3-case file.
+#[test]
+fn sweep_and_merge_refuse_an_out_they_would_destroy() {
+    let dir = temp_dir("sweeps", "foreign-out");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let text = fs::read_to_string(&scene).unwrap();
+    let shard = dir.join("s.csv");
+    assert!(sweep(&scene, &TWO_CASES, &shard).status.success());
+    let merge = |out: &Path| jointwear(&["sweep-merge", s(&shard), "--out", s(out)]);
+    let needles = ["`--out`", "not a sweep's", "likely cause"];
+    assert_fails(&sweep(&scene, &TWO_CASES, &scene), 2, &needles);
+    assert_fails(&merge(&scene), 2, &needles);
+    assert_eq!(fs::read_to_string(&scene).unwrap(), text);
+    // An empty file (as `mktemp` leaves it) holds nothing to lose.
+    let empty = dir.join("empty.csv");
+    fs::write(&empty, "").unwrap();
+    assert!(merge(&empty).status.success());
+
+    // An unfinished file of another sweep: 2 of its 3 cases finished.
+    let other = dir.join("other.csv");
+    let three = ["--set", "driver.speed_rpm=-2000,-500,-1000"];
+    assert!(sweep(&scene, &three, &other).status.success());
+    let whole = fs::read_to_string(&other).unwrap();
+    let unfinished = whole.lines().take(3).collect::<Vec<_>>().join("\n") + "\n";
+    fs::write(&other, &unfinished).unwrap();
+    let o = merge(&other);
+    assert_fails(
+        &o,
+        2,
+        &["`--out`", "2 of the 3 cases", "this merge would lose"],
+    );
+    assert_eq!(fs::read_to_string(&other).unwrap(), unfinished);
+
+    // Another command's output folder: its manifest, or its lock while it runs.
+    let run = dir.join("run");
+    assert!(jointwear(&["run", s(&scene), "--out", s(&run)])
+        .status
+        .success());
+    let busy = dir.join("busy");
+    fs::create_dir_all(&busy).unwrap();
+    fs::write(busy.join(".jointwear.lock"), live_lock()).unwrap();
+    for (folder, holds) in [(&run, "jointwear-manifest.txt"), (&busy, ".jointwear.lock")] {
+        // (The ensemble's summary.json, and a new file.)
+        for name in ["summary.json", "sweep.csv"] {
+            let out = folder.join(name);
+            let before = fs::read(&out).ok();
+            let o = sweep(&scene, &TWO_CASES, &out);
+            assert_fails(&o, 2, &["`--out`", holds, "output folder"]);
+            assert_fails(&merge(&out), 2, &["`--out`", holds]);
+            assert_eq!(fs::read(&out).ok(), before);
+        }
+    }
+    // And a command refuses a folder in which a sweep is writing its file.
+    let claimed = dir.join("claimed");
+    fs::create_dir_all(&claimed).unwrap();
+    fs::write(claimed.join(".sweep.csv.lock"), live_lock()).unwrap();
+    let o = jointwear(&["run", s(&scene), "--out", s(&claimed)]);
+    assert_fails(
+        &o,
+        2,
+        &["`--out`", ".sweep.csv.lock", "no sweep is writing"],
+    );
+    assert_eq!(file_names(&claimed), [".sweep.csv.lock"]);
+    fs::remove_dir_all(&dir).unwrap();
+}

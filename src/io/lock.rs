@@ -16,7 +16,7 @@
 //! shared file system) is never taken over, as its holder cannot be seen from here.
 
 use crate::io::interrupt;
-use crate::io::output::temporary_of;
+use crate::io::output::{temporary_of, MANIFEST};
 use crate::{Error, Result};
 use std::ffi::OsString;
 use std::fs;
@@ -60,14 +60,33 @@ impl Lock {
 }
 
 /// Claims the output folder `dir` (creating it) for this process; `option` names the setting
-/// that chose it (e.g. `--out`) in the error of a folder another process is writing.
+/// that chose it (e.g. `--out`) in the error of a folder another process is writing. A folder
+/// into which a sweep is writing its file ([`claim_file`]'s live lock is in it) is refused too:
+/// the run's outputs could replace the sweep's file. (Each side checks for the other after it
+/// has claimed, so of a run and a sweep that start at once, one sees the other's lock.)
 pub fn claim_folder(option: &str, dir: &Path) -> Result<Lock> {
     let created = (!dir.exists()).then(|| dir.to_path_buf());
     fs::create_dir_all(dir).map_err(|source| Error::Io {
         path: dir.to_path_buf(),
         source,
     })?;
-    let lock = claim(option, dir, &dir.join(FOLDER_LOCK), created.as_deref());
+    let lock = claim(option, dir, &dir.join(FOLDER_LOCK), created.as_deref()).and_then(|lock| {
+        match live_file_claim(dir) {
+            // (Dropping the lock releases the claim and the folder it created.)
+            Some((file_lock, held)) => Err(Error::invalid(
+                option,
+                dir.display(),
+                format!(
+                    "a folder no sweep is writing into: {} claims a sweep's file there for {}, \
+                     which this command's outputs could replace; wait for that sweep, or \
+                     choose another {option}",
+                    file_lock.display(),
+                    describe(&held)
+                ),
+            )),
+            None => Ok(lock),
+        }
+    });
     if lock.is_err() {
         if let Some(dir) = &created {
             let _ = fs::remove_dir(dir);
@@ -76,20 +95,57 @@ pub fn claim_folder(option: &str, dir: &Path) -> Result<Lock> {
     lock
 }
 
+/// A lock of [`claim_file`] in `dir` whose holder may still run, and its content.
+fn live_file_claim(dir: &Path) -> Option<(PathBuf, String)> {
+    let entries = fs::read_dir(dir).ok()?;
+    entries.flatten().find_map(|e| {
+        let name = e.file_name().into_string().ok()?;
+        let file_lock = name.starts_with('.') && name.ends_with(".lock") && name != FOLDER_LOCK;
+        let held = fs::read_to_string(e.path()).ok().filter(|_| file_lock)?;
+        (!stale(&held)).then(|| (e.path(), held))
+    })
+}
+
 /// Claims the output file `file` (e.g. a sweep's CSV) for this process through the lock file
-/// `.<name>.lock` beside it, creating its folder.
+/// `.<name>.lock` beside it, creating its folder. A file in the output folder of another
+/// command (one that holds a [`MANIFEST`] or a folder lock) is refused: that command's next
+/// write there may replace it, or it one of that command's outputs (a sweep's `--out
+/// <ensemble folder>/summary.json` replaced the ensemble's summary, which the folder's
+/// manifest still listed, and was lost itself to the ensemble still running, both exit 0).
 pub fn claim_file(option: &str, file: &Path) -> Result<Lock> {
     let mut name = OsString::from(".");
     name.push(file.file_name().unwrap_or(file.as_os_str()));
     name.push(".lock");
     let lock = file.with_file_name(name);
-    if let Some(dir) = lock.parent().filter(|d| !d.as_os_str().is_empty()) {
+    let dir = lock.parent().filter(|d| !d.as_os_str().is_empty());
+    if let Some(dir) = dir {
         fs::create_dir_all(dir).map_err(|source| Error::Io {
             path: dir.to_path_buf(),
             source,
         })?;
     }
-    claim(option, file, &lock, None)
+    let claimed = claim(option, file, &lock, None)?;
+    // (Checked after the claim, as [`claim_folder`] checks for this lock after its own.)
+    let dir = dir.unwrap_or(Path::new("."));
+    let owner = [dir.join(MANIFEST), dir.join(FOLDER_LOCK)]
+        .into_iter()
+        .find(|p| p.exists() && *p != lock);
+    match owner {
+        None => Ok(claimed),
+        Some(owner) => Err(Error::invalid(
+            option,
+            file.display(),
+            format!(
+                "a file outside the output folders of other commands: {} holds {}, so it is the \
+                 output folder of `run`, `run --ensemble`, `longlife`, `check`, `animate` or \
+                 Python's `save`, whose writes there may replace this file, or this file one \
+                 of their outputs; likely cause: an {option} naming a file in such a folder \
+                 (give a file in a folder of its own)",
+                dir.display(),
+                owner.file_name().unwrap_or_default().to_string_lossy()
+            ),
+        )),
+    }
 }
 
 /// This host's name, as lock files record it.

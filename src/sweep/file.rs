@@ -556,9 +556,11 @@ pub struct JournaledSweep<'a> {
 impl<'a> JournaledSweep<'a> {
     /// Starts the file `out` of `sweep`; with `resume`, keeps the rows the file holds of the
     /// same sweep and shard (an error if it holds another) and skips their cases in `sweep`.
-    /// Without it, an unfinished sweep file (of this sweep and shard, or of another), or one
-    /// that cannot be read back, is an error rather than started over: its finished cases
-    /// would be lost to a rerun that forgot `--resume`, or to another sweep into the same file.
+    /// Without it, an unfinished sweep file (of this sweep and shard, or of another), one
+    /// that cannot be read back, or a file that is not a sweep's ([`unfinished`]) is an error
+    /// rather than started over: its finished cases would be lost to a rerun that forgot
+    /// `--resume`, or to another sweep into the same file, and what another file holds to the
+    /// sweep's CSV.
     pub fn open(sweep: &'a mut Sweep, out: &Path, resume: bool) -> Result<JournaledSweep<'a>> {
         let id = sweep.id();
         let header = sweep.header();
@@ -566,31 +568,26 @@ impl<'a> JournaledSweep<'a> {
             resume_rows(out, &id, &header)?
         } else {
             if let Some(file) = unfinished(out)? {
-                let (finished, cases) = (file.rows.len(), file.id.cases);
                 let ours = file.id == id && file.header == header;
                 return Err(if ours {
                     Error::invalid(
                         "--resume",
                         "not given",
                         format!(
-                            "--resume with {}, which holds the rows of {finished} of the \
-                             {cases} cases of this sweep and shard, finished before it \
-                             stopped: --resume keeps them and runs the rest; to start over, \
-                             remove the file",
+                            "--resume with {}, which holds the rows of {} of the {} cases of \
+                             this sweep and shard, finished before it stopped: --resume keeps \
+                             them and runs the rest; to start over, remove the file",
                             out.display(),
+                            file.rows.len(),
+                            file.id.cases
                         ),
                     )
                 } else {
-                    Error::invalid(
-                        "--out",
-                        out.display(),
-                        format!(
-                            "a file no unfinished sweep needs: it holds {finished} of the \
-                             {cases} cases of another sweep or shard (fingerprint {}, shard \
-                             {}/{}: {ANOTHER_SWEEP}), which this sweep would lose; give another --out, finish that \
-                             sweep with its own command and --resume, or remove the file",
-                            file.id.fingerprint, file.id.shard.index, file.id.shard.count
-                        ),
+                    refuse_unfinished(
+                        out,
+                        &file,
+                        &format!("another sweep or shard ({ANOTHER_SWEEP})"),
+                        "sweep",
                     )
                 });
             }
@@ -700,11 +697,38 @@ pub fn resume_rows(path: &Path, id: &SweepId, header: &[String]) -> Result<Vec<V
     Ok(file.rows)
 }
 
-/// The sweep file at `path` if it is unfinished (some of its cases finished, not all), of
-/// whichever sweep; None for a missing or complete file, a file without rows, or one that is
-/// not a sweep file, which a new run may replace. A sweep file that cannot be read back (an
-/// edited row, an earlier version's) is an error: replacing it would lose its cases unseen.
+/// The refusal of `--out`, the unfinished sweep file `file` at `out` of `what`, whose finished
+/// cases this `command` (`sweep`, `merge`) would lose.
+fn refuse_unfinished(out: &Path, file: &SweepFile, what: &str, command: &str) -> Error {
+    Error::invalid(
+        "--out",
+        out.display(),
+        format!(
+            "a file no unfinished sweep needs: it holds {} of the {} cases of {what} \
+             (fingerprint {}, shard {}/{}), which this {command} would lose; give another \
+             --out, finish that sweep with its own command and --resume, or remove the file",
+            file.rows.len(),
+            file.id.cases,
+            file.id.fingerprint,
+            file.id.shard.index,
+            file.id.shard.count
+        ),
+    )
+}
+
+/// The sweep file at `path`, an `--out` about to be replaced, if it is unfinished (some of its
+/// cases finished, not all), of whichever sweep; None for a missing or empty file (`mktemp`'s)
+/// or a complete sweep file, which a new sweep or merge may replace. Anything else is an
+/// error, as replacing it would destroy what it holds: a sweep file that cannot be read back
+/// (an edited row, an earlier version's), whose finished cases would be lost unseen, and a
+/// file that is not a sweep's at all (the swept scene, another command's output: `--out
+/// scene.toml` used to replace the scene by the sweep's CSV, exit 0).
 fn unfinished(path: &Path) -> Result<Option<SweepFile>> {
+    match std::fs::metadata(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Ok(m) if m.is_file() && m.len() == 0 => return Ok(None),
+        _ => {}
+    }
     match SweepFile::read(path) {
         Ok(file) => Ok((!file.rows.is_empty() && file.rows.len() < file.id.cases).then_some(file)),
         Err(e) if names_a_sweep(path) => Err(Error::invalid(
@@ -716,30 +740,57 @@ fn unfinished(path: &Path) -> Result<Option<SweepFile>> {
                  mend it and resume its sweep"
             ),
         )),
-        Err(_) => Ok(None),
+        Err(_) => {
+            let line = first_line(path).unwrap_or_default();
+            let mut start: String = line.chars().take(80).collect();
+            if start.len() < line.len() {
+                start.push('…');
+            }
+            Err(Error::invalid(
+                "--out",
+                path.display(),
+                format!(
+                    "a new file, an empty one or a sweep file (its header's last column names \
+                     a sweep), which --out may replace: it is a file that is not a sweep's, \
+                     beginning `{start}`, which the sweep's CSV would destroy; likely cause: \
+                     an --out naming the scene or another file by mistake (give another --out, \
+                     or remove the file)"
+                ),
+            ))
+        }
     }
 }
 
-/// Whether `path` is a regular file whose first line is a sweep file's header (its last
-/// column names a sweep), whatever the rest holds. Reads at most 64 KiB, the header's bound.
-fn names_a_sweep(path: &Path) -> bool {
+/// The first line of `path`, a regular file, without its line break; at most 64 KiB (the
+/// header's bound) are read. None if it is not a regular file or cannot be read.
+fn first_line(path: &Path) -> Option<String> {
     use std::io::{BufRead, BufReader, Read};
     // (Not opened unless regular: a FIFO would wait for a writer.)
     let regular = std::fs::metadata(path).is_ok_and(|m| m.is_file());
-    let Some(file) = regular.then(|| std::fs::File::open(path).ok()).flatten() else {
-        return false;
-    };
-    let mut line = String::new();
-    let read = BufReader::new(file.take(65536))
-        .read_line(&mut line)
-        .is_ok();
-    read && (line.trim_end().rsplit(',').next()).is_some_and(|c| SweepId::parse(c).is_some())
+    let file = regular.then(|| std::fs::File::open(path).ok()).flatten()?;
+    let mut line = Vec::new();
+    BufReader::new(file.take(65536))
+        .read_until(b'\n', &mut line)
+        .ok()?;
+    Some(String::from_utf8_lossy(&line).trim_end().to_string())
+}
+
+/// Whether `path` is a regular file whose first line is a sweep file's header (its last
+/// column names a sweep), whatever the rest holds.
+fn names_a_sweep(path: &Path) -> bool {
+    first_line(path).is_some_and(|l| {
+        l.rsplit(',')
+            .next()
+            .is_some_and(|c| SweepId::parse(c).is_some())
+    })
 }
 
 /// Joins the shard files of one sweep into `out`, sorted by case, as the file of the whole
 /// sweep (resumable if partial). Refused: a file of another sweep (fingerprint, shard count
-/// or header), a shard given twice, a case in two files, and, unless `allow_partial`, a
-/// missing shard or one whose cases did not all finish. Returns the number of rows.
+/// or header), a shard given twice, a case in two files, unless `allow_partial`, a missing
+/// shard or one whose cases did not all finish, and an `out` that is not a sweep file or holds
+/// finished cases of an unfinished sweep that the merge does not ([`unfinished`], as `sweep`
+/// checks its `--out`). Returns the number of rows.
 pub fn merge(inputs: &[impl AsRef<Path>], out: &Path, allow_partial: bool) -> Result<usize> {
     let files = inputs
         .iter()
@@ -823,6 +874,18 @@ pub fn merge(inputs: &[impl AsRef<Path>], out: &Path, allow_partial: bool) -> Re
             w[0].0,
             "each case in only one shard file",
         ));
+    }
+    // An unfinished file at `out` is replaced only by a merge of its sweep that holds every
+    // case it holds (a partial merge completed), as a sweep refuses it without --resume.
+    if let Some(old) = unfinished(out)? {
+        let merged: HashSet<usize> = rows.iter().map(|(case, _)| *case).collect();
+        let kept = old.id.fingerprint == first.id.fingerprint
+            && old.header == first.header
+            && (old.rows.iter()).all(|r| case_of(out, r).is_ok_and(|c| merged.contains(&c)));
+        if !kept {
+            let what = "a sweep whose finished cases this merge does not all hold";
+            return Err(refuse_unfinished(out, &old, what, "merge"));
+        }
     }
     let rows: Vec<Vec<String>> = rows.into_iter().map(|(_, r)| r).collect();
     let count = rows.len();
