@@ -397,12 +397,12 @@ fn edited_cells_of_sweep_files_are_refused_naming_row_column_and_value() {
         (
             column("max_wear_depth_m"),
             "inf",
-            "a finite number, or an empty",
+            "a finite number >= 0, or an empty",
         ),
         (
             column("contact_fraction"),
             "1e999",
-            "a finite number, or an empty",
+            "a number in [0, 1], or an empty",
         ),
         (column("motion_mode"), "flying", "`continuous contact`"),
         (column("wall_time_s"), "", "a finite number"),

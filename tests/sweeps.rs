@@ -356,3 +356,63 @@ fn sweep_and_merge_refuse_an_out_they_would_destroy() {
     assert_eq!(file_names(&claimed), [".sweep.csv.lock"]);
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Each measured cell is read back only within its range: a finished row edited to a wear
+/// depth of -5 m, a contact fraction of 7, an angle of -9999 deg, 1e300 rotations or a motion
+/// mode its fraction contradicts was kept by `--resume` and `sweep-merge`, exit 0.
+#[test]
+fn rows_with_impossible_measurements_are_refused() {
+    let dir = temp_dir("sweeps", "ranges");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let out = dir.join("sweep.csv");
+    let ensemble = dir.join("ensemble.csv");
+    let members = ["--set", "driver.speed_rpm=-2000", "--ensemble", "2"];
+    assert!(sweep(&scene, &TWO_CASES, &out).status.success());
+    assert!(sweep(&scene, &members, &ensemble).status.success());
+    let run_edits = [
+        ("rod-slider.max_wear_depth_m", "-5"),
+        ("rod-slider.contact_fraction", "7"),
+        ("rod-slider.max_wear_angle_deg", "-9999"),
+        ("rod-slider.max_wear_angle_deg", "360"),
+        ("rod-slider.rotations_simulated", "1e300"),
+        ("rod-slider.rotations_simulated", "0"),
+        ("rod-slider.motion_mode", "free flight and impact"),
+        ("rod-slider.max_normal_force_recorded_n", "-1"),
+        ("wall_time_s", "-1"),
+    ];
+    let ensemble_edits = [
+        ("rod-slider.contact_fraction.mean", "1.5"),
+        ("rod-slider.max_wear_depth_m.sd", "-1"),
+        ("rod-slider.max_wear_angle_deg.mean", "400"),
+        ("rod-slider.max_wear_depth_m.n", "3"),
+        ("rod-slider.max_wear_depth_m.states", "0"),
+    ];
+    for (file, extra, edits) in [
+        (&out, &TWO_CASES[..], &run_edits[..]),
+        (&ensemble, &members[..], &ensemble_edits[..]),
+    ] {
+        let whole = fs::read_to_string(file).unwrap();
+        let lines: Vec<&str> = whole.lines().collect();
+        let header: Vec<&str> = lines[0].split(',').collect();
+        for (column, value) in edits {
+            let k = header.iter().position(|h| h == column).unwrap();
+            let mut row: Vec<&str> = lines[1].split(',').collect();
+            row[k] = value;
+            fs::write(file, format!("{}\n{}\n", lines[0], row.join(","))).unwrap();
+            let needles = [
+                s(file),
+                "row 1 (case 0)",
+                &format!("column `{column}`: `{value}`"),
+            ];
+            let resume = sweep(&scene, &[extra, &["--resume"]].concat(), file);
+            assert_fails(&resume, 2, &needles);
+            let merged = dir.join("merged.csv");
+            let merge = jointwear(&["sweep-merge", s(file), "--out", s(&merged)]);
+            assert_fails(&merge, 2, &needles);
+        }
+        fs::write(file, &whole).unwrap();
+        // The rows as written are read back.
+        assert!(SweepFile::read(file).is_ok());
+    }
+    fs::remove_dir_all(&dir).unwrap();
+}

@@ -95,7 +95,11 @@ impl Distribution {
     /// The distribution of angles unwrapped by [`unwrap_angles_deg`], its mean, extremes and
     /// quantiles wrapped back into [0, 360).
     pub fn wrapped_deg(mut self) -> Distribution {
-        let wrap = |a: f64| a.rem_euclid(360.0);
+        // (`rem_euclid` rounds a tiny negative angle up to 360 itself: 0 is that angle.)
+        let wrap = |a: f64| match a.rem_euclid(360.0) {
+            360.0 => 0.0,
+            w => w,
+        };
         self.mean = wrap(self.mean);
         self.min = wrap(self.min);
         self.max = wrap(self.max);

@@ -501,13 +501,20 @@ impl SceneFile {
     }
 }
 
+/// Largest `run.rotations`.
+pub const MAX_ROTATIONS: u32 = 1_000_000;
+
+/// Largest `run.steady_state.max_rotations`: a run simulates at most [`MAX_ROTATIONS`] plus
+/// this many rotations.
+pub const MAX_SETTLING_ROTATIONS: u32 = 10_000;
+
 impl RunSpec {
     fn build(&self) -> Result<RunSettings> {
-        if !(1..=1_000_000).contains(&self.rotations) {
+        if !(1..=MAX_ROTATIONS).contains(&self.rotations) {
             return Err(Error::invalid(
                 "run.rotations",
                 self.rotations,
-                "an integer in [1, 1000000]",
+                format!("an integer in [1, {MAX_ROTATIONS}]"),
             ));
         }
         if self.record_rotations > self.rotations {
@@ -600,11 +607,11 @@ impl RunSpec {
 impl SteadyStateSpec {
     fn build(&self) -> Result<SteadyState> {
         let max_rotations = self.max_rotations;
-        if !(2..=10000).contains(&max_rotations) {
+        if !(2..=MAX_SETTLING_ROTATIONS).contains(&max_rotations) {
             return Err(Error::invalid(
                 "run.steady_state.max_rotations",
                 max_rotations,
-                "an integer in [2, 10000]",
+                format!("an integer in [2, {MAX_SETTLING_ROTATIONS}]"),
             ));
         }
         Ok(SteadyState {

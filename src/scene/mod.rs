@@ -18,6 +18,7 @@ mod layering;
 mod validation;
 pub mod variant;
 
+pub use build::{MAX_ROTATIONS, MAX_SETTLING_ROTATIONS};
 pub use layering::{reversal_note, scene_path, set_dotted};
 pub use validation::{
     Limit, ABSOLUTE_TOLERANCE, ATOL_PER_CLEARANCE, BEARING_LENGTH_MM, BEARING_RADIUS_MM,

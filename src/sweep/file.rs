@@ -20,9 +20,10 @@
 //!   when complete) let [`merge`] refuse a missing, repeated or unfinished shard; `total` is
 //!   the whole sweep's case count.
 
-use crate::analysis::MOTION_MODES;
+use crate::analysis::{CONTINUOUS_CONTACT_FRACTION, MOTION_MODES};
 use crate::io::output::{fnv1a, parse_rows, read_bounded_text, write_table, GrowingTable};
 use crate::io::progress::{Counter, Progress};
+use crate::scene::{MAX_ROTATIONS, MAX_SETTLING_ROTATIONS};
 use crate::simulation::checkpoint::ARITHMETIC;
 use crate::simulation::ensemble::MAX_MEMBERS;
 use crate::simulation::summary::{JOINT_COLUMNS, SCALARS};
@@ -307,16 +308,83 @@ enum Cell {
     Value,
     /// An ensemble's member count.
     Members,
-    /// A finite number, always written: the whole run's largest penetration, the wall time.
-    Number,
-    /// A finite number, or empty where nothing was measured (NaN is written empty).
-    Measured,
-    /// A motion mode, or empty where nothing was recorded.
-    Mode,
+    /// A number in its range, always written: the whole run's largest penetration, the wall time.
+    Number(Range),
+    /// A number in its range, or empty where nothing was measured (NaN is written empty).
+    Measured(Range),
+    /// A run's rotations simulated: an integer in [1, [`MAX_ROTATIONS_SIMULATED`]], always
+    /// written.
+    Rotations,
+    /// Members of an ensemble quantity or of one of its states (`n`, `low_n`, `high_n`): an
+    /// integer from 0 to the row's member count, or empty where there is no such state.
+    Count,
+    /// An ensemble quantity's state count: 1 or 2.
+    States,
+    /// A motion mode, or empty where nothing was recorded: [`MOTION_MODES`]`[0]` exactly where
+    /// the joint's contact fraction, this many cells further, is at least
+    /// [`CONTINUOUS_CONTACT_FRACTION`] ([`crate::analysis::Motion::mode`]), empty where it is.
+    Mode(usize),
     /// Whether a settling run settled: `true`, `false`, or empty for a scene that does not settle.
     Settled,
     /// The error of a failed case, empty for a case that ran.
     Error,
+}
+
+/// Most rotations a run simulates: [`MAX_ROTATIONS`] and at most [`MAX_SETTLING_ROTATIONS`]
+/// settling.
+const MAX_ROTATIONS_SIMULATED: u32 = MAX_ROTATIONS + MAX_SETTLING_ROTATIONS;
+
+/// The values a measured quantity takes (a cell out of its range was edited: `-5` m of wear
+/// depth, a contact fraction of 7).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Range {
+    /// Any finite number: a penetration (negative where the journal kept clear).
+    Any,
+    /// A finite number ≥ 0: a force, a wear depth, impacts per rotation, a time, an sd.
+    NonNegative,
+    /// A fraction in [0, 1]: the contact fraction, an ensemble's share of members (in
+    /// continuous contact, settled).
+    Fraction,
+    /// An angle in [0, 360) degrees (an ensemble's angles are wrapped back into it).
+    Angle,
+    /// Rotations simulated, or their mean: in [1, [`MAX_ROTATIONS_SIMULATED`]].
+    Rotations,
+}
+
+impl Range {
+    /// The range of the quantity `name` (of [`JOINT_COLUMNS`] or [`SCALARS`]).
+    fn of(name: &str) -> Range {
+        match name {
+            "max_penetration_recorded_m" | "max_penetration_whole_run_m" => Range::Any,
+            "max_wear_angle_deg" => Range::Angle,
+            "contact_fraction" | "continuous_contact" | "settled" => Range::Fraction,
+            "rotations_simulated" => Range::Rotations,
+            _ => Range::NonNegative,
+        }
+    }
+
+    /// Whether `x` lies in the range.
+    fn contains(self, x: f64) -> bool {
+        x.is_finite()
+            && match self {
+                Range::Any => true,
+                Range::NonNegative => x >= 0.0,
+                Range::Fraction => (0.0..=1.0).contains(&x),
+                Range::Angle => (0.0..360.0).contains(&x),
+                Range::Rotations => (1.0..=f64::from(MAX_ROTATIONS_SIMULATED)).contains(&x),
+            }
+    }
+
+    /// The range in words.
+    fn describe(self) -> String {
+        match self {
+            Range::Any => "a finite number".into(),
+            Range::NonNegative => "a finite number >= 0".into(),
+            Range::Fraction => "a number in [0, 1]".into(),
+            Range::Angle => "an angle in [0, 360) degrees".into(),
+            Range::Rotations => format!("a number in [1, {MAX_ROTATIONS_SIMULATED}]"),
+        }
+    }
 }
 
 /// The cells of a row under `header` (without the id column), or None if it is not a sweep's:
@@ -332,20 +400,32 @@ fn cell_kinds(header: &[String]) -> Option<Vec<Cell>> {
     if (first.as_str(), wall.as_str(), error.as_str()) != ("case", "wall_time_s", "error") {
         return None;
     }
+    let at = |name| JOINT_COLUMNS.iter().position(|&c| c == name);
+    let fraction_after_mode = at("contact_fraction")? - at("motion_mode")?;
     let run: Vec<(String, Cell)> = (JOINT_COLUMNS.iter())
         .map(|&c| {
             let cell = match c {
-                "max_penetration_whole_run_m" => Cell::Number,
-                "motion_mode" => Cell::Mode,
+                "max_penetration_whole_run_m" => Cell::Number(Range::Any),
+                "motion_mode" => Cell::Mode(fraction_after_mode),
+                "rotations_simulated" => Cell::Rotations,
                 "settled" => Cell::Settled,
-                _ => Cell::Measured,
+                _ => Cell::Measured(Range::of(c)),
             };
             (format!(".{c}"), cell)
         })
         .collect();
     let ensemble: Vec<(String, Cell)> = (SCALARS.iter())
-        .flat_map(|s| ENSEMBLE_COLUMNS.iter().map(move |c| format!(".{s}.{c}")))
-        .map(|name| (name, Cell::Measured))
+        .flat_map(|&s| {
+            ENSEMBLE_COLUMNS.iter().map(move |&c| {
+                let cell = match c {
+                    "n" | "low_n" | "high_n" => Cell::Count,
+                    "states" => Cell::States,
+                    _ if c.ends_with("sd") => Cell::Measured(Range::NonNegative),
+                    _ => Cell::Measured(Range::of(s)),
+                };
+                (format!(".{s}.{c}"), cell)
+            })
+        })
         .collect();
     // The columns before the joints' groups, and the groups' cells.
     let strip = |group: &[(String, Cell)]| {
@@ -386,16 +466,22 @@ fn cell_kinds(header: &[String]) -> Option<Vec<Cell>> {
     cells.extend(sets.iter().map(|_| Cell::Value));
     cells.extend(before_joints);
     cells.extend(joints);
-    cells.extend([Cell::Number, Cell::Error]);
+    cells.extend([Cell::Number(Range::NonNegative), Cell::Error]);
     Some(cells)
 }
 
 /// The first cell of `row` (of `cells`) that a sweep does not write, as (column, value, what
 /// it writes there). A failed case's row holds its set values and its error, every other cell
-/// empty; a finished case's row an empty error.
+/// empty; a finished case's row an empty error and each measured value in its range.
 fn misfit_cell(cells: &[Cell], row: &[String]) -> Option<(usize, String, String)> {
     let failed = row.last().is_some_and(|e| !e.is_empty());
-    let finite = |v: &str| v.parse::<f64>().is_ok_and(f64::is_finite);
+    let number = |v: &str| v.parse::<f64>().ok();
+    let members = (cells.iter().position(|&c| c == Cell::Members))
+        .and_then(|m| row.get(m)?.parse::<usize>().ok())
+        .unwrap_or(0);
+    let count = |v: &str, range: std::ops::RangeInclusive<usize>| {
+        v.parse::<usize>().is_ok_and(|n| range.contains(&n))
+    };
     cells
         .iter()
         .zip(row)
@@ -406,12 +492,24 @@ fn misfit_cell(cells: &[Cell], row: &[String]) -> Option<(usize, String, String)
                 Cell::Case | Cell::Error => true,
                 Cell::Value => !v.is_empty(),
                 _ if failed => v.is_empty(),
-                Cell::Members => v
-                    .parse()
-                    .is_ok_and(|m: usize| (1..=MAX_MEMBERS).contains(&m)),
-                Cell::Number => finite(v),
-                Cell::Measured => v.is_empty() || finite(v),
-                Cell::Mode => v.is_empty() || MOTION_MODES.contains(&v),
+                Cell::Members => count(v, 1..=MAX_MEMBERS),
+                Cell::Number(r) => number(v).is_some_and(|x| r.contains(x)),
+                Cell::Measured(r) => v.is_empty() || number(v).is_some_and(|x| r.contains(x)),
+                Cell::Rotations => v
+                    .parse::<u32>()
+                    .is_ok_and(|n| (1..=MAX_ROTATIONS_SIMULATED).contains(&n)),
+                Cell::Count => v.is_empty() || count(v, 0..=members),
+                Cell::States => count(v, 1..=2),
+                Cell::Mode(after) => {
+                    let fraction = row.get(column + after).map_or("", String::as_str);
+                    match (v, number(fraction)) {
+                        ("", _) => fraction.is_empty(),
+                        (_, Some(f)) => {
+                            v == MOTION_MODES[usize::from(f < CONTINUOUS_CONTACT_FRACTION)]
+                        }
+                        (_, None) => false,
+                    }
+                }
                 Cell::Settled => matches!(v, "" | "true" | "false"),
             };
             (!fits).then(|| {
@@ -421,15 +519,31 @@ fn misfit_cell(cells: &[Cell], row: &[String]) -> Option<(usize, String, String)
                                 the last column)"
                         .to_string(),
                     Cell::Members => format!("a member count in [1, {MAX_MEMBERS}]"),
-                    Cell::Number => "a finite number".to_string(),
-                    Cell::Measured => {
-                        "a finite number, or an empty cell where nothing was measured".to_string()
+                    Cell::Number(r) => r.describe(),
+                    Cell::Measured(r) => {
+                        format!(
+                            "{}, or an empty cell where nothing was measured",
+                            r.describe()
+                        )
                     }
-                    Cell::Settled => "`true`, `false` or an empty cell".to_string(),
-                    _ => format!(
-                        "`{}`, `{}` or an empty cell",
-                        MOTION_MODES[0], MOTION_MODES[1]
+                    Cell::Rotations => {
+                        format!("a whole number of rotations in [1, {MAX_ROTATIONS_SIMULATED}]")
+                    }
+                    Cell::Count => format!(
+                        "a whole number of members in [0, {members}] (the row's members), or \
+                         an empty cell"
                     ),
+                    Cell::States => "a state count, 1 or 2".to_string(),
+                    Cell::Settled => "`true`, `false` or an empty cell".to_string(),
+                    Cell::Mode(after) => format!(
+                        "`{}` where the joint's contact_fraction is at least \
+                         {CONTINUOUS_CONTACT_FRACTION}, `{}` where it is below, an empty cell \
+                         where it is empty (here it is `{}`)",
+                        MOTION_MODES[0],
+                        MOTION_MODES[1],
+                        row.get(column + after).map_or("", String::as_str)
+                    ),
+                    Cell::Case | Cell::Error => String::new(),
                 };
                 (column, value.clone(), expected)
             })
