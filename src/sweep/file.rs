@@ -318,7 +318,7 @@ enum Cell {
     /// Members of an ensemble quantity or of one of its states (`n`, `low_n`, `high_n`): an
     /// integer from 0 to the row's member count, or empty where there is no such state.
     Count,
-    /// An ensemble quantity's state count: 1 or 2.
+    /// An ensemble quantity's state count: 1 or 2, or empty where no member has a value.
     States,
     /// A motion mode, or empty where nothing was recorded: [`MOTION_MODES`]`[0]` exactly where
     /// the joint's contact fraction, this many cells further, is at least
@@ -499,7 +499,7 @@ fn misfit_cell(cells: &[Cell], row: &[String]) -> Option<(usize, String, String)
                     .parse::<u32>()
                     .is_ok_and(|n| (1..=MAX_ROTATIONS_SIMULATED).contains(&n)),
                 Cell::Count => v.is_empty() || count(v, 0..=members),
-                Cell::States => count(v, 1..=2),
+                Cell::States => v.is_empty() || count(v, 1..=2),
                 Cell::Mode(after) => {
                     let fraction = row.get(column + after).map_or("", String::as_str);
                     match (v, number(fraction)) {
@@ -533,7 +533,10 @@ fn misfit_cell(cells: &[Cell], row: &[String]) -> Option<(usize, String, String)
                         "a whole number of members in [0, {members}] (the row's members), or \
                          an empty cell"
                     ),
-                    Cell::States => "a state count, 1 or 2".to_string(),
+                    Cell::States => {
+                        "a state count, 1 or 2, or an empty cell where no member has a value"
+                            .to_string()
+                    }
                     Cell::Settled => "`true`, `false` or an empty cell".to_string(),
                     Cell::Mode(after) => format!(
                         "`{}` where the joint's contact_fraction is at least \
