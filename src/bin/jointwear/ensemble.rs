@@ -115,6 +115,15 @@ pub fn run_ensemble(
         settings.perturbation.key(),
         settings.perturbation.describe()
     );
+    if scene.run.record_rotations > 0 {
+        // As a single run's printout: the recorded quantities are read off the samples.
+        println!(
+            "  recorded: the last {} rotations, samples every {} s (the recorded maxima and \
+             contact onsets are read off the samples)",
+            scene.run.record_rotations,
+            people::number(scene.run.record_interval)
+        );
+    }
     for j in &stats {
         println!("  joint {} (mean ± sd, [5 %, 95 %]):", j.name);
         for (name, states) in &j.quantities {
