@@ -674,7 +674,7 @@ impl<'a> JournaledSweep<'a> {
     /// Starts the file `out` of `sweep`; with `resume`, keeps the rows the file holds of the
     /// same sweep and shard (an error if it holds another) and skips their cases in `sweep`.
     /// Without it, an unfinished sweep file (of this sweep and shard, or of another), one
-    /// that cannot be read back, or a file that is not a sweep's ([`unfinished`]) is an error
+    /// that cannot be read back, or a file that is not a sweep's (`unfinished`) is an error
     /// rather than started over: its finished cases would be lost to a rerun that forgot
     /// `--resume`, or to another sweep into the same file, and what another file holds to the
     /// sweep's CSV.
@@ -906,7 +906,7 @@ fn names_a_sweep(path: &Path) -> bool {
 /// sweep (resumable if partial). Refused: a file of another sweep (fingerprint, shard count
 /// or header), a shard given twice, a case in two files, unless `allow_partial`, a missing
 /// shard or one whose cases did not all finish, and an `out` that is not a sweep file or holds
-/// finished cases of an unfinished sweep that the merge does not ([`unfinished`], as `sweep`
+/// finished cases of an unfinished sweep that the merge does not (`unfinished`, as `sweep`
 /// checks its `--out`). Returns the number of rows.
 pub fn merge(inputs: &[impl AsRef<Path>], out: &Path, allow_partial: bool) -> Result<usize> {
     let files = inputs
