@@ -414,5 +414,26 @@ fn rows_with_impossible_measurements_are_refused() {
         // The rows as written are read back.
         assert!(SweepFile::read(file).is_ok());
     }
+    // Within what any scene could run, but not what this case's scene runs (one rotation, no
+    // settling): --resume, which has the scene, refuses them.
+    let scene_edits = [
+        ("rod-slider.rotations_simulated", "2"),
+        ("rod-slider.settled", "true"),
+    ];
+    let whole = fs::read_to_string(&out).unwrap();
+    let lines: Vec<&str> = whole.lines().collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    for (column, value) in scene_edits {
+        let k = header.iter().position(|h| h == &column).unwrap();
+        let mut row: Vec<&str> = lines[1].split(',').collect();
+        row[k] = value;
+        fs::write(&out, format!("{}\n{}\n", lines[0], row.join(","))).unwrap();
+        let resume = sweep(&scene, &[&TWO_CASES[..], &["--resume"]].concat(), &out);
+        let needles = [
+            "row 1 (case 0)",
+            &format!("column `{column}`: `{value}` where this case's scene writes"),
+        ];
+        assert_fails(&resume, 2, &needles);
+    }
     fs::remove_dir_all(&dir).unwrap();
 }

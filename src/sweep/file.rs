@@ -27,6 +27,7 @@ use crate::scene::{MAX_ROTATIONS, MAX_SETTLING_ROTATIONS};
 use crate::simulation::checkpoint::ARITHMETIC;
 use crate::simulation::ensemble::MAX_MEMBERS;
 use crate::simulation::summary::{JOINT_COLUMNS, SCALARS};
+use crate::simulation::Scene;
 use crate::sweep::{shard_cases, Assignment, Shard, Sweep, ENSEMBLE_COLUMNS, MAX_CASES};
 use crate::{Error, Result};
 use std::collections::{BTreeMap, HashSet};
@@ -712,8 +713,10 @@ impl<'a> JournaledSweep<'a> {
         };
         // (A kept row's set values are its case's: its label check says so, `SweepFile::read`.)
         let mut finished = HashSet::new();
-        for row in &kept {
-            finished.insert(case_of(out, row)?);
+        for (k, row) in kept.iter().enumerate() {
+            let case = case_of(out, row)?;
+            check_rotations(out, (k, case), &header, row, &sweep.build(case)?)?;
+            finished.insert(case);
         }
         sweep.skip(finished);
         let journal = Journal::create(out, &id, &header, &kept)?;
@@ -780,6 +783,67 @@ impl<'a> JournaledSweep<'a> {
             None => Ok((count, failed)),
         }
     }
+}
+
+/// Checks row `k` (of case `case`) of the sweep file at `path`, under `header`, against the
+/// case's `scene`: each joint's rotations simulated (a run's, or an ensemble's mean) is what
+/// the scene runs, `run.rotations` plus at most `steady_state.max_rotations` settling
+/// rotations (exactly `run.rotations` without settling), and `settled` (a run's, or an
+/// ensemble's mean) is empty exactly where the scene does not settle. The file alone bounds
+/// them only by what any scene could run. A failed case's row holds no measurement.
+fn check_rotations(
+    path: &Path,
+    (k, case): (usize, usize),
+    header: &[String],
+    row: &[String],
+    scene: &Scene,
+) -> Result<()> {
+    if row.last().is_some_and(|e| !e.is_empty()) {
+        return Ok(());
+    }
+    let run = &scene.run;
+    let most = run.rotations + run.settle.map_or(0, |s| s.max_rotations);
+    let settles = run.settle.is_some();
+    let quantity = |name: &str| name.strip_suffix(".mean").unwrap_or(name).to_string();
+    for (name, value) in header.iter().zip(row) {
+        let q = quantity(name);
+        let (fits, writes) = if q.ends_with(".rotations_simulated") && !name.ends_with(".sd") {
+            let fits = value
+                .parse::<f64>()
+                .is_ok_and(|n| (f64::from(run.rotations)..=f64::from(most)).contains(&n));
+            let writes = if settles {
+                format!("{} to {most} rotations (run.rotations and at most steady_state.max_rotations settling)", run.rotations)
+            } else {
+                format!(
+                    "{} rotations (run.rotations; the case does not settle)",
+                    run.rotations
+                )
+            };
+            (fits, writes)
+        } else if q.ends_with(".settled") && (name == &q || name.ends_with(".mean")) {
+            let fits = value.is_empty() != settles;
+            let writes = if settles {
+                "whether the case settled (it settles)".to_string()
+            } else {
+                "an empty cell (the case does not settle)".to_string()
+            };
+            (fits, writes)
+        } else {
+            continue;
+        };
+        if !fits {
+            return Err(parse_error(
+                path,
+                format!(
+                    "row {} (case {case}), column `{name}`: `{value}` where this case's scene \
+                     writes {writes}; likely cause: the file was edited (remove the row and \
+                     resume the sweep to run its case again)",
+                    k + 1
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The finished rows of the sweep `id` under `header` in the file at `path`, to resume it:
