@@ -125,7 +125,10 @@ def test_ctrl_c_stops_a_call_within_a_rotation_and_the_scene_stays_usable(call):
     calls = {
         "run": lambda: scene.run(),
         "ensemble": lambda: scene.ensemble(4),
-        "sweep": lambda: scene.sweep({"driver.speed_rpm": [1500, 2000]}),
+        # (A sweep's rows need a recorded rotation: it refuses run.record_rotations = 0.)
+        "sweep": lambda: scene.set("run.record_rotations", 1).sweep(
+            {"driver.speed_rpm": [1500, 2000]}
+        ),
     }
     # As Ctrl-C does: a real signal arrives while the call waits, outside Python code, and its
     # handler raises KeyboardInterrupt. (A timer thread calling _thread.interrupt_main needs the
