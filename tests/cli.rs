@@ -990,7 +990,7 @@ fn a_run_that_did_not_settle_says_so_and_the_motion_names_its_window() {
     assert!(text.contains("not settled: 2 of 2 members"), "{text}");
     assert!(text.contains("impacts per rotation (recorded)"), "{text}");
     assert!(
-        text.contains("recorded: the last 1 rotations, samples every"),
+        text.contains("recorded rotations: the last 1, samples every"),
         "{text}"
     );
     fs::remove_dir_all(&dir).unwrap();

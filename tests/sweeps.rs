@@ -343,6 +343,23 @@ fn sweep_and_merge_refuse_an_out_they_would_destroy() {
             assert_eq!(fs::read(&out).ok(), before);
         }
     }
+    // A folder lock whose process has ended (killed, or a crashed node) owns nothing: it
+    // refused every sweep into its folder, naming it as another command's.
+    let mut gone = Command::new("true").spawn().unwrap();
+    let pid = gone.id();
+    gone.wait().unwrap();
+    fs::write(
+        busy.join(".jointwear.lock"),
+        live_lock().replacen(
+            &format!("pid={}", std::process::id()),
+            &format!("pid={pid}"),
+            1,
+        ),
+    )
+    .unwrap();
+    assert!(sweep(&scene, &TWO_CASES, &busy.join("sweep.csv"))
+        .status
+        .success());
     // And a command refuses a folder in which a sweep is writing its file.
     let claimed = dir.join("claimed");
     fs::create_dir_all(&claimed).unwrap();
@@ -354,6 +371,37 @@ fn sweep_and_merge_refuse_an_out_they_would_destroy() {
         &["`--out`", ".sweep.csv.lock", "no sweep is writing"],
     );
     assert_eq!(file_names(&claimed), [".sweep.csv.lock"]);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A sweep whose file holds a case that failed to build resumes: `--resume` checked every kept
+/// row against its case's scene, built it, and stopped on that case's error (exit 2).
+#[test]
+fn a_sweep_with_a_case_that_cannot_be_built_resumes() {
+    let dir = temp_dir("sweeps", "failed-resume");
+    let scene = short_standard(&dir, "scene.toml", 2, &[]);
+    let out = dir.join("sweep.csv");
+    // Case 3 records 2 of 1 rotations: it fails to build, the others run.
+    let sets = [
+        "--set",
+        "run.rotations=2,1",
+        "--set",
+        "run.record_rotations=1,2",
+    ];
+    let o = sweep(&scene, &sets, &out);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    // As if killed before case 2 finished.
+    let whole = fs::read_to_string(&out).unwrap();
+    let kept: Vec<&str> = whole.lines().filter(|l| !l.starts_with("2,")).collect();
+    fs::write(&out, kept.join("\n") + "\n").unwrap();
+    let o = sweep(&scene, &[&sets[..], &["--resume"]].concat(), &out);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("(3 already finished)"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(cases(&SweepFile::read(&out).unwrap()), ["0", "1", "2", "3"]);
     fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -127,9 +127,11 @@ pub fn claim_file(option: &str, file: &Path) -> Result<Lock> {
     let claimed = claim(option, file, &lock, None)?;
     // (Checked after the claim, as [`claim_folder`] checks for this lock after its own.)
     let dir = dir.unwrap_or(Path::new("."));
+    // A folder lock its process left (killed, or a crashed node) owns nothing.
+    let live = |p: &PathBuf| fs::read_to_string(p).is_ok_and(|held| !stale(&held));
     let owner = [dir.join(MANIFEST), dir.join(FOLDER_LOCK)]
         .into_iter()
-        .find(|p| p.exists() && *p != lock);
+        .find(|p| *p != lock && p.exists() && (p.ends_with(MANIFEST) || live(p)));
     match owner {
         None => Ok(claimed),
         Some(owner) => Err(Error::invalid(
@@ -137,9 +139,9 @@ pub fn claim_file(option: &str, file: &Path) -> Result<Lock> {
             file.display(),
             format!(
                 "a file outside the output folders of other commands: {} holds {}, so it is the \
-                 output folder of `run`, `run --ensemble`, `longlife`, `check`, `animate` or \
-                 Python's `save`, whose writes there may replace this file, or this file one \
-                 of their outputs; likely cause: an {option} naming a file in such a folder \
+                 output folder of `run`, `run --ensemble`, `longlife` or Python's `save` (a \
+                 manifest), or `check` or `animate` is drawing there (a live folder lock), whose \
+                 writes there may replace this file, or this file one of their outputs; likely cause: an {option} naming a file in such a folder \
                  (give a file in a folder of its own)",
                 dir.display(),
                 owner.file_name().unwrap_or_default().to_string_lossy()

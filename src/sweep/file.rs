@@ -715,7 +715,10 @@ impl<'a> JournaledSweep<'a> {
         let mut finished = HashSet::new();
         for (k, row) in kept.iter().enumerate() {
             let case = case_of(out, row)?;
-            check_rotations(out, (k, case), &header, row, &sweep.build(case)?)?;
+            // (A case that failed, perhaps to build, has nothing to check.)
+            if row.last().is_none_or(String::is_empty) {
+                check_rotations(out, (k, case), &header, row, &sweep.build(case)?)?;
+            }
             finished.insert(case);
         }
         sweep.skip(finished);
@@ -790,7 +793,7 @@ impl<'a> JournaledSweep<'a> {
 /// the scene runs, `run.rotations` plus at most `steady_state.max_rotations` settling
 /// rotations (exactly `run.rotations` without settling), and `settled` (a run's, or an
 /// ensemble's mean) is empty exactly where the scene does not settle. The file alone bounds
-/// them only by what any scene could run. A failed case's row holds no measurement.
+/// them only by what any scene could run. For a row of a case that ran.
 fn check_rotations(
     path: &Path,
     (k, case): (usize, usize),
@@ -798,9 +801,6 @@ fn check_rotations(
     row: &[String],
     scene: &Scene,
 ) -> Result<()> {
-    if row.last().is_some_and(|e| !e.is_empty()) {
-        return Ok(());
-    }
     let run = &scene.run;
     let most = run.rotations + run.settle.map_or(0, |s| s.max_rotations);
     let settles = run.settle.is_some();
@@ -922,7 +922,14 @@ fn unfinished(path: &Path) -> Result<Option<SweepFile>> {
             ),
         )),
         Err(_) => {
-            let line = first_line(path).unwrap_or_default();
+            let Some(line) = first_line(path) else {
+                return Err(Error::invalid(
+                    "--out",
+                    path.display(),
+                    "a new file, an empty one or a sweep file, which --out may replace: it is \
+                     not a regular file (a device, a FIFO or a folder), or cannot be read",
+                ));
+            };
             let mut start: String = line.chars().take(80).collect();
             if start.len() < line.len() {
                 start.push('…');

@@ -118,7 +118,7 @@ pub fn run_ensemble(
     if scene.run.record_rotations > 0 {
         // As a single run's printout: the recorded quantities are read off the samples.
         println!(
-            "  recorded: the last {} rotations, samples every {} s (the recorded maxima and \
+            "  recorded rotations: the last {}, samples every {} s (the recorded maxima and \
              contact onsets are read off the samples)",
             scene.run.record_rotations,
             people::number(scene.run.record_interval)
