@@ -988,7 +988,10 @@ fn a_run_that_did_not_settle_says_so_and_the_motion_names_its_window() {
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
     assert!(text.contains("not settled: 2 of 2 members"), "{text}");
-    assert!(text.contains("impacts per rotation (recorded)"), "{text}");
+    assert!(
+        text.contains("contact onsets per rotation (recorded)"),
+        "{text}"
+    );
     assert!(
         text.contains("recorded rotations: the last 1, samples every"),
         "{text}"

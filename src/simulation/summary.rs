@@ -206,7 +206,8 @@ pub const SCALARS: [&str; 10] = [
 pub const WINDOWS: [(&str, &str); 3] = [
     (
         "recorded",
-        "the recorded rotations, the last run.record_rotations (no value when none were recorded)",
+        "the recorded rotations, the last run.record_rotations, read off their samples every \
+         run.record_interval_s (no value when none were recorded)",
     ),
     (
         "whole_run",

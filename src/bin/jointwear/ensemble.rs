@@ -138,8 +138,13 @@ pub fn run_ensemble(
             if window(name) == Some("recorded") && !name.contains("recorded") {
                 r.label.push_str(" (recorded)");
             }
+            // The column keeps its name; what it counts is the contact onsets between samples,
+            // as the single run's printout says.
+            if name == &"impacts_per_rotation" {
+                r.label = "contact onsets per rotation (recorded)".into();
+            }
             if d.n == 0 {
-                println!("    {:36} not recorded (run.record_rotations = 0)", r.label);
+                println!("    {:38} not recorded (run.record_rotations = 0)", r.label);
             } else if name == &"continuous_contact" {
                 let k = (d.mean * d.n as f64).round();
                 println!(
@@ -148,7 +153,7 @@ pub fn run_ensemble(
                 );
             } else {
                 println!(
-                    "    {:36} {}  [{}, {}]",
+                    "    {:38} {}  [{}, {}]",
                     r.label,
                     r.mean_sd(d.mean, d.sd),
                     people::number(d.quantiles[0] * r.scale),
