@@ -101,9 +101,16 @@ fn live_file_claim(dir: &Path) -> Option<(PathBuf, String)> {
     entries.flatten().find_map(|e| {
         let name = e.file_name().into_string().ok()?;
         let file_lock = name.starts_with('.') && name.ends_with(".lock") && name != FOLDER_LOCK;
-        let held = fs::read_to_string(e.path()).ok().filter(|_| file_lock)?;
-        (!stale(&held)).then(|| (e.path(), held))
+        file_lock
+            .then(|| live_holder(&e.path()))?
+            .map(|held| (e.path(), held))
     })
+}
+
+/// The content of the lock file `lock` if its holder may still run ([`stale`]: not one whose
+/// process on this host has ended).
+fn live_holder(lock: &Path) -> Option<String> {
+    fs::read_to_string(lock).ok().filter(|held| !stale(held))
 }
 
 /// Claims the output file `file` (e.g. a sweep's CSV) for this process through the lock file
@@ -128,10 +135,9 @@ pub fn claim_file(option: &str, file: &Path) -> Result<Lock> {
     // (Checked after the claim, as [`claim_folder`] checks for this lock after its own.)
     let dir = dir.unwrap_or(Path::new("."));
     // A folder lock its process left (killed, or a crashed node) owns nothing.
-    let live = |p: &PathBuf| fs::read_to_string(p).is_ok_and(|held| !stale(&held));
     let owner = [dir.join(MANIFEST), dir.join(FOLDER_LOCK)]
         .into_iter()
-        .find(|p| *p != lock && p.exists() && (p.ends_with(MANIFEST) || live(p)));
+        .find(|p| *p != lock && p.exists() && (p.ends_with(MANIFEST) || live_holder(p).is_some()));
     match owner {
         None => Ok(claimed),
         Some(owner) => Err(Error::invalid(
@@ -141,8 +147,9 @@ pub fn claim_file(option: &str, file: &Path) -> Result<Lock> {
                 "a file outside the output folders of other commands: {} holds {}, so it is the \
                  output folder of `run`, `run --ensemble`, `longlife` or Python's `save` (a \
                  manifest), or `check` or `animate` is drawing there (a live folder lock), whose \
-                 writes there may replace this file, or this file one of their outputs; likely cause: an {option} naming a file in such a folder \
-                 (give a file in a folder of its own)",
+                 writes there may replace this file, or this file one of their outputs; likely \
+                 cause: an {option} naming a file in such a folder (give a file in a folder of \
+                 its own)",
                 dir.display(),
                 owner.file_name().unwrap_or_default().to_string_lossy()
             ),

@@ -27,10 +27,13 @@ use crate::scene::{MAX_ROTATIONS, MAX_SETTLING_ROTATIONS};
 use crate::simulation::checkpoint::ARITHMETIC;
 use crate::simulation::ensemble::MAX_MEMBERS;
 use crate::simulation::summary::{JOINT_COLUMNS, SCALARS};
-use crate::simulation::Scene;
-use crate::sweep::{shard_cases, Assignment, Shard, Sweep, ENSEMBLE_COLUMNS, MAX_CASES};
+use crate::simulation::RunSettings;
+use crate::sweep::{
+    case_values, shard_cases, Assignment, Shard, Sweep, ENSEMBLE_COLUMNS, MAX_CASES,
+};
 use crate::{Error, Result};
-use std::collections::{BTreeMap, HashSet};
+use std::collections::hash_map::Entry;
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::Path;
 use std::sync::Mutex;
 
@@ -475,7 +478,7 @@ fn cell_kinds(header: &[String]) -> Option<Vec<Cell>> {
 /// it writes there). A failed case's row holds its set values and its error, every other cell
 /// empty; a finished case's row an empty error and each measured value in its range.
 fn misfit_cell(cells: &[Cell], row: &[String]) -> Option<(usize, String, String)> {
-    let failed = row.last().is_some_and(|e| !e.is_empty());
+    let failed = failed(row);
     let number = |v: &str| v.parse::<f64>().ok();
     let members = (cells.iter().position(|&c| c == Cell::Members))
         .and_then(|m| row.get(m)?.parse::<usize>().ok())
@@ -713,11 +716,23 @@ impl<'a> JournaledSweep<'a> {
         };
         // (A kept row's set values are its case's: its label check says so, `SweepFile::read`.)
         let mut finished = HashSet::new();
+        // A case's run settings, built once per distinct value of the sweep's `run.*` keys
+        // (those alone set them): a row per case would build every case's scene again.
+        let mut runs: HashMap<Vec<String>, RunSettings> = HashMap::new();
         for (k, row) in kept.iter().enumerate() {
             let case = case_of(out, row)?;
             // (A case that failed, perhaps to build, has nothing to check.)
-            if row.last().is_none_or(String::is_empty) {
-                check_rotations(out, (k, case), &header, row, &sweep.build(case)?)?;
+            if !failed(row) {
+                let values = case_values(&sweep.sets, case);
+                let key: Vec<String> = (sweep.sets.iter().zip(values))
+                    .filter(|(a, _)| a.key.starts_with("run."))
+                    .map(|(_, v)| v.to_string())
+                    .collect();
+                let run = match runs.entry(key) {
+                    Entry::Occupied(e) => e.into_mut(),
+                    Entry::Vacant(e) => e.insert(sweep.build(case)?.run),
+                };
+                check_rotations(out, (k, case), &header, row, run)?;
             }
             finished.insert(case);
         }
@@ -775,7 +790,7 @@ impl<'a> JournaledSweep<'a> {
         let mut rows = SweepFile::read(journal.path())?.rows;
         rows.extend(lost);
         let mut failed: Vec<usize> = (rows.iter())
-            .filter(|r| r.last().is_some_and(|e| !e.is_empty()))
+            .filter(|r| failed(r))
             .filter_map(|r| r[0].parse().ok())
             .collect();
         failed.sort_unstable();
@@ -789,30 +804,33 @@ impl<'a> JournaledSweep<'a> {
 }
 
 /// Checks row `k` (of case `case`) of the sweep file at `path`, under `header`, against the
-/// case's `scene`: each joint's rotations simulated (a run's, or an ensemble's mean) is what
-/// the scene runs, `run.rotations` plus at most `steady_state.max_rotations` settling
-/// rotations (exactly `run.rotations` without settling), and `settled` (a run's, or an
-/// ensemble's mean) is empty exactly where the scene does not settle. The file alone bounds
+/// case's run settings `run`: each joint's rotations simulated (a run's, or an ensemble's
+/// mean) is what the case runs, `run.rotations` plus at most `steady_state.max_rotations`
+/// settling rotations (exactly `run.rotations` without settling), and `settled` (a run's, or
+/// an ensemble's mean) is empty exactly where the case does not settle. The file alone bounds
 /// them only by what any scene could run. For a row of a case that ran.
 fn check_rotations(
     path: &Path,
     (k, case): (usize, usize),
     header: &[String],
     row: &[String],
-    scene: &Scene,
+    run: &RunSettings,
 ) -> Result<()> {
-    let run = &scene.run;
     let most = run.rotations + run.settle.map_or(0, |s| s.max_rotations);
     let settles = run.settle.is_some();
-    let quantity = |name: &str| name.strip_suffix(".mean").unwrap_or(name).to_string();
     for (name, value) in header.iter().zip(row) {
-        let q = quantity(name);
-        let (fits, writes) = if q.ends_with(".rotations_simulated") && !name.ends_with(".sd") {
+        // (A run's cell, or an ensemble's mean.)
+        let q = name.strip_suffix(".mean").unwrap_or(name);
+        let (fits, writes) = if q.ends_with(".rotations_simulated") {
             let fits = value
                 .parse::<f64>()
                 .is_ok_and(|n| (f64::from(run.rotations)..=f64::from(most)).contains(&n));
             let writes = if settles {
-                format!("{} to {most} rotations (run.rotations and at most steady_state.max_rotations settling)", run.rotations)
+                format!(
+                    "{} to {most} rotations (run.rotations and at most \
+                     steady_state.max_rotations settling)",
+                    run.rotations
+                )
             } else {
                 format!(
                     "{} rotations (run.rotations; the case does not settle)",
@@ -820,7 +838,7 @@ fn check_rotations(
                 )
             };
             (fits, writes)
-        } else if q.ends_with(".settled") && (name == &q || name.ends_with(".mean")) {
+        } else if q.ends_with(".settled") {
             let fits = value.is_empty() != settles;
             let writes = if settles {
                 "whether the case settled (it settles)".to_string()
@@ -844,6 +862,11 @@ fn check_rotations(
         }
     }
     Ok(())
+}
+
+/// Whether `row` is a failed case's: its error, in the last column, is not empty.
+fn failed(row: &[String]) -> bool {
+    row.last().is_some_and(|e| !e.is_empty())
 }
 
 /// The finished rows of the sweep `id` under `header` in the file at `path`, to resume it:

@@ -133,15 +133,15 @@ pub fn run_ensemble(
             }
             let d = &states.pooled;
             let mut r = Reading::of(name);
+            // The column keeps its name; what it counts is the contact onsets between samples,
+            // as the single run's printout says.
+            if name == &"impacts_per_rotation" {
+                r.label = "contact onsets per rotation".into();
+            }
             // A quantity of the recorded rotations says so where its name does not (the
             // motion's figures, as the forces' do).
             if window(name) == Some("recorded") && !name.contains("recorded") {
                 r.label.push_str(" (recorded)");
-            }
-            // The column keeps its name; what it counts is the contact onsets between samples,
-            // as the single run's printout says.
-            if name == &"impacts_per_rotation" {
-                r.label = "contact onsets per rotation (recorded)".into();
             }
             if d.n == 0 {
                 println!("    {:38} not recorded (run.record_rotations = 0)", r.label);
