@@ -167,15 +167,19 @@ class Ensemble:
         scalar_names: the names of the per-member scalar results (as in :attr:`Run.summary`).
         scalars: joint -> name -> array (member,) of that result.
         motion_modes: joint -> list of each member's motion mode (None without a recording).
-        statistics: joint -> name -> dict of ``n`` (finite values), ``mean``, ``sd``, ``min``,
-            ``q05``, ``q25``, ``q50``, ``q75``, ``q95``, ``max`` (angles unwrapped around
-            their circular mean), and the states the members fall into (largest-gap rule):
-            ``states`` 1 or 2, and ``low_n``, ``low_mean``, ``low_sd``, ``high_n``,
-            ``high_mean``, ``high_sd`` (None with one state; all seven None where ``n`` is 0).
-            Angles are split too: cut at their largest gap on the circle, split only at a gap
-            over 10 deg, low and high being the two sides of the cut (an ensemble whose members
-            wear in two regions has both). As ``ensemble_summary.csv``; ``summary.json`` adds
-            each quantity's ``window`` (``recorded``, ``whole_run`` or ``settling``).
+        statistics: joint -> name -> dict, as each quantity of ``summary.json`` has it: its
+            ``window``, the part of each member's run it is taken over (``recorded``: the
+            recorded rotations, which is also the window of ``contact_fraction``,
+            ``impacts_per_rotation`` and ``continuous_contact``; ``whole_run``: every rotation
+            from the start, settling included; ``settling``: the settling phase), ``n``
+            (finite values), ``mean``, ``sd``, ``min``, ``q05``, ``q25``, ``q50``, ``q75``,
+            ``q95``, ``max`` (angles unwrapped around their circular mean; NaN where ``n`` is
+            0, ``summary.json``'s null), and the states the members fall into (largest-gap
+            rule): ``states`` 1 or 2, and ``low_n``, ``low_mean``, ``low_sd``, ``high_n``,
+            ``high_mean``, ``high_sd`` (the counts ints; None with one state; all seven None
+            where ``n`` is 0). Angles are split too: cut at their largest gap on the circle,
+            split only at a gap over 10 deg, low and high being the two sides of the cut (an
+            ensemble whose members wear in two regions has both).
         angles_deg: joint -> sector centres (deg), for joints with wear.
         wear: joint -> array (member, sector) of final wear depths (m).
         snapshot_rotations: rotation counts of the wear snapshots.
@@ -236,8 +240,8 @@ class Ensemble:
         return self.snapshots[joint][:, hits[0], :].mean(axis=0)
 
     def to_pandas(self, table: str = "summary"):
-        """A pandas DataFrame of ``table``: ``"summary"`` (one row per joint and quantity: n,
-        mean, sd, min, quantiles, max), ``"members"`` (one row per member, columns
+        """A pandas DataFrame of ``table``: ``"summary"`` (one row per joint and quantity: its
+        :attr:`statistics`, window first), ``"members"`` (one row per member, columns
         ``<joint>.<quantity>``) or ``"band"`` (one row per joint and sector: angle_deg and the
         per-sector statistics of the final wear). Raises ImportError if pandas is not
         installed."""

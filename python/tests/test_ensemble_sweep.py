@@ -1,6 +1,7 @@
 """Ensembles and sweeps: shapes, seeds, the program's statistics, cases in product order."""
 
 import csv
+import json
 
 import numpy as np
 import pytest
@@ -96,6 +97,38 @@ def test_an_ensemble_has_the_programs_states(tmp_path, cli):
             # an angle's states are the two sides of a cut on the circle, not ordered
             assert q.endswith("_deg") or stats["low_mean"] < stats["high_mean"], q
     assert counts == {None, 1, 2}
+
+
+# Fails without each quantity's window (Python's statistics had none, so a recorded-window
+# contact_fraction read as the whole run's), and with the state counts as floats (1.0 where
+# summary.json has 1).
+def test_an_ensembles_statistics_are_the_quantities_of_its_summary_json(tmp_path, cli):
+    path = short_file(tmp_path)
+    out = tmp_path / "out"
+    program = cli("run", path, "--ensemble", 12, "--seed", 5, "--out", out)
+    assert program.returncode == 0, program.stderr
+    ens = jointwear.Scene.load(path).ensemble(12, seed=5)
+    with open(out / "summary.json") as f:
+        summary = json.load(f)
+    for joint in summary["joints"]:
+        quantities = dict(joint["quantities"])
+        stats = ens.statistics[joint["name"]]
+        assert list(stats) == list(quantities)
+        for q, expected in quantities.items():
+            got = stats[q]
+            assert list(got) == list(expected), q
+            # JSON's null is NaN among the pooled values; the numbers read back bit for bit,
+            # so equality is exact
+            got = {k: None if isinstance(v, float) and np.isnan(v) else v for k, v in got.items()}
+            assert got == expected, q
+            for k in ("n", "states", "low_n", "high_n"):
+                assert got[k] is None or type(got[k]) is int, (q, k)
+    windows = {q: s["window"] for q, s in ens.statistics["rod-slider"].items()}
+    assert windows["contact_fraction"] == "recorded"
+    assert windows["max_penetration_whole_run_m"] == "whole_run"
+    assert windows["settled"] == "settling"
+    frame = ens.to_pandas("summary")
+    assert list(frame.columns[:3]) == ["joint", "quantity", "window"]
 
 
 def test_a_bad_member_count_is_a_scene_error():

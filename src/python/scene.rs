@@ -4,7 +4,7 @@
 
 use super::convert::{f64_bytes, from_toml, to_toml};
 use super::{to_py_err, SimulationError};
-use crate::analysis::states::{States, STATE_COLUMNS};
+use crate::analysis::states::{States, STATE_COLUMNS, STATE_COUNTS};
 use crate::analysis::statistics::{Distribution, VALUE_KEYS};
 use crate::analysis::Motion;
 use crate::io::lock::claim_folder;
@@ -17,7 +17,7 @@ use crate::simulation::ensemble::{self, EnsembleSettings, Perturbation, MAX_MEMB
 use crate::simulation::folder::ensemble::{write_ensemble, Member};
 use crate::simulation::folder::run::write_run;
 use crate::simulation::folder::Origin;
-use crate::simulation::summary::{joint_statistics, summarize, JointSummary, SCALARS};
+use crate::simulation::summary::{joint_statistics, summarize, window, JointSummary, SCALARS};
 use crate::simulation::{simulate_with_progress, RunOutput, Scene};
 use crate::sweep::{Assignment, CaseResult, Outcome, Shard, Sweep};
 use crate::Error;
@@ -686,11 +686,15 @@ fn run_dict<'py>(py: Python<'py>, scene: &Scene, out: &RunOutput) -> PyResult<Bo
     Ok(d)
 }
 
-/// [`States::values`] into a quantity's statistics dict (`None` as None), as
-/// `ensemble_summary.csv` has them.
+/// [`States::values`] into a quantity's statistics dict (`None` as None), as `summary.json`
+/// has them: the counts ([`STATE_COUNTS`]) as ints, the means and sds as floats.
 fn set_states(d: &Bound<'_, PyDict>, states: &States) -> PyResult<()> {
-    for (key, value) in STATE_COLUMNS.iter().zip(states.values()) {
-        d.set_item(key, value)?;
+    for (i, (key, value)) in STATE_COLUMNS.iter().zip(states.values()).enumerate() {
+        if STATE_COUNTS.contains(&i) {
+            d.set_item(key, value.map(|x| x as usize))?;
+        } else {
+            d.set_item(key, value)?;
+        }
     }
     Ok(())
 }
@@ -728,6 +732,8 @@ fn ensemble_dict<'py>(
             let values: Vec<f64> = kept.iter().map(|(s, _)| s[k].scalars()[i].1).collect();
             scalars.set_item(*name, f64_bytes(py, &values))?;
             let sd = PyDict::new(py);
+            // Named as summary.json names it: not every quantity's name says its window.
+            sd.set_item("window", window(name))?;
             sd.set_item("n", dist.n)?;
             for (key, x) in VALUE_KEYS.iter().zip(dist.values()) {
                 sd.set_item(key, x)?;
