@@ -105,7 +105,9 @@ class Run:
         snapshots, figures, ``summary.json``, ``README.txt``, the manifest) but the wall time
         in ``summary.json``; its README and manifest name the command line that runs the same
         scene (``set("run.rotations", n)`` as ``--rotations n``). Raises
-        :class:`jointwear.SceneError` if another process is writing into ``directory``."""
+        :class:`jointwear.SceneError`, writing nothing, if another process is writing into
+        ``directory`` or it holds the outputs of another command (an ensemble's folder, or
+        ``jointwear longlife``'s), which this write would remove or overwrite."""
         self._folder.save(os.fspath(directory))
 
     def to_pandas(self, table: str = "timeseries"):

@@ -130,8 +130,35 @@ def test_save_refuses_a_folder_another_process_writes(tmp_path):
     out = tmp_path / "out"
     out.mkdir()
     (out / ".jointwear.lock").write_text("pid=1\nhost=elsewhere\ncommand=jointwear run other\n")
-    with pytest.raises(jointwear.SceneError, match="jointwear run other"):
+    with pytest.raises(jointwear.SceneError, match="jointwear run other") as refused:
         short(jointwear.Scene.load(STANDARD)).run().save(out)
+    assert "`directory`" in str(refused.value) and "choose another directory" in str(
+        refused.value
+    )
+
+
+# Fails without the check in Folder.save: the refusal came from the writer, naming the
+# "output folder" and giving the command line's advice (each command's default folder), which
+# a Python caller cannot follow.
+def test_save_refuses_another_commands_folder_naming_its_own_argument(tmp_path):
+    s = short(jointwear.Scene.load(STANDARD))
+    run, ens = s.run(), s.ensemble(2)
+    ens.save(tmp_path / "ensemble")
+    before = {p.name: p.read_bytes() for p in (tmp_path / "ensemble").iterdir()}
+    for result, folder, holder in [
+        (run, "ensemble", "`jointwear run --ensemble`"),
+        (ens, "run", "`jointwear run`"),
+    ]:
+        if folder == "run":
+            run.save(tmp_path / "run")
+        with pytest.raises(jointwear.SceneError) as refused:
+            result.save(tmp_path / folder)
+        message = str(refused.value)
+        assert f"`directory`: {tmp_path / folder}" in message, message
+        assert f"holds the outputs of {holder}" in message, message
+        assert "call save with another directory" in message, message
+        assert "output folder" not in message and "out/<scene stem>" not in message, message
+    assert {p.name: p.read_bytes() for p in (tmp_path / "ensemble").iterdir()} == before
 
 
 def bits(x):

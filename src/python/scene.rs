@@ -16,7 +16,7 @@ use crate::scene::{reversal_note, SceneFile};
 use crate::simulation::ensemble::{self, EnsembleSettings, Perturbation, MAX_MEMBERS};
 use crate::simulation::folder::ensemble::{write_ensemble, Member};
 use crate::simulation::folder::run::write_run;
-use crate::simulation::folder::Origin;
+use crate::simulation::folder::{check_manifest, FolderCommand, Origin};
 use crate::simulation::summary::{joint_statistics, summarize, window, JointSummary, SCALARS};
 use crate::simulation::{simulate_with_progress, RunOutput, Scene};
 use crate::sweep::{Assignment, CaseResult, Outcome, Shard, Sweep};
@@ -522,11 +522,21 @@ enum Kept {
     },
 }
 
+/// The argument of `Run.save` and `Ensemble.save` that a refusal of their folder names.
+const SAVE_ARGUMENT: &str = "directory";
+
+/// What a Python user can do about a `directory` holding another command's outputs.
+const SAVE_REMEDY: &str = "call save with another directory (Run.save writes the folder of \
+                           `jointwear run`, or of `run --member` for a member, Ensemble.save \
+                           that of `run --ensemble`) or move those files away first";
+
 #[pymethods]
 impl Folder {
     /// Writes the folder `dir` as `jointwear run … --out dir` does (with `--ensemble N --seed
     /// S` or `--member K --seed S` as the results are), claimed against other writers while
-    /// it is written; the files of an earlier write into it are replaced.
+    /// it is written; the files of an earlier write of the same command into it are replaced,
+    /// and a folder of another command's outputs is refused before anything is written, the
+    /// refusal naming the Python argument (`directory`) and what a Python user can do.
     fn save(&self, py: Python<'_>, dir: PathBuf) -> PyResult<()> {
         let (origin, scene) = match &self.0 {
             Kept::Run { origin, scene, .. } | Kept::Ensemble { origin, scene, .. } => {
@@ -534,9 +544,17 @@ impl Folder {
             }
         };
         let path = PathBuf::from(&origin.path);
+        let command = match &self.0 {
+            Kept::Run { member: None, .. } => FolderCommand::Run,
+            Kept::Run {
+                member: Some(_), ..
+            } => FolderCommand::Member,
+            Kept::Ensemble { .. } => FolderCommand::Ensemble,
+        };
         let written = py.detach(|| {
-            check_output_dir("dir", &dir)?;
-            let _claim = claim_folder("dir", &dir)?;
+            check_output_dir(SAVE_ARGUMENT, &dir)?;
+            let _claim = claim_folder(SAVE_ARGUMENT, &dir)?;
+            check_manifest(SAVE_ARGUMENT, &dir, command, SAVE_REMEDY)?;
             match &self.0 {
                 Kept::Run { out, member, .. } => {
                     let member = member.as_ref().map(|(e, k)| (e, *k));

@@ -408,7 +408,8 @@ fn claim_out(scene: &Path, dir: &Path) -> CliResult<Lock> {
 /// once (exit 2), not after the run ([`folder::check_manifest`]).
 fn claim_outputs(scene: &Path, dir: &Path, command: FolderCommand) -> CliResult<Lock> {
     let claim = claim_out(scene, dir)?;
-    folder::check_manifest("--out", dir, command).map_err(|e| Failure::from(scene, e))?;
+    folder::check_manifest("--out", dir, command, folder::OUT_REMEDY)
+        .map_err(|e| Failure::from(scene, e))?;
     Ok(claim)
 }
 

@@ -153,18 +153,31 @@ fn is_folder_file(name: &str) -> bool {
 /// outputs (`jointwear run SCENE …`); a folder holding another command's outputs is refused
 /// ([`check_command`]), whose files the write would remove or overwrite.
 pub fn write_folder<T>(dir: &Path, title: &str, write: impl FnOnce() -> Result<T>) -> Result<T> {
-    check_command("output folder", dir, FolderCommand::of(title))?;
+    // Its callers have checked the folder as they claimed it, naming their own option and
+    // remedy; this check is for a writer that did not.
+    let remedy = "give another folder or move those files away first";
+    check_command("output folder", dir, FolderCommand::of(title), remedy)?;
     write_outputs(dir, title, is_folder_file, write)
 }
 
 /// Checks the output folder `dir`, given as `option` (`--out`), before `command` runs to write
 /// into it: a manifest listing a file that is not an output ([`read_manifest`]), or the
-/// outputs of another command ([`check_command`]), is refused at once (bad input), not after
-/// the run.
-pub fn check_manifest(option: &str, dir: &Path, command: FolderCommand) -> Result<()> {
+/// outputs of another command ([`check_command`], whose refusal ends with `remedy`), is
+/// refused at once (bad input), not after the run.
+pub fn check_manifest(
+    option: &str,
+    dir: &Path,
+    command: FolderCommand,
+    remedy: &str,
+) -> Result<()> {
     read_manifest(dir, is_folder_file)?;
-    check_command(option, dir, Some(command))
+    check_command(option, dir, Some(command), remedy)
 }
+
+/// What the command line's user can do about an `--out` holding another command's outputs
+/// ([`check_command`]'s `remedy`).
+pub const OUT_REMEDY: &str = "give another folder (each command's default, out/<scene \
+                              stem>/<kind>, is its own) or move those files away first";
 
 /// A command that writes output folders, as the command line at the top of a folder's
 /// manifest names it. Each replaces the files of its own previous write into a folder and
@@ -217,11 +230,16 @@ impl FolderCommand {
     }
 }
 
-/// Refuses (bad input, naming `option` and `dir`) to write the outputs of `command` into
-/// `dir` when its manifest names another command (or none, edited), whose outputs the write
-/// would remove or overwrite; a folder without a manifest, or with one of `command`'s own, is
-/// accepted.
-pub fn check_command(option: &str, dir: &Path, command: Option<FolderCommand>) -> Result<()> {
+/// Refuses (bad input, naming `option` and `dir`, and ending with `remedy`, what the one who
+/// gave `dir` can do instead) to write the outputs of `command` into `dir` when its manifest
+/// names another command (or none, edited), whose outputs the write would remove or
+/// overwrite; a folder without a manifest, or with one of `command`'s own, is accepted.
+pub fn check_command(
+    option: &str,
+    dir: &Path,
+    command: Option<FolderCommand>,
+    remedy: &str,
+) -> Result<()> {
     let Some(title) = manifest_title(dir)? else {
         return Ok(());
     };
@@ -239,8 +257,7 @@ pub fn check_command(option: &str, dir: &Path, command: Option<FolderCommand>) -
             "a folder holding no other command's outputs (or {}'s own, which it replaces): it \
              holds the outputs of {} (`{title}`, as its {MANIFEST} says), which this write \
              would remove or overwrite; likely cause: the folder of another command given \
-             again; give another folder (each command's default, out/<scene stem>/<kind>, is \
-             its own) or move those files away first",
+             again; {remedy}",
             named(command, "this write"),
             named(held, "an unknown command"),
         ),
