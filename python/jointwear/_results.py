@@ -106,8 +106,9 @@ class Run:
         in ``summary.json``; its README and manifest name the command line that runs the same
         scene (``set("run.rotations", n)`` as ``--rotations n``). Raises
         :class:`jointwear.SceneError`, writing nothing, if another process is writing into
-        ``directory`` or it holds the outputs of another command (an ensemble's folder, or
-        ``jointwear longlife``'s), which this write would remove or overwrite."""
+        ``directory``, if it holds the outputs of another command (an ensemble's folder, or
+        ``jointwear longlife``'s), which this write would remove or overwrite, or if it holds
+        the checkpoint of an unfinished ``jointwear run``, which would later replace them."""
         self._folder.save(os.fspath(directory))
 
     def to_pandas(self, table: str = "timeseries"):

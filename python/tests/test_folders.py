@@ -161,6 +161,22 @@ def test_save_refuses_another_commands_folder_naming_its_own_argument(tmp_path):
     assert {p.name: p.read_bytes() for p in (tmp_path / "ensemble").iterdir()} == before
 
 
+# Fails without the check: save wrote its results beside the checkpoint of another process's
+# unfinished run (its --resume would then replace them), returning normally.
+def test_save_refuses_a_folder_holding_an_unfinished_runs_checkpoint(tmp_path, cli):
+    out = tmp_path / "out"
+    # the step limit stops the run in its third rotation, its last checkpoint kept
+    done = cli("run", STANDARD, "--rotations", 5, "--checkpoint-every", 1,
+               "--set", "run.max_steps=5000", "--out", out)
+    assert done.returncode == 1 and (out / "checkpoint.json").exists(), done.stderr
+    s = short(jointwear.Scene.load(STANDARD))
+    for result in (s.run(), s.ensemble(2)):
+        with pytest.raises(jointwear.SceneError, match="checkpoint of an unfinished run") as e:
+            result.save(out)
+        assert "`directory`" in str(e.value) and "--resume" in str(e.value)
+        assert sorted(p.name for p in out.iterdir()) == ["checkpoint.json"]
+
+
 def bits(x):
     """`x` with every float as its bytes (NaN equal to NaN), for bit for bit comparisons."""
     if isinstance(x, float):

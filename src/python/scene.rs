@@ -13,6 +13,7 @@ use crate::io::progress::Progress;
 use crate::laws::wear::sector_angles_deg;
 use crate::scene::variant::{Change, Variant};
 use crate::scene::{reversal_note, SceneFile};
+use crate::simulation::checkpoint::refuse_checkpoint;
 use crate::simulation::ensemble::{self, EnsembleSettings, Perturbation, MAX_MEMBERS};
 use crate::simulation::folder::ensemble::{write_ensemble, Member};
 use crate::simulation::folder::run::write_run;
@@ -535,8 +536,9 @@ impl Folder {
     /// Writes the folder `dir` as `jointwear run … --out dir` does (with `--ensemble N --seed
     /// S` or `--member K --seed S` as the results are), claimed against other writers while
     /// it is written; the files of an earlier write of the same command into it are replaced,
-    /// and a folder of another command's outputs is refused before anything is written, the
-    /// refusal naming the Python argument (`directory`) and what a Python user can do.
+    /// and a folder of another command's outputs, or holding the checkpoint of an unfinished
+    /// run, is refused before anything is written, the refusal naming the Python argument
+    /// (`directory`) and what a Python user can do.
     fn save(&self, py: Python<'_>, dir: PathBuf) -> PyResult<()> {
         let (origin, scene) = match &self.0 {
             Kept::Run { origin, scene, .. } | Kept::Ensemble { origin, scene, .. } => {
@@ -555,6 +557,11 @@ impl Folder {
             check_output_dir(SAVE_ARGUMENT, &dir)?;
             let _claim = claim_folder(SAVE_ARGUMENT, &dir)?;
             check_manifest(SAVE_ARGUMENT, &dir, command, SAVE_REMEDY)?;
+            // Another run's state: results saved beside it would be mixed with it, and
+            // replaced by a later `--resume` of that run.
+            let how = "continue that run with `jointwear run ... --resume --out` this \
+                       directory, or remove the checkpoint if that run is not to go on";
+            refuse_checkpoint(SAVE_ARGUMENT, &dir, how)?;
             match &self.0 {
                 Kept::Run { out, member, .. } => {
                     let member = member.as_ref().map(|(e, k)| (e, *k));

@@ -60,6 +60,26 @@ pub const ARITHMETIC: u32 = 3;
 /// File name of a run's checkpoint in its output folder.
 pub const CHECKPOINT_FILE: &str = "checkpoint.json";
 
+/// Refuses (bad input, naming `option` and `dir`) an output folder `dir` that holds the
+/// checkpoint of an unfinished run, which a write of outputs would overwrite or leave beside
+/// them (a later `--resume` would replace them); `how` says what the user can do about that
+/// run besides choosing another `option`.
+pub fn refuse_checkpoint(option: &str, dir: &Path, how: &str) -> Result<()> {
+    let saved = dir.join(CHECKPOINT_FILE);
+    if !saved.exists() {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        option,
+        dir.display(),
+        format!(
+            "a folder without the checkpoint of an unfinished run: {} holds one; {how}, or \
+             choose another {option}",
+            saved.display()
+        ),
+    ))
+}
+
 #[derive(Serialize, Deserialize)]
 struct CheckpointFile {
     scene_fingerprint: String,

@@ -8,7 +8,9 @@ use crate::{claim_outputs, load_variant};
 use jointwear::io::format::{number, quantity};
 use jointwear::io::interrupt;
 use jointwear::io::progress::{progress_bar, Progress};
-use jointwear::simulation::checkpoint::{read_checkpoint, write_checkpoint, CHECKPOINT_FILE};
+use jointwear::simulation::checkpoint::{
+    read_checkpoint, refuse_checkpoint, write_checkpoint, CHECKPOINT_FILE,
+};
 use jointwear::simulation::ensemble::{member_simulation, EnsembleSettings};
 use jointwear::simulation::folder::run::write_run;
 use jointwear::simulation::folder::{FolderCommand, SUMMARY_FILE};
@@ -105,9 +107,9 @@ pub fn run(
             "note: removed {}, the checkpoint of an unfinished run (--discard-checkpoint)",
             saved.display()
         );
-    } else if saved.exists() && saved_run == Saved::Keep {
+    } else if saved_run == Saved::Keep {
         let how = "continue that run with --resume, start over with --discard-checkpoint";
-        return Err(checkpoint_in_the_way(path, dir, &saved, how));
+        refuse_checkpoint("--out", dir, how).map_err(|e| Failure::input(path, e))?;
     }
     let mut sim = if saved_run == Saved::Resume {
         let checkpoint = read_checkpoint(&saved, fingerprint).map_err(|e| match e {
@@ -264,22 +266,4 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
             );
         }
     }
-}
-
-/// The error of an output folder `dir` that holds `saved`, the checkpoint of an unfinished
-/// run, which the command would overwrite or leave beside its outputs; `how` says what the
-/// user can do about it besides choosing another --out.
-pub fn checkpoint_in_the_way(path: &Path, dir: &Path, saved: &Path, how: &str) -> Failure {
-    Failure::input(
-        path,
-        Error::invalid(
-            "--out",
-            dir.display(),
-            format!(
-                "a folder without the checkpoint of an unfinished run: {} holds one; {how}, \
-                 or choose another --out",
-                saved.display()
-            ),
-        ),
-    )
 }
