@@ -113,8 +113,8 @@ class Run:
 
     def to_pandas(self, table: str = "timeseries"):
         """A pandas DataFrame of ``table``: ``"timeseries"`` (one column per series),
-        ``"wear"`` (index ``angle_deg``, one column per joint of its final depth; joints with
-        the same sector count), ``"snapshots"`` (long format: joint, rotation, angle_deg,
+        ``"wear"`` (index ``angle_deg``, one column ``<joint>.depth_m`` per joint of its final
+        depth (m); joints with the same sector count), ``"snapshots"`` (long format: joint, rotation, angle_deg,
         depth_m) or ``"summary"`` (one row per joint, its scalar results). Raises ImportError
         if pandas is not installed."""
         pd = _pandas("Run.to_pandas()")
@@ -131,8 +131,9 @@ class Run:
                     'to_pandas("snapshots")'
                 )
             first = next(iter(self.angles_deg.values()))
-            frame = pd.DataFrame(self.wear, index=pd.Index(first, name="angle_deg"))
-            return frame
+            # Named with their unit, as wear_<joint>.csv names its depth column.
+            depths = {f"{name}.depth_m": depth for name, depth in self.wear.items()}
+            return pd.DataFrame(depths, index=pd.Index(first, name="angle_deg"))
         if table == "snapshots":
             rows = []
             for name, snaps in self.snapshots.items():
@@ -165,7 +166,10 @@ class Ensemble:
         rotations: the scene's ``run.rotations``, which each member simulated after its own
             settling, if the scene settles (members settle in different numbers of
             rotations: each member's total is its ``rotations_simulated`` scalar).
-        members: the member count; seed: the seed of their initial offsets.
+        members: the member count; seed: the seed of their perturbations.
+        perturbation: how the members were perturbed, the protocol as ``ensemble``'s
+            ``perturbation`` names it (``"disc_10nm"`` by default), as ``summary.json`` names
+            it: the statistics depend on it.
         joints: names of the clearance joints.
         scalar_names: the names of the per-member scalar results (as in :attr:`Run.summary`).
         scalars: joint -> name -> array (member,) of that result.
@@ -187,14 +191,16 @@ class Ensemble:
         wear: joint -> array (member, sector) of final wear depths (m).
         snapshot_rotations: rotation counts of the wear snapshots.
         snapshots: joint -> array (member, snapshot, sector) of wear depths (m).
-        band: joint -> statistic name -> array (sector,): the per-sector statistics of the final
-            profiles, as ``ensemble_wear_<joint>.csv``.
+        band: joint -> statistic name (``mean``, ``sd``, ``min``, ``q05`` ... ``q95``,
+            ``max``) -> array (sector,): the per-sector statistics of the final profiles'
+            depths (m), as ``ensemble_wear_<joint>.csv`` (whose columns add ``_m``).
     """
 
     def __init__(self, raw: Dict[str, Any]) -> None:
         self.title: str = raw["title"]
         self.members: int = raw["members"]
         self.seed: int = raw["seed"]
+        self.perturbation: str = raw["perturbation"]
         self.rotations: int = raw["rotations"]
         self.wall_time_s: float = raw["wall_time_s"]
         self.scalar_names: List[str] = list(raw["scalar_names"])
@@ -245,8 +251,9 @@ class Ensemble:
     def to_pandas(self, table: str = "summary"):
         """A pandas DataFrame of ``table``: ``"summary"`` (one row per joint and quantity: its
         :attr:`statistics`, window first), ``"members"`` (one row per member, columns
-        ``<joint>.<quantity>``) or ``"band"`` (one row per joint and sector: angle_deg and the
-        per-sector statistics of the final wear). Raises ImportError if pandas is not
+        ``<joint>.<quantity>``) or ``"band"`` (one row per joint and sector: ``angle_deg`` and
+        the per-sector statistics of the final wear depth, ``mean_m``, ``sd_m``, ``min_m``,
+        ``q05_m`` ... ``q95_m``, ``max_m``, as ``ensemble_wear_<joint>.csv``). Raises ImportError if pandas is not
         installed."""
         pd = _pandas("Ensemble.to_pandas()")
         if table == "summary":
@@ -266,7 +273,9 @@ class Ensemble:
         if table == "band":
             frames = []
             for j, band in self.band.items():
-                frame = pd.DataFrame({"angle_deg": self.angles_deg[j], **band})
+                # Named with their unit, as the columns of ensemble_wear_<joint>.csv.
+                depths = {f"{k}_m": v for k, v in band.items()}
+                frame = pd.DataFrame({"angle_deg": self.angles_deg[j], **depths})
                 frame.insert(0, "joint", j)
                 frames.append(frame)
             return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
@@ -275,7 +284,8 @@ class Ensemble:
     def __repr__(self) -> str:
         return (
             f"Ensemble({self.title!r}, members={self.members}, seed={self.seed}, "
-            f"rotations={self.rotations}, joints={self.joints})"
+            f"perturbation={self.perturbation!r}, rotations={self.rotations}, "
+            f"joints={self.joints})"
         )
 
 

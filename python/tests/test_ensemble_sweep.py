@@ -1,6 +1,7 @@
 """Ensembles and sweeps: shapes, seeds, the program's statistics, cases in product order."""
 
 import csv
+import importlib.util
 import json
 
 import numpy as np
@@ -56,6 +57,13 @@ def test_an_ensemble_has_the_programs_statistics(tmp_path, cli):
     for key in ("mean", "sd", "q50", "max"):
         column = np.array([float(r[f"{key}_m"]) for r in rows])
         assert np.array_equal(ens.band["rod-slider"][key], column), key
+    if importlib.util.find_spec("pandas"):
+        # the frame's columns are the file's, units named (they were mean, sd, ...)
+        frame = ens.to_pandas("band")
+        assert list(frame.columns) == ["joint", *rows[0].keys()]
+        for name in rows[0]:
+            column = np.array([float(r[name]) for r in rows])
+            assert np.array_equal(frame[name].to_numpy(), column), name
     with open(out / "ensemble_summary.csv", newline="") as f:
         summary = {r["quantity"]: r for r in csv.DictReader(f)}
     for q, stats in ens.statistics["rod-slider"].items():
@@ -110,6 +118,9 @@ def test_an_ensembles_statistics_are_the_quantities_of_its_summary_json(tmp_path
     ens = jointwear.Scene.load(path).ensemble(12, seed=5)
     with open(out / "summary.json") as f:
         summary = json.load(f)
+    # the protocol the statistics depend on (Ensemble had no perturbation)
+    for key in ("members", "seed", "perturbation", "rotations"):
+        assert getattr(ens, key) == summary[key], key
     for joint in summary["joints"]:
         quantities = dict(joint["quantities"])
         stats = ens.statistics[joint["name"]]

@@ -106,6 +106,7 @@ def test_an_ensemble_on_an_executor_keeps_its_perturbation(tmp_path, cli):
     assert done.returncode == 0, done.stderr
     with spawning_pool() as pool:
         ens = scene().ensemble(3, seed=5, executor=pool, perturbation="tolerance_1e-3")
+    assert ens.perturbation == "tolerance_1e-3"
     ens.save(tmp_path / "python")
     assert_same_folder(tmp_path / "program", tmp_path / "python")
 

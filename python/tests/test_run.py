@@ -155,8 +155,9 @@ def test_to_pandas_frames(short_run):
     assert list(frame.columns) == list(short_run.timeseries)
     assert len(frame) == 3001
     wear = short_run.to_pandas("wear")
-    assert wear.index.name == "angle_deg" and list(wear.columns) == ["rod-slider"]
-    assert np.array_equal(wear["rod-slider"].to_numpy(), short_run.wear["rod-slider"])
+    # the depth's column names its unit (it was the bare joint name)
+    assert wear.index.name == "angle_deg" and list(wear.columns) == ["rod-slider.depth_m"]
+    assert np.array_equal(wear["rod-slider.depth_m"].to_numpy(), short_run.wear["rod-slider"])
     snaps = short_run.to_pandas("snapshots")
     assert len(snaps) == 2 * 360
     summary = short_run.to_pandas("summary")

@@ -737,6 +737,7 @@ fn ensemble_dict<'py>(
     d.set_item("title", &scene.title)?;
     d.set_item("members", settings.members)?;
     d.set_item("seed", settings.seed)?;
+    d.set_item("perturbation", settings.perturbation.key())?;
     d.set_item("rotations", scene.run.rotations)?;
     d.set_item("wall_time_s", wall)?;
     d.set_item("snapshot_rotations", scene.run.wear_snapshots.clone())?;
