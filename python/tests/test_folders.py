@@ -178,6 +178,15 @@ def test_save_refuses_a_folder_holding_an_unfinished_runs_checkpoint(tmp_path, c
         assert sorted(p.name for p in out.iterdir()) == ["checkpoint.json"]
 
 
+# Fails without the check: save("") wrote the run's folder into the working directory.
+def test_save_refuses_an_empty_path(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    run = short(jointwear.Scene.load(STANDARD)).run()
+    with pytest.raises(jointwear.SceneError, match='`directory`: "" \\(expected a folder'):
+        run.save("")
+    assert list(tmp_path.iterdir()) == []
+
+
 def bits(x):
     """`x` with every float as its bytes (NaN equal to NaN), for bit for bit comparisons."""
     if isinstance(x, float):

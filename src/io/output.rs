@@ -352,8 +352,16 @@ fn unwritable_dir(dir: &Path) -> Option<String> {
 
 /// Checks, before any work is done, that `dir` can receive the outputs of a run (see
 /// `unwritable_dir`); `option` names the setting in the error (e.g. `--out`), which is bad
-/// input ([`Error::Invalid`]).
+/// input ([`Error::Invalid`]). An empty path is refused: it names no folder, and its files
+/// went into the working directory (Python's `save("")`).
 pub fn check_output_dir(option: &str, dir: &Path) -> Result<()> {
+    if dir.as_os_str().is_empty() {
+        return Err(Error::invalid(
+            option,
+            "\"\"",
+            "a folder's path (an empty one would write into the working directory)",
+        ));
+    }
     match unwritable_dir(dir) {
         None => Ok(()),
         Some(why) => Err(Error::invalid(
