@@ -66,7 +66,18 @@ def main() -> None:
 
     best = sweep.best(PEAK)
     best_c, best_s = best["clearance.0.clearance_mm"], -best["driver.speed_rpm"]
-    print(f"best grid point: clearance {best_c} mm, {best_s:.0f} r/min: deepest wear {best[PEAK] * 1e6:.4f} µm")
+    print(
+        f"best grid point: clearance {best_c} mm, {best_s:.0f} r/min: deepest wear, mean of "
+        f"{members} members after {rotations} rotations, {best[PEAK] * 1e6:.4f} µm"
+    )
+    states = PEAK[: -len("mean")]
+    if best[states + "states"] == 2:
+        # a mean pooled over two states is neither's value
+        print(
+            f"  its members fall into two states: {best[states + 'low_n']:.0f} at "
+            f"{best[states + 'low_mean'] * 1e6:.4f} µm, {best[states + 'high_n']:.0f} at "
+            f"{best[states + 'high_mean'] * 1e6:.4f} µm"
+        )
 
     refined = None
     if not args.no_scipy:

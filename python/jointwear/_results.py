@@ -337,14 +337,27 @@ class SweepResult:
         return self.columns[column]
 
     def best(self, column: str) -> Dict[str, Any]:
-        """The case (a dict of its swept values and ``column``) where ``column`` is least,
-        ignoring failed cases and NaN."""
-        values = np.asarray(self.columns[column], dtype=float)
+        """The case (a dict of its swept values and ``column``) where the numeric ``column``
+        is least, ignoring failed cases and NaN. For an ensemble's ``<joint>.<quantity>.mean``
+        the dict also has that quantity's ``.states``, ``.low_n``, ``.low_mean``,
+        ``.high_n`` and ``.high_mean`` in that case: a mean pooled over two states is no
+        state's value. Raises KeyError for a column the sweep does not have, ValueError for
+        one that is not numeric or has no value."""
+        if column not in self.columns:
+            raise KeyError(f"no column {column!r} in the sweep; its columns: {list(self.columns)}")
+        values = self.columns[column]
+        if not isinstance(values, np.ndarray):
+            raise ValueError(f"column {column!r} is not numeric: no case is least in it")
         if np.all(np.isnan(values)):
             raise ValueError(f"no case has a value of {column!r}")
         i = int(np.nanargmin(values))
         out = {k: _scalar(self.columns[k][i]) for k in self.keys}
         out[column] = float(values[i])
+        if column.endswith(".mean"):
+            quantity = column[: -len("mean")]
+            for state in ("states", "low_n", "low_mean", "high_n", "high_mean"):
+                if quantity + state in self.columns:
+                    out[quantity + state] = float(self.columns[quantity + state][i])
         return out
 
     def to_pandas(self):

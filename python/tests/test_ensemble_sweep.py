@@ -167,6 +167,30 @@ def test_a_sweep_runs_the_product_in_case_order():
     assert best["driver.speed_rpm"] == sweep["driver.speed_rpm"][k]
 
 
+# Fails without the states in best's dict (a mean pooled over two states read as the case's
+# value), and with numpy's "could not convert string to float" for a text column.
+def test_best_reports_the_states_of_a_pooled_mean_and_refuses_a_text_column():
+    q = "j.max_wear_depth_m"
+    cases = [
+        {"case": 0, "error": None, "members": 4, f"{q}.mean": 2.0, f"{q}.states": 1,
+         f"{q}.low_n": float("nan"), f"{q}.low_mean": float("nan"),
+         f"{q}.high_n": float("nan"), f"{q}.high_mean": float("nan"), "j.motion_mode": "a"},
+        {"case": 1, "error": None, "members": 4, f"{q}.mean": 1.0, f"{q}.states": 2,
+         f"{q}.low_n": 3, f"{q}.low_mean": 0.5, f"{q}.high_n": 1, f"{q}.high_mean": 2.5,
+         "j.motion_mode": "b"},
+    ]
+    sweep = jointwear.SweepResult(["k"], [(10,), (20,)], cases, 4)
+    best = sweep.best(f"{q}.mean")
+    assert best == {
+        "k": 20, f"{q}.mean": 1.0, f"{q}.states": 2.0, f"{q}.low_n": 3.0,
+        f"{q}.low_mean": 0.5, f"{q}.high_n": 1.0, f"{q}.high_mean": 2.5,
+    }
+    with pytest.raises(ValueError, match="'j.motion_mode' is not numeric"):
+        sweep.best("j.motion_mode")
+    with pytest.raises(KeyError, match="no column 'j.nope'.*'case', 'k'"):
+        sweep.best("j.nope")
+
+
 def test_an_ensemble_sweep_has_each_quantitys_statistics_and_states():
     scene = short(jointwear.Scene.load(STANDARD))
     sweep = scene.sweep({"driver.speed_rpm": [-2000]}, members=2, seed=3)
