@@ -64,10 +64,20 @@ class Run:
             included, as ``summary.json`` of ``jointwear run`` counts them; not the recorded
             window of ``impacts_per_rotation``) and ``wear_regions`` (every wear region, most prominent first: ``angle_deg``,
             ``depth_m``, ``prominence_m``, ``width_deg``; the README's "Wear regions").
-        stats: integrator counters (``steps``, ``rejected``, ``evaluations``,
-            ``contact_onsets``).
-        energy: the energy account with ``run.energy_accounting``, else None.
-        settling: the settling phase of a scene with ``run.settle``, else None.
+        stats: integrator counters over the whole run, settling included (``steps``,
+            ``rejected``, ``evaluations``, ``contact_onsets`` of all joints), as ``counts`` in
+            ``summary.json``.
+        energy: with ``run.energy_accounting``, the energy account over the whole run from the
+            start (J): ``driver_work_j``, ``normal_work_j`` (of the normal contact forces),
+            ``friction_work_j`` (<= 0), ``mechanical_change_j`` (kinetic, gravitational and
+            contact elastic), ``damping_loss_j``, and ``residual``, dimensionless: the driver
+            work less the mechanical change and the losses, relative to the larger of the
+            driver work and the mechanical change (``summary.json``'s
+            ``energy_balance_residual``); else None.
+        settling: the settling phase of a scene with ``run.settle``, else None: ``rotations``
+            (settling rotations), ``orbit_change`` (the last one's RMS orbit change over the
+            clearance, dimensionless) and ``steady`` (False where
+            ``steady_state.max_rotations`` was reached first), as in ``summary.json``.
     """
 
     def __init__(self, raw: Dict[str, Any]) -> None:

@@ -59,6 +59,12 @@ class Scene:
         (default: the working directory), so ``{"extends": "standard.toml", "overrides":
         {...}}`` works as in a file.
         """
+        # (dict() of a list of pairs made a scene of it; of other lists, a message about
+        # "dictionary update sequence elements")
+        if not isinstance(data, Mapping):
+            raise TypeError(
+                f"data must be a dict of a scene file's keys, got {type(data).__name__}"
+            )
         path = os.path.join(os.fspath(base_dir) if base_dir is not None else "", "<dict>")
         return cls(Document.from_dict(dict(data), path))
 
@@ -180,9 +186,15 @@ class Scene:
         of this process's threads (see :meth:`ensemble`); every value is validated here before
         any task is submitted, and the results are bit for bit those without it (but the wall
         times)."""
+        if not isinstance(grid, Mapping):
+            raise TypeError(
+                f"grid must be a dict of dotted key -> values, got {type(grid).__name__}"
+            )
         keys = list(grid)
         values = []
         for key in keys:
+            if not isinstance(key, str):
+                raise TypeError(f"grid keys must be dotted keys (str), got {key!r}")
             v = grid[key]
             # (A mapping iterates its keys: {-600: 1} swept -600 without a word.)
             if isinstance(v, (str, bytes, Mapping)) or not isinstance(v, Iterable):

@@ -207,6 +207,15 @@ def test_ensemble_and_sweep_arguments_are_checked_at_the_call():
         assert "'driver.speed_rpm'" in str(e.value)
     # numpy integers are integers
     assert scene.ensemble(members=np.int64(2)).members == 2
+    # a grid or a scene that is not a dict, and a key that is not a string, are named (they
+    # raised "list indices must be integers", "dictionary update sequence element" and
+    # "'int' object is not an instance of 'str'")
+    with pytest.raises(TypeError, match="grid must be a dict"):
+        scene.sweep([("driver.speed_rpm", [-600])])
+    with pytest.raises(TypeError, match="grid keys must be dotted keys"):
+        scene.sweep({0: [-600]})
+    with pytest.raises(TypeError, match="data must be a dict"):
+        jointwear.Scene.from_dict([("title", "x")])
 
 
 def test_a_set_that_reverses_the_driver_is_noted(capfd):
