@@ -179,8 +179,11 @@ class Scene:
         (a bad value raises :class:`jointwear.SceneError`), and so are the keys (one given
         twice, also as an alias such as ``clearance.00.clearance_mm``, is refused) and the size
         (at most 1 000 000 cases); cases are built as they run, and one that records no rotation
-        (``run.record_rotations`` 0) is refused, as a row reports the recorded rotations. A case that fails to build or
-        while running has its message in the ``error`` column and the others go on.
+        (``run.record_rotations`` 0) is refused, as a row reports the recorded rotations. A case
+        that fails to build or while running has its message in the ``error`` column and the
+        others go on. Ctrl-C stops the sweep and raises KeyboardInterrupt: no partial result
+        is returned (``jointwear sweep --out F --resume`` keeps the finished cases of an
+        interrupted sweep).
 
         ``executor``: any :class:`concurrent.futures.Executor` runs one task per case instead
         of this process's threads (see :meth:`ensemble`); every value is validated here before
