@@ -8,7 +8,7 @@ import math
 import multiprocessing
 import pickle
 import struct
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import Executor, Future, ProcessPoolExecutor
 
 import numpy as np
 import pytest
@@ -232,6 +232,35 @@ def test_a_sweep_on_a_process_pool_is_bit_for_bit_the_sweep():
             assert spread.errors == default.errors == [None] * 4
             assert sweep_columns(spread) == sweep_columns(default), members
             assert not any(math.isnan(x) for x in spread["wall_time_s"])
+
+
+class Miswired(Executor):
+    """Runs each task at once with its arguments changed by `rewire`: a worker that runs
+    another member, or another scene, than the one it was sent."""
+
+    def __init__(self, rewire):
+        self.rewire = rewire
+
+    def submit(self, fn, *args):
+        future = Future()
+        future.set_result(fn(*self.rewire(*args)))
+        return future
+
+
+# Fails without the check in ensemble_of: both ensembles were returned as the scene's, the
+# first with its members in another order, the second pooling another scene's members.
+def test_an_ensemble_refuses_results_of_another_member_or_scene():
+    s = short(jointwear.Scene.load(STANDARD))
+    other = s.copy().set("driver.speed_rpm", -1500.0)
+    shifted = Miswired(lambda state, k, n, *rest: (state, (k + 1) % n, n, *rest))
+    with pytest.raises(ValueError, match="member 0's result: it is member 1 of 3"):
+        s.ensemble(3, executor=shifted)
+    foreign = Miswired(lambda state, *rest: (other._doc.state(), *rest))
+    with pytest.raises(ValueError, match="of the scene with fingerprint .* not member 0 of 3"):
+        s.ensemble(3, executor=foreign)
+    # the right wiring passes the check
+    same = Miswired(lambda *args: args)
+    assert bits(s.ensemble(3, executor=same).wear) == bits(s.ensemble(3).wear)
 
 
 def test_an_executor_is_checked_at_the_call():

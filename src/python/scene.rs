@@ -13,11 +13,11 @@ use crate::io::progress::Progress;
 use crate::laws::wear::sector_angles_deg;
 use crate::scene::variant::{Change, Variant};
 use crate::scene::{reversal_note, SceneFile};
-use crate::simulation::checkpoint::refuse_checkpoint;
+use crate::simulation::checkpoint::{refuse_checkpoint, ARITHMETIC};
 use crate::simulation::ensemble::{self, EnsembleSettings, Perturbation, MAX_MEMBERS};
 use crate::simulation::folder::ensemble::{write_ensemble, Member};
 use crate::simulation::folder::run::write_run;
-use crate::simulation::folder::{check_manifest, FolderCommand, Origin};
+use crate::simulation::folder::{check_manifest, FolderCommand, Origin, PROGRAM};
 use crate::simulation::summary::{joint_statistics, summarize, window, JointSummary, SCALARS};
 use crate::simulation::{simulate_with_progress, RunOutput, Scene};
 use crate::sweep::{Assignment, CaseResult, Outcome, Shard, Sweep};
@@ -41,7 +41,8 @@ pub struct Document {
 type Snapshots = Vec<Vec<Vec<f64>>>;
 
 /// One ensemble member as a worker of a Python executor hands it back ([`Document::member`]):
-/// JSON with every `f64` written so that it reads back identical.
+/// JSON with every `f64` written so that it reads back identical, with what it is the member
+/// of ([`Sent`]).
 #[derive(Serialize, Deserialize)]
 struct MemberPayload {
     joints: Vec<JointSummary>,
@@ -50,7 +51,35 @@ struct MemberPayload {
     wall_time_s: f64,
 }
 
+/// A member's [`MemberPayload`] with what it claims to be: which member of which ensemble of
+/// which scene, run by which program. A worker of another build, or of another scene or
+/// seed, is refused when its result is gathered ([`Document::ensemble_of`]) instead of being
+/// pooled as a member of this ensemble.
+#[derive(Serialize, Deserialize, PartialEq)]
+struct Sent {
+    program: String,
+    arithmetic: u32,
+    fingerprint: String,
+    member: usize,
+    members: usize,
+    seed: u64,
+    perturbation: String,
+}
+
 impl Document {
+    /// What the payload of member `member` of the ensemble `settings` of this scene says it is.
+    fn sent(&self, settings: &EnsembleSettings, member: usize) -> Sent {
+        Sent {
+            program: PROGRAM.to_string(),
+            arithmetic: ARITHMETIC,
+            fingerprint: self.variant.fingerprint(),
+            member,
+            members: settings.members,
+            seed: settings.seed,
+            perturbation: settings.perturbation.key(),
+        }
+    }
+
     /// The validated scene in SI units; errors as the program reports a scene's.
     fn scene(&self) -> PyResult<Scene> {
         self.variant.build().map_err(|e| self.error(e))
@@ -339,7 +368,7 @@ impl Document {
             ensemble::run_member(&scene, &scene.run, &settings, member, cancel)
         })?;
         let out = out.map_err(|e| self.error(e))?;
-        serde_json::to_string(&payload(&scene, out))
+        serde_json::to_string(&(self.sent(&settings, member), payload(&scene, out)))
             .map_err(|e| SimulationError::new_err(format!("member {member}: {e}")))
     }
 
@@ -363,10 +392,38 @@ impl Document {
                 payloads.len()
             )));
         }
-        let kept = (payloads.iter())
-            .map(|p| serde_json::from_str(p))
-            .collect::<Result<Vec<MemberPayload>, _>>()
-            .map_err(|e| pyo3::exceptions::PyValueError::new_err(format!("a member: {e}")))?;
+        let kept = (payloads.iter().enumerate())
+            .map(|(k, p)| {
+                let bad = |why: String| {
+                    pyo3::exceptions::PyValueError::new_err(format!("member {k}'s result: {why}"))
+                };
+                let (sent, kept): (Sent, MemberPayload) =
+                    serde_json::from_str(p).map_err(|e| bad(e.to_string()))?;
+                let expected = self.sent(&settings, k);
+                if sent != expected {
+                    return Err(bad(format!(
+                        "it is member {} of {} (seed {}, {}) of the scene with fingerprint {} \
+                         run by {} (arithmetic {}), not member {k} of {} (seed {}, {}) of this \
+                         scene ({}) run by {} (arithmetic {}); likely cause: a worker of \
+                         another build of jointwear, or tasks gathered out of order",
+                        sent.member,
+                        sent.members,
+                        sent.seed,
+                        sent.perturbation,
+                        sent.fingerprint,
+                        sent.program,
+                        sent.arithmetic,
+                        expected.members,
+                        expected.seed,
+                        expected.perturbation,
+                        expected.fingerprint,
+                        expected.program,
+                        expected.arithmetic,
+                    )));
+                }
+                Ok(kept)
+            })
+            .collect::<PyResult<Vec<MemberPayload>>>()?;
         self.ensemble_result(py, self.scene()?, settings, kept, wall)
     }
 
