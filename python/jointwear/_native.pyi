@@ -62,7 +62,7 @@ class Document:
         values: List[Sequence[Any]],
         members: Optional[int] = None,
         seed: int = 1,
-    ) -> Tuple[List[str], int]: ...
+    ) -> Tuple[List[str], int, str]: ...
     def sweep_case(
         self,
         keys: List[str],

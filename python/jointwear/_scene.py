@@ -215,12 +215,22 @@ class Scene:
             keys, cases = self._doc.sweep(keys, values, members, seed)
         else:
             _check_executor(executor)
-            keys, total = self._doc.check_sweep(keys, values, members, seed)
+            keys, total, identity = self._doc.check_sweep(keys, values, members, seed)
             state = self._doc.state()
             tasks = [
                 executor.submit(_case, state, keys, values, k, members, seed) for k in range(total)
             ]
             cases = _gather(tasks)
+            for k, case in enumerate(cases):
+                # A case of another sweep (a worker of another build or scene) or another
+                # case than asked would be labelled with this one's values.
+                ran = (case.pop("sweep", None), case.get("case"))
+                if ran != (identity, k):
+                    raise ValueError(
+                        f"case {k}'s result is case {ran[1]} of the sweep {ran[0]!r}, not "
+                        f"case {k} of this sweep ({identity!r}); likely cause: a worker of "
+                        "another build of jointwear, or tasks gathered out of order"
+                    )
         combos = list(itertools.product(*values))
         return SweepResult(keys, combos, cases, members)
 

@@ -263,6 +263,23 @@ def test_an_ensemble_refuses_results_of_another_member_or_scene():
     assert bits(s.ensemble(3, executor=same).wear) == bits(s.ensemble(3).wear)
 
 
+# Fails without the check in Scene.sweep: the shifted sweep returned normally with each row
+# labelled by the case it ran (case 1 as row 0), the foreign one with another scene's rows
+# under this sweep's values.
+def test_a_sweep_refuses_results_of_another_case_or_sweep():
+    s = short(jointwear.Scene.load(STANDARD))
+    other = s.copy().set("clearance.0.clearance_mm", 0.05)
+    grid = {"driver.speed_rpm": [-2000.0, -1500.0]}
+    shifted = Miswired(lambda state, keys, values, k, *rest: (state, keys, values, 1 - k, *rest))
+    with pytest.raises(ValueError, match="case 0's result is case 1 of the sweep"):
+        s.sweep(grid, executor=shifted)
+    foreign = Miswired(lambda state, *rest: (other._doc.state(), *rest))
+    with pytest.raises(ValueError, match="not case 0 of this sweep"):
+        s.sweep(grid, executor=foreign)
+    same = Miswired(lambda *args: args)
+    assert sweep_columns(s.sweep(grid, executor=same)) == sweep_columns(s.sweep(grid))
+
+
 def test_an_executor_is_checked_at_the_call():
     s = short(jointwear.Scene.load(STANDARD))
     with pytest.raises(TypeError, match="executor must be a concurrent.futures.Executor"):

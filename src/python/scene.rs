@@ -460,8 +460,8 @@ impl Document {
     }
 
     /// Checks the sweep of [`Document::sweep`] without running it and returns its keys as the
-    /// program's sweep header spells them (canonical: an array index as its number) and its
-    /// case count, before any case runs.
+    /// program's sweep header spells them (canonical: an array index as its number), its
+    /// case count and its identity ([`sweep_identity`]), before any case runs.
     #[pyo3(signature = (keys, values, members=None, seed=1))]
     fn check_sweep<'py>(
         &self,
@@ -469,13 +469,14 @@ impl Document {
         values: Vec<Vec<Bound<'py, PyAny>>>,
         members: Option<usize>,
         seed: u64,
-    ) -> PyResult<(Vec<String>, usize)> {
+    ) -> PyResult<(Vec<String>, usize, String)> {
         let sweep = self.make_sweep(&keys, &values, members, seed)?;
-        Ok((canonical_keys(&sweep), sweep.total))
+        Ok((canonical_keys(&sweep), sweep.total, sweep_identity(&sweep)))
     }
 
     /// Runs case `case` of the sweep of [`Document::sweep`] with the GIL released, for a
-    /// worker of an executor: the dict [`Document::sweep`] returns for it.
+    /// worker of an executor: the dict [`Document::sweep`] returns for it, and as `sweep` the
+    /// sweep's identity ([`sweep_identity`]), which the caller checks against its own.
     #[pyo3(signature = (keys, values, case, members=None, seed=1))]
     fn sweep_case<'py>(
         &self,
@@ -492,7 +493,9 @@ impl Document {
             return Err(self.error(Error::invalid("case", case, expected)));
         }
         let result = interruptible(py, |cancel| sweep.run_case(case, cancel))?;
-        case_dict(py, &result)
+        let d = case_dict(py, &result)?;
+        d.set_item("sweep", sweep_identity(&sweep))?;
+        Ok(d)
     }
 }
 
@@ -669,6 +672,12 @@ fn sweep_columns(d: &Bound<'_, PyDict>, outcome: &Outcome) -> PyResult<()> {
         }
     }
     Ok(())
+}
+
+/// What a sweep is, for a worker's case to be checked against: the program that ran it and
+/// the sweep's fingerprint (scene, keys, values, ensemble and arithmetic).
+fn sweep_identity(sweep: &Sweep) -> String {
+    format!("{PROGRAM} {}", sweep.fingerprint)
 }
 
 /// The keys of `sweep` as the program's sweep header spells them (canonical: an array index as
