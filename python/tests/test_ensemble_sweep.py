@@ -282,9 +282,10 @@ def test_a_grid_beyond_the_case_limit_or_with_a_key_twice_raises_scene_error(tmp
         "driver.speed_rpm": list(range(-2000, -999)),
         "clearance.0.clearance_mm": [0.02 + 1e-5 * i for i in range(1000)],
     }
-    with pytest.raises(jointwear.SceneError, match="1001 x 1000 = 1001000 cases"):
+    # named as the Python argument (it was the program's `--set`)
+    with pytest.raises(jointwear.SceneError, match="`grid`: 1001 x 1000 = 1001000 cases"):
         scene.sweep(grid)
-    with pytest.raises(jointwear.SceneError, match="each key once"):
+    with pytest.raises(jointwear.SceneError, match="`grid`: clearance.0.clearance_mm .*each key once"):
         scene.sweep({"clearance.0.clearance_mm": [0.1], "clearance.00.clearance_mm": [0.2]})
 
 

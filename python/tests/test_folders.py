@@ -185,6 +185,10 @@ def test_save_refuses_an_empty_path(tmp_path, monkeypatch):
     with pytest.raises(jointwear.SceneError, match='`directory`: "" \\(expected a folder'):
         run.save("")
     assert list(tmp_path.iterdir()) == []
+    # bad input, not a failure while running (it was a SimulationError, an I/O error)
+    with pytest.raises(jointwear.SceneError, match="without a NUL character"):
+        run.save("a\0b")
+    assert list(tmp_path.iterdir()) == []
 
 
 def bits(x):

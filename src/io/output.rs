@@ -362,6 +362,14 @@ pub fn check_output_dir(option: &str, dir: &Path) -> Result<()> {
             "a folder's path (an empty one would write into the working directory)",
         ));
     }
+    // (Only from Python: a command line cannot hold one. It failed later as an I/O error.)
+    if dir.as_os_str().as_encoded_bytes().contains(&0) {
+        return Err(Error::invalid(
+            option,
+            dir.display(),
+            "a folder's path without a NUL character, which no file name can hold",
+        ));
+    }
     match unwritable_dir(dir) {
         None => Ok(()),
         Some(why) => Err(Error::invalid(

@@ -154,8 +154,17 @@ impl Document {
             });
         }
         let doc = self.variant.document();
+        // The library names the program's option; from Python the values came in `grid`.
+        let as_grid = |e| match e {
+            Error::Invalid {
+                field,
+                value,
+                expected,
+            } if field == "--set" => Error::invalid("grid", value, expected),
+            e => e,
+        };
         let mut sweep = Sweep::from_document(doc, self.variant.path(), sets, Shard::ALL)
-            .map_err(|e| self.error(e))?;
+            .map_err(|e| self.error(as_grid(e)))?;
         if let Some(members) = members {
             sweep = sweep
                 .with_ensemble(EnsembleSettings {
