@@ -307,7 +307,12 @@ class SweepResult:
         members: the ensemble size of every case, or None for single runs.
         columns: column name -> array over the cases: ``case``, each swept key (its values as
             given), then the columns of ``jointwear sweep``'s file: per joint
-            ``<joint>.<quantity>`` for single runs (and ``<joint>.motion_mode``), or
+            ``<joint>.<quantity>`` for single runs, each of :attr:`Ensemble.scalar_names`
+            (``continuous_contact``, which the file lacks, and ``settled`` as 1 or 0, NaN where
+            the file's cell is empty; the window of each is its ``window`` in
+            :attr:`Ensemble.statistics`: ``contact_fraction``, ``impacts_per_rotation`` and
+            ``continuous_contact`` are of the recorded rotations), and
+            ``<joint>.motion_mode``, or
             ``<joint>.<quantity>.n`` (members where it is defined), ``.mean``, ``.sd`` and its
             states (``.states`` 1 or 2, ``.low_n``, ``.low_mean``, ``.low_sd``, ``.high_n``,
             ``.high_mean``, ``.high_sd``, NaN with one state; all NaN where ``.n`` is 0) for
