@@ -216,7 +216,7 @@ impl Document {
     /// and leaves the document as it was; values out of range are refused when the scene is
     /// next checked or run. `run.rotations` cuts the wear snapshots and recorded rotations as
     /// the program's `--rotations` does (unless they were set), with a note on stderr.
-    fn set(&mut self, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn set(&mut self, py: Python<'_>, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
         let value = to_toml(value, key)?;
         let text = value.to_string();
         let note = reversal_note(self.variant.loaded(), key, &value);
@@ -226,10 +226,13 @@ impl Document {
             e => self.error(e),
         })?;
         for (cut, value) in cuts {
-            eprintln!("note: set(\"run.rotations\", {text}) sets {cut} = {value}");
+            show_note(
+                py,
+                &format!("set(\"run.rotations\", {text}) sets {cut} = {value}"),
+            )?;
         }
         if let Some(note) = note {
-            eprintln!("note: {note}");
+            show_note(py, &note)?;
         }
         Ok(())
     }
@@ -453,6 +456,7 @@ impl Document {
         seed: u64,
     ) -> PyResult<(Vec<String>, Bound<'py, PyList>)> {
         let sweep = self.make_sweep(&keys, &values, members, seed)?;
+        show_notes(py, &sweep)?;
         let results = interruptible(py, |cancel| {
             let results = Mutex::new(Vec::new());
             let collect = |r| results.lock().unwrap_or_else(|e| e.into_inner()).push(r);
@@ -474,12 +478,14 @@ impl Document {
     #[pyo3(signature = (keys, values, members=None, seed=1))]
     fn check_sweep<'py>(
         &self,
+        py: Python<'py>,
         keys: Vec<String>,
         values: Vec<Vec<Bound<'py, PyAny>>>,
         members: Option<usize>,
         seed: u64,
     ) -> PyResult<(Vec<String>, usize, String)> {
         let sweep = self.make_sweep(&keys, &values, members, seed)?;
+        show_notes(py, &sweep)?;
         Ok((canonical_keys(&sweep), sweep.total, sweep_identity(&sweep)))
     }
 
@@ -681,6 +687,19 @@ fn sweep_columns(d: &Bound<'_, PyDict>, outcome: &Outcome) -> PyResult<()> {
         }
     }
     Ok(())
+}
+
+/// Writes `note: {text}` to Python's `sys.stderr`, where its user sees it: a notebook shows
+/// that stream, not the process's stderr, to which the notes used to go unseen.
+fn show_note(py: Python<'_>, text: &str) -> PyResult<()> {
+    let stderr = py.import("sys")?.getattr("stderr")?;
+    stderr.call_method1("write", (format!("note: {text}\n"),))?;
+    stderr.call_method0("flush").map(drop)
+}
+
+/// [`show_note`] of each of a sweep's notes, once per sweep (not in each executor task).
+fn show_notes(py: Python<'_>, sweep: &Sweep) -> PyResult<()> {
+    sweep.notes.iter().try_for_each(|n| show_note(py, n))
 }
 
 /// What a sweep is, for a worker's case to be checked against: the program that ran it and

@@ -296,6 +296,11 @@ pub struct Sweep {
     path: PathBuf,
     /// Cases of the shard not to run (a resumed sweep's finished ones).
     skipped: HashSet<usize>,
+    /// A note for each swept value that turns the driver the other way than the scene
+    /// ([`reversal_note`]), for the caller to show where its user sees it: the program on
+    /// stderr, Python on `sys.stderr` (a notebook's, which a write to the process's stderr
+    /// does not reach).
+    pub notes: Vec<String>,
 }
 
 impl Sweep {
@@ -319,14 +324,12 @@ impl Sweep {
     ) -> Result<Sweep> {
         let sets = canonical_sets(doc, sets)?;
         let total = case_count(&sets)?;
-        for a in &sets {
-            for v in &a.values {
-                if let Some(note) = reversal_note(doc, &a.key, &parse_value(v)) {
-                    eprintln!("note: {note}");
-                }
-            }
-        }
+        let notes = (sets.iter())
+            .flat_map(|a| a.values.iter().map(move |v| (&a.key, v)))
+            .filter_map(|(key, v)| reversal_note(doc, key, &parse_value(v)))
+            .collect();
         let mut sweep = Sweep {
+            notes,
             fingerprint: fingerprint(doc, &sets),
             total,
             sets,

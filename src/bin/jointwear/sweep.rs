@@ -60,6 +60,9 @@ pub fn sweep(
         scene_out(path).join(name)
     });
     let mut sweep = Sweep::new(path, sets, shard).map_err(|e| Failure::input(path, e))?;
+    for note in &sweep.notes {
+        eprintln!("note: {note}");
+    }
     if let Some(e) = ensemble {
         crate::ensemble::checked(path, &e)?;
         sweep = sweep
