@@ -76,9 +76,10 @@ class Scene:
         raises :class:`jointwear.SceneError` now and leaves the scene as it was; a value out of
         range raises when the scene is next checked or run. ``set("run.rotations", n)`` drops
         the wear snapshots past ``n`` and cuts ``run.record_rotations`` to ``n``, as the
-        program's ``--rotations`` does, unless they were set on this scene (a note on stderr
-        says what it changed). A value that turns the driver the other way than the scene as
-        loaded (the shipped scenes are calibrated in their own sense) prints a note on stderr."""
+        program's ``--rotations`` does, unless they were set on this scene (a note on
+        ``sys.stderr`` says what it changed). A value that turns the driver the other way than
+        the scene as loaded (the shipped scenes are calibrated in their own sense) writes a
+        note on ``sys.stderr``."""
         self._doc.set(key, value)
         return self
 

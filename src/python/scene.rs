@@ -215,7 +215,8 @@ impl Document {
     /// all or nothing: a key the scene file does not have, or a value of the wrong type, raises
     /// and leaves the document as it was; values out of range are refused when the scene is
     /// next checked or run. `run.rotations` cuts the wear snapshots and recorded rotations as
-    /// the program's `--rotations` does (unless they were set), with a note on stderr.
+    /// the program's `--rotations` does (unless they were set), with a note on Python's
+    /// `sys.stderr` ([`show_note`]).
     fn set(&mut self, py: Python<'_>, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
         let value = to_toml(value, key)?;
         let text = value.to_string();
