@@ -74,6 +74,10 @@ class Run:
             work less the mechanical change and the losses, relative to the larger of the
             driver work and the mechanical change (``summary.json``'s
             ``energy_balance_residual``); else None.
+        ensemble_member: for ``Scene.run(member=K, ...)``, the member the run is, as
+            ``summary.json``'s ``ensemble_member``: ``member``, ``seed``, ``perturbation`` (the
+            protocol's key), ``perturbation_description`` and ``tolerance_factor`` (the
+            member's factor on the scene's rtol and atol); None for the scene's own start.
         settling: the settling phase of a scene with ``run.settle``, else None: ``rotations``
             (settling rotations), ``orbit_change`` (the last one's RMS orbit change over the
             clearance, dimensionless) and ``steady`` (False where
@@ -107,6 +111,7 @@ class Run:
         self.stats: Dict[str, int] = raw["stats"]
         self.energy: Optional[Dict[str, float]] = raw["energy"]
         self.settling: Optional[Dict[str, Any]] = raw["settling"]
+        self.ensemble_member: Optional[Dict[str, Any]] = raw["ensemble_member"]
         self._folder = raw["folder"]
 
     def save(self, directory: PathLike) -> None:
@@ -164,7 +169,15 @@ class Run:
     def __repr__(self) -> str:
         return (
             f"Run({self.title!r}, rotations={self.rotations}, joints={self.joints}, "
-            f"samples={len(self.timeseries.get('time_s', ()))})"
+            f"samples={len(self.timeseries.get('time_s', ()))}"
+            + (
+                ""
+                if self.ensemble_member is None
+                else f", member={self.ensemble_member['member']}, "
+                f"seed={self.ensemble_member['seed']}, "
+                f"perturbation={self.ensemble_member['perturbation']!r}"
+            )
+            + ")"
         )
 
 

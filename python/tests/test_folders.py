@@ -87,8 +87,16 @@ def assert_same_folder(program, python):
 def test_save_writes_the_programs_folder(tmp_path, cli, flags, run):
     done = cli("run", STANDARD, *PROGRAM_CHANGES, *flags, "--out", tmp_path / "program")
     assert done.returncode == 0, done.stderr
-    run(scene()).save(tmp_path / "python")
+    result = run(scene())
+    result.save(tmp_path / "python")
     assert_same_folder(tmp_path / "program", tmp_path / "python")
+    # a member run says which member it is, as its summary.json does (it did not say)
+    if isinstance(result, jointwear.Run):
+        summary = json.loads((tmp_path / "program" / "summary.json").read_text())
+        assert result.ensemble_member == summary["ensemble_member"]
+    # a seed beyond TOML's 64-bit signed integers is named as given
+    member = scene().run(member=0, seed=2**64 - 1).ensemble_member
+    assert member["seed"] == 2**64 - 1 and member["member"] == 0
 
 
 def test_an_ensemble_on_an_executor_saves_the_programs_folder(tmp_path, cli):

@@ -16,7 +16,7 @@ use crate::scene::{reversal_note, SceneFile};
 use crate::simulation::checkpoint::{refuse_checkpoint, ARITHMETIC};
 use crate::simulation::ensemble::{self, EnsembleSettings, Perturbation, MAX_MEMBERS};
 use crate::simulation::folder::ensemble::{write_ensemble, Member};
-use crate::simulation::folder::run::write_run;
+use crate::simulation::folder::run::{write_run, EnsembleMember};
 use crate::simulation::folder::{check_manifest, FolderCommand, Origin, PROGRAM};
 use crate::simulation::summary::{joint_statistics, summarize, window, JointSummary, SCALARS};
 use crate::simulation::{simulate_with_progress, RunOutput, Scene};
@@ -317,6 +317,8 @@ impl Document {
         })?;
         let out = out.map_err(|e| self.error(e))?;
         let d = run_dict(py, &scene, &out)?;
+        let which = member.map(|k| EnsembleMember::of(&of, k));
+        d.set_item("ensemble_member", serde_dict(py, which)?)?;
         let folder = Folder(Kept::Run {
             origin: self.variant.origin(),
             member: member.map(|k| (of, k)),
@@ -794,16 +796,16 @@ fn run_dict<'py>(py: Python<'py>, scene: &Scene, out: &RunOutput) -> PyResult<Bo
         }
         None => d.set_item("energy", py.None())?,
     }
-    match out.settling {
-        // The fields as serde names them, like summary.json's.
-        Some(s) => {
-            let value =
-                toml::Value::try_from(s).map_err(|e| SimulationError::new_err(e.to_string()))?;
-            d.set_item("settling", from_toml(py, &value)?)?
-        }
-        None => d.set_item("settling", py.None())?,
-    }
+    d.set_item("settling", serde_dict(py, out.settling)?)?;
     Ok(d)
+}
+
+/// `value` as summary.json has it (its JSON read back: a seed of 2^63 or more, which TOML
+/// cannot hold, as the int it is); None as None.
+fn serde_dict<'py>(py: Python<'py>, value: Option<impl Serialize>) -> PyResult<Bound<'py, PyAny>> {
+    let text =
+        serde_json::to_string(&value).map_err(|e| SimulationError::new_err(e.to_string()))?;
+    py.import("json")?.call_method1("loads", (text,))
 }
 
 /// [`States::values`] into a quantity's statistics dict (`None` as None), as `summary.json`

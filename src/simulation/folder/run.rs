@@ -43,13 +43,7 @@ pub fn write_run(
             e.seed,
             perturbation_arg(&e.perturbation)
         ));
-        summary.ensemble_member = Some(EnsembleMember {
-            member: k,
-            seed: e.seed,
-            perturbation: e.perturbation.key(),
-            perturbation_description: e.perturbation.describe(),
-            tolerance_factor: e.perturbation.tolerance_factor(e.seed, k),
-        });
+        summary.ensemble_member = Some(EnsembleMember::of(e, k));
     }
     write_folder(dir, &title, || {
         write_files(scene, out, dir)?;
@@ -185,8 +179,10 @@ struct RunSummary {
     joints: Vec<JointResult>,
 }
 
+/// The ensemble member a run is, as `summary.json`'s `ensemble_member` (and Python's
+/// `Run.ensemble_member`) says it.
 #[derive(Serialize)]
-struct EnsembleMember {
+pub struct EnsembleMember {
     /// 0-based.
     member: usize,
     seed: u64,
@@ -197,6 +193,19 @@ struct EnsembleMember {
     /// The member's factor on the scene's rtol and atol (1 but under `tolerance_S`); the
     /// settings above are the member's, multiplied by it.
     tolerance_factor: f64,
+}
+
+impl EnsembleMember {
+    /// Member `k` of the ensemble `e`.
+    pub fn of(e: &EnsembleSettings, k: usize) -> EnsembleMember {
+        EnsembleMember {
+            member: k,
+            seed: e.seed,
+            perturbation: e.perturbation.key(),
+            perturbation_description: e.perturbation.describe(),
+            tolerance_factor: e.perturbation.tolerance_factor(e.seed, k),
+        }
+    }
 }
 
 #[derive(Serialize)]
