@@ -150,7 +150,8 @@ class Scene:
         ``dask.distributed`` client's ``get_executor()``, a Ray pool's executor) runs one task
         per member instead of this process's threads; each task gets the scene as text and the
         member's number, and the results are bit for bit those without it (but the wall
-        times). A member that fails raises its error here."""
+        times). A member that fails raises its error here; a result that is not the member
+        asked for (another member, scene or build of jointwear) raises ValueError."""
         members = _count("members", members, "a positive integer")
         seed = _count("seed", seed, "an integer in [0, 2^64)")
         protocol = _protocol(perturbation)
@@ -189,7 +190,8 @@ class Scene:
         ``executor``: any :class:`concurrent.futures.Executor` runs one task per case instead
         of this process's threads (see :meth:`ensemble`); every value is validated here before
         any task is submitted, and the results are bit for bit those without it (but the wall
-        times)."""
+        times); a result that is not the case asked for (another case, scene or build of
+        jointwear) raises ValueError."""
         if not isinstance(grid, Mapping):
             raise TypeError(
                 f"grid must be a dict of dotted key -> values, got {type(grid).__name__}"
