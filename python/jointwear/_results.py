@@ -11,6 +11,19 @@ import numpy as np
 PathLike = Union[str, "os.PathLike[str]"]
 
 
+def _path(name: str, value: Any) -> str:
+    """``value`` (a str, bytes or os.PathLike) as the str path the native calls take, or
+    TypeError naming the argument: bytes paths raised "'bytes' object is not an instance of
+    'str'"."""
+    try:
+        return os.fsdecode(value)
+    except TypeError:
+        raise TypeError(
+            f"{name} must be a path (str or os.PathLike), got {value!r} "
+            f"({type(value).__name__})"
+        ) from None
+
+
 def _array(data: bytes) -> np.ndarray:
     """A writable float64 array of the native-endian bytes the extension hands over."""
     return np.frombuffer(data, dtype=np.float64).copy()
@@ -124,7 +137,7 @@ class Run:
         ``directory``, if it holds the outputs of another command (an ensemble's folder, or
         ``jointwear longlife``'s), which this write would remove or overwrite, or if it holds
         the checkpoint of an unfinished ``jointwear run``, which would later replace them."""
-        self._folder.save(os.fspath(directory))
+        self._folder.save(_path("directory", directory))
 
     def to_pandas(self, table: str = "timeseries"):
         """A pandas DataFrame of ``table``: ``"timeseries"`` (one column per series),
@@ -258,11 +271,16 @@ class Ensemble:
         --seed S`` writes its ``--out`` folder, byte for byte but the wall times (in
         ``summary.json`` and the ``wall_time_s`` column of ``ensemble_members.csv``); see
         :meth:`Run.save`."""
-        self._folder.save(os.fspath(directory))
+        self._folder.save(_path("directory", directory))
 
     def mean_snapshot(self, joint: str, rotation: int) -> np.ndarray:
         """The mean over the members of the wear profile (m) of ``joint`` after ``rotation``
         rotations (one of :attr:`snapshot_rotations`)."""
+        if joint not in self.snapshots:
+            raise KeyError(
+                f"no wear snapshots of joint {joint!r}: the joints with wear are "
+                f"{list(self.snapshots)}"
+            )
         hits = np.flatnonzero(self.snapshot_rotations == rotation)
         if len(hits) == 0:
             raise KeyError(

@@ -11,7 +11,7 @@ from concurrent.futures import Executor, Future
 from typing import Any, List, Mapping, Optional, Sequence, Tuple, Union
 
 from ._native import Document, SceneError
-from ._results import Ensemble, Run, SweepResult
+from ._results import Ensemble, Run, SweepResult, _path
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -48,7 +48,7 @@ class Scene:
     def load(cls, path: PathLike) -> "Scene":
         """Reads and validates the scene file at ``path`` (``extends`` and ``[overrides]``
         resolved), as ``jointwear run`` does."""
-        return cls(Document.load(os.fspath(path)))
+        return cls(Document.load(_path("path", path)))
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], base_dir: Optional[PathLike] = None) -> "Scene":
@@ -65,7 +65,7 @@ class Scene:
             raise TypeError(
                 f"data must be a dict of a scene file's keys, got {type(data).__name__}"
             )
-        path = os.path.join(os.fspath(base_dir) if base_dir is not None else "", "<dict>")
+        path = os.path.join(_path("base_dir", base_dir) if base_dir is not None else "", "<dict>")
         return cls(Document.from_dict(dict(data), path))
 
     def set(self, key: str, value: Any) -> "Scene":
@@ -80,6 +80,8 @@ class Scene:
         ``sys.stderr`` says what it changed). A value that turns the driver the other way than
         the scene as loaded (the shipped scenes are calibrated in their own sense) writes a
         note on ``sys.stderr``."""
+        if not isinstance(key, str):
+            raise TypeError(f"key must be a dotted key (str), got {key!r}")
         self._doc.set(key, value)
         return self
 

@@ -34,8 +34,11 @@ def test_ensemble_shapes_and_statistics():
     assert np.allclose(band["mean"], wear.mean(axis=0), rtol=1e-12, atol=0)
     assert np.array_equal(band["max"], wear.max(axis=0))
     assert np.allclose(ens.mean_snapshot("rod-slider", 2), wear.mean(axis=0), rtol=1e-12, atol=0)
-    with pytest.raises(KeyError):
+    with pytest.raises(KeyError, match="no wear snapshot after 3 rotations"):
         ens.mean_snapshot("rod-slider", 3)
+    # names the joints with wear (it was a bare KeyError 'crank')
+    with pytest.raises(KeyError, match=r"joint 'crank'.*\['rod-slider'\]"):
+        ens.mean_snapshot("crank", 2)
 
 
 def test_an_ensemble_is_seeded():

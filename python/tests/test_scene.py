@@ -2,6 +2,7 @@
 
 import contextlib
 import io
+import os
 
 import numpy as np
 import pytest
@@ -219,6 +220,18 @@ def test_ensemble_and_sweep_arguments_are_checked_at_the_call():
         scene.sweep({0: [-600]})
     with pytest.raises(TypeError, match="data must be a dict"):
         jointwear.Scene.from_dict([("title", "x")])
+    with pytest.raises(TypeError, match="key must be a dotted key"):
+        scene.set(0, 1)
+    with pytest.raises(TypeError, match="base_dir must be a path"):
+        jointwear.Scene.from_dict({"extends": "standard.toml"}, base_dir=5)
+
+
+# Fails without os.fsdecode: a bytes path raised "'bytes' object is not an instance of 'str'".
+def test_bytes_paths_are_paths(tmp_path):
+    scene = short(jointwear.Scene.load(os.fsencode(STANDARD)))
+    assert scene.path == str(STANDARD)
+    scene.run().save(os.fsencode(tmp_path / "run"))
+    assert (tmp_path / "run" / "summary.json").exists()
 
 
 # Fails without the notes on sys.stderr: they went to the process's stderr, which a notebook
