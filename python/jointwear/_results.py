@@ -142,9 +142,9 @@ class Run:
     def to_pandas(self, table: str = "timeseries"):
         """A pandas DataFrame of ``table``: ``"timeseries"`` (one column per series),
         ``"wear"`` (index ``angle_deg``, one column ``<joint>.depth_m`` per joint of its final
-        depth (m); joints with the same sector count), ``"snapshots"`` (long format: joint, rotation, angle_deg,
-        depth_m) or ``"summary"`` (one row per joint, its scalar results). Raises ImportError
-        if pandas is not installed."""
+        depth (m); joints with the same sector count), ``"snapshots"`` (long format: joint,
+        rotation, angle_deg, depth_m) or ``"summary"`` (one row per joint, its scalar
+        results). Raises ImportError if pandas is not installed."""
         pd = _pandas("Run.to_pandas()")
         if table == "timeseries":
             return pd.DataFrame(self.timeseries)
@@ -294,8 +294,8 @@ class Ensemble:
         :attr:`statistics`, window first), ``"members"`` (one row per member, columns
         ``<joint>.<quantity>``) or ``"band"`` (one row per joint and sector: ``angle_deg`` and
         the per-sector statistics of the final wear depth, ``mean_m``, ``sd_m``, ``min_m``,
-        ``q05_m`` ... ``q95_m``, ``max_m``, as ``ensemble_wear_<joint>.csv``). Raises ImportError if pandas is not
-        installed."""
+        ``q05_m`` ... ``q95_m``, ``max_m``, as ``ensemble_wear_<joint>.csv``). Raises
+        ImportError if pandas is not installed."""
         pd = _pandas("Ensemble.to_pandas()")
         if table == "summary":
             rows = [
