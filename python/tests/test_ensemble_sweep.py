@@ -288,7 +288,8 @@ def test_a_grid_beyond_the_case_limit_or_with_a_key_twice_raises_scene_error(tmp
     # named as the Python argument (it was the program's `--set`)
     with pytest.raises(jointwear.SceneError, match="`grid`: 1001 x 1000 = 1001000 cases"):
         scene.sweep(grid)
-    with pytest.raises(jointwear.SceneError, match="`grid`: clearance.0.clearance_mm .*each key once"):
+    twice = "`grid`: clearance.0.clearance_mm .*each key once"
+    with pytest.raises(jointwear.SceneError, match=twice):
         scene.sweep({"clearance.0.clearance_mm": [0.1], "clearance.00.clearance_mm": [0.2]})
 
 
