@@ -6,6 +6,7 @@ import itertools
 import numbers
 import os
 import time
+import warnings
 from collections.abc import Iterable
 from concurrent.futures import Executor, Future
 from typing import Any, List, Mapping, Optional, Sequence, Tuple, Union
@@ -122,11 +123,26 @@ class Scene:
         ``member`` (0-based) of ``ensemble(members, seed, perturbation)`` instead, bit for bit
         the member the ensemble ran (``jointwear run --member K --seed S --perturbation P``); a
         member beyond the largest ensemble raises :class:`jointwear.SceneError`.
-        ``perturbation`` (only with ``member``) is a protocol as :meth:`ensemble` takes it."""
+        ``perturbation`` (only with ``member``) is a protocol as :meth:`ensemble` takes it. A
+        settling run that stops at ``run.steady_state.max_rotations`` unsettled warns
+        (RuntimeWarning), as the program prints it: its recorded rotations are no steady
+        state."""
         if member is not None:
             member = _count("member", member, "an integer in [0, 2^64)")
         seed = _count("seed", seed, "an integer in [0, 2^64)")
-        return Run(self._doc.run(member, seed, _protocol(perturbation)))
+        run = Run(self._doc.run(member, seed, _protocol(perturbation)))
+        if run.settling is not None and not run.settling["steady"]:
+            # What `jointwear run` prints: the recorded numbers are not of a steady state.
+            warnings.warn(
+                f"not settled: after {run.settling['rotations']} settling rotations "
+                "(run.steady_state.max_rotations) the orbit still changed by "
+                f"{run.settling['orbit_change']:.3g} of the clearance per rotation, above "
+                "run.steady_state.orbit_tolerance; the recorded rotations are not a steady "
+                "state",
+                RuntimeWarning,
+                stacklevel=2,
+            )
+        return run
 
     def ensemble(
         self,
@@ -139,7 +155,9 @@ class Scene:
         (``jointwear run --ensemble N --seed S --perturbation P``), and returns the
         :class:`Ensemble`: every member's results and their statistics. Single runs are
         chaotic; statistics over an ensemble are the project's results, and how members are
-        perturbed can shift them (paper.md, the perturbation study).
+        perturbed can shift them (paper.md, the perturbation study). Members that stop
+        settling at ``run.steady_state.max_rotations`` are counted in a RuntimeWarning, as the
+        program prints them.
 
         ``perturbation``: the protocol, named as the program's ``--perturbation`` and the
         perturbation study name it: ``"disc_<R>nm"`` (every journal displaced uniformly over a
@@ -158,7 +176,7 @@ class Scene:
         seed = _count("seed", seed, "an integer in [0, 2^64)")
         protocol = _protocol(perturbation)
         if executor is None:
-            return Ensemble(self._doc.ensemble(members, seed, protocol))
+            return _noting_unsettled(Ensemble(self._doc.ensemble(members, seed, protocol)))
         _check_executor(executor)
         self._doc.check_ensemble(members, seed, protocol)
         started = time.perf_counter()
@@ -168,7 +186,8 @@ class Scene:
         ]
         payloads = _gather(tasks)
         wall = time.perf_counter() - started
-        return Ensemble(self._doc.ensemble_of(members, seed, payloads, wall, protocol))
+        ensemble = Ensemble(self._doc.ensemble_of(members, seed, payloads, wall, protocol))
+        return _noting_unsettled(ensemble)
 
     def sweep(
         self,
@@ -241,6 +260,25 @@ class Scene:
 
     def __repr__(self) -> str:
         return f"Scene({self.title!r}, path={self.path!r})"
+
+
+def _noting_unsettled(ensemble: Ensemble) -> Ensemble:
+    """``ensemble``, with a RuntimeWarning where some of its members stopped settling at
+    ``run.steady_state.max_rotations``, as ``jointwear run --ensemble`` prints it: their
+    recorded rotations are no steady state."""
+    if ensemble.joints:
+        settled = ensemble.scalars[ensemble.joints[0]]["settled"]
+        unsettled = int((settled == 0).sum())
+        if unsettled:
+            warnings.warn(
+                f"not settled: {unsettled} of {ensemble.members} members reached "
+                "run.steady_state.max_rotations with their orbit still changing beyond "
+                "run.steady_state.orbit_tolerance (their recorded rotations are not a steady "
+                "state)",
+                RuntimeWarning,
+                stacklevel=3,
+            )
+    return ensemble
 
 
 def _protocol(perturbation: Any) -> Optional[str]:

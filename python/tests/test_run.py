@@ -7,6 +7,7 @@ import signal
 import sys
 import threading
 import time
+import warnings
 
 import numpy as np
 import pytest
@@ -189,9 +190,16 @@ def test_the_summary_says_whether_the_run_settled():
     scene = short(jointwear.Scene.load(STANDARD)).set("run.record_rotations", 1)
     assert np.isnan(scene.run().summary["rod-slider"]["settled"])
     scene.set("run.settle", True).set("run.steady_state.max_rotations", 2)
-    capped = scene.set("run.steady_state.orbit_tolerance", 1e-9).run()
+    # warned as `jointwear run` prints it (it passed without a word)
+    with pytest.warns(RuntimeWarning, match="not settled: after 2 settling rotations"):
+        capped = scene.set("run.steady_state.orbit_tolerance", 1e-9).run()
     assert capped.summary["rod-slider"]["settled"] == 0 and not capped.settling["steady"]
-    loose = scene.set("run.steady_state.orbit_tolerance", 1).run()
+    with pytest.warns(RuntimeWarning, match="not settled: 2 of 2 members"):
+        scene.ensemble(2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        loose = scene.set("run.steady_state.orbit_tolerance", 1).run()
+        scene.ensemble(2)
     assert loose.summary["rod-slider"]["settled"] == 1 and loose.settling["steady"]
 
 
