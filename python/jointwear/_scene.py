@@ -198,10 +198,12 @@ class Scene:
     ) -> SweepResult:
         """Runs the cartesian product of the values of ``grid`` (dotted key -> values; the last
         key varies fastest, as in ``jointwear sweep``) in parallel, each case once or as an
-        ensemble of ``members``. Every value of every key is validated before any case runs
-        (a bad value raises :class:`jointwear.SceneError`), and so are the keys (one given
-        twice, also as an alias such as ``clearance.00.clearance_mm``, is refused) and the size
-        (at most 1 000 000 cases); cases are built as they run, and one that records no rotation
+        ensemble of ``members`` (perturbed by the default protocol, ``disc_10nm``, from
+        ``seed``, as ``jointwear sweep --ensemble N --seed S``). Every value of every key is
+        validated before any case runs (a bad value raises :class:`jointwear.SceneError`), and
+        so are the keys (one given twice, also as an alias such as
+        ``clearance.00.clearance_mm``, is refused) and the size (at most 1 000 000 cases);
+        cases are built as they run, and one that records no rotation
         (``run.record_rotations`` 0) is refused, as a row reports the recorded rotations. A case
         that fails to build or while running has its message in the ``error`` column and the
         others go on. Ctrl-C stops the sweep and raises KeyboardInterrupt: no partial result
