@@ -4,6 +4,11 @@ use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
 
 fn main() {
+    jointwear::paper::program::flags(
+        "accuracy",
+        "The accuracy-dependence study: writes data/accuracy_dependence.csv and prints, per paper result, which integrations reproduce it",
+        &[],
+    );
     let bar = progress_bar(0, "accuracy runs");
     let a = exit_on_error(jointwear::paper::studies::accuracy_dependence(&bar));
     bar.finish_and_clear();

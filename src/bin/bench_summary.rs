@@ -3,6 +3,11 @@ use jointwear::error::exit_on_error;
 use jointwear::paper::performance::{benchmark_summary, criterion_dir};
 
 fn main() {
+    jointwear::paper::program::flags(
+        "bench_summary",
+        "Collects criterion's estimates (run `cargo bench` first) into data/benchmarks.csv",
+        &[],
+    );
     let results = exit_on_error(benchmark_summary(&criterion_dir()));
     println!("wrote data/benchmarks.csv");
     println!("{:<34} {:>14} {:>14}", "bench", "median", "MAD");

@@ -5,6 +5,11 @@ use jointwear::io::progress::progress_bar;
 use jointwear::paper::calibration::FACTORIAL_GROUP;
 
 fn main() {
+    jointwear::paper::program::flags(
+        "calibration",
+        "The calibration study of the lost Table 2: writes data/calibration.csv and figures/calibration.png",
+        &[],
+    );
     let bar = progress_bar(0, "parameter sets");
     let study = exit_on_error(jointwear::paper::calibration::study(&bar));
     bar.finish_and_clear();

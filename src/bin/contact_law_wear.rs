@@ -8,14 +8,27 @@ use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
 use jointwear::paper::cases::CASES;
 use jointwear::paper::golden::Golden;
+use jointwear::paper::program;
 use jointwear::paper::studies::contact_law_wear::{
     contact_law_wear_study, draw_law_wear, pooled, read_law_wear, LawWearSettings, LAW_WEAR_FIGURE,
     LAW_WEAR_FILE, RUN_FAILED,
 };
 
 fn main() {
+    let flags = program::flags(
+        "contact_law_wear",
+        "How much the predicted wear depends on the contact law: writes data/contact_law_wear.csv \
+         and figures/contact_law_wear.png",
+        &[
+            ("--redraw", "only redraw the figure from the CSV"),
+            (
+                "--table3",
+                "also run Table 3's other cases steady under every law",
+            ),
+        ],
+    );
     let clock = std::time::Instant::now();
-    if std::env::args().any(|a| a == "--redraw") {
+    if flags.contains(&"--redraw") {
         let Some(rows) = read_law_wear() else {
             eprintln!(
                 "error: data/{LAW_WEAR_FILE} is missing or of another layout; run \
@@ -30,17 +43,8 @@ fn main() {
     let golden = exit_on_error(Golden::load());
     let bar = progress_bar(0, "ensemble members");
     let mut settings = LawWearSettings::default();
-    for arg in std::env::args().skip(1) {
-        match arg.as_str() {
-            "--table3" => settings.steady = CASES.list().into_iter().copied().collect(),
-            _ => {
-                eprintln!(
-                    "error: unknown argument `{arg}`; allowed: --table3 (also run Table 3's other \
-                     cases steady under every law)"
-                );
-                std::process::exit(2);
-            }
-        }
+    if flags.contains(&"--table3") {
+        settings.steady = CASES.list().into_iter().copied().collect();
     }
     let rows = exit_on_error(contact_law_wear_study(&settings, &golden, &bar));
     bar.finish_and_clear();

@@ -6,6 +6,11 @@ use jointwear::laws::contact::{DissipationLaw, StiffnessLaw};
 use jointwear::paper::studies::contact_laws::contact_laws_study;
 
 fn main() {
+    jointwear::paper::program::flags(
+        "contact_laws",
+        "What each contact law does to one impact: writes data/contact_laws_restitution.csv and figures/contact_laws.png",
+        &[],
+    );
     let sweep = exit_on_error(contact_laws_study());
     println!("largest |achieved - given| restitution over c_e in [0.1, 0.99], per law pair:");
     print!("{:>12}", "");

@@ -7,6 +7,11 @@ use jointwear::paper::convergence::convergence_study;
 use jointwear::simulation::ensemble::DEFAULT_MEMBERS;
 
 fn main() {
+    jointwear::paper::program::flags(
+        "convergence",
+        "How ensemble statistics settle with the number of members: writes data/ensemble_convergence.csv and figures/ensemble_convergence.png",
+        &[],
+    );
     let bar = progress_bar(0, "members");
     let study = exit_on_error(convergence_study(&bar));
     bar.finish_and_clear();

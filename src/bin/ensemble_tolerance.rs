@@ -5,6 +5,11 @@ use jointwear::io::progress::progress_bar;
 use jointwear::paper::studies;
 
 fn main() {
+    jointwear::paper::program::flags(
+        "ensemble_tolerance",
+        "Table 3's ensembles at looser tolerances against the scenes' own: writes data/ensemble_tolerance.csv",
+        &[],
+    );
     let bar = progress_bar(0, "ensemble members");
     let rows = exit_on_error(studies::ensemble_tolerance(&bar));
     bar.finish_and_clear();

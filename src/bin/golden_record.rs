@@ -13,13 +13,11 @@ use jointwear::simulation::ensemble::EnsembleSettings;
 use jointwear::Error;
 
 fn main() {
-    let reason = exit_on_error(std::env::args().nth(1).ok_or_else(|| {
-        Error::invalid(
-            "REASON",
-            "(missing)",
-            "why the statistics are recorded: golden_record \"REASON\"",
-        )
-    }));
+    let reason = jointwear::paper::program::reason(
+        "golden_record",
+        "Records the model's ensemble statistics into data/golden/ensemble.toml, with REASON, \
+         why they are recorded (a physics fix, a new statistic)",
+    );
     let golden = exit_on_error(Golden::load());
     let ensemble = EnsembleSettings {
         members: GOLDEN_MEMBERS,

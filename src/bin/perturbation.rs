@@ -7,6 +7,11 @@ use jointwear::paper::perturbation::perturbation_study;
 use jointwear::paper::report::claim_tallies;
 
 fn main() {
+    jointwear::paper::program::flags(
+        "perturbation",
+        "How much the ensembles depend on how members are perturbed: writes data/perturbation_sensitivity.csv",
+        &[],
+    );
     let bar = progress_bar(0, "ensemble members");
     let golden = exit_on_error(Golden::load());
     let rows = exit_on_error(perturbation_study(

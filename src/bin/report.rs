@@ -10,13 +10,23 @@ use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
 use jointwear::paper::golden::Golden;
 use jointwear::paper::report::{run_figures, write, Studies};
-use jointwear::paper::{calibration, convergence, studies};
+use jointwear::paper::{calibration, convergence, program, studies};
 use jointwear::simulation::ensemble::EnsembleSettings;
 
 fn main() {
+    let flags = program::flags(
+        "report",
+        "Computes every ensemble once, draws every figure and Table 3, reruns the accuracy study \
+         and the stability suite and writes paper.md",
+        &[(
+            "--all",
+            "also rerun the slow studies (calibration, work-precision, ensemble size, the two \
+             contact-law studies) instead of reading their last results from data/",
+        )],
+    );
     let clock = std::time::Instant::now();
     let golden = exit_on_error(Golden::load());
-    if std::env::args().any(|a| a == "--all") {
+    if flags.contains(&"--all") {
         let bar = progress_bar(0, "calibration sets");
         exit_on_error(calibration::study(&bar));
         bar.finish_and_clear();

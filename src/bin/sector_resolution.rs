@@ -5,6 +5,11 @@ use jointwear::io::progress::progress_bar;
 use jointwear::paper::studies::sector_resolution::sector_resolution;
 
 fn main() {
+    jointwear::paper::program::flags(
+        "sector_resolution",
+        "How the predicted wear depends on the bearing's sector count: writes data/sector_resolution.csv",
+        &[],
+    );
     let bar = progress_bar(0, "member runs");
     let rows = exit_on_error(sector_resolution(&bar));
     bar.finish_and_clear();

@@ -5,6 +5,11 @@ use jointwear::error::exit_on_error;
 use jointwear::paper::separation::separation_study;
 
 fn main() {
+    jointwear::paper::program::flags(
+        "separation",
+        "Could ensemble members share a settling phase: writes data/member_separation.csv",
+        &[],
+    );
     let cells = |v: &[f64]| {
         v.iter()
             .map(|v| format!("{v:.1e}"))

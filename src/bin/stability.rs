@@ -3,6 +3,11 @@ use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
 
 fn main() {
+    jointwear::paper::program::flags(
+        "stability",
+        "The stability study on stiff and extreme cases: writes data/stability.csv",
+        &[],
+    );
     let bar = progress_bar(0, "stability cases");
     let rows = exit_on_error(jointwear::paper::studies::stability(&bar));
     bar.finish_and_clear();

@@ -5,8 +5,9 @@
 //! measures the rule over members (`jointwear::paper::studies::tolerance_rule`).
 use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
-use jointwear::paper::studies;
 use jointwear::paper::studies::tolerance_rule::{pick, rule_rows, Reading, RuleRow, RULE_FILE};
+use jointwear::paper::{program, studies};
+use jointwear::Error;
 
 /// Prints the members' median paired orbit ratio per setting and what the rule picks from
 /// `rule` by each reading.
@@ -33,12 +34,34 @@ fn print_picks(rule: &[RuleRow]) {
 }
 
 fn main() {
-    if std::env::args().any(|a| a == "--redraw") {
+    let flags = program::flags(
+        "work_precision",
+        "The work-precision study: writes data/work_precision.csv, figures/work_precision.png and \
+         the default-tolerance rule's data/work_precision_members.csv",
+        &[
+            (
+                "--redraw",
+                "only redraw the figure from data/work_precision.csv",
+            ),
+            (
+                "--rule",
+                "only measure the default-tolerance rule over members",
+            ),
+        ],
+    );
+    if flags.len() > 1 {
+        exit_on_error::<()>(Err(Error::invalid(
+            "command-line arguments",
+            flags.join(" "),
+            "at most one of --redraw, --rule",
+        )));
+    }
+    if flags.contains(&"--redraw") {
         exit_on_error(studies::redraw_work_precision());
         println!("redrew figures/work_precision.png from data/work_precision.csv");
         return;
     }
-    if std::env::args().any(|a| a == "--rule") {
+    if flags.contains(&"--rule") {
         let bar = progress_bar(0, "members");
         let rule = exit_on_error(rule_rows(&bar));
         bar.finish_and_clear();

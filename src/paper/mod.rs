@@ -14,6 +14,7 @@ pub mod format;
 pub mod golden;
 pub mod performance;
 pub mod perturbation;
+pub mod program;
 pub mod report;
 pub mod separation;
 pub mod studies;

@@ -24,6 +24,7 @@ pub use wear_profiles::mean_profile_regions;
 
 use crate::error::exit_on_error;
 use crate::paper::cases::{Case, Need, Runs, CASES};
+use crate::paper::program;
 use crate::simulation::ensemble::EnsembleSettings;
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
@@ -273,23 +274,28 @@ pub(crate) fn first_of(n: usize) -> String {
     format!("member 0 (0-based) of {n}")
 }
 
-/// `main` of a figure program: runs the default ensembles it needs, draws it, prints its
-/// summary lines.
+/// `main` of a figure program: refuses any argument but `--help`, runs the default ensembles
+/// it needs, draws it, prints its summary lines.
 pub fn figure_main(name: &str) {
     let Some(figure) = FIGURES.iter().find(|f| f.name == name) else {
         exit_on_error::<()>(Err(Error::invalid("figure", name, "a name of FIGURES")));
         return;
     };
-    let ensemble = EnsembleSettings::default();
-    let bar = crate::io::progress::progress_bar(0, "ensemble members");
-    let runs = exit_on_error(Runs::compute(figure.needs, ensemble, &|_| {}, &bar));
-    bar.finish_and_clear();
-    let lines = exit_on_error((figure.draw)(&runs));
     let png = if figure.png {
         format!("figures/{name}.png and ")
     } else {
         String::new()
     };
+    let ensemble = EnsembleSettings::default();
+    let about = format!(
+        "{}: runs the {}-member ensembles (seed {}) it draws and writes {png}data/{name}.csv",
+        figure.caption, ensemble.members, ensemble.seed
+    );
+    program::flags(name, &about, &[]);
+    let bar = crate::io::progress::progress_bar(0, "ensemble members");
+    let runs = exit_on_error(Runs::compute(figure.needs, ensemble, &|_| {}, &bar));
+    bar.finish_and_clear();
+    let lines = exit_on_error((figure.draw)(&runs));
     println!(
         "wrote {png}data/{name}.csv from {} members (seed {}) in {:.1} s",
         ensemble.members, ensemble.seed, runs.seconds

@@ -1,0 +1,156 @@
+//! The command line of the paper's programs (figures, Table 3, the report, the studies): each
+//! takes a few flags and nothing else, and refuses anything else before it computes or writes.
+//! An argument a program ignored ran it as if it had not been given: `fig06 --help` rewrote the
+//! figure and exited 0, `report --al` (meant `--all`) left the slow studies' last results in
+//! `paper.md` and said nothing.
+
+use crate::error::exit_on_error;
+use crate::{Error, Result};
+
+/// A flag a program takes, and what it does (for `--help`).
+pub type Flag = (&'static str, &'static str);
+
+/// What a program's command line asks for.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Asked {
+    /// `-h` or `--help`: the usage, nothing run.
+    Help,
+    /// Run, with these of the program's flags given.
+    Run(Vec<&'static str>),
+}
+
+/// Reads `args` (the arguments after the program's name) against the program's `flags`: an
+/// argument that is none of them (nor `-h`, `--help`) is an error naming it and the flags.
+pub fn parse(args: impl IntoIterator<Item = String>, flags: &[Flag]) -> Result<Asked> {
+    let mut given = Vec::new();
+    for arg in args {
+        if arg == "-h" || arg == "--help" {
+            return Ok(Asked::Help);
+        }
+        let Some(&(flag, _)) = flags.iter().find(|(f, _)| *f == arg) else {
+            let allowed = if flags.is_empty() {
+                "no arguments (--help for what the program does)".to_string()
+            } else {
+                let names: Vec<&str> = flags.iter().map(|(f, _)| *f).collect();
+                format!("one of {} (--help for what each does)", names.join(", "))
+            };
+            return Err(Error::invalid(
+                "command-line argument",
+                format!("`{arg}`"),
+                allowed,
+            ));
+        };
+        if !given.contains(&flag) {
+            given.push(flag);
+        }
+    }
+    Ok(Asked::Run(given))
+}
+
+/// The usage `--help` prints: what `program` does and its flags.
+pub fn usage(program: &str, about: &str, flags: &[Flag]) -> String {
+    let mut text = format!("{about}\n\nUsage: {program}");
+    for (flag, _) in flags {
+        text.push_str(&format!(" [{flag}]"));
+    }
+    for (flag, does) in flags {
+        text.push_str(&format!("\n  {flag}  {does}"));
+    }
+    text
+}
+
+/// The `flags` given to this program: prints its usage and exits 0 on `--help`; prints an
+/// error and exits 2 on any other argument. The first call of a program's `main`.
+pub fn flags(program: &str, about: &str, flags: &[Flag]) -> Vec<&'static str> {
+    let args = std::env::args_os()
+        .skip(1)
+        .map(|a| a.to_string_lossy().into_owned());
+    match exit_on_error(parse(args, flags)) {
+        Asked::Help => {
+            println!("{}", usage(program, about, flags));
+            std::process::exit(0)
+        }
+        Asked::Run(given) => given,
+    }
+}
+
+/// Reads the arguments of a program that takes one text, a reason (`golden_record "REASON"`):
+/// `None` for `-h` or `--help`; an error for no text, a blank one, a flag or more than one
+/// (`golden_record --help` recorded the golden statistics with the reason "--help").
+pub fn parse_reason(args: impl IntoIterator<Item = String>) -> Result<Option<String>> {
+    let args: Vec<String> = args.into_iter().collect();
+    match args.as_slice() {
+        [a] if a == "-h" || a == "--help" => Ok(None),
+        [reason] if !reason.starts_with('-') && !reason.trim().is_empty() => {
+            Ok(Some(reason.clone()))
+        }
+        _ => Err(Error::invalid(
+            "REASON",
+            format!("{args:?}"),
+            "one argument, why it is run, not blank and not beginning with `-`",
+        )),
+    }
+}
+
+/// The reason given to this program ([`parse_reason`]): prints its usage and exits 0 on
+/// `--help`; prints an error and exits 2 on anything but one reason.
+pub fn reason(program: &str, about: &str) -> String {
+    let args = std::env::args_os()
+        .skip(1)
+        .map(|a| a.to_string_lossy().into_owned());
+    exit_on_error(parse_reason(args)).unwrap_or_else(|| {
+        println!("{about}\n\nUsage: {program} REASON");
+        std::process::exit(0)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(a: &[&str]) -> Vec<String> {
+        a.iter().map(|s| s.to_string()).collect()
+    }
+
+    const ALL: &[Flag] = &[("--all", "rerun the slow studies")];
+
+    #[test]
+    fn a_program_runs_only_with_its_own_flags() {
+        assert_eq!(parse(args(&[]), &[]).unwrap(), Asked::Run(vec![]));
+        assert_eq!(
+            parse(args(&["--all", "--all"]), ALL).unwrap(),
+            Asked::Run(vec!["--all"])
+        );
+        assert_eq!(parse(args(&["--help"]), &[]).unwrap(), Asked::Help);
+        assert_eq!(parse(args(&["--all", "-h"]), ALL).unwrap(), Asked::Help);
+        let e = parse(args(&["--al"]), ALL).unwrap_err().to_string();
+        assert!(e.contains("`--al`") && e.contains("one of --all"), "{e}");
+        let e = parse(args(&["--quick"]), &[]).unwrap_err().to_string();
+        assert!(e.contains("`--quick`") && e.contains("no arguments"), "{e}");
+        assert_eq!(
+            crate::error::exit_code(&parse(args(&["x"]), &[]).unwrap_err()),
+            2
+        );
+    }
+
+    #[test]
+    fn a_reason_is_one_text_that_is_not_a_flag() {
+        assert_eq!(
+            parse_reason(args(&["a physics fix"])).unwrap(),
+            Some("a physics fix".to_string())
+        );
+        assert_eq!(parse_reason(args(&["--help"])).unwrap(), None);
+        for bad in [&[][..], &["--quick"], &["  "], &["a", "b"]] {
+            assert!(parse_reason(args(bad)).is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn the_usage_names_every_flag_and_what_it_does() {
+        let u = usage("report", "Writes paper.md.", ALL);
+        assert_eq!(
+            u,
+            "Writes paper.md.\n\nUsage: report [--all]\n  --all  rerun the slow studies"
+        );
+    }
+}

@@ -1,0 +1,86 @@
+//! The paper's programs refuse an argument they do not take, with exit code 2, before they
+//! compute or write anything; `--help` prints what they do and writes nothing.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::SystemTime;
+
+fn crate_file(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
+}
+
+/// When `path` was last written.
+fn modified(path: &Path) -> SystemTime {
+    std::fs::metadata(path)
+        .and_then(|m| m.modified())
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// Runs `program` with `args` and checks that none of `outputs` was written.
+fn run_writing_nothing(program: &str, args: &[&str], outputs: &[&str]) -> Output {
+    let before: Vec<SystemTime> = outputs.iter().map(|p| modified(&crate_file(p))).collect();
+    let o = Command::new(program).args(args).output().unwrap();
+    for (path, t) in outputs.iter().zip(before) {
+        assert_eq!(
+            modified(&crate_file(path)),
+            t,
+            "{program} {args:?} wrote {path}: {}",
+            String::from_utf8_lossy(&o.stdout)
+        );
+    }
+    o
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+// Fails without the check: `fig06 --quick` and `fig06 --help` ran the full 32-member figure,
+// rewrote figures/fig06.png and data/fig06.csv and exited 0.
+#[test]
+fn a_figure_program_refuses_an_argument_it_does_not_take() {
+    let fig06 = env!("CARGO_BIN_EXE_fig06");
+    let outputs = ["figures/fig06.png", "data/fig06.csv"];
+    let o = run_writing_nothing(fig06, &["--quick"], &outputs);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("`--quick`") && err.contains("no arguments"),
+        "{err}"
+    );
+    let o = run_writing_nothing(fig06, &["--help"], &outputs);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert!(
+        out.contains("Usage: fig06") && out.contains("data/fig06.csv"),
+        "{out}"
+    );
+}
+
+// Fails without the check: `report --al` (meant `--all`) ran the default report, rewrote
+// paper.md with the slow studies' old results and exited 0.
+#[test]
+fn the_report_refuses_a_misspelt_flag() {
+    let o = run_writing_nothing(env!("CARGO_BIN_EXE_report"), &["--al"], &["paper.md"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("`--al`") && err.contains("one of --all"),
+        "{err}"
+    );
+}
+
+// Fails without the check: `golden_record --help` re-recorded the golden statistics with the
+// reason "--help".
+#[test]
+fn golden_record_takes_one_reason_and_help_records_nothing() {
+    let program = env!("CARGO_BIN_EXE_golden_record");
+    let golden = ["data/golden/ensemble.toml"];
+    let o = run_writing_nothing(program, &["--help"], &golden);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("Usage: golden_record REASON"));
+    for args in [&["--quick"][..], &[], &["a", "b"]] {
+        let o = run_writing_nothing(program, args, &golden);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", text(&o.stderr));
+    }
+}
