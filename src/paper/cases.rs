@@ -325,6 +325,29 @@ impl SteadyEnsemble {
         let pw = |m: &&SteadyMember| m.concordance.dominant() == "P-w";
         self.members.iter().filter(pw).count()
     }
+
+    /// Samples per crank rotation of its recorded rotations (`run.record_interval_s`), rounded.
+    pub fn samples_per_rotation(&self) -> f64 {
+        let period = std::f64::consts::TAU / self.scene.mechanism.driver.omega.abs();
+        (period / self.scene.run.record_interval).round()
+    }
+}
+
+/// The window the recorded quantities of `ensembles` (maxima, time in contact, contact onsets)
+/// are read off, as the printouts and `paper.md` name it: `the recorded rotations, 3000 samples
+/// per rotation`, one count when every ensemble has it, else each's in order. The maxima are
+/// the largest samples, not the largest values between them.
+pub fn recorded_window(ensembles: &[&SteadyEnsemble]) -> String {
+    let mut counts: Vec<String> = (ensembles.iter())
+        .map(|e| format!("{:.0}", e.samples_per_rotation()))
+        .collect();
+    if counts.windows(2).all(|w| w[0] == w[1]) {
+        counts.truncate(1);
+    }
+    format!(
+        "the recorded rotations, {} samples per rotation",
+        counts.join(" / ")
+    )
 }
 
 /// The members of a wear ensemble of a scene.

@@ -6,7 +6,7 @@
 use super::markdown::md_table;
 use crate::analysis::statistics::Distribution;
 use crate::io::output::read_rows;
-use crate::paper::cases::{Runs, SteadyMember, CASES};
+use crate::paper::cases::{recorded_window, Runs, SteadyMember, CASES};
 use crate::paper::convergence::{MAX_MEMBERS, SE_SHARE, SIZES};
 use crate::paper::figures::output_path;
 use crate::paper::format::sci;
@@ -38,7 +38,12 @@ pub(super) fn ensemble_section(runs: &Runs, golden: &Golden) -> Result<String> {
         settle.map_or(0, |s| s.max_rotations)
     );
     let mut rows = Vec::new();
-    for (case, e) in CASES.zip(&runs.steady_cases()?).list() {
+    let steady = runs.steady_cases()?;
+    let force = format!(
+        "max normal force (N), {}",
+        recorded_window(&steady.list().map(|e| *e))
+    );
+    for (case, e) in CASES.zip(&steady).list() {
         let (c_mm, rpm) = (case.clearance_mm, case.speed_rpm);
         for (mode, of_mode) in e.groups(SteadyMember::steady_state) {
             let k = of_mode.len();
@@ -66,7 +71,7 @@ pub(super) fn ensemble_section(runs: &Runs, golden: &Golden) -> Result<String> {
             "case",
             "steady state",
             "members",
-            "max normal force, recorded rotations (N)",
+            &force,
             "onsets per rotation",
             "in contact (%)",
             "P-w",

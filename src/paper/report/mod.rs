@@ -31,7 +31,7 @@ pub use verdict::{Claim, Verdict, MEMBER_MAJORITY};
 
 use crate::io::output::write_atomic;
 use crate::io::progress::Progress;
-use crate::paper::cases::{Runs, SteadyEnsemble, CASES};
+use crate::paper::cases::{recorded_window, Runs, SteadyEnsemble, CASES};
 use crate::paper::figures::wear_profiles::mean_profile_regions;
 use crate::paper::figures::{all_needs, Figure, FIGURES};
 use crate::paper::format::seconds;
@@ -279,7 +279,8 @@ pub fn write(
     contact_laws::contact_law_section(&mut md, &paper_results(runs, golden)?);
     md.push_str(&errata(
         &steady.standard.scene,
-        steady.standard.stat(|m| m.max_penetration).mean,
+        &steady.standard.states(|m| m.max_penetration),
+        &recorded_window(&[steady.standard]),
     ));
     md.push_str(IMPLEMENTATION);
     // the table of contents goes before section 1

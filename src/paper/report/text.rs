@@ -3,6 +3,7 @@
 
 use super::verdict::MEMBER_MAJORITY;
 use crate::analysis::regions::Region;
+use crate::analysis::states::States;
 use crate::analysis::CONTINUOUS_CONTACT_FRACTION;
 use crate::paper::calibration::{
     Params, StudyTable, FACTORIAL_GROUP, FAILURE_COLUMN, GROUP_COLUMN,
@@ -411,9 +412,10 @@ pub(super) fn why(
 }
 
 /// The errata found in the paper; eq. 1-2's forces are those of `scene`'s first clearance
-/// joint at 1 µm and at `penetration` (m, this run's mean largest penetration of the standard
-/// case over the recorded rotations).
-pub(super) fn errata(scene: &Scene, penetration: f64) -> String {
+/// joint at 1 µm and at each state's mean of `penetration` (m: the standard case's members'
+/// largest penetration over `window`, [`crate::paper::cases::recorded_window`]). Each state
+/// is named: its members' mean pooled over two states is a penetration no member reaches.
+pub(super) fn errata(scene: &Scene, penetration: &States, window: &str) -> String {
     let cj = &scene.mechanism.clearance_joints[0];
     let c = cj.r_bearing - cj.r_journal;
     let force = |delta: f64| {
@@ -424,6 +426,29 @@ pub(super) fn errata(scene: &Scene, penetration: f64) -> String {
             format!("{} N", sig_n(f, 2))
         }
     };
+    let n = penetration.pooled.n;
+    let states: Vec<(f64, String)> = match penetration.low_high() {
+        Some((low, high)) => [low, high]
+            .iter()
+            .map(|s| {
+                let k = s.members.len();
+                let of = if k == 1 { "member" } else { "members" };
+                (s.distribution.mean, format!(" ({k} of {n} {of})"))
+            })
+            .collect(),
+        None => vec![(penetration.pooled.mean, String::new())],
+    };
+    let at: Vec<String> = (states.iter())
+        .map(|(d, who)| format!("{} at δ = {} µm{who}", force(*d), sig(d * 1e6)))
+        .collect();
+    let share: Vec<String> = (states.iter())
+        .map(|(d, _)| sig_n(100.0 * d / c, 2))
+        .collect();
+    let whose = if states.len() == 2 {
+        "the means of the standard case's two states of the largest penetration"
+    } else {
+        "the standard case's mean largest penetration"
+    };
     format!(
         "## Errata found in the paper\n\n\
 1. **Eq. 7 drops P.** It reads h/s = k/H; dividing eq. 6 by the contact area gives h/s = kP/H, which eqs. 8-9 \
@@ -431,9 +456,9 @@ then use (h_i = h_(i−1) + k P_i Δs_i / H).\n\
 2. **Fig. 5's caption says 0.002 mm**; the text and every other caption of section 6.1 say 0.02 mm. We use 0.02 mm.\n\
 3. **Eq. 1-2 are not dimensionally consistent:** K of eq. 2 has the unit of a pressure (it is dF/dδ of the \
 elastic-foundation law divided by nothing), so K·δ^1.5 is not a force. The law is only meaningful in SI units, \
-as the paper uses it; we keep SI throughout. It is also soft for conformal contact: {} at δ = 1 µm and {} at \
-δ = {} µm, the standard case's mean largest penetration over the recorded rotations (c = {} mm), so penetrations \
-of {} % of the clearance are what this law predicts there.\n\
+as the paper uses it; we keep SI throughout. It is also soft for conformal contact: {} at δ = 1 µm and {}, \
+{whose} over {window} (c = {} mm), so penetrations of {} % of the clearance are what this law predicts \
+there.\n\
 4. **\"Ideal transitional joint\"** (section 6) means a translational (prismatic) joint.\n\
 5. **Section 5 says \"extrapolation is employed to update the profile\"**; what is described (the depth between \
 sector centres) is interpolation. We interpolate with a periodic C¹ spline.\n\
@@ -442,10 +467,9 @@ gives no treatment. We floor it (a scene parameter) and measure the floor's effe
 7. **Table 2 is missing** from the paper as we have it, as is the concordance formula (\"detailed information is \
 provided in ref. [23]\").\n\n",
         force(1e-6),
-        force(penetration),
-        sig(penetration * 1e6),
+        at.join(" and "),
         sig(c * 1e3),
-        sig_n(100.0 * penetration / c, 2)
+        share.join(" and ")
     )
 }
 
@@ -710,15 +734,44 @@ mod tests {
             .unwrap()
             .build()
             .unwrap();
-        let text = errata(&scene, 4e-6);
+        let text = errata(&scene, &States::of(&[4e-6; 4]), WINDOW);
         // eq. 2's law at 1 µm, c = 0.02 mm: the reproduction notes' sanity figure, about 40 N
         assert!(text.contains("N at δ = 1 µm"), "{text}");
         assert!(
-            text.contains("δ = 4 µm") && text.contains("20 % of the clearance"),
+            text.contains(
+                "δ = 4 µm, the standard case's mean largest penetration over the \
+                 recorded rotations, 3000 samples per rotation"
+            ) && text.contains("20 % of the clearance"),
             "{text}"
         );
         assert!(!text.contains("1.7 kN"), "{text}");
         println!("{text}");
+    }
+
+    const WINDOW: &str = "the recorded rotations, 3000 samples per rotation";
+
+    // Fails on the erratum as it was: "510 N at δ = 3.72 µm, the standard case's mean largest
+    // penetration", the mean of 27 members near 3.59 µm and 5 near 4.42 µm, which none reaches.
+    #[test]
+    fn the_errata_name_each_state_of_the_penetration() {
+        let scene = SceneFile::read(scene_path(CASES.standard.scene))
+            .unwrap()
+            .build()
+            .unwrap();
+        let mut values: Vec<f64> = (0..27).map(|i| 3.59e-6 + 1e-9 * (i % 3) as f64).collect();
+        values.extend((0..5).map(|i| 4.42e-6 + 1e-9 * (i % 2) as f64));
+        let text = errata(&scene, &States::of(&values), WINDOW);
+        assert!(
+            text.contains("δ = 3.59 µm (27 of 32 members) and ")
+                && text.contains(
+                    "δ = 4.42 µm (5 of 32 members), the means of the standard case's \
+                     two states of the largest penetration over the recorded rotations, 3000 \
+                     samples per rotation"
+                )
+                && text.contains("18 and 22 % of the clearance"),
+            "{text}"
+        );
+        assert!(!text.contains("3.72"), "{text}");
     }
 
     /// A region at `angle_deg` with depth `depth` (m), listed in prominence order by the caller.

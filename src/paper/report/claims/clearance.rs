@@ -4,7 +4,7 @@
 //! wear regions at every clearance) and figure 11 (more uniform wear, similar depth).
 
 use super::{across, decreasing, increasing, within, Claims, Ensembles};
-use crate::paper::cases::{SteadyMember, WearMember};
+use crate::paper::cases::{recorded_window, SteadyMember, WearMember};
 use crate::paper::figures::mean_profile_regions;
 use crate::paper::figures::wear_profiles::deepest_wear_states;
 use crate::paper::golden::Golden;
@@ -50,7 +50,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "penetration depth and slider acceleration peaks grow with the clearance",
         "both increase with clearance",
         format!(
-            "over the recorded rotations, max penetration {} µm, max |slider acceleration| {} m/s² at 0.02 / 0.2 / 0.5 mm",
+            "over {}, max penetration {} µm, max |slider acceleration| {} m/s² at 0.02 / 0.2 / 0.5 mm",
+            recorded_window(&cl),
             across(&cl, e.n, |e| e.states(|m| m.max_penetration), 1e6, 2),
             across(&cl, e.n, |e| e.states(|m| m.max_slider_acc), 1.0, 0)
         ),

@@ -6,7 +6,7 @@
 use super::{
     across, decreasing, deepest_angle, increasing, mean_sd, Claims, Ensembles, WHOLE_SURFACE,
 };
-use crate::paper::cases::SteadyMember;
+use crate::paper::cases::{recorded_window, SteadyMember};
 use crate::paper::golden::{angle_distance, Golden};
 
 /// Adds the claims of figures 12-15.
@@ -67,7 +67,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "penetration, slider acceleration and wear rate rise with crank speed",
         "all three increase with speed",
         format!(
-            "at 30 / 600 / 2000 r/min, over the recorded rotations: max penetration {} µm; max |acceleration| {} m/s²; max wear rate {} µm/s",
+            "at 30 / 600 / 2000 r/min, over {}: max penetration {} µm; max |acceleration| {} m/s²; max wear rate {} µm/s",
+            recorded_window(&sp),
             across(&sp, n, |e| e.states(|m| m.max_penetration), 1e6, 2),
             across(&sp, n, |e| e.states(|m| m.max_slider_acc), 1.0, 0),
             across(&sp, n, |e| e.states(|m| m.max_wear_rate), 1e6, 3)
