@@ -199,12 +199,12 @@ pub enum Varied {
     Speed,
 }
 
-/// One case a figure draws: the value that tells it apart in the CSV, and its title.
+/// One case a figure draws: what tells it apart from the figure's other cases, and its title.
 pub(crate) struct CasePanel {
     /// The case.
     pub case: Case,
-    /// Its value of what the figure varies (clearance in mm or speed in r/min).
-    pub key: f64,
+    /// What the figure varies, whose value of the case tells it apart in the CSV.
+    pub varied: Varied,
     /// Title of its panel.
     pub title: String,
 }
@@ -224,6 +224,14 @@ impl Varied {
         match self {
             Varied::Clearance => case.clearance_mm,
             Varied::Speed => case.speed_rpm,
+        }
+    }
+
+    /// CSV column of the varied value, named with its unit: `clearance_mm` or `speed_rpm`.
+    pub fn column(self) -> &'static str {
+        match self {
+            Varied::Clearance => "clearance_mm",
+            Varied::Speed => "speed_rpm",
         }
     }
 
@@ -253,7 +261,7 @@ impl Varied {
         };
         others.map(|case| CasePanel {
             case,
-            key: self.key(&case),
+            varied: self,
             title: format!("{what}, {}", self.label(&case)),
         })
     }
@@ -263,7 +271,7 @@ impl Varied {
 pub(crate) fn standard_panel(title: &str) -> [CasePanel; 1] {
     [CasePanel {
         case: CASES.standard,
-        key: CASES.standard.clearance_mm,
+        varied: Varied::Clearance,
         title: title.to_string(),
     }]
 }

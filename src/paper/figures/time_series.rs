@@ -192,8 +192,21 @@ fn first_traces(e: &SteadyEnsemble) -> Result<&Traces> {
         .ok_or_else(|| Error::invalid("ensemble", "no traces", "a first member with traces"))
 }
 
-/// Writes the first member's time series of steady runs in long format, one block per case.
-fn write_steady_csv(name: &str, cases: &[(f64, &Traces)]) -> Result<()> {
+/// The header of a time-series CSV whose cases are told apart by the value of `varied`.
+fn steady_header(varied: Varied) -> [&'static str; 6] {
+    [
+        varied.column(),
+        "crank_deg",
+        "slider_acc_m_s2",
+        "wear_rate_um_s",
+        "journal_x_um",
+        "journal_y_um",
+    ]
+}
+
+/// Writes the first member's time series of steady runs in long format, one block per case,
+/// each told apart by its value of `varied`.
+fn write_steady_csv(name: &str, varied: Varied, cases: &[(f64, &Traces)]) -> Result<()> {
     let mut cols: [Vec<f64>; 6] = Default::default();
     for (case, t) in cases {
         cols[0].extend(std::iter::repeat_n(*case, t.crank_deg.len()));
@@ -203,16 +216,12 @@ fn write_steady_csv(name: &str, cases: &[(f64, &Traces)]) -> Result<()> {
         cols[4].extend(&t.ex_um);
         cols[5].extend(&t.ey_um);
     }
-    let header = [
-        "case",
-        "crank_deg",
-        "slider_acc_m_s2",
-        "wear_rate_um_s",
-        "journal_x_um",
-        "journal_y_um",
-    ];
     let refs: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
-    write_csv(&output_path("data", &format!("{name}.csv")), &header, &refs)
+    write_csv(
+        &output_path("data", &format!("{name}.csv")),
+        &steady_header(varied),
+        &refs,
+    )
 }
 
 /// A time-series figure of one or two steady cases: `panel` draws each case's first member.
@@ -224,13 +233,19 @@ fn steady_figure(
 ) -> Result<Vec<String>> {
     let mut lines = Vec::new();
     let mut drawn = Vec::new();
-    for CasePanel { case, key, title } in cases {
+    for CasePanel {
+        case,
+        varied,
+        title,
+    } in cases
+    {
         let e = runs.steady(case.scene)?;
         lines.push(steady_lines(&case.label(), e));
         let title = format!("{title} ({})", first_of(e.members.len()));
         // the drawn member's state, which may not be most members' (`drawn_member`)
         let note = drawn_member(&e.members, "\n");
-        drawn.push((*key, title, first_traces(e)?, clearance(&e.scene), note));
+        let key = varied.key(case);
+        drawn.push((key, title, first_traces(e)?, clearance(&e.scene), note));
     }
     let panels: Vec<Axes> = drawn
         .iter()
@@ -241,7 +256,8 @@ fn steady_figure(
         .collect();
     render(&output_path("figures", &format!("{name}.png")), &panels)?;
     let csv: Vec<(f64, &Traces)> = drawn.iter().map(|(key, _, t, ..)| (*key, *t)).collect();
-    write_steady_csv(name, &csv)?;
+    let varied = cases.first().map_or(Varied::Clearance, |c| c.varied);
+    write_steady_csv(name, varied, &csv)?;
     Ok(lines)
 }
 
@@ -319,6 +335,16 @@ mod tests {
             evaluations: 0,
             traces: None,
         }
+    }
+
+    // Fails on the header as it was: every time-series CSV began with a column `case`, the
+    // clearance in mm in figures 3, 4, 8 and 9 and the speed in r/min in figures 12 and 13.
+    #[test]
+    fn a_time_series_csv_names_the_value_that_tells_its_cases_apart_with_its_unit() {
+        assert_eq!(steady_header(Varied::Clearance)[0], "clearance_mm");
+        assert_eq!(steady_header(Varied::Speed)[0], "speed_rpm");
+        let standard = &standard_panel("x")[0];
+        assert_eq!(standard.varied.column(), "clearance_mm");
     }
 
     /// Figure 12(a)'s inset said "y magnified ×133" from 2c over its y range, as if the view

@@ -196,14 +196,31 @@ pub(crate) fn write_band_csv(
     write_csv(&output_path("data", &format!("{name}.csv")), &header, &refs)
 }
 
+/// The CSV tag of a curve of a case's panel: after the case's tag (`c0.2mm_rot10`,
+/// `30rpm_rot10`, as figures 11 and 15 tag theirs) when the figure draws several cases.
+fn case_curve_tag(case: &str, curve: &str, several: bool) -> String {
+    if several {
+        format!("{case}_{curve}")
+    } else {
+        curve.to_string()
+    }
+}
+
 /// Mean profiles after each snapshot with their bands, one panel per case (figures 6, 10, 14).
 fn profile_figure(runs: &Runs, name: &str, cases: &[CasePanel]) -> Result<Vec<String>> {
     let mut lines = Vec::new();
     let mut panels = Vec::new();
     let mut state_columns = Vec::new();
-    for CasePanel { case, key, title } in cases {
+    for CasePanel {
+        case,
+        varied,
+        title,
+    } in cases
+    {
         let e = runs.wear(case.scene)?;
         lines.push(wear_line(&case.label(), e));
+        // the case's columns are told apart by its value with the unit, as figures 11 and 15's
+        let tag = varied.tag(case);
         let curves: Vec<BandCurve> = (0..e.members[0].snapshots.len())
             .map(|i| {
                 let (rot, band) = e.snapshot_band(i);
@@ -219,9 +236,9 @@ fn profile_figure(runs: &Runs, name: &str, cases: &[CasePanel]) -> Result<Vec<St
             drawn.extend(drawn_curves(final_profile, &states));
         }
         let note = states_note(!states.is_empty());
-        state_columns.push((*key, states));
+        state_columns.push((tag.clone(), states));
         panels.push((
-            *key,
+            tag,
             (format!("{title}, mean of {n}, 5-95 % shaded"), note),
             curves,
             drawn,
@@ -249,14 +266,9 @@ fn profile_figure(runs: &Runs, name: &str, cases: &[CasePanel]) -> Result<Vec<St
         .map(|(key, _, curves, _)| (key, curves))
         .chain(state_columns.iter().map(|(key, curves)| (key, curves)))
         .flat_map(|(key, curves)| {
-            curves.iter().map(move |c| {
-                let tag = if tagged {
-                    format!("case{key}_{}", c.tag)
-                } else {
-                    c.tag.clone()
-                };
-                (tag, c)
-            })
+            curves
+                .iter()
+                .map(move |c| (case_curve_tag(key, &c.tag, tagged), c))
         })
         .collect();
     write_band_csv(name, "angle_deg", &angles, &columns, 1e-3)?;
@@ -514,6 +526,21 @@ pub fn fig05(runs: &Runs) -> Result<Vec<String>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    // Fails on the tags as they were: fig10's and fig14's columns read `case0.2_rot10_mean_mm`
+    // and `case30_rot10_mean_mm`, a clearance and a speed under one name without their unit.
+    #[test]
+    fn the_profile_columns_of_several_cases_name_each_case_with_its_unit() {
+        let tag = |v: Varied, case: &crate::paper::cases::Case| {
+            case_curve_tag(&v.tag(case), "rot10", true)
+        };
+        assert_eq!(
+            tag(Varied::Clearance, &CASES.clearance_0_2mm),
+            "c0.2mm_rot10"
+        );
+        assert_eq!(tag(Varied::Speed, &CASES.speed_30rpm), "30rpm_rot10");
+        assert_eq!(case_curve_tag("c0.02mm", "rot10", false), "rot10");
+    }
 
     #[test]
     fn the_quantile_profiles_are_named_per_sector_quantiles() {
