@@ -157,7 +157,7 @@ mod tests {
             pw: Distribution::of(pw.iter().copied()),
             sw: Distribution::of(pw.iter().copied()),
             contact_fraction: Distribution::of(contact.iter().copied()),
-            impacts_per_rotation: Distribution::of(onsets.iter().copied()),
+            contact_onsets_per_rotation: Distribution::of(onsets.iter().copied()),
             continuous: 32,
             pressure_dominated: 0,
             states: [&pw, &pw, &contact, &onsets].map(|v| States::of(v)),
