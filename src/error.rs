@@ -130,11 +130,12 @@ pub fn exit_code(error: &Error) -> u8 {
     }
 }
 
-/// Unwraps `result` or prints the error and exits with [`exit_code`]: the `main` of the
-/// figure and study programs.
+/// Unwraps `result` or prints the error, releases the program's claims of its outputs and
+/// exits with [`exit_code`]: the `main` of the figure and study programs.
 pub fn exit_on_error<T>(result: Result<T>) -> T {
     result.unwrap_or_else(|e| {
         eprintln!("error: {e}");
+        crate::io::interrupt::release_claims();
         std::process::exit(exit_code(&e).into())
     })
 }

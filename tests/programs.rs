@@ -84,3 +84,35 @@ fn golden_record_takes_one_reason_and_help_records_nothing() {
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", text(&o.stderr));
     }
 }
+
+// Fails without the claim: the second table3 ran beside the first and exited 0, both writing
+// data/table3.csv; a figure program beside the report could leave its figure beside the other
+// process's CSV.
+#[test]
+fn a_second_paper_program_is_refused_while_one_writes_the_outputs() {
+    let lock = crate_file(".paper-outputs.lock");
+    let table3 = env!("CARGO_BIN_EXE_table3");
+    let mut first = Command::new(table3)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let clock = std::time::Instant::now();
+    while !lock.exists() && clock.elapsed().as_secs() < 30 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!(lock.exists(), "the first program claims the outputs");
+    let clock = std::time::Instant::now();
+    let o = Command::new(table3).output().unwrap();
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("figures/, data/ and paper.md")
+            && err.contains(&format!("process {}", first.id()))
+            && err.contains("table3"),
+        "{err}"
+    );
+    assert!(clock.elapsed().as_secs() < 5, "refused at once");
+    assert!(first.wait().unwrap().success());
+    assert!(!lock.exists(), "released when the first ends");
+}

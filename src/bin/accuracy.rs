@@ -4,7 +4,7 @@ use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
 
 fn main() {
-    jointwear::paper::program::flags(
+    let _claim = jointwear::paper::program::flags(
         "accuracy",
         "The accuracy-dependence study: writes data/accuracy_dependence.csv and prints, per paper result, which integrations reproduce it",
         &[],

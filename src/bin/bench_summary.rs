@@ -3,7 +3,7 @@ use jointwear::error::exit_on_error;
 use jointwear::paper::performance::{benchmark_summary, criterion_dir};
 
 fn main() {
-    jointwear::paper::program::flags(
+    let _claim = jointwear::paper::program::flags(
         "bench_summary",
         "Collects criterion's estimates (run `cargo bench` first) into data/benchmarks.csv",
         &[],

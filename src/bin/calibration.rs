@@ -5,7 +5,7 @@ use jointwear::io::progress::progress_bar;
 use jointwear::paper::calibration::FACTORIAL_GROUP;
 
 fn main() {
-    jointwear::paper::program::flags(
+    let _claim = jointwear::paper::program::flags(
         "calibration",
         "The calibration study of the lost Table 2: writes data/calibration.csv and figures/calibration.png",
         &[],

@@ -13,9 +13,10 @@ use jointwear::paper::studies::contact_law_wear::{
     contact_law_wear_study, draw_law_wear, pooled, read_law_wear, LawWearSettings, LAW_WEAR_FIGURE,
     LAW_WEAR_FILE, RUN_FAILED,
 };
+use jointwear::Error;
 
 fn main() {
-    let flags = program::flags(
+    let claim = program::flags(
         "contact_law_wear",
         "How much the predicted wear depends on the contact law: writes data/contact_law_wear.csv \
          and figures/contact_law_wear.png",
@@ -28,13 +29,14 @@ fn main() {
         ],
     );
     let clock = std::time::Instant::now();
-    if flags.contains(&"--redraw") {
+    if claim.flags.contains(&"--redraw") {
         let Some(rows) = read_law_wear() else {
-            eprintln!(
-                "error: data/{LAW_WEAR_FILE} is missing or of another layout; run \
-                 `cargo run --release --bin contact_law_wear` first"
-            );
-            std::process::exit(2);
+            return exit_on_error(Err(Error::invalid(
+                "--redraw",
+                format!("data/{LAW_WEAR_FILE}"),
+                "a file of this layout: it is missing or of another layout; run `cargo run \
+                 --release --bin contact_law_wear` first",
+            )));
         };
         exit_on_error(draw_law_wear(&rows));
         println!("redrew figures/{LAW_WEAR_FIGURE} from data/{LAW_WEAR_FILE}");
@@ -43,7 +45,7 @@ fn main() {
     let golden = exit_on_error(Golden::load());
     let bar = progress_bar(0, "ensemble members");
     let mut settings = LawWearSettings::default();
-    if flags.contains(&"--table3") {
+    if claim.flags.contains(&"--table3") {
         settings.steady = CASES.list().into_iter().copied().collect();
     }
     let rows = exit_on_error(contact_law_wear_study(&settings, &golden, &bar));

@@ -6,7 +6,7 @@ use jointwear::laws::contact::{DissipationLaw, StiffnessLaw};
 use jointwear::paper::studies::contact_laws::contact_laws_study;
 
 fn main() {
-    jointwear::paper::program::flags(
+    let _claim = jointwear::paper::program::flags(
         "contact_laws",
         "What each contact law does to one impact: writes data/contact_laws_restitution.csv and figures/contact_laws.png",
         &[],

@@ -7,7 +7,7 @@ use jointwear::paper::convergence::convergence_study;
 use jointwear::simulation::ensemble::DEFAULT_MEMBERS;
 
 fn main() {
-    jointwear::paper::program::flags(
+    let _claim = jointwear::paper::program::flags(
         "convergence",
         "How ensemble statistics settle with the number of members: writes data/ensemble_convergence.csv and figures/ensemble_convergence.png",
         &[],

@@ -5,7 +5,7 @@ use jointwear::io::progress::progress_bar;
 use jointwear::paper::studies;
 
 fn main() {
-    jointwear::paper::program::flags(
+    let _claim = jointwear::paper::program::flags(
         "ensemble_tolerance",
         "Table 3's ensembles at looser tolerances against the scenes' own: writes data/ensemble_tolerance.csv",
         &[],

@@ -18,6 +18,7 @@ fn main() {
         "Records the model's ensemble statistics into data/golden/ensemble.toml, with REASON, \
          why they are recorded (a physics fix, a new statistic)",
     );
+    let _claim = jointwear::paper::program::claim_outputs();
     let golden = exit_on_error(Golden::load());
     let ensemble = EnsembleSettings {
         members: GOLDEN_MEMBERS,

@@ -7,7 +7,7 @@ use jointwear::paper::perturbation::perturbation_study;
 use jointwear::paper::report::claim_tallies;
 
 fn main() {
-    jointwear::paper::program::flags(
+    let _claim = jointwear::paper::program::flags(
         "perturbation",
         "How much the ensembles depend on how members are perturbed: writes data/perturbation_sensitivity.csv",
         &[],

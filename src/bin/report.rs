@@ -14,7 +14,7 @@ use jointwear::paper::{calibration, convergence, program, studies};
 use jointwear::simulation::ensemble::EnsembleSettings;
 
 fn main() {
-    let flags = program::flags(
+    let claim = program::flags(
         "report",
         "Computes every ensemble once, draws every figure and Table 3, reruns the accuracy study \
          and the stability suite and writes paper.md",
@@ -26,7 +26,7 @@ fn main() {
     );
     let clock = std::time::Instant::now();
     let golden = exit_on_error(Golden::load());
-    if flags.contains(&"--all") {
+    if claim.flags.contains(&"--all") {
         let bar = progress_bar(0, "calibration sets");
         exit_on_error(calibration::study(&bar));
         bar.finish_and_clear();

@@ -5,7 +5,7 @@ use jointwear::io::progress::progress_bar;
 use jointwear::paper::studies::sector_resolution::sector_resolution;
 
 fn main() {
-    jointwear::paper::program::flags(
+    let _claim = jointwear::paper::program::flags(
         "sector_resolution",
         "How the predicted wear depends on the bearing's sector count: writes data/sector_resolution.csv",
         &[],

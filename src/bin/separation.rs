@@ -5,7 +5,7 @@ use jointwear::error::exit_on_error;
 use jointwear::paper::separation::separation_study;
 
 fn main() {
-    jointwear::paper::program::flags(
+    let _claim = jointwear::paper::program::flags(
         "separation",
         "Could ensemble members share a settling phase: writes data/member_separation.csv",
         &[],

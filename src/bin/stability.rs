@@ -3,7 +3,7 @@ use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
 
 fn main() {
-    jointwear::paper::program::flags(
+    let _claim = jointwear::paper::program::flags(
         "stability",
         "The stability study on stiff and extreme cases: writes data/stability.csv",
         &[],

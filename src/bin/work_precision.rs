@@ -34,7 +34,7 @@ fn print_picks(rule: &[RuleRow]) {
 }
 
 fn main() {
-    let flags = program::flags(
+    let claim = program::flags(
         "work_precision",
         "The work-precision study: writes data/work_precision.csv, figures/work_precision.png and \
          the default-tolerance rule's data/work_precision_members.csv",
@@ -49,19 +49,19 @@ fn main() {
             ),
         ],
     );
-    if flags.len() > 1 {
+    if claim.flags.len() > 1 {
         exit_on_error::<()>(Err(Error::invalid(
             "command-line arguments",
-            flags.join(" "),
+            claim.flags.join(" "),
             "at most one of --redraw, --rule",
         )));
     }
-    if flags.contains(&"--redraw") {
+    if claim.flags.contains(&"--redraw") {
         exit_on_error(studies::redraw_work_precision());
         println!("redrew figures/work_precision.png from data/work_precision.csv");
         return;
     }
-    if flags.contains(&"--rule") {
+    if claim.flags.contains(&"--rule") {
         let bar = progress_bar(0, "members");
         let rule = exit_on_error(rule_rows(&bar));
         bar.finish_and_clear();

@@ -80,6 +80,16 @@ impl Drop for Temporary {
     }
 }
 
+/// Releases every registered claim: for a program that exits on an error without returning
+/// from `main` (whose [`crate::io::lock::Lock`]s then never drop), so that its locks do not
+/// outlive it.
+pub fn release_claims() {
+    let mut r = registry();
+    for (lock, created) in r.claims.drain(..) {
+        super::lock::release(&lock, created.as_deref());
+    }
+}
+
 /// Says, if the program is interrupted, that `what` stays (e.g. "finished cases stay in
 /// sweep.csv").
 pub fn keep(what: impl Into<String>) {

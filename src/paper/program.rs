@@ -3,8 +3,16 @@
 //! An argument a program ignored ran it as if it had not been given: `fig06 --help` rewrote the
 //! figure and exited 0, `report --al` (meant `--all`) left the slow studies' last results in
 //! `paper.md` and said nothing.
+//!
+//! A program that runs then claims the crate's outputs ([`claim_outputs`]): `figures/`,
+//! `data/` and `paper.md` are written by one paper program at a time, as `jointwear`'s commands
+//! claim their `--out` folders. Two at once (two figure programs, the report and a figure
+//! program, a study and the report that redraws its figure) each wrote their files atomically
+//! but in any order, so a figure could end up beside another process's CSV, both exit 0.
 
 use crate::error::exit_on_error;
+use crate::io::interrupt;
+use crate::io::lock::{claim_file, Lock};
 use crate::{Error, Result};
 
 /// A flag a program takes, and what it does (for `--help`).
@@ -59,9 +67,53 @@ pub fn usage(program: &str, about: &str, flags: &[Flag]) -> String {
     text
 }
 
-/// The `flags` given to this program: prints its usage and exits 0 on `--help`; prints an
-/// error and exits 2 on any other argument. The first call of a program's `main`.
-pub fn flags(program: &str, about: &str, flags: &[Flag]) -> Vec<&'static str> {
+/// A paper program's claim of the crate's outputs, with the flags it was given; released
+/// when it drops.
+#[must_use = "the outputs are claimed while this lives: bind it for the whole of `main`"]
+#[derive(Debug)]
+pub struct Claimed {
+    /// The program's flags given on its command line.
+    pub flags: Vec<&'static str>,
+    _lock: Lock,
+}
+
+/// The file whose lock (`.paper-outputs.lock` beside it, in the crate root) claims the
+/// crate's outputs for one paper program.
+pub fn outputs_claim_target() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("paper-outputs")
+}
+
+/// Claims `figures/`, `data/` and `paper.md` for this program until the returned lock drops
+/// (also released on an interrupt, whose handler this installs, and by
+/// [`exit_on_error`]); prints an error naming the program that holds them and exits 2 while
+/// another paper program writes them.
+pub fn claim_outputs() -> Lock {
+    if let Err(e) = interrupt::install() {
+        eprintln!("note: {e}: an interrupt leaves the outputs' lock behind");
+    }
+    exit_on_error(
+        claim_file("paper outputs", &outputs_claim_target()).map_err(|e| match e {
+            // the claim's message, which names the holder, said of these outputs
+            Error::Invalid { expected, .. } => Error::invalid(
+                "paper outputs",
+                "figures/, data/ and paper.md",
+                expected
+                    .replacen(
+                        "an output no other run is writing",
+                        "outputs no other paper program is writing",
+                        1,
+                    )
+                    .replacen(", choose another paper outputs", "", 1),
+            ),
+            e => e,
+        }),
+    )
+}
+
+/// The `flags` given to this program, and its claim of the outputs ([`claim_outputs`]):
+/// prints its usage and exits 0 on `--help`; prints an error and exits 2 on any other argument
+/// or while another paper program writes the outputs. The first call of a program's `main`.
+pub fn flags(program: &str, about: &str, flags: &[Flag]) -> Claimed {
     let args = std::env::args_os()
         .skip(1)
         .map(|a| a.to_string_lossy().into_owned());
@@ -70,7 +122,10 @@ pub fn flags(program: &str, about: &str, flags: &[Flag]) -> Vec<&'static str> {
             println!("{}", usage(program, about, flags));
             std::process::exit(0)
         }
-        Asked::Run(given) => given,
+        Asked::Run(given) => Claimed {
+            flags: given,
+            _lock: claim_outputs(),
+        },
     }
 }
 

@@ -299,7 +299,7 @@ pub fn figure_main(name: &str) {
         "{}: runs the {}-member ensembles (seed {}) it draws and writes {png}data/{name}.csv",
         figure.caption, ensemble.members, ensemble.seed
     );
-    program::flags(name, &about, &[]);
+    let _claim = program::flags(name, &about, &[]);
     let bar = crate::io::progress::progress_bar(0, "ensemble members");
     let runs = exit_on_error(Runs::compute(figure.needs, ensemble, &|_| {}, &bar));
     bar.finish_and_clear();
