@@ -55,6 +55,7 @@ fn a_figure_program_refuses_an_argument_it_does_not_take() {
         out.contains("Usage: fig06") && out.contains("data/fig06.csv"),
         "{out}"
     );
+    assert!(out.contains(env!("CARGO_MANIFEST_DIR")), "{out}");
 }
 
 // Fails without the check: `report --al` (meant `--all`) ran the default report, rewrote
@@ -92,8 +93,8 @@ fn golden_record_takes_one_reason_and_help_records_nothing() {
 fn a_second_paper_program_is_refused_while_one_writes_the_outputs() {
     let lock = crate_file(".paper-outputs.lock");
     let table3 = env!("CARGO_BIN_EXE_table3");
-    let mut first = Command::new(table3)
-        .stdout(std::process::Stdio::null())
+    let first = Command::new(table3)
+        .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
@@ -113,6 +114,15 @@ fn a_second_paper_program_is_refused_while_one_writes_the_outputs() {
         "{err}"
     );
     assert!(clock.elapsed().as_secs() < 5, "refused at once");
-    assert!(first.wait().unwrap().success());
+    let first = first.wait_with_output().unwrap();
+    assert!(first.status.success());
     assert!(!lock.exists(), "released when the first ends");
+    // Fails without the root in the line: "wrote data/table3.csv" read as relative to the
+    // working directory, whatever checkout the program was built in and writes into.
+    let out = text(&first.stdout);
+    let root = env!("CARGO_MANIFEST_DIR");
+    assert!(
+        out.contains(&format!("wrote data/table3.csv in {root} from")),
+        "{out}"
+    );
 }

@@ -8,6 +8,7 @@
 //! section reads `data/contact_laws_restitution.csv` and `data/contact_law_wear.csv`).
 use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
+use jointwear::paper::figures::output_root;
 use jointwear::paper::golden::Golden;
 use jointwear::paper::report::{run_figures, write, Studies};
 use jointwear::paper::{calibration, convergence, program, studies};
@@ -67,5 +68,9 @@ fn main() {
         &studies,
         clock.elapsed().as_secs_f64(),
     ));
-    println!("wrote paper.md in {:.1} s", clock.elapsed().as_secs_f64());
+    println!(
+        "wrote {} in {:.1} s",
+        output_root().join("paper.md").display(),
+        clock.elapsed().as_secs_f64()
+    );
 }

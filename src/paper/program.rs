@@ -13,6 +13,7 @@
 use crate::error::exit_on_error;
 use crate::io::interrupt;
 use crate::io::lock::{claim_file, Lock};
+use crate::paper::figures::output_root;
 use crate::{Error, Result};
 
 /// A flag a program takes, and what it does (for `--help`).
@@ -57,7 +58,10 @@ pub fn parse(args: impl IntoIterator<Item = String>, flags: &[Flag]) -> Result<A
 
 /// The usage `--help` prints: what `program` does and its flags.
 pub fn usage(program: &str, about: &str, flags: &[Flag]) -> String {
-    let mut text = format!("{about}\n\nUsage: {program}");
+    let mut text = format!(
+        "{about}\n(outputs under {}, the crate this program was built from)\n\nUsage: {program}",
+        output_root().display()
+    );
     for (flag, _) in flags {
         text.push_str(&format!(" [{flag}]"));
     }
@@ -80,7 +84,7 @@ pub struct Claimed {
 /// The file whose lock (`.paper-outputs.lock` beside it, in the crate root) claims the
 /// crate's outputs for one paper program.
 pub fn outputs_claim_target() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("paper-outputs")
+    output_root().join("paper-outputs")
 }
 
 /// Claims `figures/`, `data/` and `paper.md` for this program until the returned lock drops
@@ -154,7 +158,11 @@ pub fn reason(program: &str, about: &str) -> String {
         .skip(1)
         .map(|a| a.to_string_lossy().into_owned());
     exit_on_error(parse_reason(args)).unwrap_or_else(|| {
-        println!("{about}\n\nUsage: {program} REASON");
+        println!(
+            "{about}\n(outputs under {}, the crate this program was built from)\n\nUsage: \
+             {program} REASON",
+            output_root().display()
+        );
         std::process::exit(0)
     })
 }
@@ -205,7 +213,11 @@ mod tests {
         let u = usage("report", "Writes paper.md.", ALL);
         assert_eq!(
             u,
-            "Writes paper.md.\n\nUsage: report [--all]\n  --all  rerun the slow studies"
+            format!(
+                "Writes paper.md.\n(outputs under {}, the crate this program was built \
+                 from)\n\nUsage: report [--all]\n  --all  rerun the slow studies",
+                env!("CARGO_MANIFEST_DIR")
+            )
         );
     }
 }

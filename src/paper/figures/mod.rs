@@ -29,9 +29,15 @@ use crate::simulation::ensemble::EnsembleSettings;
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 
-/// Where generated outputs go: `figures/` and `data/` under the crate root.
+/// The root of the generated outputs: the crate the program was built from, wherever it runs
+/// (a program built in one checkout writes into that checkout, so it says where).
+pub fn output_root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Where generated outputs go: `figures/` and `data/` under [`output_root`].
 pub fn output_path(dir: &str, file: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(dir).join(file)
+    output_root().join(dir).join(file)
 }
 
 /// A figure of the paper (or Table 3): the ensembles it reads and how it draws them.
@@ -305,8 +311,11 @@ pub fn figure_main(name: &str) {
     bar.finish_and_clear();
     let lines = exit_on_error((figure.draw)(&runs));
     println!(
-        "wrote {png}data/{name}.csv from {} members (seed {}) in {:.1} s",
-        ensemble.members, ensemble.seed, runs.seconds
+        "wrote {png}data/{name}.csv in {} from {} members (seed {}) in {:.1} s",
+        output_root().display(),
+        ensemble.members,
+        ensemble.seed,
+        runs.seconds
     );
     for line in &lines {
         println!("{line}");

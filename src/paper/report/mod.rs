@@ -33,7 +33,7 @@ use crate::io::output::write_atomic;
 use crate::io::progress::Progress;
 use crate::paper::cases::{recorded_window, Runs, SteadyEnsemble, CASES};
 use crate::paper::figures::wear_profiles::mean_profile_regions;
-use crate::paper::figures::{all_needs, Figure, FIGURES};
+use crate::paper::figures::{all_needs, output_root, Figure, FIGURES};
 use crate::paper::format::seconds;
 use crate::paper::golden::Golden;
 use crate::paper::performance::REPORT_BUDGET_S;
@@ -46,7 +46,6 @@ use crate::simulation::ensemble::Perturbation;
 use crate::{Error, Result};
 use markdown::{command_output, cpu_model, md_table};
 use std::fmt::Write as _;
-use std::path::Path;
 use text::{calibration_findings, errata, why, Dominance, IMPLEMENTATION};
 
 /// A figure the report drew, with the lines its program prints.
@@ -288,13 +287,10 @@ pub fn write(
         let toc = figures::table_of_contents(&md[at..]);
         md.insert_str(at + 1, &toc);
     }
-    write_atomic(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("paper.md"),
-        |tmp| {
-            std::fs::write(tmp, &md).map_err(|source| Error::Io {
-                path: tmp.to_path_buf(),
-                source,
-            })
-        },
-    )
+    write_atomic(&output_root().join("paper.md"), |tmp| {
+        std::fs::write(tmp, &md).map_err(|source| Error::Io {
+            path: tmp.to_path_buf(),
+            source,
+        })
+    })
 }
