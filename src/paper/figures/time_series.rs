@@ -300,14 +300,14 @@ pub fn fig13(runs: &Runs) -> Result<Vec<String>> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::analysis::concordance::Concordance;
     use crate::analysis::Motion;
     use crate::simulation::Settling;
 
     /// A steady member in contact `contact_fraction` of the time with `onsets` per rotation.
-    fn member(contact_fraction: f64, onsets: f64) -> SteadyMember {
+    pub(crate) fn member(contact_fraction: f64, onsets: f64) -> SteadyMember {
         SteadyMember {
             settling: Settling {
                 rotations: 6,
