@@ -48,6 +48,17 @@ pub fn staircase_shares(e: &WearEnsemble) -> Vec<Vec<f64>> {
         .collect()
 }
 
+/// What [`staircase_shares`] are shares of, for the printouts and `paper.md`: `the 10° crank
+/// intervals of its 40 rotations` (the profile history's intervals of the whole run, not the
+/// positions of one rotation).
+pub fn share_window(e: &WearEnsemble) -> String {
+    format!(
+        "the {}° crank intervals of its {} rotations",
+        360 / HISTORY_PER_ROTATION,
+        e.scene.run.rotations
+    )
+}
+
 /// For the first, second and third most prominent region: the states over the members of
 /// [`staircase_shares`] (members with fewer regions left out: NaN, in no state).
 pub fn region_share_stats(shares: &[Vec<f64>]) -> [States; 3] {
@@ -57,6 +68,25 @@ pub fn region_share_stats(shares: &[Vec<f64>]) -> [States; 3] {
             .collect();
         States::of(&values)
     })
+}
+
+/// The lines figure 7's program prints: per region rank, the states over the members of the
+/// share of [`share_window`] that carries 90 % of the region's wear.
+fn share_lines(e: &WearEnsemble) -> Vec<String> {
+    region_share_stats(&staircase_shares(e))
+        .iter()
+        .enumerate()
+        .map(|(i, d)| {
+            format!(
+                "region {} of each member: 90% of its wear in {} % of {} (of the {} members \
+                 with that region)",
+                i + 1,
+                d.mean_sd_with_states(100.0, 0),
+                share_window(e),
+                d.pooled.n
+            )
+        })
+        .collect()
 }
 
 /// Figure 7: bearing radius in the three severe regions of the mean profile against crank
@@ -82,19 +112,7 @@ pub fn fig07(runs: &Runs) -> Result<Vec<String>> {
         let tag = format!("region_at_{:.1}_deg", p.angle_deg);
         curves.push(BandCurve::new(label, tag, &per_point, 1.0));
     }
-    let lines: Vec<String> = region_share_stats(&staircase_shares(e))
-        .iter()
-        .enumerate()
-        .map(|(i, d)| {
-            format!(
-                "region {} of each member: 90% of its wear in {} % of the crank positions (of \
-                 the {} members with that region)",
-                i + 1,
-                d.mean_sd_with_states(100.0, 0),
-                d.pooled.n
-            )
-        })
-        .collect();
+    let lines = share_lines(e);
     let axes = band_axes(
         format!(
             "Bearing radius in the severe wear regions (0.02 mm, 2000 r/min), mean of {}",
@@ -109,4 +127,29 @@ pub fn fig07(runs: &Runs) -> Result<Vec<String>> {
     let columns: Vec<(String, &BandCurve)> = curves.iter().map(|c| (c.tag.clone(), c)).collect();
     write_band_csv("fig07", "crank_rotations", &crank, &columns, 1.0)?;
     Ok(lines)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Fails on the lines as they were: "90% of its wear in 25 ± 0 % of the crank positions",
+    // shares of the 1440 intervals of 10° of the 40 rotations, read as positions of one.
+    #[test]
+    fn the_staircase_lines_name_the_intervals_they_share_out() {
+        let scene = crate::simulation::Scene::load(crate::scene::scene_path("standard")).unwrap();
+        let e = WearEnsemble {
+            scene,
+            members: Vec::new(),
+            period: 0.03,
+        };
+        let lines = share_lines(&e);
+        assert_eq!(lines.len(), 3);
+        for line in &lines {
+            assert!(
+                line.contains("% of the 10° crank intervals of its 40 rotations (of the"),
+                "{line}"
+            );
+        }
+    }
 }

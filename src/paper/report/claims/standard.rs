@@ -5,7 +5,7 @@
 
 use super::{deepest_angle, increasing, mean_sd, within, Claims, Ensembles, WHOLE_SURFACE};
 use crate::paper::cases::WearMember;
-use crate::paper::figures::wear_history::region_share_stats;
+use crate::paper::figures::wear_history::{region_share_stats, share_window};
 use crate::paper::golden::{angle_distance, Golden};
 
 /// Correlation at which the wear rate is said to follow a driver (figure 3): at 0.5 a
@@ -133,10 +133,11 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
             100.0 * STAIRCASE_SHARE
         ),
         format!(
-            "the three most prominent regions get 90% of their wear in {} % of the crank positions",
+            "the three most prominent regions get 90% of their wear in {} % of {}",
             region_share_stats(&e.shares)
                 .map(|d| mean_sd(&d, n, 100.0, 0))
-                .join(", ")
+                .join(", "),
+            share_window(e.wear.standard)
         ),
         &|m| Some(m.shares.iter().map(|&s| s < STAIRCASE_SHARE).collect()),
     );
