@@ -132,11 +132,15 @@ class Run:
         folder, file for file and byte for byte (``timeseries.csv``, wear profiles and
         snapshots, figures, ``summary.json``, ``README.txt``, the manifest) but the wall time
         in ``summary.json``; its README and manifest name the command line that runs the same
-        scene (``set("run.rotations", n)`` as ``--rotations n``). Raises
+        scene (``set("run.rotations", n)`` as ``--rotations n``). A scene built with
+        :meth:`Scene.from_dict` is written, as built and before its changes, to
+        ``directory/scene.toml``, beside the outputs and not in the manifest, and the command
+        line names that file: running it gives the same files. Raises
         :class:`jointwear.SceneError`, writing nothing, if another process is writing into
         ``directory``, if it holds the outputs of another command (an ensemble's folder, or
         ``jointwear longlife``'s), which this write would remove or overwrite, or if it holds
-        the checkpoint of an unfinished ``jointwear run``, which would later replace them."""
+        the checkpoint of an unfinished ``jointwear run``, which would later replace them, or
+        for a scene from a dict, if it holds another ``scene.toml`` than an earlier save's."""
         self._folder.save(_path("directory", directory))
 
     def to_pandas(self, table: str = "timeseries"):

@@ -58,7 +58,8 @@ class Scene:
 
         Messages name it ``<dict>``; ``base_dir`` is where a relative ``extends`` is found
         (default: the working directory), so ``{"extends": "standard.toml", "overrides":
-        {...}}`` works as in a file.
+        {...}}`` works as in a file. :meth:`Run.save` and :meth:`Ensemble.save` write it to
+        ``scene.toml`` in their folder, whose command line names that file.
         """
         # (dict() of a list of pairs made a scene of it; of other lists, a message about
         # "dictionary update sequence elements")
@@ -66,8 +67,8 @@ class Scene:
             raise TypeError(
                 f"data must be a dict of a scene file's keys, got {type(data).__name__}"
             )
-        path = os.path.join(_path("base_dir", base_dir) if base_dir is not None else "", "<dict>")
-        return cls(Document.from_dict(dict(data), path))
+        base = _path("base_dir", base_dir) if base_dir is not None else None
+        return cls(Document.from_dict(dict(data), base))
 
     def set(self, key: str, value: Any) -> "Scene":
         """Sets the value at a dotted ``key`` (``"clearance.0.clearance_mm"``,

@@ -96,6 +96,48 @@ def test_save_writes_the_programs_folder(tmp_path, cli, flags, run):
         assert result.ensemble_member == summary["ensemble_member"]
 
 
+# Fails without the scene saved: the folder of a scene built from a dict named the command
+# `jointwear run <dict> …`, which no one can run, and held no copy of the scene.
+@pytest.mark.parametrize(
+    "run",
+    [lambda s: s.run(), lambda s: s.run(member=1, seed=5), lambda s: s.ensemble(2, seed=5)],
+    ids=["run", "member", "ensemble"],
+)
+def test_a_dict_scenes_folder_reruns_with_its_recorded_command(tmp_path, cli, run):
+    data = {"extends": STANDARD.name, "title": "A scene from a dict"}
+    s = jointwear.Scene.from_dict(data, base_dir=STANDARD.parent)
+    for key, value in CHANGES:
+        s.set(key, value)
+    run(s).save(tmp_path / "python")
+    manifest = (tmp_path / "python" / "jointwear-manifest.txt").read_text()
+    command = manifest.splitlines()[0].removeprefix("# ")
+    words = command.split(" ")
+    assert words[:3] == ["jointwear", "run", str(tmp_path / "python" / "scene.toml")], command
+    assert "scene.toml" not in manifest.splitlines()[1:], "the scene is not an output"
+    done = cli(*words[1:], "--out", tmp_path / "program")
+    assert done.returncode == 0, done.stderr
+    (tmp_path / "python" / "scene.toml").rename(tmp_path / "scene.toml")
+    # the same files, bit for bit, summary.json's scene path and fingerprint included
+    assert_same_folder(tmp_path / "program", tmp_path / "python")
+
+
+# Fails without the check: save of a dict scene replaced a scene.toml of the user's in the
+# directory given.
+def test_a_dict_scenes_save_keeps_another_scene_toml(tmp_path):
+    s = short(jointwear.Scene.from_dict({"extends": str(STANDARD)}))
+    mine = tmp_path / "scene.toml"
+    mine.write_text('title = "mine"\n')
+    with pytest.raises(jointwear.SceneError, match="without another scene's scene.toml") as e:
+        s.run().save(tmp_path)
+    assert "`directory`" in str(e.value)
+    assert mine.read_text() == 'title = "mine"\n' and sorted(tmp_path.iterdir()) == [mine]
+    # an earlier save's own scene is replaced by the next save's
+    s.run().save(tmp_path / "out")
+    other = short(jointwear.Scene.from_dict({"extends": str(STANDARD), "title": "other"}))
+    other.run().save(tmp_path / "out")
+    assert 'title = "other"' in (tmp_path / "out" / "scene.toml").read_text()
+
+
 # Fails when the member is handed over as TOML, whose integers stop at 2^63 - 1.
 def test_a_member_run_names_a_seed_beyond_63_bits():
     member = scene().run(member=0, seed=2**64 - 1).ensemble_member

@@ -8,7 +8,7 @@ use crate::analysis::states::{States, STATE_COLUMNS, STATE_COUNTS};
 use crate::analysis::statistics::{Distribution, VALUE_KEYS};
 use crate::analysis::Motion;
 use crate::io::lock::claim_folder;
-use crate::io::output::check_output_dir;
+use crate::io::output::{check_output_dir, manifest_title, write_text};
 use crate::io::progress::Progress;
 use crate::laws::wear::sector_angles_deg;
 use crate::scene::variant::{Change, Variant};
@@ -25,7 +25,7 @@ use crate::Error;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use serde::{Deserialize, Serialize};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::Duration;
@@ -187,10 +187,13 @@ impl Document {
         Document::checked(variant)
     }
 
-    /// A scene from a dict of the keys of a scene file; `path` names it in messages and a
-    /// relative `extends` is found beside it.
+    /// A scene from a dict of the keys of a scene file, named `<base_dir>/<dict>`
+    /// ([`DICT_NAME`]) in messages; a relative `extends` is found in `base_dir` (default: the
+    /// working directory).
     #[staticmethod]
-    fn from_dict(table: &Bound<'_, PyDict>, path: PathBuf) -> PyResult<Document> {
+    #[pyo3(signature = (table, base_dir=None))]
+    fn from_dict(table: &Bound<'_, PyDict>, base_dir: Option<PathBuf>) -> PyResult<Document> {
+        let path = base_dir.unwrap_or_default().join(DICT_NAME);
         let doc = to_toml(table.as_any(), "")?;
         let doc = SceneFile::resolve_document(doc, &path).map_err(|e| to_py_err(&path, e, true))?;
         Document::checked(Variant::new(doc, &path))
@@ -320,7 +323,7 @@ impl Document {
         let which = member.map(|k| EnsembleMember::of(&of, k));
         d.set_item("ensemble_member", serde_dict(py, which)?)?;
         let folder = Folder(Kept::Run {
-            origin: self.variant.origin(),
+            variant: self.variant.clone(),
             member: member.map(|k| (of, k)),
             scene,
             out: Box::new(out),
@@ -537,7 +540,7 @@ impl Document {
         }
         let d = ensemble_dict(py, &scene, &settings, (&members, &snapshots), wall)?;
         let folder = Folder(Kept::Ensemble {
-            origin: self.variant.origin(),
+            variant: self.variant.clone(),
             scene,
             settings,
             members,
@@ -585,14 +588,14 @@ pub struct Folder(Kept);
 enum Kept {
     /// One run, with the ensemble member it is.
     Run {
-        origin: Origin,
+        variant: Variant,
         scene: Scene,
         out: Box<RunOutput>,
         member: Option<(EnsembleSettings, usize)>,
     },
     /// An ensemble: its members in order, their wall times and the ensemble's (s).
     Ensemble {
-        origin: Origin,
+        variant: Variant,
         scene: Scene,
         settings: EnsembleSettings,
         members: Vec<Member>,
@@ -616,14 +619,14 @@ impl Folder {
     /// it is written; the files of an earlier write of the same command into it are replaced,
     /// and a folder of another command's outputs, or holding the checkpoint of an unfinished
     /// run, is refused before anything is written, the refusal naming the Python argument
-    /// (`directory`) and what a Python user can do.
+    /// (`directory`) and what a Python user can do. A scene built from a dict is written into
+    /// the folder first ([`save_scene`]), for its command line to name.
     fn save(&self, py: Python<'_>, dir: PathBuf) -> PyResult<()> {
-        let (origin, scene) = match &self.0 {
-            Kept::Run { origin, scene, .. } | Kept::Ensemble { origin, scene, .. } => {
-                (origin, scene)
+        let (variant, scene) = match &self.0 {
+            Kept::Run { variant, scene, .. } | Kept::Ensemble { variant, scene, .. } => {
+                (variant, scene)
             }
         };
-        let path = PathBuf::from(&origin.path);
         let command = match &self.0 {
             Kept::Run { member: None, .. } => FolderCommand::Run,
             Kept::Run {
@@ -640,10 +643,15 @@ impl Folder {
             let how = "continue that run with `jointwear run ... --resume --out` this \
                        directory, or remove the checkpoint if that run is not to go on";
             refuse_checkpoint(SAVE_ARGUMENT, &dir, how)?;
+            let origin = if variant.path().file_name() == Some(DICT_NAME.as_ref()) {
+                save_scene(&dir, variant)?
+            } else {
+                variant.origin()
+            };
             match &self.0 {
                 Kept::Run { out, member, .. } => {
                     let member = member.as_ref().map(|(e, k)| (e, *k));
-                    write_run(&dir, origin, scene, out, member).map(drop)
+                    write_run(&dir, &origin, scene, out, member).map(drop)
                 }
                 Kept::Ensemble {
                     settings,
@@ -651,13 +659,51 @@ impl Folder {
                     walls,
                     wall,
                     ..
-                } => {
-                    write_ensemble(&dir, origin, scene, settings, (members, walls), *wall).map(drop)
-                }
+                } => write_ensemble(&dir, &origin, scene, settings, (members, walls), *wall)
+                    .map(drop),
             }
         });
-        written.map_err(|e| to_py_err(&path, e, false))
+        written.map_err(|e| to_py_err(variant.path(), e, false))
     }
+}
+
+/// The name of a scene built from a dict (`Scene.from_dict`): no file holds it.
+const DICT_NAME: &str = "<dict>";
+
+/// The file into which `save` writes the scene of a dict ([`save_scene`]).
+const SAVED_SCENE: &str = "scene.toml";
+
+/// Writes the scene document of `variant`, built from a dict, as read (before its changes) to
+/// `dir/scene.toml` and returns the origin of the variant named by that file: the folder's
+/// command line then reruns it (`jointwear run DIR/scene.toml --set …`) with the same
+/// fingerprint, which a dict's name (`<dict>`) could not. A `scene.toml` of another scene is
+/// refused (it may be the user's own) unless the folder's manifest names it as its scene, an
+/// earlier save's.
+fn save_scene(dir: &Path, variant: &Variant) -> crate::Result<Origin> {
+    let path = dir.join(SAVED_SCENE);
+    let saved = variant.named(&path);
+    let (text, _) = saved.state()?;
+    let ours = |title: String| {
+        let command = format!("jointwear run {}", path.display());
+        title == command || title.starts_with(&format!("{command} "))
+    };
+    if path.exists()
+        && std::fs::read_to_string(&path).ok().as_deref() != Some(text.as_str())
+        && !manifest_title(dir)?.is_some_and(ours)
+    {
+        return Err(Error::invalid(
+            SAVE_ARGUMENT,
+            dir.display(),
+            format!(
+                "a folder without another scene's {SAVED_SCENE}: it holds {}, which saving a \
+                 scene built from a dict would replace with that scene (the folder's command \
+                 line runs it); call save with another directory or move that file away first",
+                path.display()
+            ),
+        ));
+    }
+    write_text(&path, &text)?;
+    Ok(saved.origin())
 }
 
 /// The scalar columns of one sweep case, named as in the program's sweep file.

@@ -121,6 +121,16 @@ impl Variant {
         SceneFile::from_document(self.doc.clone(), &self.path)?.build()
     }
 
+    /// This variant named by `path` instead, a file that holds its document as read
+    /// ([`Variant::state`]): its fingerprint is the same, its command line and origin name
+    /// `path` (a scene built from a dict, saved with a run's folder).
+    pub fn named(&self, path: &Path) -> Variant {
+        Variant {
+            path: path.to_path_buf(),
+            ..self.clone()
+        }
+    }
+
     /// The document with every change applied.
     pub fn document(&self) -> &toml::Value {
         &self.doc

@@ -28,7 +28,8 @@ use std::path::Path;
 /// Where the scene of a folder came from, as its `summary.json` and `README.txt` say.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Origin {
-    /// The scene file as named (`<dict>` for a Python scene built from a dict).
+    /// The scene file as named (for a Python scene built from a dict, the `scene.toml` its
+    /// folder holds).
     pub path: String,
     /// The fingerprint of the scene and its changes ([`crate::scene::variant::fingerprint`]).
     pub fingerprint: String,
