@@ -232,6 +232,23 @@ def test_save_refuses_a_folder_holding_an_unfinished_runs_checkpoint(tmp_path, c
         assert sorted(p.name for p in out.iterdir()) == ["checkpoint.json"]
 
 
+# Fails without the notes routed: the lock's notes went to the process's stderr, which a
+# notebook does not show, and not to sys.stderr.
+def test_save_notes_a_stale_lock_on_sys_stderr(tmp_path, capsys):
+    run = short(jointwear.Scene.load(STANDARD)).run()
+    capsys.readouterr()
+    # a holder of this host that is gone (a pid beyond Linux's largest, 2^22), killed while
+    # writing a temporary file
+    host = open("/proc/sys/kernel/hostname").read().strip()
+    (tmp_path / ".jointwear.lock").write_text(f"pid=4194305\nhost={host}\ncommand=x\n")
+    (tmp_path / ".wear.tmp-4194305-3.csv").write_text("x")
+    run.save(tmp_path)
+    err = capsys.readouterr().err
+    assert "note: taking over " in err and "no longer runs" in err, err
+    assert "note: removed 1 temporary file(s) that process 4194305 left" in err, err
+    assert not (tmp_path / ".wear.tmp-4194305-3.csv").exists()
+
+
 # Fails without the check: save("") wrote the run's folder into the working directory.
 def test_save_refuses_an_empty_path(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)

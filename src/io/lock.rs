@@ -33,6 +33,8 @@ pub struct Lock {
     /// The folder the claim created, removed with the lock if nothing was written into it.
     created: Option<PathBuf>,
     _registered: Option<interrupt::Temporary>,
+    /// What the claim did that its user should hear of ([`Lock::notes`]).
+    notes: Vec<String>,
 }
 
 impl Drop for Lock {
@@ -56,6 +58,14 @@ impl Lock {
     /// The lock file.
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// What claiming it did that its user should hear of, each without a `note: ` prefix: a
+    /// stale lock taken over, the temporary files its gone holder left removed. The caller
+    /// shows them where its user sees them: the program on stderr, Python on its
+    /// `sys.stderr` (a notebook's, which the process's stderr does not reach).
+    pub fn notes(&self) -> &[String] {
+        &self.notes
     }
 }
 
@@ -232,6 +242,7 @@ fn claim_nested(
     let text = holder_text();
     // The content of a stale lock this process took over.
     let mut taken: Option<String> = None;
+    let mut notes = Vec::new();
     // Two attempts: the second after taking over a stale lock.
     for _ in 0..2 {
         match fs::OpenOptions::new()
@@ -241,10 +252,11 @@ fn claim_nested(
         {
             Ok(mut file) => {
                 let registered = interrupt::claim(lock, created);
-                let claimed = Lock {
+                let mut claimed = Lock {
                     path: lock.to_path_buf(),
                     created: created.map(Path::to_path_buf),
                     _registered: registered,
+                    notes,
                 };
                 file.write_all(text.as_bytes())
                     .and_then(|()| file.sync_all())
@@ -254,7 +266,9 @@ fn claim_nested(
                     let folder = (lock.file_name().and_then(|n| n.to_str()))
                         .is_some_and(|n| n.starts_with(FOLDER_LOCK));
                     let stem = target.file_stem().and_then(|s| s.to_str());
-                    remove_temporaries_left(lock, gone, if folder { None } else { stem });
+                    let removed =
+                        remove_temporaries_left(lock, gone, if folder { None } else { stem });
+                    claimed.notes.extend(removed);
                 }
                 return Ok(claimed);
             }
@@ -273,12 +287,12 @@ fn claim_nested(
                         ),
                     ));
                 }
-                if take_over(option, target, lock, &held, depth)? {
-                    eprintln!(
-                        "note: taking over {}: its holder, {}, no longer runs",
+                if take_over(option, target, lock, &held, depth, &mut notes)? {
+                    notes.push(format!(
+                        "taking over {}: its holder, {}, no longer runs",
                         lock.display(),
                         describe(&held)
-                    );
+                    ));
                     taken = Some(held);
                 }
             }
@@ -302,15 +316,11 @@ fn claim_nested(
 /// folder was the holder's alone); of a file's lock, only the claimed file's (`stem`), as the
 /// folder may hold other outputs. The holder no longer runs on this host, so no file of its
 /// process id is being written here. Best effort, as their content is never read: a file that
-/// cannot be removed stays.
-fn remove_temporaries_left(lock: &Path, held: &str, stem: Option<&str>) {
-    let Some(pid) = field(held, "pid").and_then(|p| p.parse::<u32>().ok()) else {
-        return;
-    };
+/// cannot be removed stays. Returns the note naming those removed, if any.
+fn remove_temporaries_left(lock: &Path, held: &str, stem: Option<&str>) -> Option<String> {
+    let pid = field(held, "pid").and_then(|p| p.parse::<u32>().ok())?;
     let dir = lock.parent().filter(|d| !d.as_os_str().is_empty());
-    let Ok(entries) = fs::read_dir(dir.unwrap_or(Path::new("."))) else {
-        return;
-    };
+    let entries = fs::read_dir(dir.unwrap_or(Path::new("."))).ok()?;
     let left = |name: &str| {
         temporary_of(name).is_some_and(|(s, p)| p == pid && stem.is_none_or(|stem| s == stem))
     };
@@ -322,14 +332,14 @@ fn remove_temporaries_left(lock: &Path, held: &str, stem: Option<&str>) {
             (left(&name) && fs::remove_file(e.path()).is_ok()).then_some(name)
         })
         .collect();
-    if !removed.is_empty() {
+    (!removed.is_empty()).then(|| {
         removed.sort();
-        eprintln!(
-            "note: removed {} temporary file(s) that process {pid} left unfinished: {}",
+        format!(
+            "removed {} temporary file(s) that process {pid} left unfinished: {}",
             removed.len(),
             removed.join(", ")
-        );
-    }
+        )
+    })
 }
 
 /// Removes the stale lock `lock` whose content was `held`, if it still holds it; returns
@@ -338,8 +348,15 @@ fn remove_temporaries_left(lock: &Path, held: &str, stem: Option<&str>) {
 /// reading it again under that claim: a lock is only ever removed by its holder or under
 /// that marker, so what it reads then stays until it removes it, and a late taker finds the
 /// winner's lock instead. The others are refused, naming the taker. `depth` counts the nested
-/// takeovers of markers ([`MAX_TAKEOVERS`]).
-fn take_over(option: &str, target: &Path, lock: &Path, held: &str, depth: u32) -> Result<bool> {
+/// takeovers of markers ([`MAX_TAKEOVERS`]); the notes of the marker's claim go to `notes`.
+fn take_over(
+    option: &str,
+    target: &Path,
+    lock: &Path,
+    held: &str,
+    depth: u32,
+    notes: &mut Vec<String>,
+) -> Result<bool> {
     if depth >= MAX_TAKEOVERS {
         return Err(Error::invalid(
             option,
@@ -354,7 +371,8 @@ fn take_over(option: &str, target: &Path, lock: &Path, held: &str, depth: u32) -
     }
     let mut name = lock.as_os_str().to_owned();
     name.push(format!(".takeover-{}", field(held, "pid").unwrap_or("?")));
-    let _marker = claim_nested(option, target, Path::new(&name), None, depth + 1)?;
+    let marker = claim_nested(option, target, Path::new(&name), None, depth + 1)?;
+    notes.extend_from_slice(marker.notes());
     let now = fs::read_to_string(lock).unwrap_or_default();
     if now != held || !stale(&now) {
         // Taken over and released, or claimed afresh, since it was read.

@@ -634,9 +634,13 @@ impl Folder {
             } => FolderCommand::Member,
             Kept::Ensemble { .. } => FolderCommand::Ensemble,
         };
+        // The claim's notes (a stale lock taken over), shown once the GIL is held again.
+        let mut notes = Vec::new();
         let written = py.detach(|| {
             check_output_dir(SAVE_ARGUMENT, &dir)?;
-            let _claim = claim_folder(SAVE_ARGUMENT, &dir)?;
+            // (Held until the folder is written.)
+            let claim = claim_folder(SAVE_ARGUMENT, &dir)?;
+            notes = claim.notes().to_vec();
             check_manifest(SAVE_ARGUMENT, &dir, command, SAVE_REMEDY)?;
             // Another run's state: results saved beside it would be mixed with it, and
             // replaced by a later `--resume` of that run.
@@ -663,6 +667,7 @@ impl Folder {
                     .map(drop),
             }
         });
+        notes.iter().try_for_each(|n| show_note(py, n))?;
         written.map_err(|e| to_py_err(variant.path(), e, false))
     }
 }

@@ -399,7 +399,17 @@ fn checked_out_dir(scene: &Path, kind: &str, out: Option<PathBuf>) -> CliResult<
 /// Claims the output folder `dir` of the scene at `scene` for this process until the lock
 /// drops: refused (exit 2, naming the holder) while another process writes into it.
 fn claim_out(scene: &Path, dir: &Path) -> CliResult<Lock> {
-    lock::claim_folder("--out", dir).map_err(|e| Failure::from(scene, e))
+    lock::claim_folder("--out", dir)
+        .map(noted)
+        .map_err(|e| Failure::from(scene, e))
+}
+
+/// `claim`, its notes ([`Lock::notes`]: a stale lock taken over) printed on stderr.
+fn noted(claim: Lock) -> Lock {
+    for note in claim.notes() {
+        eprintln!("note: {note}");
+    }
+    claim
 }
 
 /// [`claim_out`] for `command`, which writes an output folder with a manifest (`run`, `run
