@@ -390,9 +390,10 @@ class SweepResult:
         """The case (a dict of its swept values and ``column``) where the numeric ``column``
         is least, ignoring failed cases and NaN. For an ensemble's ``<joint>.<quantity>.mean``
         the dict also has that quantity's ``.states``, ``.low_n``, ``.low_mean``,
-        ``.high_n`` and ``.high_mean`` in that case: a mean pooled over two states is no
-        state's value. Raises KeyError for a column the sweep does not have, ValueError for
-        one that is not numeric or has no value."""
+        ``.high_n`` and ``.high_mean`` in that case, as :attr:`Ensemble.statistics` has them
+        (the counts ints, None with one state): a mean pooled over two states is no state's
+        value. Raises KeyError for a column the sweep does not have, ValueError for one that
+        is not numeric or has no value."""
         if column not in self.columns:
             raise KeyError(f"no column {column!r} in the sweep; its columns: {list(self.columns)}")
         values = self.columns[column]
@@ -407,7 +408,9 @@ class SweepResult:
             quantity = column[: -len("mean")]
             for state in ("states", "low_n", "low_mean", "high_n", "high_mean"):
                 if quantity + state in self.columns:
-                    out[quantity + state] = float(self.columns[quantity + state][i])
+                    x = float(self.columns[quantity + state][i])
+                    count = state in ("states", "low_n", "high_n")
+                    out[quantity + state] = None if np.isnan(x) else int(x) if count else x
         return out
 
     def to_pandas(self):

@@ -171,7 +171,8 @@ def test_a_sweep_runs_the_product_in_case_order():
 
 
 # Fails without the states in best's dict (a mean pooled over two states read as the case's
-# value), and with numpy's "could not convert string to float" for a text column.
+# value), with numpy's "could not convert string to float" for a text column, and with the
+# counts as floats (2.0, NaN) instead of Ensemble.statistics' ints and None.
 def test_best_reports_the_states_of_a_pooled_mean_and_refuses_a_text_column():
     q = "j.max_wear_depth_m"
     cases = [
@@ -185,9 +186,16 @@ def test_best_reports_the_states_of_a_pooled_mean_and_refuses_a_text_column():
     sweep = jointwear.SweepResult(["k"], [(10,), (20,)], cases, 4)
     best = sweep.best(f"{q}.mean")
     assert best == {
-        "k": 20, f"{q}.mean": 1.0, f"{q}.states": 2.0, f"{q}.low_n": 3.0,
-        f"{q}.low_mean": 0.5, f"{q}.high_n": 1.0, f"{q}.high_mean": 2.5,
+        "k": 20, f"{q}.mean": 1.0, f"{q}.states": 2, f"{q}.low_n": 3,
+        f"{q}.low_mean": 0.5, f"{q}.high_n": 1, f"{q}.high_mean": 2.5,
     }
+    # the counts are ints, as in Ensemble.statistics (they were floats: 2.0 == 2 let it pass)
+    assert [type(best[f"{q}.{k}"]) for k in ("states", "low_n", "high_n")] == [int] * 3
+    # one state: None where a state has no value, as in Ensemble.statistics (it was NaN)
+    cases[1][f"{q}.mean"] = 3.0
+    best = jointwear.SweepResult(["k"], [(10,), (20,)], cases, 4).best(f"{q}.mean")
+    assert best[f"{q}.states"] == 1 and type(best[f"{q}.states"]) is int
+    assert all(best[f"{q}.{k}"] is None for k in ("low_n", "low_mean", "high_n", "high_mean"))
     with pytest.raises(ValueError, match="'j.motion_mode' is not numeric"):
         sweep.best("j.motion_mode")
     with pytest.raises(KeyError, match="no column 'j.nope'.*'case', 'k'"):
