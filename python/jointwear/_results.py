@@ -126,6 +126,8 @@ class Run:
         self.settling: Optional[Dict[str, Any]] = raw["settling"]
         self.ensemble_member: Optional[Dict[str, Any]] = raw["ensemble_member"]
         self._folder = raw["folder"]
+        # The program's line for a run that stopped settling unsettled (Scene.run warns).
+        self._unsettled: Optional[str] = raw["unsettled"]
 
     def save(self, directory: PathLike) -> None:
         """Writes the run's folder into ``directory`` as ``jointwear run`` writes its ``--out``
@@ -269,6 +271,8 @@ class Ensemble:
                 )
                 self.band[name] = {k: _array(b) for k, b in j["band"].items()}
         self._folder = raw["folder"]
+        # The program's line for members that stopped settling unsettled (Scene.ensemble warns).
+        self._unsettled: Optional[str] = raw["unsettled"]
 
     def save(self, directory: PathLike) -> None:
         """Writes the ensemble's folder into ``directory`` as ``jointwear run --ensemble N

@@ -9,12 +9,13 @@ import time
 import warnings
 from collections.abc import Iterable
 from concurrent.futures import Executor, Future
-from typing import Any, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, List, Mapping, Optional, Sequence, Tuple, TypeVar, Union
 
 from ._native import Document, SceneError
 from ._results import Ensemble, Run, SweepResult, _path
 
 PathLike = Union[str, "os.PathLike[str]"]
+Result = TypeVar("Result", Run, Ensemble)
 
 
 def _count(name: str, value: Any, expected: str) -> int:
@@ -131,19 +132,7 @@ class Scene:
         if member is not None:
             member = _count("member", member, "an integer in [0, 2^64)")
         seed = _count("seed", seed, "an integer in [0, 2^64)")
-        run = Run(self._doc.run(member, seed, _protocol(perturbation)))
-        if run.settling is not None and not run.settling["steady"]:
-            # What `jointwear run` prints: the recorded numbers are not of a steady state.
-            warnings.warn(
-                f"not settled: after {run.settling['rotations']} settling rotations "
-                "(run.steady_state.max_rotations) the orbit still changed by "
-                f"{run.settling['orbit_change']:.3g} of the clearance per rotation, above "
-                "run.steady_state.orbit_tolerance; the recorded rotations are not a steady "
-                "state",
-                RuntimeWarning,
-                stacklevel=2,
-            )
-        return run
+        return _noting_unsettled(Run(self._doc.run(member, seed, _protocol(perturbation))))
 
     def ensemble(
         self,
@@ -265,23 +254,13 @@ class Scene:
         return f"Scene({self.title!r}, path={self.path!r})"
 
 
-def _noting_unsettled(ensemble: Ensemble) -> Ensemble:
-    """``ensemble``, with a RuntimeWarning where some of its members stopped settling at
-    ``run.steady_state.max_rotations``, as ``jointwear run --ensemble`` prints it: their
-    recorded rotations are no steady state."""
-    if ensemble.joints:
-        settled = ensemble.scalars[ensemble.joints[0]]["settled"]
-        unsettled = int((settled == 0).sum())
-        if unsettled:
-            warnings.warn(
-                f"not settled: {unsettled} of {ensemble.members} members reached "
-                "run.steady_state.max_rotations with their orbit still changing beyond "
-                "run.steady_state.orbit_tolerance (their recorded rotations are not a steady "
-                "state)",
-                RuntimeWarning,
-                stacklevel=3,
-            )
-    return ensemble
+def _noting_unsettled(result: Result) -> Result:
+    """``result`` (a :class:`Run` or :class:`Ensemble`), with a RuntimeWarning where it, or
+    some of its members, stopped settling at ``run.steady_state.max_rotations``, in the words
+    ``jointwear run`` prints: their recorded rotations are no steady state."""
+    if result._unsettled is not None:
+        warnings.warn(result._unsettled, RuntimeWarning, stacklevel=3)
+    return result
 
 
 def _protocol(perturbation: Any) -> Optional[str]:

@@ -184,6 +184,24 @@ def test_a_settling_run_counts_its_settling_rotations():
     assert run.summary[run.joints[0]]["rotations_simulated"] == run.rotations
 
 
+# Fails with the warnings in words of their own: the run's gave the orbit change to 3 digits
+# (0.355 where the program prints 0.3552) and the ensemble's added to the program's line.
+def test_unsettled_warnings_are_the_programs_lines(tmp_path, cli):
+    capped = {
+        "run.settle": True,
+        "run.steady_state.max_rotations": 2,
+        "run.steady_state.orbit_tolerance": 1e-9,
+    }
+    path = short_file(tmp_path, **capped)
+    scene = jointwear.Scene.load(path)
+    for flags, call in [([], scene.run), (["--ensemble", 2], lambda: scene.ensemble(2))]:
+        with pytest.warns(RuntimeWarning, match="not settled") as warned:
+            call()
+        done = cli("run", path, *flags, "--out", tmp_path / f"out{len(flags)}")
+        assert done.returncode == 0, done.stderr
+        assert f"\n  {warned[0].message}\n" in done.stdout, (str(warned[0].message), done.stdout)
+
+
 def test_the_summary_says_whether_the_run_settled():
     """`settled` tells a run that stopped at `steady_state.max_rotations` with its orbit still
     changing (0) from one that settled (1); a scene that does not settle has NaN."""

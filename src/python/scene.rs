@@ -848,6 +848,8 @@ fn run_dict<'py>(py: Python<'py>, scene: &Scene, out: &RunOutput) -> PyResult<Bo
         None => d.set_item("energy", py.None())?,
     }
     d.set_item("settling", serde_dict(py, out.settling)?)?;
+    // The program's line for a run that stopped unsettled, for Python to warn with.
+    d.set_item("unsettled", out.settling.and_then(|s| s.unsettled_note()))?;
     Ok(d)
 }
 
@@ -889,6 +891,12 @@ fn ensemble_dict<'py>(
     d.set_item("rotations", scene.run.rotations)?;
     d.set_item("wall_time_s", wall)?;
     d.set_item("snapshot_rotations", scene.run.wear_snapshots.clone())?;
+    // Counted as the program counts them (every joint of a member has its settling).
+    let unsettled = (kept.iter())
+        .filter(|(joints, _)| joints.first().is_some_and(|j| j.settled == Some(false)))
+        .count();
+    let note = ensemble::unsettled_note(unsettled, settings.members);
+    d.set_item("unsettled", note)?;
     let joints = PyList::empty(py);
     for (k, (cj, st)) in scene
         .mechanism

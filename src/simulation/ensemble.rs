@@ -377,6 +377,20 @@ impl Default for EnsembleSettings {
 /// The largest ensemble accepted (a guard against a typo running for days).
 pub const MAX_MEMBERS: usize = 10_000;
 
+/// What an ensemble of `members` of which `unsettled` reached
+/// `run.steady_state.max_rotations` unsettled says of them (None if none did): their recorded
+/// rotations are no steady state. The program prints it under the ensemble's summary, Python
+/// warns with it.
+pub fn unsettled_note(unsettled: usize, members: usize) -> Option<String> {
+    (unsettled > 0).then(|| {
+        format!(
+            "not settled: {unsettled} of {members} members reached \
+             run.steady_state.max_rotations with their orbit still changing beyond \
+             run.steady_state.orbit_tolerance"
+        )
+    })
+}
+
 impl EnsembleSettings {
     /// Checks the member count (the field `members`; the program names its flag instead).
     pub fn validate(&self) -> Result<()> {

@@ -218,6 +218,23 @@ pub struct Settling {
     pub steady: bool,
 }
 
+impl Settling {
+    /// What a run that reached `run.steady_state.max_rotations` unsettled says of it (None if
+    /// it settled): its recorded rotations are no steady state. The program prints it under
+    /// the run's summary, Python warns with it.
+    pub fn unsettled_note(&self) -> Option<String> {
+        (!self.steady).then(|| {
+            format!(
+                "not settled: after {} settling rotations (run.steady_state.max_rotations) the \
+                 orbit still changed by {} of the clearance per rotation, above \
+                 run.steady_state.orbit_tolerance; the recorded rotations are not a steady state",
+                self.rotations,
+                crate::io::format::number(self.orbit_change)
+            )
+        })
+    }
+}
+
 /// Time series of one clearance joint on the recording grid.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct JointTrace {

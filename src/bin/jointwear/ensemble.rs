@@ -97,15 +97,11 @@ pub fn run_ensemble(
         },
         quantity(wall, "s")
     );
+    // A cap reached is not a steady state: those members' recorded rotations are not after
+    // settling.
     let unsettled = unsettled.iter().filter(|&&u| u).count();
-    if unsettled > 0 {
-        // A cap reached is not a steady state: those members' recorded rotations are not
-        // after settling.
-        println!(
-            "  not settled: {unsettled} of {} members reached run.steady_state.max_rotations \
-             with their orbit still changing beyond run.steady_state.orbit_tolerance",
-            settings.members
-        );
+    if let Some(note) = ensemble::unsettled_note(unsettled, settings.members) {
+        println!("  {note}");
     }
     println!(
         "  perturbation {}: {}",

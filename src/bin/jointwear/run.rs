@@ -194,15 +194,7 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
         None => scene.run.rotations.to_string(),
     };
     // A cap reached is not a steady state: the recorded rotations are not after settling.
-    let unsettled = out.settling.filter(|s| !s.steady).map(|s| {
-        format!(
-            "  not settled: after {} settling rotations (run.steady_state.max_rotations) the \
-             orbit still changed by {} of the clearance per rotation, above \
-             run.steady_state.orbit_tolerance; the recorded rotations are not a steady state\n",
-            s.rotations,
-            number(s.orbit_change)
-        )
-    });
+    let unsettled = out.settling.and_then(|s| s.unsettled_note());
     println!(
         "  {rotations} rotations in {} of wall time: {} steps, {} rejected, {} evaluations, {} \
          contact onsets",
@@ -212,7 +204,9 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
         s.evaluations,
         s.events
     );
-    print!("{}", unsettled.unwrap_or_default());
+    if let Some(note) = unsettled {
+        println!("  {note}");
+    }
     if let Some(e) = out.energy {
         println!(
             "  energy balance residual {} (relative)",
