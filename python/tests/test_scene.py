@@ -3,6 +3,7 @@
 import contextlib
 import io
 import os
+import sys
 
 import numpy as np
 import pytest
@@ -249,6 +250,28 @@ def test_notes_go_to_pythons_stderr():
     with contextlib.redirect_stderr(io.StringIO()) as err:
         scene.sweep({"driver.speed_rpm": [500]})
     assert err.getvalue().count("reverses the driver") == 1
+
+
+# Fails without a note that cannot fail: with sys.stderr None (pythonw) set() raised
+# AttributeError after making its change, and the sweep raised before any case ran.
+def test_a_note_without_a_stream_does_not_fail_the_call(monkeypatch):
+    scene = jointwear.Scene.load(STANDARD)
+    monkeypatch.setattr(sys, "stderr", None)
+    scene.set("run.rotations", 2)
+    assert scene.to_dict()["run"]["rotations"] == 2
+    assert len(short(scene).sweep({"driver.speed_rpm": [500]})) == 1
+
+    class Broken(io.StringIO):
+        def write(self, text):
+            raise OSError("the stream is gone")
+
+    # a stream that fails to write: the error is reported as unraisable, the call succeeds
+    unraisable = []
+    monkeypatch.setattr(sys, "unraisablehook", unraisable.append)
+    monkeypatch.setattr(sys, "stderr", Broken())
+    scene.set("driver.speed_rpm", 700)
+    assert scene.to_dict()["driver"]["speed_rpm"] == 700
+    assert [str(u.exc_value) for u in unraisable] == ["the stream is gone"]
 
 
 def test_a_set_that_reverses_the_driver_is_noted(capfd):

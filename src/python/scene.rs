@@ -233,10 +233,10 @@ impl Document {
             show_note(
                 py,
                 &format!("set(\"run.rotations\", {text}) sets {cut} = {value}"),
-            )?;
+            );
         }
         if let Some(note) = note {
-            show_note(py, &note)?;
+            show_note(py, &note);
         }
         Ok(())
     }
@@ -462,7 +462,7 @@ impl Document {
         seed: u64,
     ) -> PyResult<(Vec<String>, Bound<'py, PyList>)> {
         let sweep = self.make_sweep(&keys, &values, members, seed)?;
-        show_notes(py, &sweep)?;
+        show_notes(py, &sweep);
         let results = interruptible(py, |cancel| {
             let results = Mutex::new(Vec::new());
             let collect = |r| results.lock().unwrap_or_else(|e| e.into_inner()).push(r);
@@ -491,7 +491,7 @@ impl Document {
         seed: u64,
     ) -> PyResult<(Vec<String>, usize, String)> {
         let sweep = self.make_sweep(&keys, &values, members, seed)?;
-        show_notes(py, &sweep)?;
+        show_notes(py, &sweep);
         Ok((canonical_keys(&sweep), sweep.total, sweep_identity(&sweep)))
     }
 
@@ -667,7 +667,7 @@ impl Folder {
                     .map(drop),
             }
         });
-        notes.iter().try_for_each(|n| show_note(py, n))?;
+        notes.iter().for_each(|n| show_note(py, n));
         written.map_err(|e| to_py_err(variant.path(), e, false))
     }
 }
@@ -744,16 +744,29 @@ fn sweep_columns(d: &Bound<'_, PyDict>, outcome: &Outcome) -> PyResult<()> {
 }
 
 /// Writes `note: {text}` to Python's `sys.stderr`, where its user sees it: a notebook shows
-/// that stream, not the process's stderr, to which the notes used to go unseen.
-fn show_note(py: Python<'_>, text: &str) -> PyResult<()> {
-    let stderr = py.import("sys")?.getattr("stderr")?;
-    stderr.call_method1("write", (format!("note: {text}\n"),))?;
-    stderr.call_method0("flush").map(drop)
+/// that stream, not the process's stderr, to which the notes used to go unseen. A note never
+/// fails the call that made it, which has done its work: without a `sys.stderr` (None, as
+/// under pythonw) it is dropped, as `print` drops it, and a stream that fails to write
+/// reports its error as unraisable.
+fn show_note(py: Python<'_>, text: &str) {
+    let shown = py
+        .import("sys")
+        .and_then(|sys| sys.getattr("stderr"))
+        .and_then(|stderr| {
+            if stderr.is_none() {
+                return Ok(());
+            }
+            stderr.call_method1("write", (format!("note: {text}\n"),))?;
+            stderr.call_method0("flush").map(drop)
+        });
+    if let Err(e) = shown {
+        e.write_unraisable(py, None);
+    }
 }
 
 /// [`show_note`] of each of a sweep's notes, once per sweep (not in each executor task).
-fn show_notes(py: Python<'_>, sweep: &Sweep) -> PyResult<()> {
-    sweep.notes.iter().try_for_each(|n| show_note(py, n))
+fn show_notes(py: Python<'_>, sweep: &Sweep) {
+    sweep.notes.iter().for_each(|n| show_note(py, n));
 }
 
 /// What a sweep is, for a worker's case to be checked against: the program that ran it and
