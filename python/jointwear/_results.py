@@ -249,7 +249,7 @@ class Ensemble:
         self.snapshot_rotations = np.asarray(raw["snapshot_rotations"], dtype=np.int64)
         self.joints: List[str] = [j["name"] for j in raw["joints"]]
         self.scalars: Dict[str, Dict[str, np.ndarray]] = {}
-        self.statistics: Dict[str, Dict[str, Dict[str, Optional[float]]]] = {}
+        self.statistics: Dict[str, Dict[str, Dict[str, Any]]] = {}
         self.motion_modes: Dict[str, List[Optional[str]]] = {}
         self.angles_deg: Dict[str, np.ndarray] = {}
         self.wear: Dict[str, np.ndarray] = {}
