@@ -137,7 +137,9 @@ class Run:
         scene (``set("run.rotations", n)`` as ``--rotations n``). A scene built with
         :meth:`Scene.from_dict` is written, as built and before its changes, to
         ``directory/scene.toml``, beside the outputs and not in the manifest, and the command
-        line names that file: running it gives the same files. Raises
+        line names that file: running it gives the same files. The lock of a writer that no
+        longer runs is taken over, and the temporary files it left removed, each with a note on
+        ``sys.stderr``. Raises
         :class:`jointwear.SceneError`, writing nothing, if another process is writing into
         ``directory``, if it holds the outputs of another command (an ensemble's folder, or
         ``jointwear longlife``'s), which this write would remove or overwrite, or if it holds
