@@ -1096,3 +1096,50 @@ fn a_sweeps_coarse_recording_grid_is_refused_without_advising_no_recording() {
     );
     fs::remove_dir_all(&dir).unwrap();
 }
+
+// Fails without the quoting: the recorded `… --set title="it's mine"` typed into a shell lost
+// its TOML quotes and with them the fingerprint of the changes (or did not parse at all), and
+// the scene's path `… a b/short.toml` split into two words.
+#[test]
+fn the_recorded_command_reruns_the_run_in_a_shell() {
+    use jointwear::scene::variant::shell_word;
+    let dir = temp_dir("shell").join("a b");
+    fs::create_dir_all(&dir).unwrap();
+    let scene = short_standard(&dir, 1);
+    let first = dir.join("first");
+    let title = r#"title="it's mine""#;
+    let snapshots = "run.wear_snapshots=[1]";
+    let o = jointwear(&[
+        "run",
+        s(&scene),
+        "--set",
+        title,
+        "--set",
+        snapshots,
+        "--out",
+        s(&first),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let readme = fs::read_to_string(first.join("README.txt")).unwrap();
+    let command = readme.split('`').nth(1).unwrap();
+    let program = shell_word(env!("CARGO_BIN_EXE_jointwear"));
+    let again = dir.join("again");
+    let line = format!(
+        "{} --out {}",
+        command.replacen("jointwear", &program, 1),
+        shell_word(s(&again))
+    );
+    let o = Command::new("sh").args(["-c", &line]).output().unwrap();
+    assert!(o.status.success(), "{line}: {}", stderr(&o));
+    let scene_of = |d: &Path| {
+        let text = fs::read_to_string(d.join("summary.json")).unwrap();
+        serde_json::from_str::<serde_json::Value>(&text).unwrap()["scene"].clone()
+    };
+    assert_eq!(scene_of(&again), scene_of(&first));
+    for file in ["wear_rod-slider.csv", "timeseries.csv"] {
+        assert_eq!(
+            fs::read(again.join(file)).unwrap(),
+            fs::read(first.join(file)).unwrap()
+        );
+    }
+}

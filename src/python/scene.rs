@@ -11,7 +11,7 @@ use crate::io::lock::claim_folder;
 use crate::io::output::{check_output_dir, manifest_title, write_text};
 use crate::io::progress::Progress;
 use crate::laws::wear::sector_angles_deg;
-use crate::scene::variant::{Change, Variant};
+use crate::scene::variant::{run_command, Change, Variant};
 use crate::scene::{reversal_note, SceneFile};
 use crate::simulation::checkpoint::{refuse_checkpoint, ARITHMETIC};
 use crate::simulation::ensemble::{self, EnsembleSettings, Perturbation, MAX_MEMBERS};
@@ -689,7 +689,7 @@ fn save_scene(dir: &Path, variant: &Variant) -> crate::Result<Origin> {
     let saved = variant.named(&path);
     let (text, _) = saved.state()?;
     let ours = |title: String| {
-        let command = format!("jointwear run {}", path.display());
+        let command = run_command(&path);
         title == command || title.starts_with(&format!("{command} "))
     };
     if path.exists()

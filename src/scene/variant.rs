@@ -28,6 +28,25 @@ pub fn fingerprint<'a>(
     format!("{:016x}", fnv1a(text.as_bytes()))
 }
 
+/// `jointwear run SCENE`, the start of the command line of a run of the scene at `path`.
+pub fn run_command(path: &Path) -> String {
+    format!("jointwear run {}", shell_word(&path.display().to_string()))
+}
+
+/// `word` as one word of a POSIX shell's command line that the shell reads back as `word`:
+/// as it is when no character of it means anything to a shell, else in single quotes (a
+/// quote inside as `'\''`). A value typed unquoted loses its TOML quotes (`title="a b"`)
+/// and with them the fingerprint of the changes, and a bracket is a pattern
+/// (`run.wear_snapshots=[1]`).
+pub fn shell_word(word: &str) -> std::borrow::Cow<'_, str> {
+    let plain = |b: u8| b.is_ascii_alphanumeric() || b"%+,-./:=@_".contains(&b);
+    if !word.is_empty() && word.bytes().all(plain) {
+        word.into()
+    } else {
+        format!("'{}'", word.replace('\'', r"'\''")).into()
+    }
+}
+
 /// A TOML value as written on the command line; a bare word that is not TOML is a string.
 pub fn parse_value(text: &str) -> toml::Value {
     text.parse()
@@ -156,15 +175,16 @@ impl Variant {
 
     /// The command line that makes this variant: `jointwear run SCENE`, then `--set KEY=VALUE`
     /// per change and `--rotations N` for a cutting change of `run.rotations`, in the order
-    /// asked.
+    /// asked, each word as a shell reads it back ([`shell_word`]).
     pub fn command(&self) -> String {
-        let mut command = format!("jointwear run {}", self.path.display());
+        let mut command = run_command(&self.path);
         for a in &self.asked {
-            if a.cut {
-                command.push_str(&format!(" --rotations {}", a.text[0]));
+            let (option, word) = if a.cut {
+                ("--rotations", a.text[0].clone())
             } else {
-                command.push_str(&format!(" --set {}={}", a.key, a.text[0]));
-            }
+                ("--set", format!("{}={}", a.key, a.text[0]))
+            };
+            command.push_str(&format!(" {option} {}", shell_word(&word)));
         }
         command
     }
@@ -228,7 +248,7 @@ mod tests {
         assert_eq!(v.build().unwrap().run.record_rotations, 1);
         assert!(v
             .command()
-            .ends_with(" --set run.wear_snapshots=[1] --rotations 1"));
+            .ends_with(" --set 'run.wear_snapshots=[1]' --rotations 1"));
         assert!(v.set("run.rotatons", 2.into(), "2", true).is_err());
         let (loaded, asked) = v.state().unwrap();
         let copy = Variant::restore(v.path(), &loaded, &asked).unwrap();

@@ -12,6 +12,7 @@ use jointwear::io::format::{self as people, quantity};
 use jointwear::io::output::{number, write_rows};
 use jointwear::io::plot::{render, Axes, Series, Style};
 use jointwear::io::progress::progress_bar;
+use jointwear::scene::variant::shell_word;
 use jointwear::scene::{SceneFile, MAX_K_OVER_H_PER_PA};
 use jointwear::simulation::ensemble::{Perturbation, MAX_MEMBERS};
 use jointwear::simulation::folder::{
@@ -48,7 +49,7 @@ impl Options {
     fn command(&self, path: &Path) -> String {
         let mut command = format!(
             "jointwear longlife {} --rotations {} --max-change {} --settle {}",
-            path.display(),
+            shell_word(&path.display().to_string()),
             people::exact(self.rotations),
             people::exact(self.max_change),
             self.settle
