@@ -1143,3 +1143,29 @@ fn the_recorded_command_reruns_the_run_in_a_shell() {
         );
     }
 }
+
+// Fails without naming the part: a key that is not in the scene read "invalid value for
+// `nope.x (with --set nope.x=1)`: (at `nope`)", as if the value were wrong.
+#[test]
+fn a_set_key_outside_the_scene_names_the_part_that_is_not_there() {
+    let (scene, out) = (scene_path("standard"), temp_dir("set-key").join("out"));
+    for (set, needle) in [
+        (
+            "nope.x=1",
+            "`nope` is no key there (expected one of the keys bodies,",
+        ),
+        (
+            "clearance.3.clearance_mm=0.1",
+            "`3` is no element there (expected an array index in [0, 1))",
+        ),
+        (
+            "title.x=1",
+            "`x` follows a value (expected a table or an array before it)",
+        ),
+    ] {
+        let o = jointwear(&["run", s(&scene), "--set", set, "--out", s(&out)]);
+        assert_eq!(o.status.code(), Some(2), "{set}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{set}: {}", stderr(&o));
+    }
+    assert!(!out.exists(), "refused before any output");
+}

@@ -76,7 +76,7 @@ def test_a_key_that_does_not_exist_is_a_scene_error():
     with pytest.raises(jointwear.SceneError) as e:
         scene.set("clearance.3.clearance_mm", 0.1)
     assert str(e.value) == (
-        f"{STANDARD}: invalid value for `clearance.3.clearance_mm`: (at `3`) "
+        f"{STANDARD}: invalid value for `clearance.3.clearance_mm`: `3` is no element there "
         "(expected an array index in [0, 1))"
     )
     with pytest.raises(jointwear.SceneError, match="expected a TOML value"):

@@ -98,7 +98,10 @@ pub fn scene_path(name: &str) -> PathBuf {
 /// last must exist; the last may add a key to a table (an unknown key is then rejected when
 /// the document is converted by [`SceneFile::from_document`]).
 pub fn set_dotted(doc: &mut toml::Value, key: &str, value: toml::Value) -> Result<()> {
-    let bad = |at: &str, expected: String| Error::invalid(key, format!("(at `{at}`)"), expected);
+    // The value that failed is the key's part `at`, not the value set.
+    let bad = |at: &str, what: &str, expected: String| {
+        Error::invalid(key, format!("`{at}` {what}"), expected)
+    };
     let parts: Vec<&str> = key.split('.').collect();
     let mut node = doc;
     for (i, part) in parts.iter().enumerate() {
@@ -111,7 +114,8 @@ pub fn set_dotted(doc: &mut toml::Value, key: &str, value: toml::Value) -> Resul
             toml::Value::Table(table) => {
                 if !table.contains_key(*part) {
                     let keys: Vec<&str> = table.keys().map(String::as_str).collect();
-                    return Err(bad(part, format!("one of the keys {}", keys.join(", "))));
+                    let expected = format!("one of the keys {}", keys.join(", "));
+                    return Err(bad(part, "is no key there", expected));
                 }
                 &mut table[*part]
             }
@@ -121,14 +125,26 @@ pub fn set_dotted(doc: &mut toml::Value, key: &str, value: toml::Value) -> Resul
                     .parse::<usize>()
                     .ok()
                     .and_then(|k| items.get_mut(k))
-                    .ok_or_else(|| bad(part, format!("an array index in [0, {len})")))?;
+                    .ok_or_else(|| {
+                        bad(
+                            part,
+                            "is no element there",
+                            format!("an array index in [0, {len})"),
+                        )
+                    })?;
                 if last {
                     *slot = value;
                     return Ok(());
                 }
                 slot
             }
-            _ => return Err(bad(part, "a table or an array before it".into())),
+            _ => {
+                return Err(bad(
+                    part,
+                    "follows a value",
+                    "a table or an array before it".into(),
+                ))
+            }
         };
     }
     Err(Error::invalid(key, "empty", "a dotted key"))
