@@ -47,6 +47,48 @@ pub fn shell_word(word: &str) -> std::borrow::Cow<'_, str> {
     }
 }
 
+/// The words of the command line `line` as a POSIX shell splits them: the inverse of
+/// [`shell_word`] (single quotes, a backslash outside quotes), and double quotes as lines
+/// recorded before words were quoted hold them (`--set title="a b"`). `None` if a quote is
+/// not closed.
+pub fn shell_words(line: &str) -> Option<Vec<String>> {
+    let mut words = Vec::new();
+    // The word being read, if one has begun (`''` is a word, empty).
+    let mut word: Option<String> = None;
+    let mut chars = line.chars();
+    while let Some(c) = chars.next() {
+        match c {
+            ' ' | '\t' | '\n' => words.extend(word.take()),
+            '\'' => {
+                let w = word.get_or_insert_with(String::new);
+                loop {
+                    match chars.next()? {
+                        '\'' => break,
+                        c => w.push(c),
+                    }
+                }
+            }
+            '"' => {
+                let w = word.get_or_insert_with(String::new);
+                loop {
+                    match chars.next()? {
+                        '"' => break,
+                        '\\' => match chars.next()? {
+                            c @ ('"' | '\\' | '$' | '`') => w.push(c),
+                            c => w.extend(['\\', c]),
+                        },
+                        c => w.push(c),
+                    }
+                }
+            }
+            '\\' => word.get_or_insert_with(String::new).push(chars.next()?),
+            c => word.get_or_insert_with(String::new).push(c),
+        }
+    }
+    words.extend(word);
+    Some(words)
+}
+
 /// A TOML value as written on the command line; a bare word that is not TOML is a string.
 pub fn parse_value(text: &str) -> toml::Value {
     text.parse()
@@ -235,6 +277,28 @@ impl Variant {
 mod tests {
     use super::*;
     use crate::scene::scene_path;
+
+    /// Every word [`shell_word`] writes is read back whole, whatever it holds; fails if a
+    /// quoted word is split at its spaces or keeps its quotes.
+    #[test]
+    fn shell_words_reads_back_what_shell_word_writes() {
+        let words = [
+            "jointwear",
+            "/a dir/it's.toml",
+            "title=\"x --member 3 --seed 1\"",
+            "run.wear_snapshots=[1]",
+            "",
+            "a\\b\"c$d",
+        ];
+        let line: Vec<_> = words.iter().map(|w| shell_word(w)).collect();
+        assert_eq!(shell_words(&line.join(" ")).unwrap(), words);
+        // A line recorded before words were quoted.
+        assert_eq!(
+            shell_words(r#"jointwear run a.toml --set title="a \"b\" c""#).unwrap(),
+            ["jointwear", "run", "a.toml", "--set", r#"title=a "b" c"#]
+        );
+        assert_eq!(shell_words("run --set title=it's"), None);
+    }
 
     /// Fails if a cut is applied to a key set before, if the command forgets `--rotations`, or
     /// if a restored copy differs from the original in any part.

@@ -20,6 +20,7 @@ use crate::io::output::{
 use crate::io::plot::{render, Axes, Series, Style};
 use crate::laws::wear::sector_angles_deg;
 use crate::mechanism::{BodyIndex, Mechanism};
+use crate::scene::variant::shell_words;
 use crate::simulation::ensemble::Perturbation;
 use crate::{Error, Result};
 use serde::Serialize;
@@ -202,7 +203,11 @@ impl FolderCommand {
     /// S` or `--member K --seed S` (then perhaps `--perturbation P`) for an ensemble or a
     /// member. None for any other line (an edited manifest).
     pub fn of(title: &str) -> Option<FolderCommand> {
-        let mut words: Vec<&str> = title.split(' ').collect();
+        // Read as a shell reads it: a quoted `--set` value may hold `--member 3 --seed 1`.
+        // (A line recorded before words were quoted may not close a quote: read word by word.)
+        let words = shell_words(title)
+            .unwrap_or_else(|| title.split(' ').map(String::from).collect::<Vec<_>>());
+        let mut words: Vec<&str> = words.iter().map(String::as_str).collect();
         if words.len() > 2 && words[words.len() - 2] == "--perturbation" {
             words.truncate(words.len() - 2);
         }
@@ -543,6 +548,21 @@ mod tests {
                 Some(Run),
             ),
             ("jointwear run a b.toml --member 3 --seed 1", Some(Member)),
+            // Fails without reading the words as a shell does: a run whose quoted title ends
+            // in `--member 3 --seed 1` was a member's folder, which its own rerun was refused.
+            (
+                r#"jointwear run a.toml --set 'title="x --member 3 --seed 1"'"#,
+                Some(Run),
+            ),
+            (
+                r#"jointwear run a.toml --set title="x --ensemble 3 --seed 1""#,
+                Some(Run),
+            ),
+            ("jointwear run 'a b.toml' --member 3 --seed 1", Some(Member)),
+            (
+                "jointwear run a.toml --set title=it's --member 3 --seed 1",
+                Some(Member),
+            ),
             ("jointwear run a.toml --ensemble 8 --seed 2", Some(Ensemble)),
             (
                 "jointwear run a.toml --member 3 --seed 1 --perturbation axis_10nm",
