@@ -125,4 +125,35 @@ fn a_second_paper_program_is_refused_while_one_writes_the_outputs() {
         out.contains(&format!("wrote data/table3.csv in {root} from")),
         "{out}"
     );
+    // (Here, not in a test of its own: two tests running table3 at once would refuse each
+    // other.) Fails without the cleanup: the lock of a killed program (a process of this host
+    // that no longer runs: a pid beyond Linux's largest) was taken over without a word, and
+    // the temporaries it left in data/, figures/ and beside paper.md stayed there for good.
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
+    std::fs::write(
+        &lock,
+        format!("pid=4194305\nhost={}\ncommand=fig06\n", host.trim()),
+    )
+    .unwrap();
+    let left = [
+        "data/.fig06.tmp-4194305-0.csv",
+        "figures/.fig06.tmp-4194305-1.png",
+        ".paper.tmp-4194305-2.md",
+    ];
+    for path in left {
+        std::fs::write(crate_file(path), "x").unwrap();
+    }
+    let o = Command::new(table3).output().unwrap();
+    let err = text(&o.stderr);
+    let taken: Vec<bool> = left.iter().map(|p| crate_file(p).exists()).collect();
+    for path in left {
+        let _ = std::fs::remove_file(crate_file(path));
+    }
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("note: taking over") && err.contains("process 4194305"),
+        "{err}"
+    );
+    assert_eq!(taken, [false; 3], "{err}");
+    assert!(!lock.exists(), "released when the taker ends");
 }

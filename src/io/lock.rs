@@ -35,6 +35,8 @@ pub struct Lock {
     _registered: Option<interrupt::Temporary>,
     /// What the claim did that its user should hear of ([`Lock::notes`]).
     notes: Vec<String>,
+    /// The process id of the gone holder whose stale lock the claim took over, if it did.
+    taken_from: Option<u32>,
 }
 
 impl Drop for Lock {
@@ -66,6 +68,13 @@ impl Lock {
     /// `sys.stderr` (a notebook's, which the process's stderr does not reach).
     pub fn notes(&self) -> &[String] {
         &self.notes
+    }
+
+    /// The process id of the gone holder whose stale lock this claim took over, if it did:
+    /// the temporaries that holder left elsewhere than beside the lock are its claimer's to
+    /// remove ([`remove_temporaries_of`]).
+    pub fn taken_from(&self) -> Option<u32> {
+        self.taken_from
     }
 }
 
@@ -257,6 +266,7 @@ fn claim_nested(
                     created: created.map(Path::to_path_buf),
                     _registered: registered,
                     notes,
+                    taken_from: None,
                 };
                 file.write_all(text.as_bytes())
                     .and_then(|()| file.sync_all())
@@ -266,8 +276,12 @@ fn claim_nested(
                     let folder = (lock.file_name().and_then(|n| n.to_str()))
                         .is_some_and(|n| n.starts_with(FOLDER_LOCK));
                     let stem = target.file_stem().and_then(|s| s.to_str());
-                    let removed =
-                        remove_temporaries_left(lock, gone, if folder { None } else { stem });
+                    claimed.taken_from = field(gone, "pid").and_then(|p| p.parse().ok());
+                    let dir = lock.parent().filter(|d| !d.as_os_str().is_empty());
+                    let removed = claimed.taken_from.and_then(|pid| {
+                        let dir = dir.unwrap_or(Path::new("."));
+                        remove_temporaries_of(dir, pid, if folder { None } else { stem })
+                    });
                     claimed.notes.extend(removed);
                 }
                 return Ok(claimed);
@@ -311,16 +325,14 @@ fn claim_nested(
 }
 
 /// Removes the temporary files ([`crate::io::output`]'s hidden `.<stem>.tmp-<pid>-<n>` files)
-/// that the gone holder recorded in `held` left beside its lock `lock` when it was killed in
-/// the middle of a write, and says which: of a folder's lock, every one in the folder (the
-/// folder was the holder's alone); of a file's lock, only the claimed file's (`stem`), as the
-/// folder may hold other outputs. The holder no longer runs on this host, so no file of its
-/// process id is being written here. Best effort, as their content is never read: a file that
-/// cannot be removed stays. Returns the note naming those removed, if any.
-fn remove_temporaries_left(lock: &Path, held: &str, stem: Option<&str>) -> Option<String> {
-    let pid = field(held, "pid").and_then(|p| p.parse::<u32>().ok())?;
-    let dir = lock.parent().filter(|d| !d.as_os_str().is_empty());
-    let entries = fs::read_dir(dir.unwrap_or(Path::new("."))).ok()?;
+/// in `dir` that the gone holder of a taken-over lock, process `pid`, left when it was killed
+/// in the middle of a write, and says which: beside a folder's lock, every one in the folder
+/// (the folder was the holder's alone); beside a file's lock, only the claimed file's
+/// (`stem`), as the folder may hold other outputs. The holder no longer runs on this host, so
+/// no file of its process id is being written here. Best effort, as their content is never
+/// read: a file that cannot be removed stays. Returns the note naming those removed, if any.
+pub fn remove_temporaries_of(dir: &Path, pid: u32, stem: Option<&str>) -> Option<String> {
+    let entries = fs::read_dir(dir).ok()?;
     let left = |name: &str| {
         temporary_of(name).is_some_and(|(s, p)| p == pid && stem.is_none_or(|stem| s == stem))
     };
@@ -335,8 +347,9 @@ fn remove_temporaries_left(lock: &Path, held: &str, stem: Option<&str>) -> Optio
     (!removed.is_empty()).then(|| {
         removed.sort();
         format!(
-            "removed {} temporary file(s) that process {pid} left unfinished: {}",
+            "removed {} temporary file(s) that process {pid} left unfinished in {}: {}",
             removed.len(),
+            dir.display(),
             removed.join(", ")
         )
     })

@@ -12,7 +12,7 @@
 
 use crate::error::exit_on_error;
 use crate::io::interrupt;
-use crate::io::lock::{claim_file, Lock};
+use crate::io::lock::{claim_file, remove_temporaries_of, Lock};
 use crate::paper::figures::output_root;
 use crate::{Error, Result};
 
@@ -87,15 +87,26 @@ pub fn outputs_claim_target() -> std::path::PathBuf {
     output_root().join("paper-outputs")
 }
 
+/// The folders the paper programs write into, under [`output_root`], each with the stem of
+/// the only output whose temporaries there are theirs (`None`: every file there is).
+const OUTPUT_DIRS: [(&str, Option<&str>); 4] = [
+    ("", Some("paper")),
+    ("figures", None),
+    ("data", None),
+    ("data/golden", None),
+];
+
 /// Claims `figures/`, `data/` and `paper.md` for this program until the returned lock drops
 /// (also released on an interrupt, whose handler this installs, and by
 /// [`exit_on_error`]); prints an error naming the program that holds them and exits 2 while
-/// another paper program writes them.
+/// another paper program writes them. A claim that takes over the lock of a killed program
+/// says so on stderr and removes the temporary files that program left in the outputs' folders
+/// in the middle of a write.
 pub fn claim_outputs() -> Lock {
     if let Err(e) = interrupt::install() {
         eprintln!("note: {e}: an interrupt leaves the outputs' lock behind");
     }
-    exit_on_error(
+    let lock = exit_on_error(
         claim_file("paper outputs", &outputs_claim_target()).map_err(|e| match e {
             // the claim's message, which names the holder, said of these outputs
             Error::Invalid { expected, .. } => Error::invalid(
@@ -111,7 +122,17 @@ pub fn claim_outputs() -> Lock {
             ),
             e => e,
         }),
-    )
+    );
+    let mut notes = lock.notes().to_vec();
+    if let Some(pid) = lock.taken_from() {
+        for (dir, stem) in OUTPUT_DIRS {
+            notes.extend(remove_temporaries_of(&output_root().join(dir), pid, stem));
+        }
+    }
+    for note in notes {
+        eprintln!("note: {note}");
+    }
+    lock
 }
 
 /// The `flags` given to this program, and its claim of the outputs ([`claim_outputs`]):
