@@ -1169,3 +1169,47 @@ fn a_set_key_outside_the_scene_names_the_part_that_is_not_there() {
     }
     assert!(!out.exists(), "refused before any output");
 }
+
+// Fails without the claim: `check … --out figures`, as the README runs it, redrew
+// figures/mechanism_standard.png while a paper program held the outputs, and a sweep's `--out`
+// in data/ could replace a paper program's CSV or be replaced by it, each exit 0.
+#[test]
+fn a_command_writing_among_the_paper_outputs_waits_for_no_paper_program() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let lock = root.join(".paper-outputs.lock");
+    // This test's process holds the outputs, as a paper program would.
+    let host = fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
+    let held = format!(
+        "pid={}\nhost={}\ncommand=fig06\n",
+        std::process::id(),
+        host.trim()
+    );
+    fs::write(&lock, held).unwrap();
+    let png = root.join("figures/mechanism_standard.png");
+    let modified = || fs::metadata(&png).and_then(|m| m.modified()).ok();
+    let before = modified();
+    let scene = scene_path("standard");
+    let check = jointwear(&["check", s(&scene), "--out", s(&root.join("figures"))]);
+    // (A path into data/ by another way is data/ all the same.)
+    let csv = root.join("data/../data/sweep-test.csv");
+    let sweep = jointwear(&[
+        "sweep",
+        s(&scene),
+        "--set",
+        "run.rtol=1e-6",
+        "--out",
+        s(&csv),
+    ]);
+    let after = modified();
+    fs::remove_file(&lock).unwrap();
+    let _ = fs::remove_file(&csv);
+    for o in [&check, &sweep] {
+        let err = stderr(o);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(
+            err.contains("`--out`") && err.contains("paper.md") && err.contains("`fig06`"),
+            "{err}"
+        );
+    }
+    assert_eq!(before, after, "check drew into figures/");
+}

@@ -21,6 +21,7 @@ use clap::{Parser, Subcommand};
 use failure::{CliResult, Failure};
 use jointwear::io::interrupt;
 use jointwear::io::lock::{self, Lock};
+use jointwear::paper::program;
 use jointwear::scene::reversal_note;
 use jointwear::scene::variant::{parse_value, Variant};
 use jointwear::simulation::ensemble::{EnsembleSettings, Perturbation, DEFAULT_SEED, MAX_MEMBERS};
@@ -396,12 +397,29 @@ fn checked_out_dir(scene: &Path, kind: &str, out: Option<PathBuf>) -> CliResult<
     Ok(dir)
 }
 
-/// Claims the output folder `dir` of the scene at `scene` for this process until the lock
-/// drops: refused (exit 2, naming the holder) while another process writes into it.
-fn claim_out(scene: &Path, dir: &Path) -> CliResult<Lock> {
-    lock::claim_folder("--out", dir)
+/// A command's claims of its outputs, released when it drops: of the paper's outputs, if it
+/// writes among them ([`program::claim_if_paper_output`]), and of its own folder or file.
+pub type Claims = (Option<Lock>, Lock);
+
+/// Claims the output folder `dir` of the scene at `scene` for this process until the claims
+/// drop: refused (exit 2, naming the holder) while another process writes into it, or into
+/// the paper's outputs if `dir` is among them.
+fn claim_out(scene: &Path, dir: &Path) -> CliResult<Claims> {
+    let failure = |e| Failure::from(scene, e);
+    let paper = program::claim_if_paper_output("--out", dir).map_err(failure)?;
+    let own = lock::claim_folder("--out", dir)
         .map(noted)
-        .map_err(|e| Failure::from(scene, e))
+        .map_err(failure)?;
+    Ok((paper, own))
+}
+
+/// Claims the output file `out` (a sweep's) for this process until the claims drop, as
+/// [`claim_out`] claims a folder; a refusal is said of `input` (the scene, or `out` itself).
+fn claim_out_file(input: &Path, out: &Path) -> CliResult<Claims> {
+    let failure = |e| Failure::from(input, e);
+    let paper = program::claim_if_paper_output("--out", out).map_err(failure)?;
+    let own = lock::claim_file("--out", out).map(noted).map_err(failure)?;
+    Ok((paper, own))
 }
 
 /// `claim`, its notes ([`Lock::notes`]: a stale lock taken over) printed on stderr.
@@ -416,7 +434,7 @@ fn noted(claim: Lock) -> Lock {
 /// --member`, `run --ensemble`, `longlife`): its manifest is checked too, before any work, so
 /// that one this program cannot trust, or one of another command's outputs, is refused at
 /// once (exit 2), not after the run ([`folder::check_manifest`]).
-fn claim_outputs(scene: &Path, dir: &Path, command: FolderCommand) -> CliResult<Lock> {
+fn claim_outputs(scene: &Path, dir: &Path, command: FolderCommand) -> CliResult<Claims> {
     let claim = claim_out(scene, dir)?;
     folder::check_manifest("--out", dir, command, folder::OUT_REMEDY)
         .map_err(|e| Failure::from(scene, e))?;

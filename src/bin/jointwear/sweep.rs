@@ -5,7 +5,6 @@
 use crate::failure::{CliResult, Failure};
 use crate::scene_out;
 use jointwear::io::interrupt;
-use jointwear::io::lock::claim_file;
 use jointwear::io::output::check_output_file;
 use jointwear::io::progress::progress_bar;
 use jointwear::simulation::ensemble::EnsembleSettings;
@@ -17,7 +16,7 @@ use std::path::{Path, PathBuf};
 /// `sweep-merge`: joins the shard files `inputs` of one sweep into `out`.
 pub fn sweep_merge(inputs: &[PathBuf], out: &Path, allow_partial: bool) -> CliResult<()> {
     check_output_file("--out", out).map_err(|e| Failure::from(out, e))?;
-    let _claim = (claim_file("--out", out).map(crate::noted)).map_err(|e| Failure::from(out, e))?;
+    let _claim = crate::claim_out_file(out, out)?;
     // Reading the inputs is reading input: an unreadable one is bad input.
     let rows = merge(inputs, out, allow_partial).map_err(|e| {
         if matches!(&e, Error::Io { path, .. } if inputs.contains(path)) {
@@ -70,7 +69,7 @@ pub fn sweep(
             .map_err(|e| Failure::input(path, e))?;
     }
     check_output_file("--out", &out).map_err(bad)?;
-    let _claim = claim_file("--out", &out).map(crate::noted).map_err(bad)?;
+    let _claim = crate::claim_out_file(path, &out)?;
     let replaced = !resume && out.exists();
     let journaled = JournaledSweep::open(&mut sweep, &out, resume).map_err(bad)?;
     if replaced {
