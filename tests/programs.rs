@@ -86,12 +86,25 @@ fn golden_record_takes_one_reason_and_help_records_nothing() {
     }
 }
 
+/// The lock file of the paper's outputs.
+fn paper_lock() -> PathBuf {
+    crate_file(".paper-outputs.lock")
+}
+
+// The programs that claim the outputs run one after another, in one test: two tests running
+// them at once would refuse each other.
+#[test]
+fn the_paper_programs_that_write_claim_the_outputs_in_turn() {
+    a_second_paper_program_is_refused_while_one_writes_the_outputs();
+    a_killed_programs_lock_is_taken_over_with_the_temporaries_it_left();
+    the_studies_say_which_checkout_they_write_into();
+}
+
 // Fails without the claim: the second table3 ran beside the first and exited 0, both writing
 // data/table3.csv; a figure program beside the report could leave its figure beside the other
 // process's CSV.
-#[test]
 fn a_second_paper_program_is_refused_while_one_writes_the_outputs() {
-    let lock = crate_file(".paper-outputs.lock");
+    let lock = paper_lock();
     let table3 = env!("CARGO_BIN_EXE_table3");
     let first = Command::new(table3)
         .stdout(std::process::Stdio::piped())
@@ -125,10 +138,14 @@ fn a_second_paper_program_is_refused_while_one_writes_the_outputs() {
         out.contains(&format!("wrote data/table3.csv in {root} from")),
         "{out}"
     );
-    // (Here, not in a test of its own: two tests running table3 at once would refuse each
-    // other.) Fails without the cleanup: the lock of a killed program (a process of this host
-    // that no longer runs: a pid beyond Linux's largest) was taken over without a word, and
-    // the temporaries it left in data/, figures/ and beside paper.md stayed there for good.
+}
+
+// Fails without the cleanup: the lock of a killed program (a process of this host that no
+// longer runs: a pid beyond Linux's largest) was taken over without a word, and the
+// temporaries it left in data/, figures/ and beside paper.md stayed there for good.
+fn a_killed_programs_lock_is_taken_over_with_the_temporaries_it_left() {
+    let lock = paper_lock();
+    let table3 = env!("CARGO_BIN_EXE_table3");
     let host = std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
     std::fs::write(
         &lock,
@@ -156,4 +173,26 @@ fn a_second_paper_program_is_refused_while_one_writes_the_outputs() {
     );
     assert_eq!(taken, [false; 3], "{err}");
     assert!(!lock.exists(), "released when the taker ends");
+}
+
+// Fails without the root in their lines: the studies said "wrote data/x.csv" (here the
+// redraws, which are quick, "redrew figures/x.png from data/x.csv"), read as relative to the
+// working directory, whatever checkout they were built in and write into.
+fn the_studies_say_which_checkout_they_write_into() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    for (program, figure) in [
+        (env!("CARGO_BIN_EXE_work_precision"), "work_precision"),
+        (env!("CARGO_BIN_EXE_contact_law_wear"), "contact_law_wear"),
+    ] {
+        // Run elsewhere than the checkout, as a shared build would be.
+        let o = Command::new(program)
+            .arg("--redraw")
+            .current_dir(std::env::temp_dir())
+            .output()
+            .unwrap();
+        let out = text(&o.stdout);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let line = format!("redrew figures/{figure}.png from data/{figure}.csv in {root}\n");
+        assert!(out.contains(&line), "{out}");
+    }
 }

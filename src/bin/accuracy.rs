@@ -12,7 +12,10 @@ fn main() {
     let bar = progress_bar(0, "accuracy runs");
     let a = exit_on_error(jointwear::paper::studies::accuracy_dependence(&bar));
     bar.finish_and_clear();
-    println!("wrote data/accuracy_dependence.csv");
+    println!(
+        "{}",
+        jointwear::paper::program::in_root("wrote data/accuracy_dependence.csv")
+    );
     for f in &a.findings {
         println!(
             "{:34} paper {:28} holds [converged, ode45, rk4 1e-5, rk4 1e-4] = {:?}{}",

@@ -9,7 +9,10 @@ fn main() {
         &[],
     );
     let results = exit_on_error(benchmark_summary(&criterion_dir()));
-    println!("wrote data/benchmarks.csv");
+    println!(
+        "{}",
+        jointwear::paper::program::in_root("wrote data/benchmarks.csv")
+    );
     println!("{:<34} {:>14} {:>14}", "bench", "median", "MAD");
     for r in &results {
         println!("{:<34} {:>14} {:>14}", r.bench, ns(r.median), ns(r.mad));

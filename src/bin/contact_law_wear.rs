@@ -39,7 +39,8 @@ fn main() {
             )));
         };
         exit_on_error(draw_law_wear(&rows));
-        println!("redrew figures/{LAW_WEAR_FIGURE} from data/{LAW_WEAR_FILE}");
+        let done = format!("redrew figures/{LAW_WEAR_FIGURE} from data/{LAW_WEAR_FILE}");
+        println!("{}", program::in_root(&done));
         return;
     }
     let golden = exit_on_error(Golden::load());
@@ -65,8 +66,10 @@ fn main() {
             );
         }
     }
+    let done = format!("wrote data/{LAW_WEAR_FILE} and figures/{LAW_WEAR_FIGURE}");
     println!(
-        "wrote data/{LAW_WEAR_FILE} and figures/{LAW_WEAR_FIGURE} in {:.0} s",
+        "{} in {:.0} s",
+        program::in_root(&done),
         clock.elapsed().as_secs_f64()
     );
 }

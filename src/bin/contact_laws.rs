@@ -29,5 +29,10 @@ fn main() {
         }
         println!();
     }
-    println!("wrote data/contact_laws_restitution.csv and figures/contact_laws.png");
+    println!(
+        "{}",
+        jointwear::paper::program::in_root(
+            "wrote data/contact_laws_restitution.csv and figures/contact_laws.png"
+        )
+    );
 }

@@ -15,7 +15,12 @@ fn main() {
     let bar = progress_bar(0, "members");
     let study = exit_on_error(convergence_study(&bar));
     bar.finish_and_clear();
-    println!("wrote data/ensemble_convergence.csv and figures/ensemble_convergence.png");
+    println!(
+        "{}",
+        jointwear::paper::program::in_root(
+            "wrote data/ensemble_convergence.csv and figures/ensemble_convergence.png"
+        )
+    );
     for (n, rms, width) in &study.profile {
         println!(
             "{n:3} members: mean wear profile {:.2} % RMS from the full ensemble's, band width {:.1} %",

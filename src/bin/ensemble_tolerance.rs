@@ -19,5 +19,8 @@ fn main() {
             r.case, r.rtol, r.continuous, r.members, r.pressure_dominated, r.pw.z, r.sw.z, r.evaluations
         );
     }
-    println!("wrote data/ensemble_tolerance.csv");
+    println!(
+        "{}",
+        jointwear::paper::program::in_root("wrote data/ensemble_tolerance.csv")
+    );
 }

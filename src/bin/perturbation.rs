@@ -25,5 +25,8 @@ fn main() {
             r.protocol, r.case, r.quantity, r.state, r.mean, r.p, r.test
         );
     }
-    println!("wrote data/perturbation_sensitivity.csv");
+    println!(
+        "{}",
+        jointwear::paper::program::in_root("wrote data/perturbation_sensitivity.csv")
+    );
 }

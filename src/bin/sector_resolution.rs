@@ -32,5 +32,8 @@ fn main() {
         };
         println!("{:>12} {:>5} sectors: {depth}{stop}", r.case, r.sectors);
     }
-    println!("wrote data/sector_resolution.csv");
+    println!(
+        "{}",
+        jointwear::paper::program::in_root("wrote data/sector_resolution.csv")
+    );
 }

@@ -20,5 +20,8 @@ fn main() {
         println!("{:>16} shared:      {}", s.case, cells(&s.shared));
         println!("{:>16} independent: {}", "", cells(&s.independent));
     }
-    println!("wrote data/member_separation.csv");
+    println!(
+        "{}",
+        jointwear::paper::program::in_root("wrote data/member_separation.csv")
+    );
 }

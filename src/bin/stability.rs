@@ -11,7 +11,10 @@ fn main() {
     let bar = progress_bar(0, "stability cases");
     let rows = exit_on_error(jointwear::paper::studies::stability(&bar));
     bar.finish_and_clear();
-    println!("wrote data/stability.csv");
+    println!(
+        "{}",
+        jointwear::paper::program::in_root("wrote data/stability.csv")
+    );
     for r in rows {
         let outcome = r.failure.as_deref().unwrap_or("completed");
         println!(

@@ -58,21 +58,24 @@ fn main() {
     }
     if claim.flags.contains(&"--redraw") {
         exit_on_error(studies::redraw_work_precision());
-        println!("redrew figures/work_precision.png from data/work_precision.csv");
+        let done = "redrew figures/work_precision.png from data/work_precision.csv";
+        println!("{}", program::in_root(done));
         return;
     }
     if claim.flags.contains(&"--rule") {
         let bar = progress_bar(0, "members");
         let rule = exit_on_error(rule_rows(&bar));
         bar.finish_and_clear();
-        println!("wrote data/{RULE_FILE}");
+        println!("{}", program::in_root(&format!("wrote data/{RULE_FILE}")));
         print_picks(&rule);
         return;
     }
     let bar = progress_bar(0, "work-precision runs");
     let wp = exit_on_error(studies::work_precision(&bar));
     bar.finish_and_clear();
-    println!("wrote data/work_precision.csv, figures/work_precision.png and data/{RULE_FILE}");
+    let done =
+        format!("wrote data/work_precision.csv, figures/work_precision.png and data/{RULE_FILE}");
+    println!("{}", program::in_root(&done));
     println!("error floor (reference disagreement): {:?}", wp.floor);
     print_picks(&wp.rule);
 }

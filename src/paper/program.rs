@@ -72,6 +72,14 @@ pub fn usage(program: &str, about: &str, flags: &[Flag]) -> String {
     text
 }
 
+/// `done` (`wrote data/x.csv`, `redrew figures/x.png from data/x.csv`: paths under the crate
+/// root) with the root named, as a program's line says it: a program built in one checkout
+/// writes into that checkout wherever it runs, so "wrote data/x.csv" alone reads as relative
+/// to the working directory.
+pub fn in_root(done: &str) -> String {
+    format!("{done} in {}", output_root().display())
+}
+
 /// A paper program's claim of the crate's outputs, with the flags it was given; released
 /// when it drops.
 #[must_use = "the outputs are claimed while this lives: bind it for the whole of `main`"]

@@ -311,8 +311,8 @@ pub fn figure_main(name: &str) {
     bar.finish_and_clear();
     let lines = exit_on_error((figure.draw)(&runs));
     println!(
-        "wrote {png}data/{name}.csv in {} from {} members (seed {}) in {:.1} s",
-        output_root().display(),
+        "{} from {} members (seed {}) in {:.1} s",
+        program::in_root(&format!("wrote {png}data/{name}.csv")),
         ensemble.members,
         ensemble.seed,
         runs.seconds
