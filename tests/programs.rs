@@ -111,11 +111,14 @@ fn a_second_paper_program_is_refused_while_one_writes_the_outputs() {
         .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
+    // The first's own lock, not one a killed program left, which the first takes over.
+    let held = format!("pid={}\n", first.id());
+    let claimed = || std::fs::read_to_string(&lock).is_ok_and(|t| t.starts_with(&held));
     let clock = std::time::Instant::now();
-    while !lock.exists() && clock.elapsed().as_secs() < 30 {
+    while !claimed() && clock.elapsed().as_secs() < 30 {
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    assert!(lock.exists(), "the first program claims the outputs");
+    assert!(claimed(), "the first program claims the outputs");
     let clock = std::time::Instant::now();
     let o = Command::new(table3).output().unwrap();
     let err = text(&o.stderr);
