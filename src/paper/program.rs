@@ -8,7 +8,9 @@
 //! `data/` and `paper.md` are written by one paper program at a time, as `jointwear`'s commands
 //! claim their `--out` folders. Two at once (two figure programs, the report and a figure
 //! program, a study and the report that redraws its figure) each wrote their files atomically
-//! but in any order, so a figure could end up beside another process's CSV, both exit 0.
+//! but in any order, so a figure could end up beside another process's CSV, both exit 0. A
+//! `jointwear` command whose `--out` lies among these outputs holds the same claim
+//! ([`claim_if_paper_output`]).
 
 use crate::error::exit_on_error;
 use crate::io::interrupt;
