@@ -76,6 +76,12 @@ impl Lock {
     pub fn taken_from(&self) -> Option<u32> {
         self.taken_from
     }
+
+    /// Adds `notes` to what its user should hear of ([`Lock::notes`]): what its claimer did
+    /// on taking it, such as removing temporaries elsewhere.
+    pub(crate) fn note(&mut self, notes: impl IntoIterator<Item = String>) {
+        self.notes.extend(notes);
+    }
 }
 
 /// Claims the output folder `dir` (creating it) for this process; `option` names the setting

@@ -10,5 +10,6 @@ pub mod format;
 pub mod interrupt;
 pub mod lock;
 pub mod output;
+pub mod paper_claim;
 pub mod plot;
 pub mod progress;

@@ -10,14 +10,13 @@
 //! program, a study and the report that redraws its figure) each wrote their files atomically
 //! but in any order, so a figure could end up beside another process's CSV, both exit 0. A
 //! `jointwear` command whose `--out` lies among these outputs holds the same claim
-//! ([`claim_if_paper_output`]).
+//! ([`crate::io::paper_claim`]).
 
 use crate::error::exit_on_error;
 use crate::io::interrupt;
-use crate::io::lock::{claim_file, remove_temporaries_of, Lock};
-use crate::paper::figures::output_root;
+use crate::io::lock::Lock;
+use crate::io::paper_claim::{claim_paper_outputs, output_root, PAPER_OUTPUTS};
 use crate::{Error, Result};
-use std::path::{Path, PathBuf};
 
 /// A flag a program takes, and what it does (for `--help`).
 pub type Flag = (&'static str, &'static str);
@@ -92,106 +91,21 @@ pub struct Claimed {
     _lock: Lock,
 }
 
-/// The file whose lock (`.paper-outputs.lock` beside it, in the crate root) claims the
-/// crate's outputs for one paper program.
-pub fn outputs_claim_target() -> PathBuf {
-    output_root().join("paper-outputs")
-}
-
-/// What a paper program's refusal names as the setting that chose its outputs.
-const PAPER_OUTPUTS: &str = "paper outputs";
-
-/// The folders the paper programs write into, under [`output_root`], each with the stem of
-/// the only output whose temporaries there are theirs (`None`: every file there is).
-const OUTPUT_DIRS: [(&str, Option<&str>); 4] = [
-    ("", Some("paper")),
-    ("figures", None),
-    ("data", None),
-    ("data/golden", None),
-];
-
-/// Claims `figures/`, `data/` and `paper.md` for this process until the returned lock drops
-/// (also released on an interrupt, if the process installed the handler, and by
-/// [`exit_on_error`]); refused, naming the process that holds them and `option` with its
-/// `value` (what chose these outputs), while another process writes them. A claim that takes
-/// over the lock of a killed process says so on stderr and removes the temporary files that
-/// process left in the outputs' folders in the middle of a write.
-pub fn claim_paper_outputs(option: &str, value: &str) -> Result<Lock> {
-    let lock = claim_file(option, &outputs_claim_target()).map_err(|e| match e {
-        // the claim's message, which names the holder, said of these outputs
-        Error::Invalid { expected, .. } => Error::invalid(
-            option,
-            value,
-            expected
-                .replacen(
-                    "an output no other run is writing",
-                    "outputs no other program is writing (the paper's: figures/, data/ and \
-                     paper.md)",
-                    1,
-                )
-                // (a paper program cannot choose other outputs; a command can)
-                .replacen(&format!(", choose another {PAPER_OUTPUTS}"), "", 1),
-        ),
-        e => e,
-    })?;
-    let mut notes = lock.notes().to_vec();
-    if let Some(pid) = lock.taken_from() {
-        for (dir, stem) in OUTPUT_DIRS {
-            notes.extend(remove_temporaries_of(&output_root().join(dir), pid, stem));
-        }
-    }
-    for note in notes {
-        eprintln!("note: {note}");
-    }
-    Ok(lock)
-}
-
 /// A paper program's claim of the outputs ([`claim_paper_outputs`]), with the interrupt
-/// handler installed; prints an error and exits 2 while another process writes them.
+/// handler installed and the claim's notes printed on stderr; prints an error and exits 2
+/// while another process writes them.
 pub fn claim_outputs() -> Lock {
     if let Err(e) = interrupt::install() {
         eprintln!("note: {e}: an interrupt leaves the outputs' lock behind");
     }
-    exit_on_error(claim_paper_outputs(
+    let lock = exit_on_error(claim_paper_outputs(
         PAPER_OUTPUTS,
         "figures/, data/ and paper.md",
-    ))
-}
-
-/// The claim of the paper's outputs ([`claim_paper_outputs`]) for a command of the
-/// `jointwear` program whose `option` names `path`, when that is one of them: `paper.md`, or
-/// in `figures/` or `data/` under [`output_root`] (the README's `check … --out figures`). A
-/// paper program writing there at the same time could replace its files (a sweep's `--out
-/// data/table3.csv`) or it theirs. `None` for any other path.
-pub fn claim_if_paper_output(option: &str, path: &Path) -> Result<Option<Lock>> {
-    let root = resolved(output_root());
-    let path = resolved(path);
-    let ours = ["figures", "data"]
-        .iter()
-        .any(|dir| path.starts_with(root.join(dir)))
-        || path == root.join("paper.md");
-    ours.then(|| claim_paper_outputs(option, &path.display().to_string()))
-        .transpose()
-}
-
-/// `path` made absolute, with symbolic links resolved as far as it exists.
-fn resolved(path: &Path) -> PathBuf {
-    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
-    // The names below the longest part that exists, innermost first.
-    let mut names = Vec::new();
-    let mut head = absolute.as_path();
-    loop {
-        if let Ok(real) = head.canonicalize() {
-            return names.iter().rev().fold(real, |p, name| p.join(name));
-        }
-        match (head.parent(), head.file_name()) {
-            (Some(parent), Some(name)) => {
-                names.push(name);
-                head = parent;
-            }
-            _ => return absolute,
-        }
+    ));
+    for note in lock.notes() {
+        eprintln!("note: {note}");
     }
+    lock
 }
 
 /// The `flags` given to this program, and its claim of the outputs ([`claim_outputs`]):

@@ -21,6 +21,7 @@ use clap::{Parser, Subcommand};
 use failure::{CliResult, Failure};
 use jointwear::io::interrupt;
 use jointwear::io::lock::{self, Lock};
+use jointwear::io::paper_claim::claim_if_paper_output;
 use jointwear::scene::reversal_note;
 use jointwear::scene::variant::{parse_value, Variant};
 use jointwear::simulation::ensemble::{EnsembleSettings, Perturbation, DEFAULT_SEED, MAX_MEMBERS};
@@ -396,21 +397,8 @@ fn checked_out_dir(scene: &Path, kind: &str, out: Option<PathBuf>) -> CliResult<
     Ok(dir)
 }
 
-/// The claim of the paper's outputs for an `--out` among them
-/// (`jointwear::paper::program::claim_if_paper_output`).
-#[cfg(feature = "paper")]
-fn claim_paper(out: &Path) -> jointwear::Result<Option<Lock>> {
-    jointwear::paper::program::claim_if_paper_output("--out", out)
-}
-
-/// None: a build without the paper has no paper program to meet in its outputs.
-#[cfg(not(feature = "paper"))]
-fn claim_paper(_out: &Path) -> jointwear::Result<Option<Lock>> {
-    Ok(None)
-}
-
 /// A command's claims of its outputs, released when it drops: of the paper's outputs, if it
-/// writes among them ([`claim_paper`]), and of its own folder or file.
+/// writes among them ([`claim_if_paper_output`]), and of its own folder or file.
 pub type Claims = (Option<Lock>, Lock);
 
 /// Claims the output folder `dir` of the scene at `scene` for this process until the claims
@@ -418,7 +406,9 @@ pub type Claims = (Option<Lock>, Lock);
 /// the paper's outputs if `dir` is among them.
 fn claim_out(scene: &Path, dir: &Path) -> CliResult<Claims> {
     let failure = |e| Failure::from(scene, e);
-    let paper = claim_paper(dir).map_err(failure)?;
+    let paper = claim_if_paper_output("--out", dir)
+        .map_err(failure)?
+        .map(noted);
     let own = lock::claim_folder("--out", dir)
         .map(noted)
         .map_err(failure)?;
@@ -429,7 +419,9 @@ fn claim_out(scene: &Path, dir: &Path) -> CliResult<Claims> {
 /// [`claim_out`] claims a folder; a refusal is said of `input` (the scene, or `out` itself).
 fn claim_out_file(input: &Path, out: &Path) -> CliResult<Claims> {
     let failure = |e| Failure::from(input, e);
-    let paper = claim_paper(out).map_err(failure)?;
+    let paper = claim_if_paper_output("--out", out)
+        .map_err(failure)?
+        .map(noted);
     let own = lock::claim_file("--out", out).map(noted).map_err(failure)?;
     Ok((paper, own))
 }

@@ -27,13 +27,9 @@ use crate::paper::cases::{Case, Need, Runs, CASES};
 use crate::paper::program;
 use crate::simulation::ensemble::EnsembleSettings;
 use crate::{Error, Result};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-/// The root of the generated outputs: the crate the program was built from, wherever it runs
-/// (a program built in one checkout writes into that checkout, so it says where).
-pub fn output_root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
+pub use crate::io::paper_claim::output_root;
 
 /// Where generated outputs go: `figures/` and `data/` under [`output_root`].
 pub fn output_path(dir: &str, file: &str) -> PathBuf {
