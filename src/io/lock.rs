@@ -70,6 +70,14 @@ impl Lock {
         &self.notes
     }
 
+    /// The lock, its notes ([`Lock::notes`]) printed on stderr as the programs show them.
+    pub fn noted(self) -> Lock {
+        for note in &self.notes {
+            eprintln!("note: {note}");
+        }
+        self
+    }
+
     /// The process id of the gone holder whose stale lock this claim took over, if it did:
     /// the temporaries that holder left elsewhere than beside the lock are its claimer's to
     /// remove ([`remove_temporaries_of`]).

@@ -98,24 +98,18 @@ pub fn claim_outputs() -> Lock {
     if let Err(e) = interrupt::install() {
         eprintln!("note: {e}: an interrupt leaves the outputs' lock behind");
     }
-    let lock = exit_on_error(claim_paper_outputs(
+    exit_on_error(claim_paper_outputs(
         PAPER_OUTPUTS,
         "figures/, data/ and paper.md",
-    ));
-    for note in lock.notes() {
-        eprintln!("note: {note}");
-    }
-    lock
+    ))
+    .noted()
 }
 
 /// The `flags` given to this program, and its claim of the outputs ([`claim_outputs`]):
 /// prints its usage and exits 0 on `--help`; prints an error and exits 2 on any other argument
 /// or while another paper program writes the outputs. The first call of a program's `main`.
 pub fn flags(program: &str, about: &str, flags: &[Flag]) -> Claimed {
-    let args = std::env::args_os()
-        .skip(1)
-        .map(|a| a.to_string_lossy().into_owned());
-    match exit_on_error(parse(args, flags)) {
+    match exit_on_error(parse(program_args(), flags)) {
         Asked::Help => {
             println!("{}", usage(program, about, flags));
             std::process::exit(0)
@@ -148,17 +142,17 @@ pub fn parse_reason(args: impl IntoIterator<Item = String>) -> Result<Option<Str
 /// The reason given to this program ([`parse_reason`]): prints its usage and exits 0 on
 /// `--help`; prints an error and exits 2 on anything but one reason.
 pub fn reason(program: &str, about: &str) -> String {
-    let args = std::env::args_os()
-        .skip(1)
-        .map(|a| a.to_string_lossy().into_owned());
-    exit_on_error(parse_reason(args)).unwrap_or_else(|| {
-        println!(
-            "{about}\n(outputs under {}, the crate this program was built from)\n\nUsage: \
-             {program} REASON",
-            output_root().display()
-        );
+    exit_on_error(parse_reason(program_args())).unwrap_or_else(|| {
+        println!("{} REASON", usage(program, about, &[]));
         std::process::exit(0)
     })
+}
+
+/// This program's arguments after its name, as text.
+fn program_args() -> impl Iterator<Item = String> {
+    std::env::args_os()
+        .skip(1)
+        .map(|a| a.to_string_lossy().into_owned())
 }
 
 #[cfg(test)]

@@ -405,33 +405,28 @@ pub type Claims = (Option<Lock>, Lock);
 /// drop: refused (exit 2, naming the holder) while another process writes into it, or into
 /// the paper's outputs if `dir` is among them.
 fn claim_out(scene: &Path, dir: &Path) -> CliResult<Claims> {
-    let failure = |e| Failure::from(scene, e);
-    let paper = claim_if_paper_output("--out", dir)
-        .map_err(failure)?
-        .map(noted);
-    let own = lock::claim_folder("--out", dir)
-        .map(noted)
-        .map_err(failure)?;
-    Ok((paper, own))
+    claim_with(scene, dir, lock::claim_folder)
 }
 
 /// Claims the output file `out` (a sweep's) for this process until the claims drop, as
 /// [`claim_out`] claims a folder; a refusal is said of `input` (the scene, or `out` itself).
 fn claim_out_file(input: &Path, out: &Path) -> CliResult<Claims> {
+    claim_with(input, out, lock::claim_file)
+}
+
+/// The paper's outputs if `out` is among them, then `out` by `claim` ([`lock::claim_folder`]
+/// or [`lock::claim_file`]), each claim's notes printed; a refusal is said of `input`.
+fn claim_with(
+    input: &Path,
+    out: &Path,
+    claim: fn(&str, &Path) -> jointwear::Result<Lock>,
+) -> CliResult<Claims> {
     let failure = |e| Failure::from(input, e);
     let paper = claim_if_paper_output("--out", out)
         .map_err(failure)?
-        .map(noted);
-    let own = lock::claim_file("--out", out).map(noted).map_err(failure)?;
+        .map(Lock::noted);
+    let own = claim("--out", out).map(Lock::noted).map_err(failure)?;
     Ok((paper, own))
-}
-
-/// `claim`, its notes ([`Lock::notes`]: a stale lock taken over) printed on stderr.
-fn noted(claim: Lock) -> Lock {
-    for note in claim.notes() {
-        eprintln!("note: {note}");
-    }
-    claim
 }
 
 /// [`claim_out`] for `command`, which writes an output folder with a manifest (`run`, `run
