@@ -1268,8 +1268,8 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              14 801 steps (13 346 rejected), 718 477 evaluations (155 500 without its Jacobians'), \
              3.1 nm; at rtol 1e-5, 4 938 steps and 20 nm, no fewer steps than Dopri5's at 1e-6. It \
              cannot step over the stiff mode: from the state after 30 rotations one step of 3.2 µs \
-             errs in the rates by 6.7×10⁻⁶ against Dopri5's 1.3×10⁻⁵, one of 1.6 µs by 3.2×10⁻⁷ \
-             against 1.4×10⁻⁷, so at the steps Dopri5 takes both must resolve the contact's fast \
+             errs in the rod's rate by 6.2×10⁻⁶ rad/s against Dopri5's 1.2×10⁻⁵, one of 1.6 µs by \
+             3.0×10⁻⁷ against 1.3×10⁻⁷ (the slider's velocity alike, in m/s), so at the steps Dopri5 takes both must resolve the contact's fast \
              content. Member 3 gives the same (Rodas4 at rtol 1e-6: 4 354 steps, 3.7 nm; Dopri5 at \
              3e-8: 3 599 steps, 1.7 nm). With difference steps of 1.5e-10 of each coordinate, the \
              Jacobian's columns drowned in the rounding of the positions' differences (1e-5 relative) \
