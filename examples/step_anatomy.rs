@@ -13,11 +13,11 @@
 //! steps are; the last line gives the final profile's roughness on the sector scale, the median
 //! of |h_(i−1) − 2h_i + h_(i+1)|.
 
+mod common;
+
 use jointwear::analysis::statistics::Distribution;
 use jointwear::laws::friction::FrictionModel;
 use jointwear::scene::{scene_path, SceneFile};
-use jointwear::simulation::ensemble::{member_simulation, EnsembleSettings};
-use jointwear::simulation::Simulation;
 use std::f64::consts::TAU;
 
 /// Rotations per row of the table.
@@ -45,11 +45,6 @@ fn median(v: &[f64]) -> f64 {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<u64> = std::env::args()
-        .skip(1)
-        .map(|a| a.parse())
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("arguments are MEMBER SEED (two integers): {e}"))?;
     let mut file = SceneFile::read(scene_path("standard"))?;
     // Eq. 4's stiction velocity: a contact sliding slower is in the law's steep branch.
     let v_s = match file.clearance[0].friction {
@@ -58,19 +53,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     file.run.record_rotations = 0;
     let scene = file.build()?;
-    let mut sim = match args[..] {
-        [] => Simulation::start(&scene)?,
-        [member, seed] => {
-            let member = member as usize;
-            let ensemble = EnsembleSettings {
-                members: member + 1,
-                seed,
-                ..EnsembleSettings::default()
-            };
-            member_simulation(&scene, &scene.run, &ensemble, member)?
-        }
-        _ => return Err("arguments are MEMBER SEED, or none".into()),
-    };
+    let mut sim = common::named_trajectory(&scene)?;
     let m = sim.mechanism().clone();
     let (n, period) = (m.coordinates(), scene.period());
     let width = TAU / sim.state().joints[0].wear.depths().len() as f64;

@@ -18,11 +18,11 @@
 //! 3. from that state, one step of each size by either method, against Dopri5 at rtol 1e-14:
 //!    how the local error shrinks with the step.
 
+mod common;
+
 use jointwear::mechanism::{Mechanism, RunState, Workspace};
 use jointwear::ode::{Integrator, Method, OdeSystem, Tolerances};
 use jointwear::scene::{scene_path, SceneFile};
-use jointwear::simulation::ensemble::{member_simulation, EnsembleSettings};
-use jointwear::simulation::Simulation;
 use nalgebra::{Matrix4, Vector4};
 
 /// Errors of the measurements.
@@ -281,26 +281,10 @@ fn quantiles(mut v: Vec<f64>) -> String {
 }
 
 fn main() -> Res<()> {
-    let args: Vec<u64> = std::env::args()
-        .skip(1)
-        .map(|a| a.parse())
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("arguments are MEMBER SEED (two integers): {e}"))?;
     let mut file = SceneFile::read(scene_path("standard"))?;
     file.run.record_rotations = 0;
     let scene = file.build()?;
-    let mut sim = match args[..] {
-        [] => Simulation::start(&scene)?,
-        [member, seed] => {
-            let ensemble = EnsembleSettings {
-                members: member as usize + 1,
-                seed,
-                ..EnsembleSettings::default()
-            };
-            member_simulation(&scene, &scene.run, &ensemble, member as usize)?
-        }
-        _ => return Err("arguments are MEMBER SEED, or none".into()),
-    };
+    let mut sim = common::named_trajectory(&scene)?;
     let period = scene.period();
     while sim.time() < FROM * period {
         sim.advance_step()?;
