@@ -982,12 +982,21 @@ fn a_run_that_did_not_settle_says_so_and_the_motion_names_its_window() {
         text.contains("contact onsets per rotation; recorded rotations, samples every"),
         "{text}"
     );
+    // A single run says that it is one draw of a chaotic system; an ensemble gives the spread.
+    assert!(
+        text.contains("one trajectory of a chaotic system: its numbers are one draw"),
+        "{text}"
+    );
     let out = dir.join("ensemble");
     let args = ["run", s(&scene), "--ensemble", "2", "--out", s(&out)];
     let o = jointwear(&[&args[..], &capped[..]].concat());
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
     assert!(text.contains("not settled: 2 of 2 members"), "{text}");
+    assert!(
+        !text.contains("one trajectory of a chaotic system"),
+        "{text}"
+    );
     assert!(
         text.contains("contact onsets per rotation (recorded)"),
         "{text}"

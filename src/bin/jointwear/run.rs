@@ -207,6 +207,13 @@ fn print_summary(scene: &Scene, out: &RunOutput, joints: &[JointSummary]) {
     if let Some(note) = unsettled {
         println!("  {note}");
     }
+    // Impacts make a run chaotic: one run's wear peak read as the scene's misleads (the
+    // unperturbed standard run's, 0.503 µm, lies 4.3 standard deviations below its 32-member
+    // ensemble's 0.669 ± 0.039 µm).
+    println!(
+        "  one trajectory of a chaotic system: its numbers are one draw; `--ensemble N` gives \
+         their spread over perturbed starts, and the states its members fall into"
+    );
     if let Some(e) = out.energy {
         println!(
             "  energy balance residual {} (relative)",
