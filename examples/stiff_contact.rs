@@ -8,7 +8,7 @@
 //! scene to rotation [`FROM`] and, over the next rotation:
 //!
 //! 1. at every accepted step, the eigenvalues λ of the right-hand side's Jacobian in the
-//!    joint coordinates the run integrates (central differences), by modulus, and h|λ|;
+//!    joint coordinates the run integrates (by differences, as below), by modulus, and h|λ|;
 //! 2. from the state at rotation [`FROM`], the right-hand side frozen (the wear profile and δ̇⁻
 //!    held), one rotation integrated by the library's Dopri5 and by Rodas4 (Hairer and Wanner,
 //!    *Solving ODEs II*, section IV.7: 6 stages, order 4(3), L-stable, stiffly accurate) with
@@ -40,8 +40,8 @@ const SAMPLES: usize = 20;
 /// the columns in the rounding of the positions' differences (1e-5 relative), and Rodas4's
 /// local error then fell only as h² (measured in this program's first version).
 const JACOBIAN_STEPS: [f64; 5] = [3.6e-9, 3e-8, 6e-6, 5e-5, 3.6e-10];
-/// δ̇⁻ (m/s) of section 4's faster onset: about what members 3 and 18 of seed 1 hold late in
-/// their runs.
+/// δ̇⁻ (m/s) of section 4's faster onset: about what member 3 of seed 1 holds late in its run
+/// (19-21 mm/s).
 const FASTER_ONSET: f64 = 0.02;
 
 /// The run's right-hand side at a frozen run state, counting its evaluations.
