@@ -98,6 +98,7 @@ fn the_paper_programs_that_write_claim_the_outputs_in_turn() {
     a_second_paper_program_is_refused_while_one_writes_the_outputs();
     a_killed_programs_lock_is_taken_over_with_the_temporaries_it_left();
     the_studies_say_which_checkout_they_write_into();
+    conflicting_flags_are_refused_before_the_outputs_are_claimed();
 }
 
 // Fails without the claim: the second table3 ran beside the first and exited 0, both writing
@@ -198,4 +199,30 @@ fn the_studies_say_which_checkout_they_write_into() {
         let line = format!("redrew figures/{figure}.png from data/{figure}.csv in {root}\n");
         assert!(out.contains(&line), "{out}");
     }
+}
+
+// Fails without the check before the claim: `work_precision --redraw --rule` claimed the
+// outputs first, so it took over the lock a killed program left, removing that program's
+// temporaries, before refusing its own arguments (and, beside a live program, was refused for
+// that program's claim instead of for its arguments).
+fn conflicting_flags_are_refused_before_the_outputs_are_claimed() {
+    let lock = paper_lock();
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
+    let gone = format!("pid=4194305\nhost={}\ncommand=fig06\n", host.trim());
+    std::fs::write(&lock, &gone).unwrap();
+    let left = crate_file("data/.fig06.tmp-4194305-0.csv");
+    std::fs::write(&left, "x").unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_work_precision"))
+        .args(["--redraw", "--rule"])
+        .output()
+        .unwrap();
+    let (held, kept) = (std::fs::read_to_string(&lock), left.exists());
+    let _ = std::fs::remove_file(&lock);
+    let _ = std::fs::remove_file(&left);
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("at most one of --redraw, --rule"), "{err}");
+    assert!(!err.contains("taking over"), "{err}");
+    assert_eq!(held.ok(), Some(gone), "the lock it found is left as it was");
+    assert!(kept, "the temporary beside it is left as it was");
 }

@@ -7,7 +7,6 @@ use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
 use jointwear::paper::studies::tolerance_rule::{pick, rule_rows, Reading, RuleRow, RULE_FILE};
 use jointwear::paper::{program, studies};
-use jointwear::Error;
 
 /// Prints the members' median paired orbit ratio per setting and what the rule picks from
 /// `rule` by each reading.
@@ -34,7 +33,7 @@ fn print_picks(rule: &[RuleRow]) {
 }
 
 fn main() {
-    let claim = program::flags(
+    let claim = program::one_flag(
         "work_precision",
         "The work-precision study: writes data/work_precision.csv, figures/work_precision.png and \
          the default-tolerance rule's data/work_precision_members.csv",
@@ -49,13 +48,6 @@ fn main() {
             ),
         ],
     );
-    if claim.flags.len() > 1 {
-        exit_on_error::<()>(Err(Error::invalid(
-            "command-line arguments",
-            claim.flags.join(" "),
-            "at most one of --redraw, --rule",
-        )));
-    }
     if claim.flags.contains(&"--redraw") {
         exit_on_error(studies::redraw_work_precision());
         let done = "redrew figures/work_precision.png from data/work_precision.csv";

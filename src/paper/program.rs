@@ -1,5 +1,6 @@
 //! The command line of the paper's programs (figures, Table 3, the report, the studies): each
-//! takes a few flags and nothing else, and refuses anything else before it computes or writes.
+//! takes a few flags and nothing else, and refuses anything else (and flags that exclude each
+//! other, [`one_flag`]) before it claims, computes or writes.
 //! An argument a program ignored ran it as if it had not been given: `fig06 --help` rewrote the
 //! figure and exited 0, `report --al` (meant `--all`) left the slow studies' last results in
 //! `paper.md` and said nothing.
@@ -105,11 +106,42 @@ pub fn claim_outputs() -> Lock {
     .noted()
 }
 
+/// `asked`, unless it runs with more than one of `flags`: an error naming those given.
+fn at_most_one(asked: Asked, flags: &[Flag]) -> Result<Asked> {
+    match &asked {
+        Asked::Run(given) if given.len() > 1 => {
+            let names: Vec<&str> = flags.iter().map(|(f, _)| *f).collect();
+            Err(Error::invalid(
+                "command-line arguments",
+                given.join(" "),
+                format!("at most one of {}", names.join(", ")),
+            ))
+        }
+        _ => Ok(asked),
+    }
+}
+
 /// The `flags` given to this program, and its claim of the outputs ([`claim_outputs`]):
 /// prints its usage and exits 0 on `--help`; prints an error and exits 2 on any other argument
 /// or while another paper program writes the outputs. The first call of a program's `main`.
 pub fn flags(program: &str, about: &str, flags: &[Flag]) -> Claimed {
-    match exit_on_error(parse(program_args(), flags)) {
+    claimed(program, about, flags, parse(program_args(), flags))
+}
+
+/// [`flags`] for a program whose flags each choose one part of its work instead of the
+/// whole (`work_precision --redraw`, `--rule`): two or more are an error, refused as any bad
+/// argument is, before the outputs are claimed. Refused after the claim, `--redraw --rule`
+/// took over a killed program's lock, removing its temporaries, or was refused for another
+/// program's claim rather than for its arguments.
+pub fn one_flag(program: &str, about: &str, flags: &[Flag]) -> Claimed {
+    let asked = parse(program_args(), flags).and_then(|asked| at_most_one(asked, flags));
+    claimed(program, about, flags, asked)
+}
+
+/// What `asked` says, with the claim of the outputs: the usage and exit 0 on `--help`, an
+/// error and exit 2 on an argument error, before anything is claimed.
+fn claimed(program: &str, about: &str, flags: &[Flag], asked: Result<Asked>) -> Claimed {
+    match exit_on_error(asked) {
         Asked::Help => {
             println!("{}", usage(program, about, flags));
             std::process::exit(0)
@@ -182,6 +214,21 @@ mod tests {
             crate::error::exit_code(&parse(args(&["x"]), &[]).unwrap_err()),
             2
         );
+    }
+
+    #[test]
+    fn flags_that_each_choose_a_part_of_the_work_are_given_one_at_a_time() {
+        const PARTS: &[Flag] = &[("--redraw", "redraw"), ("--rule", "rule")];
+        let one = |a: &[&str]| parse(args(a), PARTS).and_then(|asked| at_most_one(asked, PARTS));
+        assert_eq!(
+            one(&["--rule", "--rule"]).unwrap(),
+            Asked::Run(vec!["--rule"])
+        );
+        assert_eq!(one(&["--redraw", "--rule", "-h"]).unwrap(), Asked::Help);
+        let e = one(&["--rule", "--redraw"]).unwrap_err();
+        assert_eq!(crate::error::exit_code(&e), 2);
+        let e = e.to_string();
+        assert!(e.contains("--rule --redraw") && e.contains("at most one of --redraw, --rule"));
     }
 
     #[test]
