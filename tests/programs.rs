@@ -99,6 +99,7 @@ fn the_paper_programs_that_write_claim_the_outputs_in_turn() {
     a_killed_programs_lock_is_taken_over_with_the_temporaries_it_left();
     the_studies_say_which_checkout_they_write_into();
     conflicting_flags_are_refused_before_the_outputs_are_claimed();
+    a_commands_folder_in_the_crate_root_does_not_block_the_paper_programs();
 }
 
 // Fails without the claim: the second table3 ran beside the first and exited 0, both writing
@@ -225,4 +226,50 @@ fn conflicting_flags_are_refused_before_the_outputs_are_claimed() {
     assert!(!err.contains("taking over"), "{err}");
     assert_eq!(held.ok(), Some(gone), "the lock it found is left as it was");
     assert!(kept, "the temporary beside it is left as it was");
+}
+
+// Fails without the claim of a name: the paper claim was a sweep file's claim, which refuses a
+// folder holding another command's manifest or live folder lock, so the manifest that
+// `jointwear run … --out .` leaves in the crate root made every paper program exit 2. That
+// command writes only its own files there, never paper.md nor into figures/ or data/ (a
+// command whose --out is there claims the paper's outputs too).
+fn a_commands_folder_in_the_crate_root_does_not_block_the_paper_programs() {
+    let manifest = crate_file("jointwear-manifest.txt");
+    // (A checkout's own manifest, from such a run, is left to it.)
+    let ours = !manifest.exists();
+    if ours {
+        std::fs::write(
+            &manifest,
+            "# jointwear run data/scenes/standard.toml --out .\n\
+             # the files of this run; other files here are not from it\n",
+        )
+        .unwrap();
+    }
+    // That command still writing there: its folder lock, held by this live process.
+    let folder_lock = crate_file(".jointwear.lock");
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
+    let held = format!(
+        "pid={}\nhost={}\ncommand=jointwear run x --out .\n",
+        std::process::id(),
+        host.trim()
+    );
+    let mut outcomes = Vec::new();
+    for live in [false, true] {
+        if live {
+            std::fs::write(&folder_lock, &held).unwrap();
+        }
+        let o = Command::new(env!("CARGO_BIN_EXE_work_precision"))
+            .arg("--redraw")
+            .output()
+            .unwrap();
+        outcomes.push((o.status.code(), text(&o.stderr)));
+    }
+    let _ = std::fs::remove_file(&folder_lock);
+    if ours {
+        std::fs::remove_file(&manifest).unwrap();
+    }
+    for (code, err) in outcomes {
+        assert_eq!(code, Some(0), "{err}");
+    }
+    assert!(!paper_lock().exists(), "released when it ends");
 }

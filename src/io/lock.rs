@@ -1,5 +1,6 @@
 //! Exclusive claims of outputs: a run's folder or a sweep's file belongs to one process while
-//! it writes, so that two runs never mix their files.
+//! it writes, so that two runs never mix their files; so do outputs kept elsewhere, through a
+//! name that stands for them ([`claim_name`]: the paper's).
 //!
 //! A claim is a lock file beside the output, created with `O_EXCL` (it exists or it does not:
 //! one process wins), holding the holder's process id, host and command line. A second writer
@@ -153,24 +154,15 @@ fn live_holder(lock: &Path) -> Option<String> {
 /// <ensemble folder>/summary.json` replaced the ensemble's summary, which the folder's
 /// manifest still listed, and was lost itself to the ensemble still running, both exit 0).
 pub fn claim_file(option: &str, file: &Path) -> Result<Lock> {
-    let mut name = OsString::from(".");
-    name.push(file.file_name().unwrap_or(file.as_os_str()));
-    name.push(".lock");
-    let lock = file.with_file_name(name);
-    let dir = lock.parent().filter(|d| !d.as_os_str().is_empty());
-    if let Some(dir) = dir {
-        fs::create_dir_all(dir).map_err(|source| Error::Io {
-            path: dir.to_path_buf(),
-            source,
-        })?;
-    }
-    let claimed = claim(option, file, &lock, None)?;
+    let claimed = claim_name(option, file)?;
     // (Checked after the claim, as [`claim_folder`] checks for this lock after its own.)
+    let lock = claimed.path();
+    let dir = lock.parent().filter(|d| !d.as_os_str().is_empty());
     let dir = dir.unwrap_or(Path::new("."));
     // A folder lock its process left (killed, or a crashed node) owns nothing.
     let owner = [dir.join(MANIFEST), dir.join(FOLDER_LOCK)]
         .into_iter()
-        .find(|p| *p != lock && p.exists() && (p.ends_with(MANIFEST) || live_holder(p).is_some()));
+        .find(|p| p != lock && p.exists() && (p.ends_with(MANIFEST) || live_holder(p).is_some()));
     match owner {
         None => Ok(claimed),
         Some(owner) => Err(Error::invalid(
@@ -188,6 +180,26 @@ pub fn claim_file(option: &str, file: &Path) -> Result<Lock> {
             ),
         )),
     }
+}
+
+/// Claims `name`, a path no command writes, for this process through the lock file
+/// `.<name>.lock` beside it, creating its folder: the claim of outputs kept elsewhere (the
+/// paper's, [`crate::io::paper_claim`], whose lock lies in the crate root). Unlike
+/// [`claim_file`], a manifest or folder lock beside it does not refuse it: no output is
+/// written at `name`, so the command whose folder that is can neither replace it nor have one
+/// of its outputs replaced by it ([`claim_file`] is this claim, then that check).
+pub fn claim_name(option: &str, name: &Path) -> Result<Lock> {
+    let mut lock_name = OsString::from(".");
+    lock_name.push(name.file_name().unwrap_or(name.as_os_str()));
+    lock_name.push(".lock");
+    let lock = name.with_file_name(lock_name);
+    if let Some(dir) = lock.parent().filter(|d| !d.as_os_str().is_empty()) {
+        fs::create_dir_all(dir).map_err(|source| Error::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+    }
+    claim(option, name, &lock, None)
 }
 
 /// This host's name, as lock files record it.

@@ -3,8 +3,14 @@
 //! and by a `jointwear` command whose output lies among them, so that none writes there while
 //! another does. Outside the paper feature too: a build without it still writes into a
 //! checkout whose paper programs may run.
+//!
+//! Its lock lies in the crate root, which may also be a command's output folder (`jointwear
+//! run … --out .` there leaves its manifest): that does not refuse the claim
+//! ([`claim_name`]; as a sweep file's claim, it made every paper program exit 2), as such a
+//! command writes and removes only its own files in the root, never `paper.md` nor anything in
+//! `figures/` or `data/` (a command whose output lies there takes this claim too).
 
-use crate::io::lock::{claim_file, remove_temporaries_of, Lock};
+use crate::io::lock::{claim_name, remove_temporaries_of, Lock};
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 
@@ -14,8 +20,8 @@ pub fn output_root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The file whose lock (`.paper-outputs.lock` beside it, in the crate root) claims the
-/// crate's outputs for one paper program.
+/// The name, never written, whose lock (`.paper-outputs.lock` beside it, in the crate root)
+/// claims the crate's outputs for one paper program.
 pub fn outputs_claim_target() -> PathBuf {
     output_root().join("paper-outputs")
 }
@@ -40,7 +46,7 @@ const OUTPUT_DIRS: [(&str, Option<&str>); 4] = [
 /// in the outputs' folders in the middle of a write; its notes ([`Lock::notes`]) say so, for
 /// the caller to show where its user sees them.
 pub fn claim_paper_outputs(option: &str, value: &str) -> Result<Lock> {
-    let mut lock = claim_file(option, &outputs_claim_target()).map_err(|e| match e {
+    let mut lock = claim_name(option, &outputs_claim_target()).map_err(|e| match e {
         // the claim's message, which names the holder, said of these outputs
         Error::Invalid { expected, .. } => Error::invalid(
             option,
