@@ -141,7 +141,9 @@ class Run:
         longer runs is taken over, and the temporary files it left removed, each with a note on
         ``sys.stderr``. Raises
         :class:`jointwear.SceneError`, writing nothing, if another process is writing into
-        ``directory``, if it holds the outputs of another command (an ensemble's folder, or
+        ``directory`` (or, for a ``directory`` among the paper's outputs of the checkout the
+        package was built from, ``figures/`` or ``data/``, while a paper program writes
+        them), if it holds the outputs of another command (an ensemble's folder, or
         ``jointwear longlife``'s), which this write would remove or overwrite, or if it holds
         the checkpoint of an unfinished ``jointwear run``, which would later replace them, or
         for a scene from a dict, if it holds another ``scene.toml`` than an earlier save's."""

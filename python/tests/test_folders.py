@@ -6,7 +6,9 @@ import io
 import json
 import math
 import multiprocessing
+import os
 import pickle
+import shutil
 import struct
 from concurrent.futures import Executor, Future, ProcessPoolExecutor
 
@@ -15,7 +17,7 @@ import pytest
 
 import jointwear
 
-from conftest import STANDARD, short
+from conftest import ROOT, STANDARD, short
 
 # The changes both sides make: `--set run.record_rotations=1 --rotations 2` and the same `set`s
 # in the same order (the rotations last, as the program applies them), so that the folders
@@ -190,6 +192,36 @@ def test_save_refuses_a_folder_another_process_writes(tmp_path):
     assert "`directory`" in str(refused.value) and "choose another directory" in str(
         refused.value
     )
+
+
+# Fails without the claim in Folder.save: a save into the crate's figures/ or data/ (the
+# package built from this checkout) wrote beside a running paper program, which could replace
+# the folder's files or they its own, and returned normally; the program's commands refused.
+def test_save_among_the_paper_outputs_waits_for_no_paper_program(short_run):
+    lock = ROOT / ".paper-outputs.lock"
+    out = ROOT / "data" / f"save-test-{os.getpid()}"
+    host = open("/proc/sys/kernel/hostname").read().strip()
+    # This live process holds the outputs, as a paper program would (never over a real one's).
+    with open(lock, "x") as held:
+        held.write(f"pid={os.getpid()}\nhost={host}\ncommand=fig06\n")
+    try:
+        with pytest.raises(jointwear.SceneError) as refused:
+            short_run.save(out)
+        assert not out.exists()
+    finally:
+        lock.unlink()
+        shutil.rmtree(out, ignore_errors=True)
+    message = str(refused.value)
+    for needle in ("`directory`", "figures/, data/ and paper.md", "process", "`fig06`",
+                   "choose another directory"):
+        assert needle in message, message
+    # Once no program holds them, the save claims them while it writes, then releases them.
+    try:
+        short_run.save(out)
+        assert (out / "jointwear-manifest.txt").exists()
+        assert not lock.exists()
+    finally:
+        shutil.rmtree(out, ignore_errors=True)
 
 
 # Fails without the check in Folder.save: the refusal came from the writer, naming the

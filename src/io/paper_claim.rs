@@ -1,7 +1,7 @@
 //! The claim of the paper's outputs, `figures/`, `data/` and `paper.md` of the crate this was
 //! built from: held by each paper program while it writes them (`jointwear::paper::program`),
-//! and by a `jointwear` command whose output lies among them, so that none writes there while
-//! another does. Outside the paper feature too: a build without it still writes into a
+//! and by a `jointwear` command or Python's `save` whose output lies among them, so that none
+//! writes there while another does. Outside the paper feature too: a build without it still writes into a
 //! checkout whose paper programs may run.
 //!
 //! Its lock lies in the crate root, which may also be a command's output folder (`jointwear
@@ -72,8 +72,9 @@ pub fn claim_paper_outputs(option: &str, value: &str) -> Result<Lock> {
 }
 
 /// The claim of the paper's outputs ([`claim_paper_outputs`]) for a command of the
-/// `jointwear` program whose `option` names `path`, when that is one of them: `paper.md`, or
-/// in `figures/` or `data/` under [`output_root`] (the README's `check … --out figures`). A
+/// `jointwear` program, or Python's `save`, whose `option` names `path`, when that is one of
+/// them: `paper.md`, or in `figures/` or `data/` under [`output_root`] (the README's `check …
+/// --out figures`; for Python, of the checkout the package was built from). A
 /// paper program writing there at the same time could replace its files (a sweep's `--out
 /// data/table3.csv`) or it theirs. `None` for any other path.
 pub fn claim_if_paper_output(option: &str, path: &Path) -> Result<Option<Lock>> {

@@ -10,8 +10,8 @@
 //! claim their `--out` folders. Two at once (two figure programs, the report and a figure
 //! program, a study and the report that redraws its figure) each wrote their files atomically
 //! but in any order, so a figure could end up beside another process's CSV, both exit 0. A
-//! `jointwear` command whose `--out` lies among these outputs holds the same claim
-//! ([`crate::io::paper_claim`]).
+//! `jointwear` command whose `--out` lies among these outputs, or Python's `save` into them,
+//! holds the same claim ([`crate::io::paper_claim`]).
 
 use crate::error::exit_on_error;
 use crate::io::interrupt;

@@ -7,8 +7,9 @@ use super::{to_py_err, SimulationError};
 use crate::analysis::states::{States, STATE_COLUMNS, STATE_COUNTS};
 use crate::analysis::statistics::{Distribution, VALUE_KEYS};
 use crate::analysis::Motion;
-use crate::io::lock::claim_folder;
+use crate::io::lock::{claim_folder, Lock};
 use crate::io::output::{check_output_dir, manifest_title, write_text};
+use crate::io::paper_claim::claim_if_paper_output;
 use crate::io::progress::Progress;
 use crate::laws::wear::sector_angles_deg;
 use crate::scene::variant::{run_command, Change, Variant};
@@ -616,11 +617,13 @@ const SAVE_REMEDY: &str = "call save with another directory (Run.save writes the
 impl Folder {
     /// Writes the folder `dir` as `jointwear run … --out dir` does (with `--ensemble N --seed
     /// S` or `--member K --seed S` as the results are), claimed against other writers while
-    /// it is written; the files of an earlier write of the same command into it are replaced,
-    /// and a folder of another command's outputs, or holding the checkpoint of an unfinished
-    /// run, is refused before anything is written, the refusal naming the Python argument
-    /// (`directory`) and what a Python user can do. A scene built from a dict is written into
-    /// the folder first ([`save_scene`]), for its command line to name.
+    /// it is written, with the paper's outputs if it lies among them, as the program's
+    /// commands claim them ([`claim_if_paper_output`]); the files of an earlier write of the
+    /// same command into it are replaced, and a folder of another command's outputs, or
+    /// holding the checkpoint of an unfinished run, is refused before anything is written, the
+    /// refusal naming the Python argument (`directory`) and what a Python user can do. A scene
+    /// built from a dict is written into the folder first ([`save_scene`]), for its command
+    /// line to name.
     fn save(&self, py: Python<'_>, dir: PathBuf) -> PyResult<()> {
         let (variant, scene) = match &self.0 {
             Kept::Run { variant, scene, .. } | Kept::Ensemble { variant, scene, .. } => {
@@ -634,13 +637,17 @@ impl Folder {
             } => FolderCommand::Member,
             Kept::Ensemble { .. } => FolderCommand::Ensemble,
         };
-        // The claim's notes (a stale lock taken over), shown once the GIL is held again.
+        // The claims' notes (a stale lock taken over), shown once the GIL is held again.
         let mut notes = Vec::new();
         let written = py.detach(|| {
             check_output_dir(SAVE_ARGUMENT, &dir)?;
-            // (Held until the folder is written.)
+            // (Both held until the folder is written.) The paper's outputs first, as the
+            // program's commands claim them: a paper program writing there at once could
+            // replace the folder's files, or they its own.
+            let paper = claim_if_paper_output(SAVE_ARGUMENT, &dir)?;
+            notes.extend(paper.iter().flat_map(Lock::notes).cloned());
             let claim = claim_folder(SAVE_ARGUMENT, &dir)?;
-            notes = claim.notes().to_vec();
+            notes.extend_from_slice(claim.notes());
             check_manifest(SAVE_ARGUMENT, &dir, command, SAVE_REMEDY)?;
             // Another run's state: results saved beside it would be mixed with it, and
             // replaced by a later `--resume` of that run.
