@@ -147,6 +147,25 @@ fn check_and_animate_claim_their_folder_as_run_does() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Fails without the lossy command line in the lock: a folder's name that is not UTF-8
+/// panicked (exit 101) as its claim was taken, leaving the folder the claim had created.
+#[test]
+fn a_folder_whose_name_is_not_utf8_is_claimed_without_a_panic() {
+    use std::os::unix::ffi::OsStrExt;
+    let dir = temp_dir("outputs", "not-utf8");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let out = dir.join(std::ffi::OsStr::from_bytes(b"out-\xff"));
+    let o = Command::new(env!("CARGO_BIN_EXE_jointwear"))
+        .args(["check", s(&scene), "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.join("mechanism_scene.png").exists());
+    assert!(!out.join(".jointwear.lock").exists(), "released on exit");
+    fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Fails on today's code: both sweeps printed "wrote … (6 cases)" and exited 0, the file held
 /// the one that finished last.
 #[test]

@@ -211,9 +211,12 @@ fn host() -> String {
         .unwrap_or_else(|| "unknown".into())
 }
 
-/// The content of this process's lock file.
+/// The content of this process's lock file. Its command line is read lossily: an argument
+/// that is not UTF-8 (a folder's name) made `std::env::args` panic as a claim was taken.
 fn holder_text() -> String {
-    let command: Vec<String> = std::env::args().collect();
+    let command: Vec<String> = (std::env::args_os())
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect();
     format!(
         "pid={}\nhost={}\ncommand={}\n",
         std::process::id(),
