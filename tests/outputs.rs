@@ -116,6 +116,17 @@ fn a_lock_of_a_live_process_refuses_and_a_dead_ones_is_taken_over() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("taking over"), "{}", stderr(&o));
     assert!(!lock.exists());
+    // Fails without the start time: a holder whose process id another process has now (this
+    // test's, which did not start at the first tick after boot) kept its lock alive.
+    fs::write(&lock, me.replace("\ncommand=", "\nstart=1\ncommand=")).unwrap();
+    let o = jointwear(&["run", s(&scene), "--out", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("taking over") && err.contains("another process's now"),
+        "{err}"
+    );
+    assert!(!lock.exists());
     fs::remove_dir_all(&dir).unwrap();
 }
 

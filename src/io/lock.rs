@@ -3,18 +3,24 @@
 //! name that stands for them ([`claim_name`]: the paper's).
 //!
 //! A claim is a lock file beside the output, created with `O_EXCL` (it exists or it does not:
-//! one process wins), holding the holder's process id, host and command line. A second writer
-//! is refused with an error naming them. A lock whose holder is no longer alive on this host
-//! (a process killed with SIGKILL cannot remove it) is stale: it is taken over, with a message,
-//! by exactly one of the processes that find it so at once (the one that claims the takeover
-//! marker `<lock>.takeover-<pid>` beside it), which also removes the hidden temporary files
-//! that holder left beside the lock in the middle of a write.
+//! one process wins), holding the holder's process id, host, start time and command line. A
+//! second writer is refused with an error naming them. A lock whose holder is no longer alive
+//! on this host (a process killed with SIGKILL cannot remove it) is stale: it is taken over,
+//! with a message, by exactly one of the processes that find it so at once (the one that
+//! claims the takeover marker `<lock>.takeover-<pid>` beside it), which also removes the hidden
+//! temporary files that holder left beside the lock in the middle of a write (unless its id is
+//! another process's now, whose files of that id cannot be told from the holder's).
 //! The lock is removed when its [`Lock`] drops, and by the interrupt handler
 //! ([`crate::io::interrupt`]) on SIGINT, SIGTERM or SIGHUP, with the folder the claim created
 //! if nothing was written into it.
 //!
-//! Whether a holder lives is told by `/proc/<pid>` on this host; a lock of another host (a
-//! shared file system) is never taken over, as its holder cannot be seen from here.
+//! Whether a holder lives is told by `/proc/<pid>` on this host and, as an id is given again
+//! to later processes, by the start time in `/proc/<pid>/stat`: a process of that id started
+//! at another time than the lock records is not its holder (a holder killed long ago kept its
+//! lock alive once another process had its id). A lock written before start times were
+//! recorded is judged by its id alone. A lock of another host (a shared file system) is never
+//! taken over, as its holder cannot be seen from here; nor is one cut short or edited, which
+//! cannot tell whether its holder runs: the refusal says why.
 
 use crate::io::interrupt;
 use crate::io::output::{temporary_of, MANIFEST};
@@ -36,7 +42,8 @@ pub struct Lock {
     _registered: Option<interrupt::Temporary>,
     /// What the claim did that its user should hear of ([`Lock::notes`]).
     notes: Vec<String>,
-    /// The process id of the gone holder whose stale lock the claim took over, if it did.
+    /// The process id of the gone holder whose stale lock the claim took over, if it did and
+    /// no other process has that id now ([`Lock::taken_from`]).
     taken_from: Option<u32>,
 }
 
@@ -81,7 +88,8 @@ impl Lock {
 
     /// The process id of the gone holder whose stale lock this claim took over, if it did:
     /// the temporaries that holder left elsewhere than beside the lock are its claimer's to
-    /// remove ([`remove_temporaries_of`]).
+    /// remove ([`remove_temporaries_of`]). None if another process has that id now: that
+    /// process's temporaries of that id cannot be told from the holder's.
     pub fn taken_from(&self) -> Option<u32> {
         self.taken_from
     }
@@ -141,10 +149,11 @@ fn live_file_claim(dir: &Path) -> Option<(PathBuf, String)> {
     })
 }
 
-/// The content of the lock file `lock` if its holder may still run ([`stale`]: not one whose
-/// process on this host has ended).
+/// The content of the lock file `lock` if its holder may still run (not [`gone`]).
 fn live_holder(lock: &Path) -> Option<String> {
-    fs::read_to_string(lock).ok().filter(|held| !stale(held))
+    fs::read_to_string(lock)
+        .ok()
+        .filter(|held| gone(held).is_none())
 }
 
 /// Claims the output file `file` (e.g. a sweep's CSV) for this process through the lock file
@@ -211,36 +220,121 @@ fn host() -> String {
         .unwrap_or_else(|| "unknown".into())
 }
 
-/// The content of this process's lock file. Its command line is read lossily: an argument
-/// that is not UTF-8 (a folder's name) made `std::env::args` panic as a claim was taken.
+/// The content of this process's lock file: its id, host, start time ([`start_time`], left
+/// out where it cannot be read) and command line, last, as it may hold line breaks (an
+/// argument's). Its command line is read lossily: an argument that is not UTF-8 (a folder's
+/// name) made `std::env::args` panic as a claim was taken.
 fn holder_text() -> String {
     let command: Vec<String> = (std::env::args_os())
         .map(|a| a.to_string_lossy().into_owned())
         .collect();
+    let pid = std::process::id();
+    let start = start_time(pid).map_or(String::new(), |t| format!("start={t}\n"));
     format!(
-        "pid={}\nhost={}\ncommand={}\n",
-        std::process::id(),
+        "pid={pid}\nhost={}\n{start}command={}\n",
         host(),
         command.join(" ")
     )
 }
 
-/// The value of `key` in a lock file's `text`.
-fn field<'a>(text: &'a str, key: &str) -> Option<&'a str> {
-    text.lines()
-        .find_map(|l| l.strip_prefix(key)?.strip_prefix('='))
+/// When process `pid` of this host started, in clock ticks after boot (field 22 of
+/// `/proc/<pid>/stat`): with its id, it tells that process from a later one given the same
+/// id. None if it cannot be read (the process has ended, or no `/proc`).
+fn start_time(pid: u32) -> Option<u64> {
+    stat_start(&fs::read_to_string(format!("/proc/{pid}/stat")).ok()?)
 }
 
-/// Whether the holder recorded in `text` is certainly gone: a process of this host that no
-/// longer runs. An unreadable or foreign lock is not judged stale.
-fn stale(text: &str) -> bool {
-    let pid = field(text, "pid").and_then(|p| p.parse::<u32>().ok());
-    let here = field(text, "host") == Some(host().as_str());
-    let proc = Path::new("/proc");
-    match pid {
-        Some(pid) if here && proc.is_dir() => !proc.join(pid.to_string()).exists(),
-        _ => false,
+/// The start time in a `/proc/<pid>/stat` line: its 22nd field, the 20th after the command
+/// name, which is in parentheses and may itself hold spaces and parentheses (hence after the
+/// last `)`).
+fn stat_start(stat: &str) -> Option<u64> {
+    let (_, after_name) = stat.rsplit_once(')')?;
+    after_name.split_whitespace().nth(19)?.parse().ok()
+}
+
+/// The value of `key` in a lock file's `text`: from the lines before its command line (which
+/// comes last, [`holder_text`], and may hold any text), or the command line's first line.
+fn field<'a>(text: &'a str, key: &str) -> Option<&'a str> {
+    for line in text.lines() {
+        let (k, value) = line.split_once('=')?;
+        if k == key {
+            return Some(value);
+        }
+        if k == "command" {
+            return None;
+        }
     }
+    None
+}
+
+/// What makes the lock file `text` other than [`holder_text`] writes one, if anything: one cut
+/// short (its holder was killed while writing it, or is writing it now; it ends with its
+/// command line and a line break), edited, or not this program's. Such a lock cannot tell
+/// whether its holder runs, so it is never judged stale; the refusal says why.
+fn flaw(text: &str) -> Option<String> {
+    let start = field(text, "start");
+    if text.is_empty() {
+        Some("it is empty".into())
+    } else if field(text, "command").is_none() || !text.ends_with('\n') {
+        Some("it is cut short or edited: it does not end with its holder's command line".into())
+    } else if field(text, "pid")
+        .and_then(|p| p.parse::<u32>().ok())
+        .is_none()
+    {
+        Some("its `pid` is missing or not a process id".into())
+    } else if field(text, "host").is_none_or(str::is_empty) {
+        Some("its `host` is missing".into())
+    } else if start.is_some_and(|t| t.parse::<u64>().is_err()) {
+        Some(format!(
+            "its `start` ({}) is not a start time",
+            start.unwrap_or_default()
+        ))
+    } else {
+        None
+    }
+}
+
+/// How the holder that a lock records is known to be gone ([`gone`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Gone {
+    /// No process of its id runs on this host: the temporaries of that id are its own.
+    Ended,
+    /// A process of its id runs, but started at another time than the lock records: the id
+    /// was given again to a later process, whose temporaries of that id cannot be told from
+    /// the ones the holder left.
+    Reused,
+}
+
+impl Gone {
+    /// How a note says it of the holder.
+    fn says(self) -> &'static str {
+        match self {
+            Gone::Ended => "no longer runs",
+            Gone::Reused => {
+                "no longer runs (its process id is another process's now, started at another \
+                 time than the lock records; that id's temporary files are left alone, as they \
+                 may be that process's)"
+            }
+        }
+    }
+}
+
+/// Whether, and how, the holder recorded in the lock file `text` is certainly gone: a process
+/// of this host that no longer runs, or whose id a process started at another time has now.
+/// A lock of another host, a flawed one ([`flaw`]) or one whose holder may still run is not
+/// judged stale; nor is a lock without a start time (written before they were recorded) whose
+/// id a process has, nor one whose process's start time cannot be read.
+fn gone(text: &str) -> Option<Gone> {
+    let proc = Path::new("/proc");
+    if flaw(text).is_some() || field(text, "host") != Some(host().as_str()) || !proc.is_dir() {
+        return None;
+    }
+    let pid: u32 = field(text, "pid")?.parse().ok()?;
+    if !proc.join(pid.to_string()).exists() {
+        return Some(Gone::Ended);
+    }
+    let recorded: u64 = field(text, "start")?.parse().ok()?;
+    (start_time(pid)? != recorded).then_some(Gone::Reused)
 }
 
 /// The holder recorded in `text`, for messages.
@@ -278,8 +372,8 @@ fn claim_nested(
         source,
     };
     let text = holder_text();
-    // The content of a stale lock this process took over.
-    let mut taken: Option<String> = None;
+    // The content of a stale lock this process took over, and how its holder was gone.
+    let mut taken: Option<(String, Gone)> = None;
     let mut notes = Vec::new();
     // Two attempts: the second after taking over a stale lock.
     for _ in 0..2 {
@@ -300,12 +394,12 @@ fn claim_nested(
                 file.write_all(text.as_bytes())
                     .and_then(|()| file.sync_all())
                     .map_err(io)?;
-                if let Some(gone) = &taken {
+                if let Some((held, Gone::Ended)) = &taken {
                     // (A takeover marker of a folder's lock starts with the lock's name.)
                     let folder = (lock.file_name().and_then(|n| n.to_str()))
                         .is_some_and(|n| n.starts_with(FOLDER_LOCK));
                     let stem = target.file_stem().and_then(|s| s.to_str());
-                    claimed.taken_from = field(gone, "pid").and_then(|p| p.parse().ok());
+                    claimed.taken_from = field(held, "pid").and_then(|p| p.parse().ok());
                     let dir = lock.parent().filter(|d| !d.as_os_str().is_empty());
                     let removed = claimed.taken_from.and_then(|pid| {
                         let dir = dir.unwrap_or(Path::new("."));
@@ -317,26 +411,30 @@ fn claim_nested(
             }
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
                 let held = fs::read_to_string(lock).unwrap_or_default();
-                if !stale(&held) {
+                let Some(how) = gone(&held) else {
+                    let why = flaw(&held).map_or(String::new(), |flaw| {
+                        format!(", which cannot tell whether its holder runs: {flaw}")
+                    });
                     return Err(Error::invalid(
                         option,
                         target.display(),
                         format!(
                             "an output no other run is writing: it is claimed by {} (lock \
-                             file {}); wait for that run, choose another {option}, or remove \
-                             the lock file if that process is gone",
+                             file {}{why}); wait for that run, choose another {option}, or \
+                             remove the lock file if that process is gone",
                             describe(&held),
                             lock.display()
                         ),
                     ));
-                }
+                };
                 if take_over(option, target, lock, &held, depth, &mut notes)? {
                     notes.push(format!(
-                        "taking over {}: its holder, {}, no longer runs",
+                        "taking over {}: its holder, {}, {}",
                         lock.display(),
-                        describe(&held)
+                        describe(&held),
+                        how.says()
                     ));
-                    taken = Some(held);
+                    taken = Some((held, how));
                 }
             }
             Err(e) => return Err(io(e)),
@@ -357,9 +455,10 @@ fn claim_nested(
 /// in `dir` that the gone holder of a taken-over lock, process `pid`, left when it was killed
 /// in the middle of a write, and says which: beside a folder's lock, every one in the folder
 /// (the folder was the holder's alone); beside a file's lock, only the claimed file's
-/// (`stem`), as the folder may hold other outputs. The holder no longer runs on this host, so
-/// no file of its process id is being written here. Best effort, as their content is never
-/// read: a file that cannot be removed stays. Returns the note naming those removed, if any.
+/// (`stem`), as the folder may hold other outputs. No process of that id runs on this host
+/// (a takeover from an id that another process has now removes none), so no file of that id
+/// is being written here. Best effort, as their content is never read: a file that cannot be
+/// removed stays. Returns the note naming those removed, if any.
 pub fn remove_temporaries_of(dir: &Path, pid: u32, stem: Option<&str>) -> Option<String> {
     let entries = fs::read_dir(dir).ok()?;
     let left = |name: &str| {
@@ -416,7 +515,7 @@ fn take_over(
     let marker = claim_nested(option, target, Path::new(&name), None, depth + 1)?;
     notes.extend_from_slice(marker.notes());
     let now = fs::read_to_string(lock).unwrap_or_default();
-    if now != held || !stale(&now) {
+    if now != held || gone(&now).is_none() {
         // Taken over and released, or claimed afresh, since it was read.
         return Ok(false);
     }
@@ -451,9 +550,9 @@ mod tests {
         drop(first);
         assert!(!dir.join(FOLDER_LOCK).exists());
         // A holder of this host that is gone (pid beyond Linux's largest, 2^22): taken over.
-        let gone = format!("pid=4194305\nhost={}\ncommand=x\n", host());
-        assert!(stale(&gone));
-        fs::write(dir.join(FOLDER_LOCK), &gone).unwrap();
+        let ended = format!("pid=4194305\nhost={}\ncommand=x\n", host());
+        assert_eq!(gone(&ended), Some(Gone::Ended));
+        fs::write(dir.join(FOLDER_LOCK), &ended).unwrap();
         let taken = claim_folder("--out", &dir).unwrap();
         assert_eq!(fs::read_to_string(taken.path()).unwrap(), held);
         drop(taken);
@@ -476,7 +575,7 @@ mod tests {
         {
             fs::write(dir.join(name), "x").unwrap();
         }
-        fs::write(dir.join(FOLDER_LOCK), &gone).unwrap();
+        fs::write(dir.join(FOLDER_LOCK), &ended).unwrap();
         let taken = claim_folder("--out", &dir).unwrap();
         for name in left {
             assert!(!dir.join(name).exists(), "{name} left behind");
@@ -493,12 +592,15 @@ mod tests {
         for name in [own, other] {
             fs::write(dir.join(name), "x").unwrap();
         }
-        fs::write(dir.join(".s.csv.lock"), &gone).unwrap();
+        fs::write(dir.join(".s.csv.lock"), &ended).unwrap();
         let taken = claim_file("--out", &file).unwrap();
         assert!(!dir.join(own).exists() && dir.join(other).exists());
         fs::remove_file(dir.join(other)).unwrap();
         // Another host's holder is never judged gone.
-        assert!(!stale("pid=4194305\nhost=elsewhere.invalid\ncommand=x\n"));
+        assert_eq!(
+            gone("pid=4194305\nhost=elsewhere.invalid\ncommand=x\n"),
+            None
+        );
         drop(taken);
         fs::remove_dir_all(&dir).unwrap();
     }
@@ -508,12 +610,12 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("jointwear-race-{}", std::process::id()));
         let _ = fs::remove_dir_all(&dir);
         fs::create_dir_all(&dir).unwrap();
-        let gone = format!("pid=4194305\nhost={}\ncommand=x\n", host());
+        let ended = format!("pid=4194305\nhost={}\ncommand=x\n", host());
         // Checked to fail: the former takeover (move the lock aside, put back one that was not
         // the stale one) left two holders in 6 of 2000 such rounds; 500 rounds (about 10 s)
         // catch that with a probability of 78 %.
         for round in 0..500 {
-            fs::write(dir.join(FOLDER_LOCK), &gone).unwrap();
+            fs::write(dir.join(FOLDER_LOCK), &ended).unwrap();
             let barrier = std::sync::Barrier::new(3);
             let claims: Vec<Result<Lock>> = std::thread::scope(|s| {
                 let takers: Vec<_> = (0..3)
@@ -531,6 +633,79 @@ mod tests {
             // The losers were refused, naming a holder; no marker is left behind.
             drop(claims);
             assert_eq!(fs::read_dir(&dir).unwrap().count(), 0, "round {round}");
+        }
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn the_start_time_is_read_after_the_last_parenthesis_of_the_command_name() {
+        // A command name may hold spaces and parentheses; fields 3 to 21, then 22: 4242.
+        let fields: Vec<String> = (3..=21).map(|i| i.to_string()).collect();
+        let stat = format!("77 (a) b (c)) {} 4242 23 24\n", fields.join(" "));
+        assert_eq!(stat_start(&stat), Some(4242));
+        assert_eq!(stat_start("77 (a) b"), None);
+        assert_eq!(stat_start("77 (x) S 1 2"), None);
+        // This process's, as its lock records it.
+        let me = start_time(std::process::id()).expect("this host has /proc");
+        assert!(holder_text().contains(&format!("\nstart={me}\ncommand=")));
+    }
+
+    // Fails without the start time: a lock whose holder was killed long ago stayed alive, and
+    // refused every writer, once another process had been given its process id.
+    #[test]
+    fn a_lock_whose_process_id_another_process_has_now_is_taken_over() {
+        let dir = std::env::temp_dir().join(format!("jointwear-reused-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        let (pid, host) = (std::process::id(), host());
+        let me = start_time(pid).unwrap();
+        let lock = |start: &str| format!("pid={pid}\nhost={host}\n{start}command=x\n");
+        // This process's id (it runs), recorded with another start time: a gone holder whose
+        // id was given again. This process's temporaries of that id stay.
+        let reused = lock(&format!("start={}\n", me + 1));
+        assert_eq!(gone(&reused), Some(Gone::Reused));
+        let mine = format!(".wear.tmp-{pid}-1.csv");
+        fs::write(dir.join(&mine), "x").unwrap();
+        fs::write(dir.join(FOLDER_LOCK), &reused).unwrap();
+        let taken = claim_folder("--out", &dir).unwrap();
+        assert_eq!(taken.taken_from(), None);
+        let note = taken.notes().join("\n");
+        assert!(
+            note.contains("taking over") && note.contains("another process's now"),
+            "{note}"
+        );
+        assert!(dir.join(&mine).exists(), "{note}");
+        drop(taken);
+        // The same start time, or none (a lock of an earlier version): its holder runs.
+        for held in [lock(&format!("start={me}\n")), lock("")] {
+            assert_eq!(gone(&held), None, "{held}");
+            fs::write(dir.join(FOLDER_LOCK), &held).unwrap();
+            let e = claim_folder("--out", &dir).unwrap_err().to_string();
+            assert!(e.contains(&format!("claimed by process {pid}")), "{e}");
+            assert!(!e.contains("cannot tell"), "{e}");
+        }
+        // A lock cut short or edited cannot tell whether its holder runs: refused, saying why,
+        // even where its process has ended.
+        let ended = format!("pid=4194305\nhost={host}\ncommand=x\n");
+        for (held, why) in [
+            (String::new(), "it is empty"),
+            (ended[..ended.len() - 1].to_string(), "cut short"),
+            (format!("pid=4194305\nhost={host}\nstart=12"), "cut short"),
+            (ended.replace("4194305", "x"), "`pid`"),
+            (ended.replace(&format!("host={host}"), "host="), "`host`"),
+            (
+                format!("pid={pid}\nhost={host}\nstart=1e3\ncommand=x\n"),
+                "`start` (1e3)",
+            ),
+        ] {
+            assert_eq!(gone(&held), None, "{held}");
+            fs::write(dir.join(FOLDER_LOCK), &held).unwrap();
+            let e = claim_folder("--out", &dir).unwrap_err().to_string();
+            assert!(
+                e.contains("cannot tell whether its holder runs") && e.contains(why),
+                "{e}"
+            );
+            assert_eq!(fs::read_to_string(dir.join(FOLDER_LOCK)).unwrap(), held);
         }
         fs::remove_dir_all(&dir).unwrap();
     }

@@ -43,7 +43,8 @@ const OUTPUT_DIRS: [(&str, Option<&str>); 4] = [
 /// [`crate::error::exit_on_error`]); refused, naming the process that holds them and `option`
 /// with its `value` (what chose these outputs), while another process writes them. A claim
 /// that takes over the lock of a killed process removes the temporary files that process left
-/// in the outputs' folders in the middle of a write; its notes ([`Lock::notes`]) say so, for
+/// in the outputs' folders in the middle of a write (unless another process has its id now,
+/// [`Lock::taken_from`]); its notes ([`Lock::notes`]) say so, for
 /// the caller to show where its user sees them.
 pub fn claim_paper_outputs(option: &str, value: &str) -> Result<Lock> {
     let mut lock = claim_name(option, &outputs_claim_target()).map_err(|e| match e {
