@@ -368,7 +368,11 @@ fn sweep_and_merge_refuse_an_out_they_would_destroy() {
     assert_fails(
         &o,
         2,
-        &["`--out`", ".sweep.csv.lock", "no sweep is writing"],
+        &[
+            "`--out`",
+            ".sweep.csv.lock",
+            "no other process claims a file",
+        ],
     );
     assert_eq!(file_names(&claimed), [".sweep.csv.lock"]);
     fs::remove_dir_all(&dir).unwrap();

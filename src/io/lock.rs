@@ -119,9 +119,10 @@ pub fn claim_folder(option: &str, dir: &Path) -> Result<Lock> {
                 option,
                 dir.display(),
                 format!(
-                    "a folder no sweep is writing into: {} claims a sweep's file there for {}, \
-                     which this command's outputs could replace; wait for that sweep, or \
-                     choose another {option}",
+                    "a folder in which no other process claims a file: {} claims one there \
+                     (a sweep's output, or the paper's outputs in a crate's root) for {}, which \
+                     this command's outputs could replace; wait for that process, or choose \
+                     another {option}",
                     file_lock.display(),
                     describe(&held)
                 ),
