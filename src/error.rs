@@ -58,6 +58,13 @@ pub enum Error {
     },
     /// The caller asked the computation to stop ([`crate::io::progress::Progress::cancelled`]).
     Cancelled,
+    /// Results saved by an earlier run (a study's CSVs under `data/`) that do not come from
+    /// what would compute them now, or whose record of what did is missing: read as they are,
+    /// they would pass for this checkout's.
+    Stale {
+        /// Each such result: its files, what differs and the command that remakes it.
+        results: Vec<String>,
+    },
 }
 
 /// How the message of an [`Error::Validity`] begins, for a reader of saved messages (a
@@ -121,10 +128,11 @@ impl Error {
 }
 
 /// Exit code of a program that stops on `error`: 2 for bad input (a scene value, a file
-/// that cannot be parsed), 1 for a failure while running, 130 when cancelled. The one map every program uses.
+/// that cannot be parsed, saved results that are not this checkout's), 1 for a failure while
+/// running, 130 when cancelled. The one map every program uses.
 pub fn exit_code(error: &Error) -> u8 {
     match error {
-        Error::Invalid { .. } | Error::Parse { .. } => 2,
+        Error::Invalid { .. } | Error::Parse { .. } | Error::Stale { .. } => 2,
         Error::Cancelled => crate::io::interrupt::INTERRUPTED_EXIT_CODE as u8,
         _ => 1,
     }
@@ -174,6 +182,14 @@ impl fmt::Display for Error {
                 write!(f, "cannot render {}: {message}", path.display())
             }
             Error::Cancelled => write!(f, "cancelled before it finished"),
+            Error::Stale { results } => {
+                write!(
+                    f,
+                    "results saved by earlier runs do not come from what this checkout would \
+                     compute them from, and are not used:"
+                )?;
+                results.iter().try_for_each(|r| write!(f, "\n  - {r}"))
+            }
         }
     }
 }

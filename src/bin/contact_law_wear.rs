@@ -6,12 +6,12 @@
 //! only redraws the figure from the CSV.
 use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
-use jointwear::paper::cases::CASES;
 use jointwear::paper::golden::Golden;
 use jointwear::paper::program;
+use jointwear::paper::provenance::check;
 use jointwear::paper::studies::contact_law_wear::{
-    contact_law_wear_study, draw_law_wear, pooled, read_law_wear, LawWearSettings, LAW_WEAR_FIGURE,
-    LAW_WEAR_FILE, RUN_FAILED,
+    contact_law_wear_study, draw_law_wear, pooled, read_law_wear, LAW_WEAR_FIGURE, LAW_WEAR_FILE,
+    PROVENANCE, RUN_FAILED, TABLE3_FLAG,
 };
 use jointwear::Error;
 
@@ -23,13 +23,15 @@ fn main() {
         &[
             ("--redraw", "only redraw the figure from the CSV"),
             (
-                "--table3",
+                TABLE3_FLAG,
                 "also run Table 3's other cases steady under every law",
             ),
         ],
     );
     let clock = std::time::Instant::now();
     if claim.flags.contains(&"--redraw") {
+        // the figure shows the study's numbers: only this checkout's
+        exit_on_error(check(&[&PROVENANCE]));
         let Some(rows) = read_law_wear() else {
             return exit_on_error(Err(Error::invalid(
                 "--redraw",
@@ -45,11 +47,8 @@ fn main() {
     }
     let golden = exit_on_error(Golden::load());
     let bar = progress_bar(0, "ensemble members");
-    let mut settings = LawWearSettings::default();
-    if claim.flags.contains(&"--table3") {
-        settings.steady = CASES.list().into_iter().copied().collect();
-    }
-    let rows = exit_on_error(contact_law_wear_study(&settings, &golden, &bar));
+    let table3 = claim.flags.contains(&TABLE3_FLAG);
+    let rows = exit_on_error(contact_law_wear_study(table3, &golden, &bar));
     bar.finish_and_clear();
     for r in rows.iter().filter(|r| r.quantity == RUN_FAILED) {
         println!("{} on {}: could not run: {}", r.pair(), r.case, r.error);

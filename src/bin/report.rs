@@ -1,16 +1,18 @@
 //! Rebuilds everything the reproducibility report shows and writes `paper.md`.
 //!
 //! `report` computes the ensembles of every case once, draws every figure and Table 3 from
-//! them, reruns the accuracy-dependence study and the stability suite; `report --all` also
-//! reruns the slow studies (calibration, work-precision, the ensemble-size study and the two
-//! contact-law studies) instead of reading their last results from `data/` (the
-//! work-precision figure is then redrawn from `data/work_precision.csv`; the contact-law
-//! section reads `data/contact_laws_restitution.csv` and `data/contact_law_wear.csv`).
+//! them, reruns the accuracy-dependence study and the stability suite, and reads the other
+//! studies' last results from `data/` (`report::READ_BACK`; the work-precision figure is
+//! redrawn from `data/work_precision.csv`). It first checks each of those against the record its
+//! run left (`jointwear::paper::provenance`) and stops (exit 2), naming every study whose
+//! results are not this checkout's and the command that remakes them, before any work.
+//! `report --all` also reruns the slow studies (calibration, work-precision, the ensemble-size
+//! study and the two contact-law studies) instead of reading them.
 use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
 use jointwear::paper::figures::output_root;
 use jointwear::paper::golden::Golden;
-use jointwear::paper::report::{run_figures, write, Studies};
+use jointwear::paper::report::{check_read_back, run_figures, write, Studies};
 use jointwear::paper::{calibration, convergence, program, studies};
 use jointwear::simulation::ensemble::EnsembleSettings;
 
@@ -27,7 +29,10 @@ fn main() {
     );
     let clock = std::time::Instant::now();
     let golden = exit_on_error(Golden::load());
-    if claim.flags.contains(&"--all") {
+    let rerun_all = claim.flags.contains(&"--all");
+    // Results read back that are not this checkout's stop the report before its minutes of work.
+    exit_on_error(check_read_back(rerun_all));
+    if rerun_all {
         let bar = progress_bar(0, "calibration sets");
         exit_on_error(calibration::study(&bar));
         bar.finish_and_clear();
@@ -39,9 +44,8 @@ fn main() {
         bar.finish_and_clear();
         exit_on_error(studies::contact_laws::contact_laws_study());
         let bar = progress_bar(0, "contact-law members");
-        let settings = studies::contact_law_wear::LawWearSettings::default();
         exit_on_error(studies::contact_law_wear::contact_law_wear_study(
-            &settings, &golden, &bar,
+            false, &golden, &bar,
         ));
         bar.finish_and_clear();
     } else {
@@ -60,6 +64,7 @@ fn main() {
     let studies = Studies {
         accuracy: &accuracy,
         stability: &stability,
+        rerun_all,
     };
     exit_on_error(write(
         &runs,

@@ -44,6 +44,7 @@ use crate::laws::wear::PressureModel;
 use crate::paper::cases::{steady_member, steady_run_with, wear_run_with, PerCase, CASES};
 use crate::paper::figures::output_path;
 use crate::paper::golden::{angle_distance, Golden};
+use crate::paper::provenance::{self, Inputs};
 use crate::scene::SceneFile;
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -289,6 +290,37 @@ pub fn candidates(base: Params) -> Vec<(String, Params)> {
     out
 }
 
+/// What produced `data/calibration.csv` ([`provenance`]): every case scene (the claims are
+/// scored on all five) and the paper's values, the candidate sets and the score's weights.
+pub const PROVENANCE: provenance::Study = provenance::Study {
+    files: &[CALIBRATION_FILE],
+    command: "cargo run --release --bin calibration",
+    rerun_by_all: true,
+    variants: &[],
+    inputs: |_| {
+        // the sets around a zero base: the values the study sets (the base is the scene's)
+        let zero = Params {
+            counter_clockwise: false,
+            mu_d: 0.0,
+            v_s: 0.0,
+            pressure: PressureModel::HertzLine,
+            grazing: 0.0,
+            k_over_h: 0.0,
+            length_mm: 0.0,
+            sectors: 0,
+        };
+        let weights = (SCORE_ANGLE_DEG, SCORE_DEEPEST_MISPLACED, SCORE_CONCORDANCE);
+        Inputs {
+            scenes: CASES.list().map(|c| c.scene).to_vec(),
+            golden: true,
+            settings: format!("{:?}", (candidates(zero), weights)),
+        }
+    },
+};
+
+/// The study's table under `data/`.
+const CALIBRATION_FILE: &str = "calibration.csv";
+
 /// What the study found: the sets that ran, sorted by score, and those that left the model.
 #[derive(Clone, Debug)]
 pub struct Study {
@@ -314,20 +346,23 @@ fn outcome(result: Result<Metrics>) -> Result<std::result::Result<Metrics, Strin
 /// and returns what it found ([`Study`]). A set whose runs leave the model is a row with its
 /// reason and no score; the others are still run and written.
 pub fn study(progress: &dyn Progress) -> Result<Study> {
-    let golden = Golden::load()?;
-    let base = Params::of_scene(&SceneFile::read(crate::scene::scene_path(
-        &golden.standard_wear.scene,
-    ))?);
-    let sets = candidates(base);
-    let finished = Counter::new(progress, sets.len());
-    let done = (sets.par_iter().enumerate())
-        .map(|(i, (group, p))| {
-            let m = outcome(evaluate(p, &golden))?;
-            finished.finish_one();
-            Ok((i, group.clone(), *p, m))
-        })
-        .collect::<Result<Vec<_>>>()?;
-    write_study(&done)?;
+    let done = provenance::recorded(&PROVENANCE, &[], || {
+        let golden = Golden::load()?;
+        let base = Params::of_scene(&SceneFile::read(crate::scene::scene_path(
+            &golden.standard_wear.scene,
+        ))?);
+        let sets = candidates(base);
+        let finished = Counter::new(progress, sets.len());
+        let done = (sets.par_iter().enumerate())
+            .map(|(i, (group, p))| {
+                let m = outcome(evaluate(p, &golden))?;
+                finished.finish_one();
+                Ok((i, group.clone(), *p, m))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        write_study(&done)?;
+        Ok(done)
+    })?;
     let mut study = Study {
         ranked: Vec::new(),
         failed: Vec::new(),
@@ -380,7 +415,7 @@ pub type StudyTable = (Vec<String>, Vec<Vec<String>>);
 /// A file cut short, or with sets edited out, printed counts and findings over the sets left
 /// as if every set had been tried.
 pub fn read_study(golden: &Golden) -> Result<StudyTable> {
-    let path = output_path("data", "calibration.csv");
+    let path = output_path("data", CALIBRATION_FILE);
     let (header, rows) = crate::io::output::read_rows(&path)?;
     let scene = crate::scene::scene_path(&golden.standard_wear.scene);
     let sets = candidates(Params::of_scene(&SceneFile::read(scene)?)).len();
@@ -400,7 +435,7 @@ pub fn read_study(golden: &Golden) -> Result<StudyTable> {
 
 fn write_study(done: &[Done]) -> Result<()> {
     write_rows(
-        &output_path("data", "calibration.csv"),
+        &output_path("data", CALIBRATION_FILE),
         &CALIBRATION_HEADER,
         done.iter().map(|(i, g, p, m)| {
             let mut row = vec![

@@ -175,6 +175,15 @@ pub enum Need {
     WearHistory(&'static str),
 }
 
+impl Need {
+    /// The case scene it runs.
+    pub fn scene(&self) -> &'static str {
+        match *self {
+            Need::Steady(s) | Need::Wear(s) | Need::WearHistory(s) => s,
+        }
+    }
+}
+
 /// Recorded series of a steady run used by the time-series figures (SI unless named).
 #[derive(Clone, Debug)]
 pub struct Traces {

@@ -16,9 +16,10 @@ use crate::analysis::statistics::{Band, Distribution};
 use crate::io::output::write_csv;
 use crate::io::plot::{render, Axes, Series, Style};
 use crate::io::progress::Progress;
-use crate::paper::cases::{Runs, CASES};
+use crate::paper::cases::{Need, Runs, CASES};
 use crate::paper::figures::output_path;
 use crate::paper::golden::{measure, Golden, Quantity, SteadyQuantity, GOLDEN_NEEDS};
+use crate::paper::provenance::{self, Inputs};
 use crate::simulation::ensemble::EnsembleSettings;
 use crate::Result;
 
@@ -69,9 +70,39 @@ fn meets_rule(rows: &[&ConvergenceRow], golden: &Golden) -> bool {
     })
 }
 
+/// The study's table under `data/`.
+pub const CONVERGENCE_FILE: &str = "ensemble_convergence.csv";
+
+/// What produced `data/ensemble_convergence.csv` ([`provenance`]): the golden ensembles'
+/// scenes, the paper's tolerances the rule is stated against, the sizes and the ensemble.
+pub const PROVENANCE: provenance::Study = provenance::Study {
+    files: &[CONVERGENCE_FILE],
+    command: "cargo run --release --bin convergence",
+    rerun_by_all: true,
+    variants: &[],
+    inputs: |_| Inputs {
+        scenes: GOLDEN_NEEDS.iter().map(Need::scene).collect(),
+        golden: true,
+        settings: format!(
+            "{:?}",
+            (
+                (MAX_MEMBERS, SIZES, SE_SHARE),
+                GOLDEN_NEEDS,
+                EnsembleSettings::default()
+            )
+        ),
+    },
+};
+
 /// Runs the study and writes `data/ensemble_convergence.csv` and
-/// `figures/ensemble_convergence.png`; `progress` counts members.
+/// `figures/ensemble_convergence.png`, and the CSV's record ([`PROVENANCE`]); `progress`
+/// counts members.
 pub fn convergence_study(progress: &dyn Progress) -> Result<Convergence> {
+    provenance::recorded(&PROVENANCE, &[], || study(progress))
+}
+
+/// The study itself ([`convergence_study`]).
+fn study(progress: &dyn Progress) -> Result<Convergence> {
     let golden = Golden::load()?;
     let ensemble = EnsembleSettings {
         members: MAX_MEMBERS,
@@ -155,7 +186,7 @@ fn write_convergence(c: &Convergence) -> Result<()> {
     cols.push(c.profile.iter().map(|p| p.2).collect());
     let h: Vec<&str> = header.iter().map(String::as_str).collect();
     let refs: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
-    write_csv(&output_path("data", "ensemble_convergence.csv"), &h, &refs)?;
+    write_csv(&output_path("data", CONVERGENCE_FILE), &h, &refs)?;
 
     let x: Vec<f64> = SIZES.iter().map(|&n| n as f64).collect();
     let shown = [

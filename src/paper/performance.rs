@@ -18,6 +18,7 @@ use crate::mechanism::eigenvalues_by_modulus;
 use crate::ode::Stats;
 use crate::paper::cases::CASES;
 use crate::paper::figures::output_path;
+use crate::paper::provenance::{self, Inputs};
 use crate::scene::{scene_path, SceneFile};
 use crate::simulation::{simulate, Simulation};
 use crate::{Error, Result};
@@ -125,8 +126,39 @@ impl fmt::Display for Scaling {
     }
 }
 
-/// Runs the scaling study and writes `data/scaling.csv` and `figures/scaling.png`.
+/// The scaling study's table under `data/`.
+pub const SCALING_FILE: &str = "scaling.csv";
+
+/// What produced `data/scaling.csv` and `data/step_limit.csv` ([`provenance`]): the standard
+/// scene, the rotations and clearances run and the step-limit sampling.
+pub const PROVENANCE: provenance::Study = provenance::Study {
+    files: &[SCALING_FILE, STEP_LIMIT_FILE],
+    command: "cargo run --release --bin scaling",
+    rerun_by_all: false,
+    variants: &[],
+    inputs: |_| Inputs {
+        scenes: vec![CASES.standard.scene],
+        golden: false,
+        settings: format!(
+            "{:?}",
+            (
+                ROTATIONS,
+                CLEARANCES_MM,
+                CLEARANCE_ROTATIONS,
+                STEP_LIMIT_EVERY
+            )
+        ),
+    },
+};
+
+/// Runs the scaling study and writes `data/scaling.csv`, `figures/scaling.png` and the step
+/// limit's `data/step_limit.csv`, with their record ([`PROVENANCE`]).
 pub fn scaling_study() -> Result<Scaling> {
+    provenance::recorded(&PROVENANCE, &[], study)
+}
+
+/// The study itself ([`scaling_study`]).
+fn study() -> Result<Scaling> {
     let standard = SceneFile::read(scene_path(CASES.standard.scene))?;
     let mut points = Vec::new();
     let mut measure = |kind: Sweep, value: f64, file: &SceneFile| -> Result<()> {
@@ -253,7 +285,7 @@ fn write_scaling(s: &Scaling) -> Result<()> {
     let column = |get: fn(&ScalingPoint) -> f64| s.points.iter().map(get).collect::<Vec<_>>();
     let labels: Vec<&str> = s.points.iter().map(|p| p.kind.name()).collect();
     write_rows(
-        &output_path("data", "scaling.csv"),
+        &output_path("data", SCALING_FILE),
         &[
             "kind",
             "value",

@@ -24,9 +24,10 @@ use crate::analysis::states::States;
 use crate::analysis::statistics::Distribution;
 use crate::io::output::{read_rows, write_rows};
 use crate::io::progress::Progress;
-use crate::paper::cases::{Runs, SteadyMember, CASES};
+use crate::paper::cases::{Need, Runs, SteadyMember, CASES};
 use crate::paper::figures::{all_needs, output_path};
 use crate::paper::format::{csv_statistic, parse_statistic};
+use crate::paper::provenance::{self, Inputs};
 
 use crate::simulation::ensemble::{EnsembleSettings, Perturbation, OFFSET_RADIUS};
 use crate::Result;
@@ -311,13 +312,36 @@ fn rows_of(
     rows
 }
 
+/// What produced `data/perturbation_sensitivity.csv` ([`provenance`]): the scenes of the
+/// report's ensembles and the paper's values (its claims are checked per member), the
+/// ensembles and the protocols.
+pub const PROVENANCE: provenance::Study = provenance::Study {
+    files: &[PERTURBATION_FILE],
+    command: "cargo run --release --bin perturbation",
+    rerun_by_all: false,
+    variants: &[],
+    inputs: |_| Inputs {
+        scenes: all_needs().iter().map(Need::scene).collect(),
+        golden: true,
+        settings: format!(
+            "{:?}",
+            (PROTOCOLS, all_needs(), EnsembleSettings::default())
+        ),
+    },
+};
+
 /// Runs the study ([`PROTOCOLS`], module documentation), checks the report's claims in each
-/// protocol's members with `check`, writes `data/perturbation_sensitivity.csv` and returns its
-/// rows; `progress` counts members.
+/// protocol's members with `check`, writes `data/perturbation_sensitivity.csv` with its
+/// record ([`PROVENANCE`]) and returns its rows; `progress` counts members.
 pub fn perturbation_study(
     check: ClaimCheck,
     progress: &dyn Progress,
 ) -> Result<Vec<SensitivityRow>> {
+    provenance::recorded(&PROVENANCE, &[], || study(check, progress))
+}
+
+/// The study itself ([`perturbation_study`]).
+fn study(check: ClaimCheck, progress: &dyn Progress) -> Result<Vec<SensitivityRow>> {
     // every ensemble the report's figures and claims read, so every claim can be checked
     let needs = all_needs();
     let measured = PROTOCOLS

@@ -23,6 +23,7 @@ use crate::io::output::{read_csv, write_csv};
 use crate::io::progress::Silent;
 use crate::paper::cases::CASES;
 use crate::paper::figures::output_path;
+use crate::paper::provenance::{self, Inputs};
 use crate::scene::{scene_path, SceneFile};
 use crate::simulation::ensemble::{
     member_mechanism, member_offsets, member_state, run_member, EnsembleSettings, DEFAULT_SEED,
@@ -177,9 +178,36 @@ fn pair_series(
     Ok(sums.iter().map(|s| s / PAIRS as f64).collect())
 }
 
-/// Runs the study for every Table 3 case (in parallel) and writes its CSV: one column per
-/// case, one row per rotation after the shared settling.
+/// What produced `data/member_separation.csv` ([`provenance`]): every case scene, the pairs,
+/// the rotations and the sampling.
+pub const PROVENANCE: provenance::Study = provenance::Study {
+    files: &[SEPARATION_FILE],
+    command: "cargo run --release --bin separation",
+    rerun_by_all: false,
+    variants: &[],
+    inputs: |_| Inputs {
+        scenes: CASES.list().map(|c| c.scene).to_vec(),
+        golden: false,
+        settings: format!(
+            "{:?}",
+            (
+                SEPARATION_ROTATIONS,
+                PAIRS,
+                SAMPLES_PER_ROTATION,
+                DEFAULT_SEED
+            )
+        ),
+    },
+};
+
+/// Runs the study for every Table 3 case (in parallel) and writes its CSV (one column per
+/// case, one row per rotation after the shared settling) with its record ([`PROVENANCE`]).
 pub fn separation_study() -> Result<Vec<Separation>> {
+    provenance::recorded(&PROVENANCE, &[], study)
+}
+
+/// The study itself ([`separation_study`]).
+fn study() -> Result<Vec<Separation>> {
     let cases: Vec<&'static str> = CASES.list().iter().map(|c| c.scene).collect();
     let study = cases
         .par_iter()

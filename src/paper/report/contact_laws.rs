@@ -14,7 +14,7 @@ use crate::paper::studies::contact_law_wear::{
     pairs_of, pooled, read_commented, read_law_wear, wear_window, LawRow, PaperResult,
     CLAIM_PREFIX, LAW_WEAR_FIGURE, ONE_REGION_SD_DEG, PAPER_LAW, RUN_FAILED, SIGNIFICANT_P,
 };
-use crate::paper::studies::contact_laws::{CONTACT_LAWS_HEADER, RESTITUTIONS};
+use crate::paper::studies::contact_laws::{CONTACT_LAWS_FILE, CONTACT_LAWS_HEADER, RESTITUTIONS};
 use std::fmt::Write as _;
 
 /// The heading of the section.
@@ -299,7 +299,7 @@ fn complete_sweep(rows: &[Vec<String>]) -> bool {
 /// The restitution study's summary: per dissipation law, the achieved restitution at the wear
 /// study's nominal c_e and the largest |achieved − given| over the sweep with where it is.
 fn restitution_summary(md: &mut String) {
-    let path = output_path("data", "contact_laws_restitution.csv");
+    let path = output_path("data", CONTACT_LAWS_FILE);
     let Some((header, rows)) = read_commented(&path).ok() else {
         md.push_str(
             "The restitution study's results are missing: run `cargo run --release --bin contact_laws`.\n\n",
@@ -650,7 +650,7 @@ mod tests {
     /// the report) or a law renamed is not.
     #[test]
     fn only_the_whole_restitution_sweep_is_summarised() {
-        let path = output_path("data", "contact_laws_restitution.csv");
+        let path = output_path("data", CONTACT_LAWS_FILE);
         let (_, rows) = read_commented(&path).unwrap();
         assert!(complete_sweep(&rows));
         let mut lost = rows.clone();

@@ -789,7 +789,8 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
     );
     md.push_str(
             "Criterion benchmarks (`cargo bench`, then `cargo run --release --bin bench_summary`), medians and \
-             95% intervals in nanoseconds, on the machine named at the top:\n\n",
+             95% intervals in nanoseconds, as `cargo bench` last measured them: `data/benchmarks.csv` records \
+             neither the machine nor the date, so they need not be this run's machine (named at the top):\n\n",
         );
     benchmarks(md);
     md.push_str(&targets());

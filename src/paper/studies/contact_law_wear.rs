@@ -40,6 +40,7 @@ use crate::paper::cases::{case_of_scene, Case, Need, Runs, SteadyMember, WearMem
 use crate::paper::figures::output_path;
 use crate::paper::format::{csv_statistic, parse_statistic};
 use crate::paper::golden::{angle_distance, angle_offset, Golden};
+use crate::paper::provenance::{self, Inputs};
 use crate::paper::studies::accuracy::Table3Test;
 use crate::scene::{ContactSpec, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
@@ -118,6 +119,47 @@ impl Default for LawWearSettings {
         }
     }
 }
+
+impl LawWearSettings {
+    /// What the study's program runs: the default, with every case of Table 3 run steady when
+    /// `table3` (`--table3`).
+    pub fn program(table3: bool) -> LawWearSettings {
+        let mut settings = LawWearSettings::default();
+        if table3 {
+            settings.steady = CASES.list().into_iter().copied().collect();
+        }
+        settings
+    }
+}
+
+/// The flag of the study's program that runs Table 3's other cases too.
+pub const TABLE3_FLAG: &str = "--table3";
+
+/// What produced `data/contact_law_wear.csv` ([`provenance`]): the cases' scenes and the
+/// paper's values (its results are checked per member), the members, the pairs and the cases;
+/// `--table3` is a variant of its own.
+pub const PROVENANCE: provenance::Study = provenance::Study {
+    files: &[LAW_WEAR_FILE],
+    command: "cargo run --release --bin contact_law_wear",
+    rerun_by_all: true,
+    variants: &[TABLE3_FLAG],
+    inputs: |variant| {
+        let s = LawWearSettings::program(variant.iter().any(|f| f == TABLE3_FLAG));
+        let scenes = |cases: &[Case]| cases.iter().map(|c| c.scene).collect::<Vec<_>>();
+        let (steady, wear) = (scenes(&s.steady), scenes(&s.wear));
+        Inputs {
+            scenes: steady.iter().chain(&wear).copied().collect(),
+            golden: true,
+            settings: format!(
+                "{:?}",
+                (
+                    (s.members, s.pairs, steady, wear),
+                    EnsembleSettings::default()
+                )
+            ),
+        }
+    },
+};
 
 /// Columns of [`LAW_WEAR_FILE`]; `mean` and `sd` are in the row's `unit`.
 pub const LAW_WEAR_HEADER: [&str; 17] = [
@@ -678,9 +720,22 @@ pub fn law_wear_rows(
     Ok(rows.into_iter().flat_map(|(_, r)| r).collect())
 }
 
-/// Runs the study with `settings`, writes `data/contact_law_wear.csv` and
+/// Runs the study as its program does ([`LawWearSettings::program`]), writes
+/// `data/contact_law_wear.csv` with its record ([`PROVENANCE`]) and
 /// `figures/contact_law_wear.png`, and returns the rows.
 pub fn contact_law_wear_study(
+    table3: bool,
+    golden: &Golden,
+    progress: &dyn Progress,
+) -> Result<Vec<LawRow>> {
+    let variant: &[&str] = if table3 { &[TABLE3_FLAG] } else { &[] };
+    provenance::recorded(&PROVENANCE, variant, || {
+        write_study(&LawWearSettings::program(table3), golden, progress)
+    })
+}
+
+/// Runs the study with `settings`, writes its CSV and figure, and returns the rows.
+fn write_study(
     settings: &LawWearSettings,
     golden: &Golden,
     progress: &dyn Progress,

@@ -19,6 +19,7 @@ use crate::laws::contact::{
     compound_modulus, ContactLaw, DissipationLaw, JointElasticity, StiffnessLaw,
 };
 use crate::paper::figures::output_path;
+use crate::paper::provenance::{self, Inputs};
 use crate::{Error, Result};
 use rayon::prelude::*;
 
@@ -202,8 +203,38 @@ pub fn restitution_sweep() -> Result<Vec<Impact>> {
         .collect()
 }
 
-/// Runs the study: writes the CSV and the figure, returns the sweep.
+/// The study's table under `data/`.
+pub const CONTACT_LAWS_FILE: &str = "contact_laws_restitution.csv";
+
+/// What produced `data/contact_laws_restitution.csv` ([`provenance`]): no scene (the
+/// standard joint is the constants of [`standard_joint`]), the impact, the sweep and the step.
+pub const PROVENANCE: provenance::Study = provenance::Study {
+    files: &[CONTACT_LAWS_FILE],
+    command: "cargo run --release --bin contact_laws",
+    rerun_by_all: true,
+    variants: &[],
+    inputs: |_| Inputs {
+        scenes: Vec::new(),
+        golden: false,
+        settings: format!(
+            "{:?}",
+            (
+                (standard_joint(), MASS_KG, IMPACT_VELOCITY, CLEARANCE),
+                (StiffnessLaw::ALL, DissipationLaw::ALL, RESTITUTIONS),
+                (STEPS_PER_SCALE, MAX_STEPS, LOOP_SAMPLES)
+            )
+        ),
+    },
+};
+
+/// Runs the study: writes the CSV, its record ([`PROVENANCE`]) and the figure, returns the
+/// sweep.
 pub fn contact_laws_study() -> Result<Vec<Impact>> {
+    provenance::recorded(&PROVENANCE, &[], study)
+}
+
+/// The study itself ([`contact_laws_study`]).
+fn study() -> Result<Vec<Impact>> {
     let sweep = restitution_sweep()?;
     let rows = sweep.iter().map(|i| {
         vec![
@@ -223,7 +254,7 @@ pub fn contact_laws_study() -> Result<Vec<Impact>> {
          undamped peak penetration / impact velocity; cargo run --release --bin contact_laws"
     );
     write_table(
-        &output_path("data", "contact_laws_restitution.csv"),
+        &output_path("data", CONTACT_LAWS_FILE),
         Some(&first),
         &CONTACT_LAWS_HEADER,
         rows,

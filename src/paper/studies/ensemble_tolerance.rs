@@ -26,6 +26,7 @@ use crate::io::progress::Progress;
 use crate::ode::Method;
 use crate::paper::cases::{Need, Runs, SteadyEnsemble, CASES};
 use crate::paper::figures::output_path;
+use crate::paper::provenance::{self, Inputs};
 use crate::simulation::ensemble::{EnsembleSettings, DEFAULT_MEMBERS};
 use crate::Result;
 
@@ -170,8 +171,31 @@ fn paired_z(values: &[f64], base: &[f64]) -> f64 {
     }
 }
 
-/// Runs the study, telling `progress` the members finished, and writes its CSV.
+/// What produced `data/ensemble_tolerance.csv` ([`provenance`]): every case scene, the
+/// tolerances and the ensembles.
+pub const PROVENANCE: provenance::Study = provenance::Study {
+    files: &[ENSEMBLE_TOLERANCE_FILE],
+    command: "cargo run --release --bin ensemble_tolerance",
+    rerun_by_all: false,
+    variants: &[],
+    inputs: |_| Inputs {
+        scenes: CASES.list().map(|c| c.scene).to_vec(),
+        golden: false,
+        settings: format!(
+            "{:?}",
+            (RTOLS, DEFAULT_MEMBERS, EnsembleSettings::default())
+        ),
+    },
+};
+
+/// Runs the study, telling `progress` the members finished, and writes its CSV with its record
+/// ([`PROVENANCE`]).
 pub fn ensemble_tolerance(progress: &dyn Progress) -> Result<Vec<ToleranceRow>> {
+    provenance::recorded(&PROVENANCE, &[], || study(progress))
+}
+
+/// The study itself ([`ensemble_tolerance`]).
+fn study(progress: &dyn Progress) -> Result<Vec<ToleranceRow>> {
     let needs: Vec<Need> = CASES.list().iter().map(|c| Need::Steady(c.scene)).collect();
     let ensemble = EnsembleSettings {
         members: DEFAULT_MEMBERS,

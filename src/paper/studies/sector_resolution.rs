@@ -23,6 +23,7 @@ use crate::io::progress::{Counter, Progress};
 use crate::paper::cases::{wear_member, wear_scene, WearMember};
 use crate::paper::figures::output_path;
 use crate::paper::format::{csv_statistic, parse_statistic};
+use crate::paper::provenance::{self, Inputs};
 use crate::scene::{scene_path, SceneFile};
 use crate::simulation::ensemble::{run_member, EnsembleSettings};
 use crate::{Error, Result};
@@ -166,9 +167,32 @@ pub fn read_sector_resolution() -> Option<Vec<SectorRow>> {
 /// it left the gap's validity bound.
 type MemberEnd = std::result::Result<(WearMember, u64, f64), u32>;
 
-/// Runs the study, telling `progress` the members finished, and writes its CSV. A member that
-/// leaves the gap's validity bound is counted, not averaged; any other failure stops the study.
+/// What produced `data/sector_resolution.csv` ([`provenance`]): the wear cases' scenes, the
+/// sector counts and the members.
+pub const PROVENANCE: provenance::Study = provenance::Study {
+    files: &[SECTOR_RESOLUTION_FILE],
+    command: "cargo run --release --bin sector_resolution",
+    rerun_by_all: false,
+    variants: &[],
+    inputs: |_| Inputs {
+        scenes: SECTOR_CASES.to_vec(),
+        golden: false,
+        settings: format!(
+            "{:?}",
+            (SECTOR_COUNTS, SECTOR_MEMBERS, EnsembleSettings::default())
+        ),
+    },
+};
+
+/// Runs the study, telling `progress` the members finished, and writes its CSV with its record
+/// ([`PROVENANCE`]). A member that leaves the gap's validity bound is counted, not averaged;
+/// any other failure stops the study.
 pub fn sector_resolution(progress: &dyn Progress) -> Result<Vec<SectorRow>> {
+    provenance::recorded(&PROVENANCE, &[], || study(progress))
+}
+
+/// The study itself ([`sector_resolution`]).
+fn study(progress: &dyn Progress) -> Result<Vec<SectorRow>> {
     let ensemble = EnsembleSettings {
         members: SECTOR_MEMBERS,
         ..EnsembleSettings::default()

@@ -94,7 +94,9 @@ use crate::io::output::{read_rows, write_rows};
 use crate::io::progress::{Counter, Progress, Silent};
 use crate::mechanism::Formulation;
 use crate::ode::Method;
+use crate::paper::cases::CASES;
 use crate::paper::figures::output_path;
+use crate::paper::provenance::{self, Inputs};
 use crate::scene::{BodySpec, RevoluteSpec, SceneFile};
 use crate::simulation::ensemble::{run_member, EnsembleSettings, DEFAULT_SEED};
 use crate::{Error, Result};
@@ -451,22 +453,46 @@ fn rule_settings() -> impl Iterator<Item = (Integration, bool)> {
 }
 
 /// The rule's measurement (module documentation): every candidate and the bound over the
-/// members, `progress` told each member finished. Writes `data/work_precision_members.csv`.
+/// members, `progress` told each member finished. Writes `data/work_precision_members.csv`
+/// and its record ([`PROVENANCE`]).
 pub fn rule_rows(progress: &dyn Progress) -> Result<Vec<RuleRow>> {
-    progress.stage("default-tolerance rule: members");
-    let done = Counter::new(progress, RULE_MEMBERS);
-    let members: Vec<MemberErrors> = (0..RULE_MEMBERS)
-        .into_par_iter()
-        .map(|m| {
-            let e = member_errors(m);
-            done.finish_one();
-            e
-        })
-        .collect::<Result<_>>()?;
-    let rows = rows_of(&members)?;
-    write_rule_rows(&rows, members.len())?;
-    Ok(rows)
+    provenance::recorded(&PROVENANCE, &[], || {
+        progress.stage("default-tolerance rule: members");
+        let done = Counter::new(progress, RULE_MEMBERS);
+        let members: Vec<MemberErrors> = (0..RULE_MEMBERS)
+            .into_par_iter()
+            .map(|m| {
+                let e = member_errors(m);
+                done.finish_one();
+                e
+            })
+            .collect::<Result<_>>()?;
+        let rows = rows_of(&members)?;
+        write_rule_rows(&rows, members.len())?;
+        Ok(rows)
+    })
 }
+
+/// What produced `data/work_precision_members.csv` ([`provenance`]): the standard scene, the
+/// members, the candidates, the bound and the reference they are measured against.
+pub const PROVENANCE: provenance::Study = provenance::Study {
+    files: &[RULE_FILE],
+    command: "cargo run --release --bin work_precision -- --rule",
+    rerun_by_all: true,
+    variants: &[],
+    inputs: |_| Inputs {
+        scenes: vec![CASES.standard.scene],
+        golden: false,
+        settings: format!(
+            "{:?}",
+            (
+                (RULE_MEMBERS, RULE_SEED, RULE_RTOLS),
+                (BOUND, INERT_BODIES, REFERENCE, CONFIDENCE),
+                EnsembleSettings::default()
+            )
+        ),
+    },
+};
 
 /// File of the rule's measurement, in `data/`.
 pub const RULE_FILE: &str = "work_precision_members.csv";

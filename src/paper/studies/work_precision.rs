@@ -43,6 +43,7 @@ use crate::io::progress::{Progress, Silent};
 use crate::ode::{Method, Stats};
 use crate::paper::cases::{wear_run_with, Need, Runs, CASES};
 use crate::paper::figures::output_path;
+use crate::paper::provenance::{self, Inputs};
 use crate::scene::{scene_path, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
 use crate::simulation::{simulate, RunOutput};
@@ -265,11 +266,43 @@ pub fn work_precision_settings() -> Vec<Integration> {
     s
 }
 
+/// The study's table under `data/`.
+pub const WORK_PRECISION_FILE: &str = "work_precision.csv";
+
+/// What produced `data/work_precision.csv` ([`provenance`]): the standard scene and the
+/// settings measured, the references, the step guard and the wear ensembles.
+pub const PROVENANCE: provenance::Study = provenance::Study {
+    files: &[WORK_PRECISION_FILE],
+    command: "cargo run --release --bin work_precision",
+    rerun_by_all: true,
+    variants: &[],
+    inputs: |_| Inputs {
+        scenes: vec![CASES.standard.scene],
+        golden: false,
+        settings: format!(
+            "{:?}",
+            (
+                work_precision_settings(),
+                (REFERENCE, SECOND_REFERENCE, WP_MAX_STEPS),
+                (WP_MEMBERS, WP_ENSEMBLE_MAX_EVALUATIONS),
+                EnsembleSettings::default()
+            )
+        ),
+    },
+};
+
 /// The work-precision study (see the module documentation); `progress` is told each run and
 /// wear ensemble.
 /// Writes `data/work_precision.csv`, `figures/work_precision.png` and the rule's
-/// `data/work_precision_members.csv`.
+/// `data/work_precision_members.csv`, each CSV with its record ([`provenance`]).
 pub fn work_precision(progress: &dyn Progress) -> Result<WorkPrecision> {
+    let (rows, floor) = provenance::recorded(&PROVENANCE, &[], || settings_study(progress))?;
+    let rule = rule_rows(progress)?;
+    Ok(WorkPrecision { rows, floor, rule })
+}
+
+/// Every setting's row and the error floor, written to `data/work_precision.csv` and drawn.
+fn settings_study(progress: &dyn Progress) -> Result<(Vec<WorkRow>, Errors)> {
     let settings = work_precision_settings();
     // the reference, every setting and the second reference; the ensembles are added once known
     let mut total = settings.len() as u64 + 2;
@@ -330,8 +363,7 @@ pub fn work_precision(progress: &dyn Progress) -> Result<WorkPrecision> {
     write_work_precision(&rows)?;
     let points: Vec<Point> = rows.iter().map(Point::of).collect();
     plot_work_precision(&points, &floor)?;
-    let rule = rule_rows(progress)?;
-    Ok(WorkPrecision { rows, floor, rule })
+    Ok((rows, floor))
 }
 
 /// Per sector, the mean and sd of the 40-rotation wear profile over [`WP_MEMBERS`] members.
@@ -427,7 +459,7 @@ pub struct EnsembleCost {
 /// of every setting that has one, in file order; `None` when the file or one of those columns
 /// is missing.
 pub fn read_ensemble_wear_errors() -> Option<Vec<EnsembleCost>> {
-    let (header, rows) = read_rows(&output_path("data", "work_precision.csv")).ok()?;
+    let (header, rows) = read_rows(&output_path("data", WORK_PRECISION_FILE)).ok()?;
     let col = |name: &str| header.iter().position(|h| h == name);
     let (method, setting) = (col(METHOD)?, col(SETTING)?);
     let (error, sampling) = (col(ENSEMBLE_ERROR)?, col(ENSEMBLE_SAMPLING)?);
@@ -452,7 +484,7 @@ pub fn read_ensemble_wear_errors() -> Option<Vec<EnsembleCost>> {
 fn write_work_precision(rows: &[WorkRow]) -> Result<()> {
     let num = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.4e}"));
     write_rows(
-        &output_path("data", "work_precision.csv"),
+        &output_path("data", WORK_PRECISION_FILE),
         &WORK_PRECISION_HEADER,
         rows.iter().map(|r| {
             let role = match r.integration {

@@ -10,8 +10,8 @@
 //! `data/work_precision.csv` ([`redraw_work_precision`]) without rerunning the study.
 
 use super::work_precision::{
-    EnsembleWearError, Errors, WorkRow, REFERENCE, SECOND_REFERENCE, WORK_PRECISION_HEADER,
-    WP_ENSEMBLE_MAX_EVALUATIONS,
+    EnsembleWearError, Errors, WorkRow, PROVENANCE, REFERENCE, SECOND_REFERENCE,
+    WORK_PRECISION_FILE, WORK_PRECISION_HEADER, WP_ENSEMBLE_MAX_EVALUATIONS,
 };
 use crate::analysis::statistics::Distribution;
 use crate::io::output::read_rows;
@@ -93,9 +93,11 @@ impl Point {
 type Drawn = (Vec<f64>, Vec<f64>, Vec<String>);
 
 /// Redraws `figures/work_precision.png` from `data/work_precision.csv` (the study's last
-/// results), so the figure follows changes of its drawing without the study's two minutes.
+/// results), so the figure follows changes of its drawing without the study's two minutes;
+/// refused ([`crate::Error::Stale`]) unless its record shows the CSV is this checkout's.
 pub fn redraw_work_precision() -> Result<()> {
-    let path = output_path("data", "work_precision.csv");
+    crate::paper::provenance::check(&[&PROVENANCE])?;
+    let path = output_path("data", WORK_PRECISION_FILE);
     let (header, rows) = read_rows(&path)?;
     if header != WORK_PRECISION_HEADER {
         return Err(Error::invalid(

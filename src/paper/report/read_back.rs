@@ -1,0 +1,211 @@
+//! What the report reads back from `data/` instead of computing it ([`READ_BACK`]): the
+//! check of every such study's record before the report computes or reads anything
+//! ([`check_read_back`]; [`crate::paper::provenance`] says why it refuses rather than labels),
+//! and the paragraph of `paper.md`'s header that lists them.
+
+use super::markdown::md_table;
+use crate::paper::provenance::{self, Study};
+use crate::Result;
+
+/// Every study whose results the report reads back from `data/` instead of computing them, in
+/// the order of `paper.md`'s sections; `report --all` reruns those marked
+/// [`Study::rerun_by_all`].
+pub const READ_BACK: [&Study; 11] = [
+    &crate::paper::perturbation::PROVENANCE,
+    &crate::paper::separation::PROVENANCE,
+    &crate::paper::convergence::PROVENANCE,
+    &crate::paper::calibration::PROVENANCE,
+    &crate::paper::studies::work_precision::PROVENANCE,
+    &crate::paper::studies::tolerance_rule::PROVENANCE,
+    &crate::paper::studies::ensemble_tolerance::PROVENANCE,
+    &crate::paper::studies::sector_resolution::PROVENANCE,
+    &crate::paper::performance::PROVENANCE,
+    &crate::paper::studies::contact_laws::PROVENANCE,
+    &crate::paper::studies::contact_law_wear::PROVENANCE,
+];
+
+/// Refuses ([`crate::Error::Stale`]) results of [`READ_BACK`] under `data/` that are not this
+/// checkout's, all of them named at once; when `rerun_all`, only of the studies `--all` does
+/// not rerun. The report's first step, before the minutes it computes: [`super::write`] checks
+/// them all again where it reads them.
+pub fn check_read_back(rerun_all: bool) -> Result<()> {
+    let kept: Vec<&Study> = (READ_BACK.iter().copied())
+        .filter(|s| !(rerun_all && s.rerun_by_all))
+        .collect();
+    provenance::check(&kept)
+}
+
+/// The paragraph of `paper.md`'s header that lists the results read back from `data/` and
+/// says how they were checked.
+pub(super) fn paragraph(rerun_all: bool) -> String {
+    let rows: Vec<Vec<String>> = READ_BACK
+        .iter()
+        .map(|s| {
+            let files: Vec<String> = s.files.iter().map(|f| format!("`data/{f}`")).collect();
+            let this_run = if rerun_all && s.rerun_by_all {
+                "rerun (`--all`)"
+            } else {
+                "read back, record matches"
+            };
+            vec![
+                files.join(", "),
+                format!("`{}`", s.command),
+                if s.rerun_by_all { "yes" } else { "no" }.into(),
+                this_run.into(),
+            ]
+        })
+        .collect();
+    let mut md = format!(
+        "**Results read back from `data/`.** The studies below are too slow to rerun with every \
+         report; their results are read from where their last run left them. Each run leaves a \
+         record beside its first CSV (`data/<name>.provenance.json`): the jointwear version and \
+         arithmetic it ran under ({} and {} here), the fingerprints of the scenes, the paper's \
+         values and the settings it read, and the length and fingerprint of each CSV it wrote. \
+         The report is written only when every record matches this checkout (an edited scene or \
+         CSV, another version or a missing record stops it, naming the study, what differs and \
+         the command that remakes it), so none of these numbers comes from other scenes, paper \
+         values, settings or program version than this checkout's; a change of the code that \
+         moves them without changing those is not seen. The benchmarks and the SciPy comparison \
+         of section 7 are timings from whenever they were last run, carry no record and are not \
+         checked.\n\n",
+        env!("CARGO_PKG_VERSION"),
+        crate::simulation::checkpoint::ARITHMETIC
+    );
+    md_table(
+        &mut md,
+        &["results", "made by", "rerun by `report --all`", "this run"],
+        &rows,
+    );
+    md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::paper::figures::output_root;
+    use crate::Error;
+    use std::path::{Path, PathBuf};
+
+    /// The committed `data/` is this checkout's: a scene or setting changed without rerunning
+    /// the studies that read it fails here, not only in the next report.
+    #[test]
+    fn the_committed_results_read_back_are_this_checkouts() {
+        check_read_back(false).unwrap();
+    }
+
+    /// A copy of `data/` with what the studies of [`READ_BACK`] read and wrote; removed when
+    /// dropped.
+    struct Copy(PathBuf);
+
+    impl Copy {
+        fn new(name: &str) -> Copy {
+            let dir = std::env::temp_dir()
+                .join(format!("jointwear-read-back-{}-{name}", std::process::id()));
+            let _ = std::fs::remove_dir_all(&dir);
+            let data = output_root().join("data");
+            let copy = |from: &Path, to: &Path| {
+                std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+                std::fs::copy(from, to).unwrap();
+            };
+            for sub in ["scenes", "golden"] {
+                for entry in std::fs::read_dir(data.join(sub)).unwrap() {
+                    let path = entry.unwrap().path();
+                    if path.is_file() {
+                        copy(&path, &dir.join(sub).join(path.file_name().unwrap()));
+                    }
+                }
+            }
+            for study in READ_BACK {
+                let stem = study.files[0].trim_end_matches(".csv");
+                let record = format!("{stem}.provenance.json");
+                for file in study.files.iter().copied().chain([record.as_str()]) {
+                    copy(&data.join(file), &dir.join(file));
+                }
+            }
+            Copy(dir)
+        }
+
+        /// Replaces the first `from` of `file` by `to`.
+        fn edit(&self, file: &str, from: &str, to: &str) {
+            let path = self.0.join(file);
+            let text = std::fs::read_to_string(&path).unwrap();
+            assert!(text.contains(from), "{file} holds `{from}`");
+            std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+        }
+
+        /// The first file of each study the report refuses to read back.
+        fn refused(&self) -> Vec<String> {
+            match provenance::check_in(&READ_BACK, &self.0) {
+                Ok(()) => Vec::new(),
+                Err(Error::Stale { results }) => results
+                    .iter()
+                    .map(|r| r.split([':', ' ']).next().unwrap().to_string())
+                    .collect(),
+                Err(e) => panic!("{e}"),
+            }
+        }
+    }
+
+    impl Drop for Copy {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+
+    // Fails with the check disabled (`provenance::check_in` returning Ok(()) at once): every
+    // study below is read back as if it were current.
+
+    #[test]
+    fn a_changed_scene_stops_every_study_that_reads_it_and_only_those() {
+        let copy = Copy::new("scene");
+        assert!(copy.refused().is_empty(), "{:?}", copy.refused());
+        // read by the Table 3 and wear studies, not by the standard scene's or the impact's
+        copy.edit("scenes/clearance_0.5mm.toml", "_mm\" = 0.5", "_mm\" = 0.45");
+        assert_eq!(
+            copy.refused(),
+            [
+                "data/perturbation_sensitivity.csv",
+                "data/member_separation.csv",
+                "data/ensemble_convergence.csv",
+                "data/calibration.csv",
+                "data/ensemble_tolerance.csv",
+                "data/sector_resolution.csv",
+                "data/contact_law_wear.csv",
+            ]
+        );
+    }
+
+    #[test]
+    fn an_edited_row_a_cut_csv_a_missing_or_foreign_record_are_each_refused() {
+        let copy = Copy::new("files");
+        // a digit of a row
+        let text = std::fs::read_to_string(copy.0.join("calibration.csv")).unwrap();
+        let row = text.lines().nth(3).unwrap();
+        copy.edit("calibration.csv", row, &row.replacen("0.", "1.", 1));
+        // the last rows of a file
+        let path = copy.0.join("perturbation_sensitivity.csv");
+        let text = std::fs::read_to_string(&path).unwrap();
+        std::fs::write(&path, &text[..text.len() / 2]).unwrap();
+        // one of two files of a study
+        std::fs::write(copy.0.join("step_limit.csv"), "t_s\n").unwrap();
+        // a record gone
+        std::fs::remove_file(copy.0.join("ensemble_convergence.provenance.json")).unwrap();
+        // a record of another version
+        let version = format!("\"jointwear\": \"{}\"", env!("CARGO_PKG_VERSION"));
+        copy.edit(
+            "contact_laws_restitution.provenance.json",
+            &version,
+            "\"jointwear\": \"0.0.1\"",
+        );
+        assert_eq!(
+            copy.refused(),
+            [
+                "data/perturbation_sensitivity.csv",
+                "data/ensemble_convergence.csv",
+                "data/calibration.csv",
+                "data/scaling.csv",
+                "data/contact_laws_restitution.csv",
+            ]
+        );
+    }
+}
