@@ -217,6 +217,11 @@ fn conflicting_flags_are_refused_before_the_outputs_are_claimed() {
         .args(["--redraw", "--rule"])
         .output()
         .unwrap();
+    // contact_law_wear ignored --table3 beside --redraw, exit 0.
+    let law_wear = Command::new(env!("CARGO_BIN_EXE_contact_law_wear"))
+        .args(["--redraw", "--table3"])
+        .output()
+        .unwrap();
     let (held, kept) = (std::fs::read_to_string(&lock), left.exists());
     let _ = std::fs::remove_file(&lock);
     let _ = std::fs::remove_file(&left);
@@ -226,6 +231,9 @@ fn conflicting_flags_are_refused_before_the_outputs_are_claimed() {
     assert!(!err.contains("taking over"), "{err}");
     assert_eq!(held.ok(), Some(gone), "the lock it found is left as it was");
     assert!(kept, "the temporary beside it is left as it was");
+    let err = text(&law_wear.stderr);
+    assert_eq!(law_wear.status.code(), Some(2), "{err}");
+    assert!(err.contains("at most one of --redraw, --table3"), "{err}");
 }
 
 // Fails without the claim of a name: the paper claim was a sweep file's claim, which refuses a

@@ -16,7 +16,7 @@ use jointwear::paper::studies::contact_law_wear::{
 use jointwear::Error;
 
 fn main() {
-    let claim = program::flags(
+    let claim = program::one_flag(
         "contact_law_wear",
         "How much the predicted wear depends on the contact law: writes data/contact_law_wear.csv \
          and figures/contact_law_wear.png",
