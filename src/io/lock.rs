@@ -17,7 +17,8 @@
 //! Whether a holder lives is told by `/proc/<pid>` on this host and, as an id is given again
 //! to later processes, by the start time in `/proc/<pid>/stat`: a process of that id started
 //! at another time than the lock records is not its holder (a holder killed long ago kept its
-//! lock alive once another process had its id). A lock written before start times were
+//! lock alive once another process had its id), and a holder that has ended but is not yet
+//! reaped by its parent (a zombie) is gone. A lock written before start times were
 //! recorded is judged by its id alone. A lock of another host (a shared file system) is never
 //! taken over, as its holder cannot be seen from here; nor is one cut short or edited, which
 //! cannot tell whether its holder runs: the refusal says why.
@@ -321,7 +322,8 @@ impl Gone {
 }
 
 /// Whether, and how, the holder recorded in the lock file `text` is certainly gone: a process
-/// of this host that no longer runs, or whose id a process started at another time has now.
+/// of this host that no longer runs (or has ended and waits to be reaped, [`ended`]), or whose
+/// id a process started at another time has now.
 /// A lock of another host, a flawed one ([`flaw`]) or one whose holder may still run is not
 /// judged stale; nor is a lock without a start time (written before they were recorded) whose
 /// id a process has, nor one whose process's start time cannot be read.
@@ -331,11 +333,28 @@ fn gone(text: &str) -> Option<Gone> {
         return None;
     }
     let pid: u32 = field(text, "pid")?.parse().ok()?;
-    if !proc.join(pid.to_string()).exists() {
+    let Ok(stat) = fs::read_to_string(proc.join(format!("{pid}/stat"))) else {
+        // (Read again: a process that ended between the two reads is gone.)
+        return (!proc.join(pid.to_string()).exists()).then_some(Gone::Ended);
+    };
+    if ended(&stat, pid) {
         return Some(Gone::Ended);
     }
     let recorded: u64 = field(text, "start")?.parse().ok()?;
-    (start_time(pid)? != recorded).then_some(Gone::Reused)
+    (stat_start(&stat)? != recorded).then_some(Gone::Reused)
+}
+
+/// Whether the process `pid` whose `/proc/<pid>/stat` line is `stat` has ended and only waits
+/// to be reaped by its parent (a zombie, state `Z`, or dead, `X`, with no other thread left):
+/// a holder killed and not yet waited for, which keeps its entry and start time until then.
+/// Its id is no other process's until then, so the temporaries of that id are its own.
+fn ended(stat: &str, pid: u32) -> bool {
+    let state = stat
+        .rsplit_once(')')
+        .and_then(|(_, after)| after.split_whitespace().next());
+    // (A thread group's leader that ended while its other threads run shows as a zombie too.)
+    let threads = fs::read_dir(format!("/proc/{pid}/task")).map_or(0, Iterator::count);
+    matches!(state, Some("Z" | "X")) && threads <= 1
 }
 
 /// The holder recorded in `text`, for messages.
@@ -649,6 +668,37 @@ mod tests {
         // This process's, as its lock records it.
         let me = start_time(std::process::id()).expect("this host has /proc");
         assert!(holder_text().contains(&format!("\nstart={me}\ncommand=")));
+    }
+
+    // Fails without reading the holder's state: a holder killed but not yet waited for by its
+    // parent (a zombie, as a notebook's killed subprocess stays until it is reaped) kept its
+    // lock alive, refusing every writer, as its /proc entry and start time remain.
+    #[test]
+    fn a_lock_whose_holder_was_killed_but_not_reaped_is_stale() {
+        let mut child = std::process::Command::new("sleep")
+            .arg("60")
+            .spawn()
+            .unwrap();
+        let pid = child.id();
+        let start = start_time(pid).unwrap();
+        let held = format!("pid={pid}\nhost={}\nstart={start}\ncommand=x\n", host());
+        assert_eq!(gone(&held), None, "it runs");
+        child.kill().unwrap();
+        // Not waited for: a zombie until then.
+        let zombie = (0..200).any(|_| {
+            std::thread::sleep(std::time::Duration::from_millis(10));
+            fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|s| {
+                s.rsplit_once(')')
+                    .is_some_and(|(_, r)| r.trim_start().starts_with('Z'))
+            })
+        });
+        assert!(zombie);
+        assert_eq!(gone(&held), Some(Gone::Ended));
+        // A lock of an earlier version, without a start time, too.
+        let earlier = format!("pid={pid}\nhost={}\ncommand=x\n", host());
+        assert_eq!(gone(&earlier), Some(Gone::Ended));
+        child.wait().unwrap();
+        assert_eq!(gone(&held), Some(Gone::Ended));
     }
 
     // Fails without the start time: a lock whose holder was killed long ago stayed alive, and
