@@ -106,7 +106,9 @@ impl Lock {
 /// that chose it (e.g. `--out`) in the error of a folder another process is writing. A folder
 /// into which a sweep is writing its file ([`claim_file`]'s live lock is in it) is refused too:
 /// the run's outputs could replace the sweep's file. (Each side checks for the other after it
-/// has claimed, so of a run and a sweep that start at once, one sees the other's lock.)
+/// has claimed, so of a run and a sweep that start at once, one sees the other's lock.) The
+/// claim of a name beside it ([`claim_name`]: the paper's outputs' in a crate's root) does not
+/// refuse it, as no file is written at that name.
 pub fn claim_folder(option: &str, dir: &Path) -> Result<Lock> {
     let created = (!dir.exists()).then(|| dir.to_path_buf());
     fs::create_dir_all(dir).map_err(|source| Error::Io {
@@ -121,9 +123,8 @@ pub fn claim_folder(option: &str, dir: &Path) -> Result<Lock> {
                 dir.display(),
                 format!(
                     "a folder in which no other process claims a file: {} claims one there \
-                     (a sweep's output, or the paper's outputs in a crate's root) for {}, which \
-                     this command's outputs could replace; wait for that process, or choose \
-                     another {option}",
+                     (a sweep's output) for {}, which this command's outputs could replace; \
+                     wait for that process, or choose another {option}",
                     file_lock.display(),
                     describe(&held)
                 ),
@@ -139,7 +140,8 @@ pub fn claim_folder(option: &str, dir: &Path) -> Result<Lock> {
     lock
 }
 
-/// A lock of [`claim_file`] in `dir` whose holder may still run, and its content.
+/// A lock of [`claim_file`] in `dir` whose holder may still run, and its content (not one of
+/// [`claim_name`], which says so: [`NAME_CLAIM`]).
 fn live_file_claim(dir: &Path) -> Option<(PathBuf, String)> {
     let entries = fs::read_dir(dir).ok()?;
     entries.flatten().find_map(|e| {
@@ -147,6 +149,7 @@ fn live_file_claim(dir: &Path) -> Option<(PathBuf, String)> {
         let file_lock = name.starts_with('.') && name.ends_with(".lock") && name != FOLDER_LOCK;
         file_lock
             .then(|| live_holder(&e.path()))?
+            .filter(|held| field(held, "claims") != Some(NAME_CLAIM))
             .map(|held| (e.path(), held))
     })
 }
@@ -165,7 +168,7 @@ fn live_holder(lock: &Path) -> Option<String> {
 /// <ensemble folder>/summary.json` replaced the ensemble's summary, which the folder's
 /// manifest still listed, and was lost itself to the ensemble still running, both exit 0).
 pub fn claim_file(option: &str, file: &Path) -> Result<Lock> {
-    let claimed = claim_name(option, file)?;
+    let claimed = claim_at(option, file, None)?;
     // (Checked after the claim, as [`claim_folder`] checks for this lock after its own.)
     let lock = claimed.path();
     let dir = lock.parent().filter(|d| !d.as_os_str().is_empty());
@@ -200,6 +203,16 @@ pub fn claim_file(option: &str, file: &Path) -> Result<Lock> {
 /// written at `name`, so the command whose folder that is can neither replace it nor have one
 /// of its outputs replaced by it ([`claim_file`] is this claim, then that check).
 pub fn claim_name(option: &str, name: &Path) -> Result<Lock> {
+    claim_at(option, name, Some(NAME_CLAIM))
+}
+
+/// What the lock of [`claim_name`] records as the kind of its claim (`claims=`): a name no
+/// command writes, which [`claim_folder`] does not take for a file in its folder.
+const NAME_CLAIM: &str = "name";
+
+/// The claim of `name` through `.<name>.lock` beside it, creating its folder, its lock
+/// recording `kind` ([`holder_text`]): [`claim_name`] and [`claim_file`]'s.
+fn claim_at(option: &str, name: &Path, kind: Option<&str>) -> Result<Lock> {
     let mut lock_name = OsString::from(".");
     lock_name.push(name.file_name().unwrap_or(name.as_os_str()));
     lock_name.push(".lock");
@@ -210,7 +223,7 @@ pub fn claim_name(option: &str, name: &Path) -> Result<Lock> {
             source,
         })?;
     }
-    claim(option, name, &lock, None)
+    claim_nested(option, name, &lock, None, kind, 0)
 }
 
 /// This host's name, as lock files record it.
@@ -223,17 +236,19 @@ fn host() -> String {
 }
 
 /// The content of this process's lock file: its id, host, start time ([`start_time`], left
-/// out where it cannot be read) and command line, last, as it may hold line breaks (an
+/// out where it cannot be read), the kind of its claim if it is not a folder's or a file's
+/// (`claims=`, [`NAME_CLAIM`]) and command line, last, as it may hold line breaks (an
 /// argument's). Its command line is read lossily: an argument that is not UTF-8 (a folder's
 /// name) made `std::env::args` panic as a claim was taken.
-fn holder_text() -> String {
+fn holder_text(kind: Option<&str>) -> String {
     let command: Vec<String> = (std::env::args_os())
         .map(|a| a.to_string_lossy().into_owned())
         .collect();
     let pid = std::process::id();
     let start = start_time(pid).map_or(String::new(), |t| format!("start={t}\n"));
+    let kind = kind.map_or(String::new(), |k| format!("claims={k}\n"));
     format!(
-        "pid={pid}\nhost={}\n{start}command={}\n",
+        "pid={pid}\nhost={}\n{start}{kind}command={}\n",
         host(),
         command.join(" ")
     )
@@ -376,22 +391,23 @@ const MAX_TAKEOVERS: u32 = 3;
 /// Creates `lock` exclusively for this process, taking over a stale one; the output `target`
 /// and the `option` that chose it name a refusal.
 fn claim(option: &str, target: &Path, lock: &Path, created: Option<&Path>) -> Result<Lock> {
-    claim_nested(option, target, lock, created, 0)
+    claim_nested(option, target, lock, created, None, 0)
 }
 
-/// [`claim`] of a lock within `depth` takeovers.
+/// [`claim`] of a lock recording `kind` ([`holder_text`]) within `depth` takeovers.
 fn claim_nested(
     option: &str,
     target: &Path,
     lock: &Path,
     created: Option<&Path>,
+    kind: Option<&str>,
     depth: u32,
 ) -> Result<Lock> {
     let io = |source| Error::Io {
         path: lock.to_path_buf(),
         source,
     };
-    let text = holder_text();
+    let text = holder_text(kind);
     // The content of a stale lock this process took over, and how its holder was gone.
     let mut taken: Option<(String, Gone)> = None;
     let mut notes = Vec::new();
@@ -532,7 +548,7 @@ fn take_over(
     }
     let mut name = lock.as_os_str().to_owned();
     name.push(format!(".takeover-{}", field(held, "pid").unwrap_or("?")));
-    let marker = claim_nested(option, target, Path::new(&name), None, depth + 1)?;
+    let marker = claim_nested(option, target, Path::new(&name), None, None, depth + 1)?;
     notes.extend_from_slice(marker.notes());
     let now = fs::read_to_string(lock).unwrap_or_default();
     if now != held || gone(&now).is_none() {
@@ -667,7 +683,28 @@ mod tests {
         assert_eq!(stat_start("77 (x) S 1 2"), None);
         // This process's, as its lock records it.
         let me = start_time(std::process::id()).expect("this host has /proc");
-        assert!(holder_text().contains(&format!("\nstart={me}\ncommand=")));
+        assert!(holder_text(None).contains(&format!("\nstart={me}\ncommand=")));
+    }
+
+    // Fails without telling a name's claim from a file's: a folder holding the live claim of
+    // a name no command writes (the paper's outputs' lock in a crate's root) was refused to a
+    // run, check or Python's save "as this command's outputs could replace" a file never
+    // written, while that folder's command beside a running paper program was not.
+    #[test]
+    fn a_folder_is_not_refused_for_the_claim_of_a_name_beside_it() {
+        let dir = std::env::temp_dir().join(format!("jointwear-name-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        let name = claim_name("paper outputs", &dir.join("paper-outputs")).unwrap();
+        let folder = claim_folder("--out", &dir).unwrap();
+        drop(folder);
+        drop(name);
+        // A file's claim still refuses it.
+        let file = claim_file("--out", &dir.join("sweep.csv")).unwrap();
+        let e = claim_folder("--out", &dir).unwrap_err().to_string();
+        assert!(e.contains(".sweep.csv.lock"), "{e}");
+        drop(file);
+        fs::remove_dir_all(&dir).unwrap();
     }
 
     // Fails without reading the holder's state: a holder killed but not yet waited for by its
