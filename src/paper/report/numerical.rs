@@ -1262,41 +1262,42 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              instead, at h|λ| 0.42 with 12.2 µs steps. One stiff mode beside slow ones is the case \
              for an L-stable method, so the program integrates that rotation frozen (the profile \
              and δ̇⁻ held) with Rodas4 (Hairer and Wanner's 6 stages, order 4(3), L-stable; its \
-             Jacobian and time derivative at every step by Richardson-extrapolated central \
-             differences, 20 evaluations) and with the library's Dopri5, against Dopri5 at rtol \
-             1e-13; the error is the largest distance of the journal's eccentricity from the \
-             reference at 20 instants. Dopri5 at the scenes' rtol 1.5e-7: 7 528 steps, 59 972 \
-             evaluations, 3.1 nm. Rodas4 at rtol 3e-7: 14 801 steps (13 346 rejected), 718 477 \
-             evaluations (155 537 without its Jacobians'), 3.1 nm; at rtol 1e-5, 4 938 steps (3 428 \
-             rejected) and 20 nm, against Dopri5's 5 285 (1 606) and 9.6 nm at 1e-6. On the worn \
-             bearing it does not step over the stiff mode: it rejects 47 % of its attempts (Dopri5 \
-             25 %), and from the state after 30 rotations one step of 3.2 µs errs in the rod's rate \
-             by 6.2×10⁻⁶ rad/s against Dopri5's 1.2×10⁻⁵, one of 1.6 µs by 3.0×10⁻⁷ against \
-             1.3×10⁻⁷ (the slider's velocity alike, in m/s). Member 3 gives the same (Rodas4 at \
-             rtol 1e-6: 4 354 steps, 3.7 nm; Dopri5 at 3e-8: 3 599 steps, 1.7 nm). With difference \
-             steps of 1.5e-10 of each coordinate, the Jacobian's columns drowned in the rounding of \
-             the positions' differences (1e-5 relative) and Rodas4's local error fell only as h²; \
-             the program's steps move the journal by about 1/1000 of the penetration. No analytic \
-             Jacobian was built. Frozen, Dopri5 still rejects 23-29 % of its attempts, as in the \
-             run, so the rejections come neither from the wear's updates nor from onsets. They come \
-             from the worn profile: with the bearing unworn (δ̇⁻ held) the frozen rotation takes 6 \
-             094 steps with 151 rejected, 37 472 evaluations (−37 %); with δ̇⁻ = 20 mm/s on the \
-             worn bearing, 2 483 steps with 418 rejected, 17 408 evaluations. The damping sets the \
-             steps, the worn profile the rejections (member 3: 2 325 steps, 45 rejected, 14 222 \
-             evaluations unworn against 2 502, 454 and 17 738: −20 %; the C² profiles above, which \
-             halve them, point to its kinks at the sector centres, and recover at most 12 %). The \
-             worn profile is also what holds Rodas4 back: with the bearing unworn, each variant \
-             against its own reference, Rodas4 at rtol 3e-7 takes 4 281 steps (316 rejected) for \
-             3.8 nm where Dopri5 takes 6 550 for 4.1 nm (rtol 1e-7): it steps past the stiff mode, \
-             with 35 % fewer steps, but takes 119 207 evaluations against 40 232 with its Jacobians \
-             by differences (27 267 without them). Without the stiff mode it gains nothing (δ̇⁻ = \
-             20 mm/s, unworn: 4 561 steps for 4.9 nm at rtol 1e-7 against Dopri5's 2 538 for 4.5 \
-             nm; member 3 unworn: 4 425 for 1.7 nm against 2 521 for 2.9 nm). An L-stable method \
-             would pay in evaluations only on a smooth (C²) profile, with a Jacobian of fewer than \
-             about 3 evaluations per attempt (an analytic one, or one kept over several steps; (40 \
-             232 − 27 267)/4 597 attempts), and only on trajectories whose contact grazed; none of \
-             that was built. The stiffness is bounded by the grazing floor, a parameter of eq. 3's \
-             model rather than of the numerics: the default trajectory's cost is its draw's.\n\n",
+             Jacobian and time derivative at every step, kept over its rejected attempts, by \
+             Richardson-extrapolated central differences, 20 evaluations) and with the library's \
+             Dopri5, against Dopri5 at rtol 1e-13; the error is the largest distance of the \
+             journal's eccentricity from the reference at 20 instants. Dopri5 at the scenes' rtol \
+             1.5e-7: 7 528 steps, 59 972 evaluations, 3.1 nm. Rodas4 at rtol 3e-7: 14 801 steps (13 \
+             346 rejected), 451 557 evaluations (155 537 without its Jacobians'), 3.1 nm; at rtol \
+             1e-5, 4 938 steps (3 428 rejected) and 20 nm, against Dopri5's 5 285 (1 606) and 9.6 \
+             nm at 1e-6. On the worn bearing it does not step over the stiff mode: it rejects 47 % \
+             of its attempts (Dopri5 25 %), and from the state after 30 rotations one step of 3.2 \
+             µs errs in the rod's rate by 6.2×10⁻⁶ rad/s against Dopri5's 1.2×10⁻⁵, one of 1.6 µs \
+             by 3.0×10⁻⁷ against 1.3×10⁻⁷ (the slider's velocity alike, in m/s). Member 3 gives the \
+             same (Rodas4 at rtol 1e-6: 4 354 steps, 3.7 nm; Dopri5 at 3e-8: 3 599 steps, 1.7 nm). \
+             With difference steps of 1.5e-10 of each coordinate, the Jacobian's columns drowned in \
+             the rounding of the positions' differences (1e-5 relative) and Rodas4's local error \
+             fell only as h²; the program's steps move the journal by about 1/1000 of the \
+             penetration. No analytic Jacobian was built. Frozen, Dopri5 still rejects 23-29 % of \
+             its attempts, as in the run, so the rejections come neither from the wear's updates \
+             nor from onsets. They come from the worn profile: with the bearing unworn (δ̇⁻ held) \
+             the frozen rotation takes 6 094 steps with 151 rejected, 37 472 evaluations (−37 %); \
+             with δ̇⁻ = 20 mm/s on the worn bearing, 2 483 steps with 418 rejected, 17 408 \
+             evaluations. The damping sets the steps, the worn profile the rejections (member 3: 2 \
+             325 steps, 45 rejected, 14 222 evaluations unworn against 2 502, 454 and 17 738: −20 \
+             %; the C² profiles above, which halve them, point to its kinks at the sector centres, \
+             and recover at most 12 %). The worn profile is also what holds Rodas4 back: with the \
+             bearing unworn, each variant against its own reference, Rodas4 at rtol 3e-7 takes 4 \
+             281 steps (316 rejected) for 3.8 nm where Dopri5 takes 6 550 for 4.1 nm (rtol 1e-7): \
+             it steps past the stiff mode, with 35 % fewer steps, but takes 112 887 evaluations \
+             against 40 232 with its Jacobians by differences (27 267 without them). Without the \
+             stiff mode it gains nothing (δ̇⁻ = 20 mm/s, unworn: 4 561 steps for 4.9 nm at rtol \
+             1e-7 against Dopri5's 2 538 for 4.5 nm; member 3 unworn: 4 425 for 1.7 nm against 2 \
+             521 for 2.9 nm). An L-stable method would pay in evaluations only on a smooth (C²) \
+             profile, with a Jacobian of fewer than about 3 evaluations per step (an analytic one, \
+             or one kept over several steps; (40 232 − 27 267)/4 281 steps), and only on \
+             trajectories whose contact grazed; none of that was built. The stiffness is bounded by \
+             the grazing floor, a parameter of eq. 3's model rather than of the numerics: the \
+             default trajectory's cost is its draw's.\n\n",
         );
     md.push_str("How run time grows with simulated rotations and with clearance (`cargo run --release --bin scaling`):\n\n");
     csv_table(md, "scaling.csv", "cargo run --release --bin scaling");
@@ -1444,7 +1445,7 @@ fn step_limit() -> String {
          implicit or stabilised method, whose advantage is a step beyond that boundary, would need about the same \
          steps on the worn profile to follow the vibration as closely (Rodas4, measured above in \"Why the \
          default trajectory is the outlier\", took no longer steps there; on an unworn bearing 35 % fewer at \
-         the same accuracy, for three times the evaluations with its Jacobians by differences). {} The Catmull-Rom wear profile is only C¹ (its second \
+         the same accuracy, for about three times the evaluations with its Jacobians by differences). {} The Catmull-Rom wear profile is only C¹ (its second \
          derivative jumps at every sector centre the contact angle crosses, every few steps); with a C² profile \
          (a uniform cubic B-spline, tried at commit c7ad0dc and not kept; not rerun by the report) DOP853's \
          40-rotation run at rtol 1e-7 fell from 2 446 328 to 978 118 evaluations, still above Dopri5's 532 379 \
