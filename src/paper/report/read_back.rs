@@ -93,6 +93,38 @@ mod tests {
         check_read_back(false).unwrap();
     }
 
+    /// The records fingerprint their CSVs byte for byte, so git must check them out as
+    /// committed: converted to CRLF (`core.autocrlf`, the default of git on Windows), every
+    /// study was refused as "edited, cut short or replaced", and this test's neighbour failed,
+    /// though the numbers were the committed ones. Skipped outside a git work tree.
+    #[test]
+    fn git_checks_out_the_csvs_read_back_byte_for_byte() {
+        let files: Vec<String> = (READ_BACK.iter().flat_map(|s| s.files))
+            .map(|f| format!("data/{f}"))
+            .collect();
+        let out = std::process::Command::new("git")
+            .arg("-C")
+            .arg(output_root())
+            .args(["check-attr", "text", "--"])
+            .args(&files)
+            .output();
+        let Some(out) = out.ok().filter(|o| o.status.success()) else {
+            eprintln!(
+                "skipped: {} is not a git work tree",
+                output_root().display()
+            );
+            return;
+        };
+        let said = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(said.lines().count(), files.len(), "{said}");
+        for line in said.lines() {
+            assert!(
+                line.ends_with(": text: unset"),
+                "{line}: git may convert its line endings (.gitattributes: `data/*.csv -text`)"
+            );
+        }
+    }
+
     /// A copy of `data/` with what the studies of [`READ_BACK`] read and wrote; removed when
     /// dropped.
     struct Copy(PathBuf);
