@@ -26,7 +26,8 @@ use crate::paper::figures::output_path;
 use crate::paper::provenance::{self, Inputs};
 use crate::scene::{scene_path, SceneFile};
 use crate::simulation::ensemble::{
-    member_mechanism, member_offsets, member_state, run_member, EnsembleSettings, DEFAULT_SEED,
+    member_mechanism, member_offsets, member_state, run_member, EnsembleSettings, Perturbation,
+    DEFAULT_SEED,
 };
 use crate::simulation::{Recording, Scene, Simulation};
 use crate::{Error, Result};
@@ -179,7 +180,7 @@ fn pair_series(
 }
 
 /// What produced `data/member_separation.csv` ([`provenance`]): every case scene, the pairs,
-/// the rotations and the sampling.
+/// the rotations, the sampling, and the seed and protocol that perturb the members.
 pub const PROVENANCE: provenance::Study = provenance::Study {
     files: &[SEPARATION_FILE],
     command: "cargo run --release --bin separation",
@@ -194,7 +195,8 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
                 SEPARATION_ROTATIONS,
                 PAIRS,
                 SAMPLES_PER_ROTATION,
-                DEFAULT_SEED
+                DEFAULT_SEED,
+                Perturbation::default()
             )
         ),
     },
@@ -264,6 +266,16 @@ pub fn read_separation() -> Option<Vec<Separation>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Its members are perturbed by the default protocol ([`member_mechanism`], and
+    /// [`run_member`] with the default ensemble): another default moves every series, so its
+    /// record must see the protocol as it sees the seed.
+    #[test]
+    fn its_record_sees_the_members_perturbation() {
+        let settings = (PROVENANCE.inputs)(&[]).settings;
+        let protocol = format!("{:?}", Perturbation::default());
+        assert!(settings.contains(&protocol), "{protocol} in {settings}");
+    }
 
     #[test]
     fn level_is_the_last_four_and_reaching_is_one_based() {
