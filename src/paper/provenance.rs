@@ -247,17 +247,24 @@ fn write_record(
     write_json(&study.record_path(data), &record)
 }
 
+/// Whether none of the CSVs of `study` is in the data folder `data`: an absent study, which
+/// [`check_in`] passes and whose section of `paper.md` says is missing. A CSV that cannot be
+/// looked up (a folder it may not search) is not absent.
+pub fn absent_in(study: &Study, data: &Path) -> bool {
+    (study.files.iter()).all(|file| matches!(data.join(file).try_exists(), Ok(false)))
+}
+
 /// What makes the results of `study` in the data folder `data` other than this checkout's:
 /// each difference, empty when they are this checkout's or when none of its CSVs is there (an
 /// absent study, whose section says so). An error only when this checkout's own inputs cannot
 /// be read.
 fn differences(study: &Study, data: &Path) -> Result<Vec<String>> {
+    if absent_in(study, data) {
+        return Ok(Vec::new());
+    }
     let mut found = Vec::new();
     for file in study.files {
         found.push(output_of(&data.join(file))?);
-    }
-    if found.iter().all(Option::is_none) {
-        return Ok(Vec::new());
     }
     let path = study.record_path(data);
     let name = format!(

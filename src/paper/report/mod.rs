@@ -149,7 +149,10 @@ pub fn write(
         seconds(total_seconds),
         REPORT_BUDGET_S
     );
-    md.push_str(&read_back::paragraph(studies.rerun_all));
+    md.push_str(&read_back::paragraph(
+        studies.rerun_all,
+        &output_root().join("data"),
+    ));
     let _ = writeln!(
         md,
         "**Results are ensemble statistics.** Impacts in the clearance joint are chaotic and eq. 3 \

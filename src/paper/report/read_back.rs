@@ -6,6 +6,7 @@
 use super::markdown::md_table;
 use crate::paper::provenance::{self, Study};
 use crate::Result;
+use std::path::Path;
 
 /// Every study whose results the report reads back from `data/` instead of computing them, in
 /// the order of `paper.md`'s sections; `report --all` reruns those marked
@@ -35,15 +36,17 @@ pub fn check_read_back(rerun_all: bool) -> Result<()> {
     provenance::check(&kept)
 }
 
-/// The paragraph of `paper.md`'s header that lists the results read back from `data/` and
-/// says how they were checked.
-pub(super) fn paragraph(rerun_all: bool) -> String {
+/// The paragraph of `paper.md`'s header that lists the results read back from the data folder
+/// `data` and says how they were checked.
+pub(super) fn paragraph(rerun_all: bool, data: &Path) -> String {
     let rows: Vec<Vec<String>> = READ_BACK
         .iter()
         .map(|s| {
             let files: Vec<String> = s.files.iter().map(|f| format!("`data/{f}`")).collect();
             let this_run = if rerun_all && s.rerun_by_all {
                 "rerun (`--all`)"
+            } else if provenance::absent_in(s, data) {
+                "missing (its section says so)"
             } else {
                 "read back, record matches"
             };
@@ -84,7 +87,7 @@ mod tests {
     use super::*;
     use crate::paper::figures::output_root;
     use crate::Error;
-    use std::path::{Path, PathBuf};
+    use std::path::PathBuf;
 
     /// The committed `data/` is this checkout's: a scene or setting changed without rerunning
     /// the studies that read it fails here, not only in the next report.
@@ -182,6 +185,39 @@ mod tests {
         fn drop(&mut self) {
             let _ = std::fs::remove_dir_all(&self.0);
         }
+    }
+
+    /// A study none of whose CSVs is there passes the check, its section says it is missing,
+    /// and so must the header's table: it said "read back, record matches" of results that
+    /// were not there.
+    #[test]
+    fn the_header_says_a_missing_study_is_missing() {
+        let copy = Copy::new("absent");
+        for file in ["scaling.csv", "step_limit.csv"] {
+            std::fs::remove_file(copy.0.join(file)).unwrap();
+        }
+        assert!(copy.refused().is_empty(), "{:?}", copy.refused());
+        let md = paragraph(false, &copy.0);
+        let row = |first: &str| {
+            let row = md
+                .lines()
+                .find(|l| l.starts_with(&format!("| `data/{first}`")));
+            row.unwrap_or_else(|| panic!("a row of {first} in {md}"))
+                .to_string()
+        };
+        let scaling = row("scaling.csv");
+        assert!(
+            scaling.contains("missing") && !scaling.contains("record matches"),
+            "{scaling}"
+        );
+        assert!(row("calibration.csv").contains("read back, record matches"));
+        // rerun by `--all`, it is this run's whatever it was before
+        std::fs::remove_file(copy.0.join("calibration.csv")).unwrap();
+        let all = paragraph(true, &copy.0);
+        assert!(
+            all.contains("calibration` | yes | rerun (`--all`) |"),
+            "{all}"
+        );
     }
 
     // Fails with the check disabled (`provenance::check_in` returning Ok(()) at once): every
