@@ -294,6 +294,7 @@ pub fn candidates(base: Params) -> Vec<(String, Params)> {
 /// scored on all five) and the paper's values, the candidate sets and the score's weights.
 pub const PROVENANCE: provenance::Study = provenance::Study {
     files: &[CALIBRATION_FILE],
+    figures: &[CALIBRATION_FIGURE],
     command: "cargo run --release --bin calibration",
     rerun_by_all: true,
     variants: &[],
@@ -320,6 +321,9 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
 
 /// The study's table under `data/`.
 const CALIBRATION_FILE: &str = "calibration.csv";
+
+/// The study's figure under `figures/`.
+const CALIBRATION_FIGURE: &str = "calibration.png";
 
 /// What the study found: the sets that ran, sorted by score, and those that left the model.
 #[derive(Clone, Debug)]
@@ -496,7 +500,7 @@ fn write_study(done: &[Done]) -> Result<()> {
     let pw = of(&|m| m.rows.standard.pw);
     let sw = of(&|m| m.rows.standard.sw);
     render(
-        &output_path("figures", "calibration.png"),
+        &output_path("figures", CALIBRATION_FIGURE),
         &[
             Axes::new(
                 "Most prominent wear regions, standard case (paper: 50, 180, 320 deg)",

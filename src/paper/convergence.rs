@@ -73,10 +73,14 @@ fn meets_rule(rows: &[&ConvergenceRow], golden: &Golden) -> bool {
 /// The study's table under `data/`.
 pub const CONVERGENCE_FILE: &str = "ensemble_convergence.csv";
 
+/// The study's figure under `figures/`.
+const CONVERGENCE_FIGURE: &str = "ensemble_convergence.png";
+
 /// What produced `data/ensemble_convergence.csv` ([`provenance`]): the golden ensembles'
 /// scenes, the paper's tolerances the rule is stated against, the sizes and the ensemble.
 pub const PROVENANCE: provenance::Study = provenance::Study {
     files: &[CONVERGENCE_FILE],
+    figures: &[CONVERGENCE_FIGURE],
     command: "cargo run --release --bin convergence",
     rerun_by_all: true,
     variants: &[],
@@ -262,5 +266,5 @@ fn write_convergence(c: &Convergence) -> Result<()> {
             ],
         )),
     ];
-    render(&output_path("figures", "ensemble_convergence.png"), &panels)
+    render(&output_path("figures", CONVERGENCE_FIGURE), &panels)
 }

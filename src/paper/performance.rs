@@ -129,10 +129,14 @@ impl fmt::Display for Scaling {
 /// The scaling study's table under `data/`.
 pub const SCALING_FILE: &str = "scaling.csv";
 
+/// The scaling study's figure under `figures/`.
+const SCALING_FIGURE: &str = "scaling.png";
+
 /// What produced `data/scaling.csv` and `data/step_limit.csv` ([`provenance`]): the standard
 /// scene, the rotations and clearances run and the step-limit sampling.
 pub const PROVENANCE: provenance::Study = provenance::Study {
     files: &[SCALING_FILE, STEP_LIMIT_FILE],
+    figures: &[SCALING_FIGURE],
     command: "cargo run --release --bin scaling",
     rerun_by_all: false,
     variants: &[],
@@ -327,7 +331,7 @@ fn write_scaling(s: &Scaling) -> Result<()> {
         p.stats.evaluations as f64 * 1e-3 / p.rotations as f64
     });
     render(
-        &output_path("figures", "scaling.png"),
+        &output_path("figures", SCALING_FIGURE),
         &[
             Axes {
                 y2_label: Some("right-hand-side evaluations (millions)".into()),

@@ -317,6 +317,7 @@ fn rows_of(
 /// ensembles and the protocols.
 pub const PROVENANCE: provenance::Study = provenance::Study {
     files: &[PERTURBATION_FILE],
+    figures: &[],
     command: "cargo run --release --bin perturbation",
     rerun_by_all: false,
     variants: &[],

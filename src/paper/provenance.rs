@@ -73,6 +73,10 @@ pub struct Study {
     /// Its CSVs under `data/`; the record is named after the first
     /// (`calibration.csv`: `calibration.provenance.json`).
     pub files: &'static [&'static str],
+    /// The figures its run draws under `figures/` that `paper.md` shows as that run left them.
+    /// Its record does not cover them (a figure redrawn from the CSV differs from the run's
+    /// own drawing in its antialiasing), so the report's header lists them as unchecked.
+    pub figures: &'static [&'static str],
     /// The command that reruns it alone.
     pub command: &'static str,
     /// Whether `report --all` reruns it.
@@ -399,6 +403,7 @@ mod tests {
     /// `--wide` as a variant that also reads the 0.5 mm scene.
     const STUDY: Study = Study {
         files: &["tiny.csv"],
+        figures: &[],
         command: "cargo run --release --bin tiny",
         rerun_by_all: false,
         variants: &["--wide"],

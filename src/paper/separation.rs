@@ -183,6 +183,7 @@ fn pair_series(
 /// the rotations, the sampling, and the seed and protocol that perturb the members.
 pub const PROVENANCE: provenance::Study = provenance::Study {
     files: &[SEPARATION_FILE],
+    figures: &[],
     command: "cargo run --release --bin separation",
     rerun_by_all: false,
     variants: &[],

@@ -50,8 +50,12 @@ pub(super) fn paragraph(rerun_all: bool, data: &Path) -> String {
             } else {
                 "read back, record matches"
             };
+            let figures: Vec<String> = (s.figures.iter())
+                .map(|f| format!("`figures/{f}` (not checked)"))
+                .collect();
             vec![
                 files.join(", "),
+                figures.join(", "),
                 format!("`{}`", s.command),
                 if s.rerun_by_all { "yes" } else { "no" }.into(),
                 this_run.into(),
@@ -68,15 +72,24 @@ pub(super) fn paragraph(rerun_all: bool, data: &Path) -> String {
          CSV, another version or a missing record stops it, naming the study, what differs and \
          the command that remakes it), so none of these numbers comes from other scenes, paper \
          values, settings or program version than this checkout's; a change of the code that \
-         moves them without changing those is not seen. The benchmarks and the SciPy comparison \
-         of section 7 are timings from whenever they were last run, carry no record and are not \
-         checked.\n\n",
+         moves them without changing those is not seen. A record covers its study's CSVs, not the \
+         figure its run drew (second column): that figure is shown as the run left it, and one \
+         edited or replaced since is not seen (every report draws `figures/{}`: from its \
+         checked CSV, or by the study's rerun under `--all`). The benchmarks and the SciPy comparison of section 7 are timings from \
+         whenever they were last run, carry no record and are not checked.\n\n",
         env!("CARGO_PKG_VERSION"),
-        crate::simulation::checkpoint::ARITHMETIC
+        crate::simulation::checkpoint::ARITHMETIC,
+        crate::paper::studies::work_precision::WORK_PRECISION_FIGURE
     );
     md_table(
         &mut md,
-        &["results", "made by", "rerun by `report --all`", "this run"],
+        &[
+            "results",
+            "figure",
+            "made by",
+            "rerun by `report --all`",
+            "this run",
+        ],
         &rows,
     );
     md
@@ -85,7 +98,8 @@ pub(super) fn paragraph(rerun_all: bool, data: &Path) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::paper::figures::output_root;
+    use crate::paper::figures::{output_root, FIGURES};
+    use crate::paper::studies::work_precision::WORK_PRECISION_FIGURE;
     use crate::Error;
     use std::path::PathBuf;
 
@@ -218,6 +232,38 @@ mod tests {
             all.contains("calibration` | yes | rerun (`--all`) |"),
             "{all}"
         );
+    }
+
+    /// Every figure `paper.md` shows is drawn by the report (the paper's figures; the
+    /// work-precision figure, redrawn from its checked CSV) or one its study lists as not
+    /// covered by its record, and the header names each of those as unchecked: it said every
+    /// number was this checkout's while `figures/scaling.png` and four others were shown as
+    /// whatever last wrote them.
+    #[test]
+    fn every_figure_shown_is_the_reports_own_or_said_unchecked() {
+        let md = std::fs::read_to_string(output_root().join("paper.md")).unwrap();
+        let unchecked: Vec<&str> = READ_BACK.iter().flat_map(|s| s.figures).copied().collect();
+        let own = |file: &str| {
+            file == WORK_PRECISION_FIGURE
+                || (FIGURES.iter()).any(|f| f.png && file == format!("{}.png", f.name))
+        };
+        let shown: Vec<&str> = (md.split("](figures/").skip(1))
+            .map(|rest| &rest[..rest.find(')').unwrap()])
+            .collect();
+        assert!(shown.len() > 13, "{shown:?}");
+        for file in shown {
+            assert!(
+                own(file) || unchecked.contains(&file),
+                "paper.md shows figures/{file}, neither drawn by the report nor said unchecked"
+            );
+        }
+        let committed = &md[..md.find("**Results are ensemble statistics.**").unwrap()];
+        let header = paragraph(false, &output_root().join("data"));
+        for file in unchecked {
+            let named = format!("`figures/{file}` (not checked)");
+            assert!(header.contains(&named), "{named} in {header}");
+            assert!(committed.contains(&named), "{named} in paper.md's header");
+        }
     }
 
     // Fails with the check disabled (`provenance::check_in` returning Ok(()) at once): every

@@ -140,6 +140,7 @@ pub const TABLE3_FLAG: &str = "--table3";
 /// `--table3` is a variant of its own.
 pub const PROVENANCE: provenance::Study = provenance::Study {
     files: &[LAW_WEAR_FILE],
+    figures: &[LAW_WEAR_FIGURE],
     command: "cargo run --release --bin contact_law_wear",
     rerun_by_all: true,
     variants: &[TABLE3_FLAG],

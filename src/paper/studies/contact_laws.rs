@@ -206,10 +206,14 @@ pub fn restitution_sweep() -> Result<Vec<Impact>> {
 /// The study's table under `data/`.
 pub const CONTACT_LAWS_FILE: &str = "contact_laws_restitution.csv";
 
+/// The study's figure under `figures/`.
+const CONTACT_LAWS_FIGURE: &str = "contact_laws.png";
+
 /// What produced `data/contact_laws_restitution.csv` ([`provenance`]): no scene (the
 /// standard joint is the constants of [`standard_joint`]), the impact, the sweep and the step.
 pub const PROVENANCE: provenance::Study = provenance::Study {
     files: &[CONTACT_LAWS_FILE],
+    figures: &[CONTACT_LAWS_FIGURE],
     command: "cargo run --release --bin contact_laws",
     rerun_by_all: true,
     variants: &[],
@@ -385,7 +389,7 @@ fn draw(sweep: &[Impact]) -> Result<()> {
             loading_series,
         ),
     ];
-    render(&output_path("figures", "contact_laws.png"), &panels)
+    render(&output_path("figures", CONTACT_LAWS_FIGURE), &panels)
 }
 
 #[cfg(test)]

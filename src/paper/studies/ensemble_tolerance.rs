@@ -175,6 +175,7 @@ fn paired_z(values: &[f64], base: &[f64]) -> f64 {
 /// tolerances and the ensembles.
 pub const PROVENANCE: provenance::Study = provenance::Study {
     files: &[ENSEMBLE_TOLERANCE_FILE],
+    figures: &[],
     command: "cargo run --release --bin ensemble_tolerance",
     rerun_by_all: false,
     variants: &[],

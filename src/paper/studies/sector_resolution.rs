@@ -171,6 +171,7 @@ type MemberEnd = std::result::Result<(WearMember, u64, f64), u32>;
 /// sector counts and the members.
 pub const PROVENANCE: provenance::Study = provenance::Study {
     files: &[SECTOR_RESOLUTION_FILE],
+    figures: &[],
     command: "cargo run --release --bin sector_resolution",
     rerun_by_all: false,
     variants: &[],

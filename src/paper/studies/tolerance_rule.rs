@@ -477,6 +477,7 @@ pub fn rule_rows(progress: &dyn Progress) -> Result<Vec<RuleRow>> {
 /// members, the candidates, the bound and the reference they are measured against.
 pub const PROVENANCE: provenance::Study = provenance::Study {
     files: &[RULE_FILE],
+    figures: &[],
     command: "cargo run --release --bin work_precision -- --rule",
     rerun_by_all: true,
     variants: &[],

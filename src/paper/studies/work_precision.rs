@@ -269,10 +269,15 @@ pub fn work_precision_settings() -> Vec<Integration> {
 /// The study's table under `data/`.
 pub const WORK_PRECISION_FILE: &str = "work_precision.csv";
 
+/// The study's figure under `figures/`, which the default report redraws from the table.
+pub const WORK_PRECISION_FIGURE: &str = "work_precision.png";
+
 /// What produced `data/work_precision.csv` ([`provenance`]): the standard scene and the
 /// settings measured, the references, the step guard and the wear ensembles.
 pub const PROVENANCE: provenance::Study = provenance::Study {
     files: &[WORK_PRECISION_FILE],
+    // drawn by this run (`--all`) or redrawn by it from the checked CSV
+    figures: &[],
     command: "cargo run --release --bin work_precision",
     rerun_by_all: true,
     variants: &[],

@@ -11,7 +11,7 @@
 
 use super::work_precision::{
     EnsembleWearError, Errors, WorkRow, PROVENANCE, REFERENCE, SECOND_REFERENCE,
-    WORK_PRECISION_FILE, WORK_PRECISION_HEADER, WP_ENSEMBLE_MAX_EVALUATIONS,
+    WORK_PRECISION_FIGURE, WORK_PRECISION_FILE, WORK_PRECISION_HEADER, WP_ENSEMBLE_MAX_EVALUATIONS,
 };
 use crate::analysis::statistics::Distribution;
 use crate::io::output::read_rows;
@@ -282,5 +282,5 @@ pub(super) fn plot_work_precision(points: &[Point], floor: &Errors) -> Result<()
             }
         })
         .collect();
-    render_column(&output_path("figures", "work_precision.png"), &panels)
+    render_column(&output_path("figures", WORK_PRECISION_FIGURE), &panels)
 }
