@@ -66,6 +66,7 @@ use crate::simulation::checkpoint::ARITHMETIC;
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// A study whose results the report reads back from `data/`.
@@ -195,6 +196,22 @@ fn fingerprints(
     Ok(map)
 }
 
+/// The most bytes a record may have: a study's record has under 2 kB, and a larger file is
+/// refused unread.
+const MAX_RECORD_BYTES: u64 = 1 << 16;
+
+/// The length of the file at `path`, `None` if there is none.
+fn length_of(path: &Path) -> Result<Option<u64>> {
+    match std::fs::metadata(path) {
+        Ok(metadata) => Ok(Some(metadata.len())),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(source) => Err(Error::Io {
+            path: path.to_path_buf(),
+            source,
+        }),
+    }
+}
+
 /// The length and fingerprint of the file at `path`, `None` if there is none.
 fn output_of(path: &Path) -> Result<Option<Output>> {
     match std::fs::read(path) {
@@ -266,17 +283,23 @@ fn differences(study: &Study, data: &Path) -> Result<Vec<String>> {
     if absent_in(study, data) {
         return Ok(Vec::new());
     }
-    let mut found = Vec::new();
-    for file in study.files {
-        found.push(output_of(&data.join(file))?);
-    }
     let path = study.record_path(data);
     let name = format!(
         "data/{}",
         path.file_name().unwrap_or_default().to_string_lossy()
     );
-    let text = match std::fs::read_to_string(&path) {
-        Ok(text) => text,
+    // at most one byte more than any record, so that a huge file is not read
+    let mut text = Vec::new();
+    let read = std::fs::File::open(&path)
+        .and_then(|file| file.take(MAX_RECORD_BYTES + 1).read_to_end(&mut text));
+    match read {
+        Ok(_) if text.len() as u64 > MAX_RECORD_BYTES => {
+            return Ok(vec![format!(
+                "its record {name} is larger than any study's record (over {MAX_RECORD_BYTES} \
+                 bytes) and is not read"
+            )])
+        }
+        Ok(_) => {}
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             return Ok(vec![format!(
                 "no record of what produced it ({name} is missing), so nothing says its numbers \
@@ -285,7 +308,7 @@ fn differences(study: &Study, data: &Path) -> Result<Vec<String>> {
         }
         Err(e) => return Ok(vec![format!("its record {name} cannot be read: {e}")]),
     };
-    let record: Record = match serde_json::from_str(&text) {
+    let record: Record = match serde_json::from_slice(&text) {
         Ok(r) => r,
         Err(e) => {
             return Ok(vec![format!(
@@ -339,17 +362,29 @@ fn differences(study: &Study, data: &Path) -> Result<Vec<String>> {
     for input in record.inputs.keys().filter(|i| !now.contains_key(*i)) {
         differs.push(format!("{name} names {input}, which it does not read now"));
     }
-    for (file, on_disk) in study.files.iter().zip(found) {
-        let recorded = record.outputs.get(*file);
-        match (on_disk, recorded) {
-            (_, None) => differs.push(format!("{name} does not describe data/{file}")),
-            (None, Some(_)) => differs.push(format!("data/{file} is missing")),
-            (Some(d), Some(r)) if d != *r => differs.push(format!(
-                "data/{file} is not the file it wrote ({} bytes, fingerprint {}; {name} says {} \
-                 bytes, {}): edited, cut short or replaced since",
-                d.bytes, d.fnv1a, r.bytes, r.fnv1a
-            )),
-            _ => {}
+    for file in study.files {
+        let path = data.join(file);
+        let Some(recorded) = record.outputs.get(*file) else {
+            differs.push(format!("{name} does not describe data/{file}"));
+            continue;
+        };
+        // its length first: a file of another length is not read (it may be huge)
+        let found = match length_of(&path)? {
+            Some(bytes) if bytes != recorded.bytes => Some(format!("{bytes} bytes")),
+            Some(_) => output_of(&path)?
+                .filter(|d| d != recorded)
+                .map(|d| format!("{} bytes, fingerprint {}", d.bytes, d.fnv1a)),
+            None => {
+                differs.push(format!("data/{file} is missing"));
+                continue;
+            }
+        };
+        if let Some(found) = found {
+            differs.push(format!(
+                "data/{file} is not the file it wrote ({found}; {name} says {} bytes, {}): \
+                 edited, cut short or replaced since",
+                recorded.bytes, recorded.fnv1a
+            ));
         }
     }
     for file in record
@@ -520,6 +555,29 @@ mod tests {
         let copy = Copy::new("cut", &[]);
         copy.edit("tiny.csv", "3,4\n", "");
         copy.refused(&["(8 bytes", "says 12 bytes", "cut short"]);
+    }
+
+    /// A CSV or a record far larger than a study writes (output redirected into `data/` by
+    /// mistake) is refused by its length, without being read: it was read whole before it
+    /// was compared, and one larger than the memory stopped the report with an error of
+    /// reading (exit 1) instead of naming the study. Sparse files: they take no disk.
+    #[test]
+    fn a_huge_csv_or_record_is_refused_unread() {
+        const HUGE: u64 = 1 << 40;
+        let copy = Copy::new("huge-csv", &[]);
+        let csv = std::fs::OpenOptions::new()
+            .write(true)
+            .open(copy.0.join("tiny.csv"))
+            .unwrap();
+        csv.set_len(HUGE).unwrap();
+        copy.refused(&[&format!("({HUGE} bytes; "), "says 12 bytes"]);
+        let copy = Copy::new("huge-record", &[]);
+        let record = std::fs::OpenOptions::new()
+            .append(true)
+            .open(copy.0.join(RECORD))
+            .unwrap();
+        record.set_len(HUGE).unwrap();
+        copy.refused(&["larger than any study's record"]);
     }
 
     #[test]
