@@ -483,10 +483,7 @@ mod tests {
         }
 
         fn edit(&self, file: &str, from: &str, to: &str) {
-            let path = self.0.join(file);
-            let text = std::fs::read_to_string(&path).unwrap();
-            assert!(text.contains(from), "{file} holds `{from}`");
-            std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+            crate::test_support::edit_file(&self.0.join(file), from, to);
         }
 
         /// The one stale result [`check_in`] reports, which must name every one of `needles`.
