@@ -382,7 +382,8 @@ fn differences(study: &Study, data: &Path) -> Result<Vec<String>> {
         if let Some(found) = found {
             differs.push(format!(
                 "data/{file} is not the file it wrote ({found}; {name} says {} bytes, {}): \
-                 edited, cut short or replaced since",
+                 edited, cut short or replaced since, or a run of the study stopped before \
+                 it wrote its record",
                 recorded.bytes, recorded.fnv1a
             ));
         }
