@@ -384,6 +384,24 @@ fn main() -> Res<()> {
             })
             .fold(0.0, f64::max)
     };
+    // One integration of the frozen rotation by `method` at `rtol`: its work and its error
+    // against `reference`, as a table's last five columns.
+    let measured =
+        |s: &mut Frozen, method: &str, rtol: f64, reference: &[[f64; 2]]| -> Res<String> {
+            (s.evaluations, s.jacobian_evaluations) = (0, 0);
+            let w = match method {
+                "dopri5" => dopri5(s, t0, &z0, &samples, rtol, scene.run.tolerances.max_step)?,
+                _ => rodas(s, t0, &z0, &samples, rtol)?,
+            };
+            Ok(format!(
+                "{} | {} | {} | {} | {:.3}",
+                w.steps,
+                w.rejected,
+                s.evaluations,
+                s.evaluations - s.jacobian_evaluations,
+                error(s, &w, reference) * 1e9
+            ))
+        };
     // 3. One step of each size from the state at rotation FROM: how each method's local error
     // shrinks with the step (the rates' error; h^5 or h^6 for a smooth system).
     println!(
@@ -425,26 +443,8 @@ fn main() -> Res<()> {
         ("rodas4", [1e-5, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8]),
     ] {
         for rtol in rtols {
-            (s.evaluations, s.jacobian_evaluations) = (0, 0);
-            let w = match name {
-                "dopri5" => dopri5(
-                    &mut s,
-                    t0,
-                    &z0,
-                    &samples,
-                    rtol,
-                    scene.run.tolerances.max_step,
-                )?,
-                _ => rodas(&mut s, t0, &z0, &samples, rtol)?,
-            };
-            println!(
-                "{name} | {rtol:e} | {} | {} | {} | {} | {:.3}",
-                w.steps,
-                w.rejected,
-                s.evaluations,
-                s.evaluations - s.jacobian_evaluations,
-                error(&s, &w, &worn_reference) * 1e9
-            );
+            let work = measured(&mut s, name, rtol, &worn_reference)?;
+            println!("{name} | {rtol:e} | {work}");
         }
     }
 
@@ -452,7 +452,6 @@ fn main() -> Res<()> {
     // bearing unworn (no sector kinks) and with δ̇⁻ of a faster onset, eq. 3's damping a tenth;
     // and whether Rodas4 steps past the stiff mode where the profile is smooth. Each against
     // its own reference.
-    let tol = scene.run.tolerances;
     println!(
         "frozen rotation | method | rtol | steps | rejected | evaluations | without the \
          Jacobians' | largest eccentricity error (nm)"
@@ -472,24 +471,13 @@ fn main() -> Res<()> {
     ] {
         s.state = state;
         let reference = reference(&mut s)?;
-        let runs = [tol.rtol, 1e-7, 3e-8]
+        let runs = [scene.run.tolerances.rtol, 1e-7, 3e-8]
             .map(|rtol| ("dopri5", rtol))
             .into_iter()
             .chain([1e-6, 3e-7, 1e-7].map(|rtol| ("rodas4", rtol)));
         for (method, rtol) in runs {
-            (s.evaluations, s.jacobian_evaluations) = (0, 0);
-            let w = match method {
-                "dopri5" => dopri5(&mut s, t0, &z0, &samples, rtol, tol.max_step)?,
-                _ => rodas(&mut s, t0, &z0, &samples, rtol)?,
-            };
-            println!(
-                "{name} | {method} | {rtol:e} | {} | {} | {} | {} | {:.3}",
-                w.steps,
-                w.rejected,
-                s.evaluations,
-                s.evaluations - s.jacobian_evaluations,
-                error(&s, &w, &reference) * 1e9
-            );
+            let work = measured(&mut s, method, rtol, &reference)?;
+            println!("{name} | {method} | {rtol:e} | {work}");
         }
     }
     Ok(())

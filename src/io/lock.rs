@@ -65,6 +65,13 @@ pub(crate) fn release(lock: &Path, created: Option<&Path>) {
     }
 }
 
+/// Prints a claim's `notes` ([`Lock::notes`]) on stderr, as the programs show them.
+pub fn print_notes(notes: &[String]) {
+    for note in notes {
+        eprintln!("note: {note}");
+    }
+}
+
 impl Lock {
     /// The lock file.
     pub fn path(&self) -> &Path {
@@ -79,11 +86,10 @@ impl Lock {
         &self.notes
     }
 
-    /// The lock, its notes ([`Lock::notes`]) printed on stderr as the programs show them.
+    /// The lock, its notes ([`Lock::notes`]) printed on stderr as the programs show them
+    /// ([`print_notes`]).
     pub fn noted(self) -> Lock {
-        for note in &self.notes {
-            eprintln!("note: {note}");
-        }
+        print_notes(&self.notes);
         self
     }
 
@@ -261,12 +267,18 @@ fn start_time(pid: u32) -> Option<u64> {
     stat_start(&fs::read_to_string(format!("/proc/{pid}/stat")).ok()?)
 }
 
+/// The fields of a `/proc/<pid>/stat` line after the command name, from the third (the
+/// state) on: the name is in parentheses and may itself hold spaces and parentheses (hence
+/// after the last `)`).
+fn stat_fields(stat: &str) -> impl Iterator<Item = &str> {
+    let after_name = stat.rsplit_once(')').map_or("", |(_, after)| after);
+    after_name.split_whitespace()
+}
+
 /// The start time in a `/proc/<pid>/stat` line: its 22nd field, the 20th after the command
-/// name, which is in parentheses and may itself hold spaces and parentheses (hence after the
-/// last `)`).
+/// name ([`stat_fields`]).
 fn stat_start(stat: &str) -> Option<u64> {
-    let (_, after_name) = stat.rsplit_once(')')?;
-    after_name.split_whitespace().nth(19)?.parse().ok()
+    stat_fields(stat).nth(19)?.parse().ok()
 }
 
 /// The value of `key` in a lock file's `text`: from the lines before its command line (which
@@ -364,9 +376,7 @@ fn gone(text: &str) -> Option<Gone> {
 /// a holder killed and not yet waited for, which keeps its entry and start time until then.
 /// Its id is no other process's until then, so the temporaries of that id are its own.
 fn ended(stat: &str, pid: u32) -> bool {
-    let state = stat
-        .rsplit_once(')')
-        .and_then(|(_, after)| after.split_whitespace().next());
+    let state = stat_fields(stat).next();
     // (A thread group's leader that ended while its other threads run shows as a zombie too.)
     let threads = fs::read_dir(format!("/proc/{pid}/task")).map_or(0, Iterator::count);
     matches!(state, Some("Z" | "X")) && threads <= 1

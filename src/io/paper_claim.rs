@@ -89,6 +89,26 @@ pub fn claim_if_paper_output(option: &str, path: &Path) -> Result<Option<Lock>> 
         .transpose()
 }
 
+/// The claims of a command's output `out`, a folder or a file, until they drop: the paper's
+/// outputs if `out` lies among them ([`claim_if_paper_output`]), then `out` itself by `claim`
+/// ([`crate::io::lock::claim_folder`] or [`crate::io::lock::claim_file`]), in that order for
+/// every writer (the program's commands, Python's `save`). `noted` hears each claim's notes
+/// as it is taken, so that those of the first are heard though the second is refused.
+pub fn claim_output(
+    option: &str,
+    out: &Path,
+    claim: fn(&str, &Path) -> Result<Lock>,
+    noted: &mut dyn FnMut(&[String]),
+) -> Result<(Option<Lock>, Lock)> {
+    let paper = claim_if_paper_output(option, out)?;
+    if let Some(lock) = &paper {
+        noted(lock.notes());
+    }
+    let own = claim(option, out)?;
+    noted(own.notes());
+    Ok((paper, own))
+}
+
 /// `path` made absolute, with symbolic links resolved as far as it exists.
 fn resolved(path: &Path) -> PathBuf {
     let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());

@@ -118,7 +118,8 @@ impl Table3Golden {
     }
 }
 
-fn read_toml<T: for<'de> Deserialize<'de>>(path: PathBuf) -> Result<T> {
+/// The TOML file at `path` as a `T`.
+pub(crate) fn read_toml<T: for<'de> Deserialize<'de>>(path: PathBuf) -> Result<T> {
     let text = std::fs::read_to_string(&path).map_err(|source| Error::Io {
         path: path.clone(),
         source,

@@ -58,15 +58,15 @@
 //! settings, the crate's version nor [`ARITHMETIC`] (which such a change must raise, as it must
 //! for checkpoints).
 
-use crate::io::output::{fnv1a, write_json};
+use crate::io::output::{fnv1a, read_bounded_text, write_json};
 use crate::paper::figures::output_root;
+use crate::paper::golden::read_toml;
 use crate::scene::variant::fingerprint as scene_fingerprint;
 use crate::scene::SceneFile;
 use crate::simulation::checkpoint::ARITHMETIC;
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// A study whose results the report reads back from `data/`.
@@ -179,16 +179,8 @@ fn fingerprints(
         map.insert(format!("data/scenes/{scene}.toml"), fingerprint);
     }
     if inputs.golden {
-        let path = data.join("golden/paper.toml");
-        let text = std::fs::read_to_string(&path).map_err(|source| Error::Io {
-            path: path.clone(),
-            source,
-        })?;
         // parsed as a scene is, so that its comments do not count either
-        let document: toml::Value = toml::from_str(&text).map_err(|e| Error::Parse {
-            path,
-            message: e.to_string(),
-        })?;
+        let document: toml::Value = read_toml(data.join("golden/paper.toml"))?;
         let fingerprint = scene_fingerprint(&document, std::iter::empty());
         map.insert("data/golden/paper.toml".into(), fingerprint);
     }
@@ -197,7 +189,7 @@ fn fingerprints(
 }
 
 /// The most bytes a record may have: a study's record has under 2 kB, and a larger file is
-/// refused unread.
+/// refused unread ([`read_bounded_text`]).
 const MAX_RECORD_BYTES: u64 = 1 << 16;
 
 /// The length of the file at `path`, `None` if there is none.
@@ -288,31 +280,24 @@ fn differences(study: &Study, data: &Path) -> Result<Vec<String>> {
         "data/{}",
         path.file_name().unwrap_or_default().to_string_lossy()
     );
-    // at most one byte more than any record, so that a huge file is not read
-    let mut text = Vec::new();
-    let read = std::fs::File::open(&path)
-        .and_then(|file| file.take(MAX_RECORD_BYTES + 1).read_to_end(&mut text));
-    match read {
-        Ok(_) if text.len() as u64 > MAX_RECORD_BYTES => {
-            return Ok(vec![format!(
-                "its record {name} is larger than any study's record (over {MAX_RECORD_BYTES} \
-                 bytes) and is not read"
-            )])
-        }
-        Ok(_) => {}
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+    let why = "a study's record has under 2 kB: a file larger than any study's record is not read";
+    let parsed = match read_bounded_text(&path, MAX_RECORD_BYTES, "a study's record", why) {
+        Ok(text) => serde_json::from_str::<Record>(&text).map_err(|e| e.to_string()),
+        Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
             return Ok(vec![format!(
                 "no record of what produced it ({name} is missing), so nothing says its numbers \
                  are this checkout's"
             )])
         }
+        // too large, not a regular file, not UTF-8
+        Err(Error::Parse { message, .. }) => Err(message),
         Err(e) => return Ok(vec![format!("its record {name} cannot be read: {e}")]),
     };
-    let record: Record = match serde_json::from_slice(&text) {
-        Ok(r) => r,
-        Err(e) => {
+    let record = match parsed {
+        Ok(record) => record,
+        Err(why) => {
             return Ok(vec![format!(
-                "its record {name} is not a study's record: {e}"
+                "its record {name} is not a study's record: {why}"
             )])
         }
     };

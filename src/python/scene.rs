@@ -7,9 +7,9 @@ use super::{to_py_err, SimulationError};
 use crate::analysis::states::{States, STATE_COLUMNS, STATE_COUNTS};
 use crate::analysis::statistics::{Distribution, VALUE_KEYS};
 use crate::analysis::Motion;
-use crate::io::lock::{claim_folder, Lock};
+use crate::io::lock::claim_folder;
 use crate::io::output::{check_output_dir, manifest_title, write_text};
-use crate::io::paper_claim::claim_if_paper_output;
+use crate::io::paper_claim::claim_output;
 use crate::io::progress::Progress;
 use crate::laws::wear::sector_angles_deg;
 use crate::scene::variant::{run_command, Change, Variant};
@@ -618,7 +618,7 @@ impl Folder {
     /// Writes the folder `dir` as `jointwear run … --out dir` does (with `--ensemble N --seed
     /// S` or `--member K --seed S` as the results are), claimed against other writers while
     /// it is written, with the paper's outputs if it lies among them, as the program's
-    /// commands claim them ([`claim_if_paper_output`]); the files of an earlier write of the
+    /// commands claim them ([`claim_output`]); the files of an earlier write of the
     /// same command into it are replaced, and a folder of another command's outputs, or
     /// holding the checkpoint of an unfinished run, is refused before anything is written, the
     /// refusal naming the Python argument (`directory`) and what a Python user can do. A scene
@@ -641,13 +641,12 @@ impl Folder {
         let mut notes = Vec::new();
         let written = py.detach(|| {
             check_output_dir(SAVE_ARGUMENT, &dir)?;
-            // (Both held until the folder is written.) The paper's outputs first, as the
-            // program's commands claim them: a paper program writing there at once could
-            // replace the folder's files, or they its own.
-            let paper = claim_if_paper_output(SAVE_ARGUMENT, &dir)?;
-            notes.extend(paper.iter().flat_map(Lock::notes).cloned());
-            let claim = claim_folder(SAVE_ARGUMENT, &dir)?;
-            notes.extend_from_slice(claim.notes());
+            // (Both held until the folder is written.) The paper's outputs too if the folder
+            // lies among them: a paper program writing there at once could replace the
+            // folder's files, or they its own.
+            let _claims = claim_output(SAVE_ARGUMENT, &dir, claim_folder, &mut |n| {
+                notes.extend_from_slice(n)
+            })?;
             check_manifest(SAVE_ARGUMENT, &dir, command, SAVE_REMEDY)?;
             // Another run's state: results saved beside it would be mixed with it, and
             // replaced by a later `--resume` of that run.

@@ -20,8 +20,8 @@ mod sweep;
 use clap::{Parser, Subcommand};
 use failure::{CliResult, Failure};
 use jointwear::io::interrupt;
-use jointwear::io::lock::{self, Lock};
-use jointwear::io::paper_claim::claim_if_paper_output;
+use jointwear::io::lock::{self, print_notes, Lock};
+use jointwear::io::paper_claim::claim_output;
 use jointwear::scene::reversal_note;
 use jointwear::scene::variant::{parse_value, Variant};
 use jointwear::simulation::ensemble::{EnsembleSettings, Perturbation, DEFAULT_SEED, MAX_MEMBERS};
@@ -398,7 +398,7 @@ fn checked_out_dir(scene: &Path, kind: &str, out: Option<PathBuf>) -> CliResult<
 }
 
 /// A command's claims of its outputs, released when it drops: of the paper's outputs, if it
-/// writes among them ([`claim_if_paper_output`]), and of its own folder or file.
+/// writes among them, and of its own folder or file ([`claim_output`]).
 pub type Claims = (Option<Lock>, Lock);
 
 /// Claims the output folder `dir` of the scene at `scene` for this process until the claims
@@ -414,19 +414,14 @@ fn claim_out_file(input: &Path, out: &Path) -> CliResult<Claims> {
     claim_with(input, out, lock::claim_file)
 }
 
-/// The paper's outputs if `out` is among them, then `out` by `claim` ([`lock::claim_folder`]
-/// or [`lock::claim_file`]), each claim's notes printed; a refusal is said of `input`.
+/// [`claim_output`] of `out` by `claim` ([`lock::claim_folder`] or [`lock::claim_file`]),
+/// each claim's notes printed; a refusal is said of `input`.
 fn claim_with(
     input: &Path,
     out: &Path,
     claim: fn(&str, &Path) -> jointwear::Result<Lock>,
 ) -> CliResult<Claims> {
-    let failure = |e| Failure::from(input, e);
-    let paper = claim_if_paper_output("--out", out)
-        .map_err(failure)?
-        .map(Lock::noted);
-    let own = claim("--out", out).map(Lock::noted).map_err(failure)?;
-    Ok((paper, own))
+    claim_output("--out", out, claim, &mut print_notes).map_err(|e| Failure::from(input, e))
 }
 
 /// [`claim_out`] for `command`, which writes an output folder with a manifest (`run`, `run
