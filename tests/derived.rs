@@ -59,6 +59,29 @@ fn run_prints_the_most_prominent_distinct_wear_regions() {
             assert!(d.min(360.0 - d) > 15.0, "{printed:?}");
         }
     }
+    // README quotes this printout: the regions' count, the three angles and prominences (nm).
+    // Failed on the README as it was, "three humps at 152.5, 244.5 and 310.5 deg (prominences
+    // 58, 37 and 26 nm)" against the printed 152.5, 240.5 and 1.5 deg of 10 regions.
+    let nm: Vec<String> = (regions[..3].iter())
+        .map(|r| format!("{:.0}", field(r, "prominence_m") * 1e9))
+        .collect();
+    let quoted = format!(
+        "prints the three most prominent of its {} regions at {}, {} and {} deg (prominences \
+         {}, {} and {} nm)",
+        regions.len(),
+        quantity(printed[0], ""),
+        quantity(printed[1], ""),
+        quantity(printed[2], ""),
+        nm[0],
+        nm[1],
+        nm[2]
+    );
+    let readme = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md"))
+        .unwrap()
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    assert!(readme.contains(&quoted), "README does not say: {quoted}");
     fs::remove_dir_all(&dir).unwrap();
 }
 

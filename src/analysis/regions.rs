@@ -31,8 +31,9 @@ pub struct Region {
 
 /// Smallest prominence of a region, as a fraction of the most prominent region's. The
 /// four-bar's shoulders of its deepest hump have 6-8 % of its prominence and its distinct third
-/// hump 45 %; the sector-scale ripples of the standard case stay below 5 %. 10 % separates them
-/// with margin on both sides.
+/// hump 38 %; the sector-scale ripples of the standard case stay below 5 %. 10 % separates
+/// those; the four-bar's spiky bands (near 0-50 and 250-340 deg) have humps of 9-21 %, on both
+/// sides of it, so it prints 10 regions.
 pub const MIN_RELATIVE_PROMINENCE: f64 = 0.10;
 
 /// Smallest prominence of a region, as a fraction of its own height above the profile floor.
