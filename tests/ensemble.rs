@@ -223,6 +223,37 @@ fn summary_json_has_the_states_and_the_window_of_every_quantity() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Four members of the standard scene wear 0.54, 0.59, 0.66 and 0.69 µm deep, spread as its 16
+/// and 32 members are in their one state; the gap between the pairs is no second state.
+/// Failed with the gap held to 2 pooled sds whatever the ensemble's size: "two states: low 2
+/// of 4: 0.5658 ± 0.0329 µm, high 2 of 4: 0.6743 ± 0.0179 µm", `states` 2 in
+/// ensemble_summary.csv.
+#[test]
+fn a_small_ensemble_reports_no_state_its_spread_makes() {
+    let dir = temp_dir("ensemble", "small_states");
+    let out = dir.join("out");
+    let r = jointwear(&[
+        "run",
+        scene_path("standard").to_str().unwrap(),
+        "--set",
+        "run.record_rotations=0",
+        "--ensemble",
+        "4",
+        "--seed",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let printed = String::from_utf8_lossy(&r.stdout);
+    assert!(!printed.contains("two states"), "{printed}");
+    let (head, rows) = jointwear::io::output::read_rows(&out.join("ensemble_summary.csv")).unwrap();
+    let states = head.iter().position(|h| h == "states").unwrap();
+    let depth = rows.iter().find(|r| r[1] == "max_wear_depth_m").unwrap();
+    assert_eq!(depth[states], "1", "{depth:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn sweep_runs_each_case_as_an_ensemble_with_mean_and_sd_columns() {
     let dir = temp_dir("ensemble", "sweep");
