@@ -28,7 +28,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "at 0.2 and 0.5 mm free flight, impact and continuous contact modes all appear",
         "motion mode free flight and impact at each clearance (the motion rule of Table 3)",
         format!(
-            "0.2 / 0.5 mm: free flight and impact in {} / {} of {}; in contact {} % of the time, {} onsets per rotation",
+            "0.2 / 0.5 mm, over {}: free flight and impact in {} / {} of {}; in contact {} % of the time, {} onsets per rotation",
+            recorded_window(&big),
             big[0].members.len() - big[0].continuous(),
             big[1].members.len() - big[1].continuous(),
             big[0].members.len(),

@@ -18,7 +18,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         "at 30 r/min the journal rebounds after impacts instead of staying in contact",
         "motion mode free flight and impact (the motion rule of Table 3)",
         format!(
-            "free flight and impact in {} of {n}; {} contact onsets per rotation, in contact {} % of the time",
+            "over {}: free flight and impact in {} of {n}; {} contact onsets per rotation, in contact {} % of the time",
+            recorded_window(&[slow]),
             n - slow.continuous(),
             mean_sd(&slow.states(|m| m.motion.impacts_per_rotation), n, 1.0, 1),
             mean_sd(&slow.states(|m| m.motion.contact_fraction), n, 100.0, 1)
@@ -51,7 +52,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
             100.0 * WHOLE_SURFACE
         ),
         format!(
-            "continuous contact in {} of {n}; in contact {} % of the time, {} % of the circumference touched",
+            "over {}: continuous contact in {} of {n}; in contact {} % of the time, {} % of the circumference touched",
+            recorded_window(&[mid]),
             mid.continuous(),
             mean_sd(&mid.states(|m| m.motion.contact_fraction), n, 100.0, 1),
             mean_sd(&mid.states(|m| m.contact_coverage), n, 100.0, 0)

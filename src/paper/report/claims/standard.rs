@@ -4,7 +4,7 @@
 //! one at 180 deg leading) and figure 7 (staircase growth of the regions).
 
 use super::{deepest_angle, increasing, mean_sd, within, Claims, Ensembles, WHOLE_SURFACE};
-use crate::paper::cases::WearMember;
+use crate::paper::cases::{recorded_window, WearMember};
 use crate::paper::figures::wear_history::{region_share_stats, share_window};
 use crate::paper::golden::{angle_distance, Golden};
 
@@ -60,7 +60,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
             100.0 * WHOLE_SURFACE
         ),
         format!(
-            "continuous contact in {} of {}; in contact {} % of the time, {} contact onsets per rotation, {} % of the circumference touched",
+            "over {}: continuous contact in {} of {}; in contact {} % of the time, {} contact onsets per rotation, {} % of the circumference touched",
+            recorded_window(&[std_st]),
             std_st.continuous(),
             std_st.members.len(),
             mean_sd(&std_st.states(|m| m.motion.contact_fraction), n, 100.0, 1),
