@@ -223,6 +223,38 @@ fn summary_json_has_the_states_and_the_window_of_every_quantity() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The recorded maxima of an ensemble are the largest samples of a grid, and its folder gives
+/// that grid: `summary.json`'s `record_interval_s` beside `record_rotations`, and README.txt
+/// the interval itself. Failed before: the folder named `run.record_interval_s` but never its
+/// value, so 3223 N on the 1e-5 s grid and 497 N on an 8e-4 s one (README, "Windows") read
+/// as the same quantity unless the interval was a `--set`.
+#[test]
+fn an_ensemble_folder_gives_the_grid_of_its_recorded_rotations() {
+    let dir = temp_dir("ensemble", "grid");
+    let file = two_rotation_scene(&dir);
+    let out = dir.join("out");
+    let r = jointwear(&[
+        "run",
+        file.to_str().unwrap(),
+        "--ensemble",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["record_rotations"], 1, "{summary}");
+    assert_eq!(
+        summary["record_interval_s"].as_f64(),
+        Some(1e-5),
+        "{summary}"
+    );
+    let readme = std::fs::read_to_string(out.join("README.txt")).unwrap();
+    assert!(readme.contains("samples every 1e-5 s"), "{readme}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Four members of the standard scene wear 0.54, 0.59, 0.66 and 0.69 µm deep, spread as its 16
 /// and 32 members are in their one state; the gap between the pairs is no second state.
 /// Failed with the gap held to 2 pooled sds whatever the ensemble's size: "two states: low 2

@@ -57,6 +57,7 @@ pub fn write_ensemble(
             perturbation: settings.perturbation.key(),
             rotations: scene.run.rotations,
             record_rotations: scene.run.record_rotations,
+            record_interval_s: scene.run.record_interval,
             wall_time_s: wall,
             joints: stats
                 .iter()
@@ -195,6 +196,9 @@ struct EnsembleSummary<'a> {
     perturbation: String,
     rotations: u32,
     record_rotations: u32,
+    /// The grid the recorded rotations are sampled on (s): the recorded maxima are its largest
+    /// samples.
+    record_interval_s: f64,
     /// Wall-clock time of all members, in parallel (s).
     wall_time_s: f64,
     joints: Vec<JointDistributions<'a>>,
@@ -256,7 +260,7 @@ fn readme(
          Every member is the scene run with the perturbation {} ({}) drawn from the seed and \
          the member number; statistics are over the members. Quantiles \
          qNN are type-7 sample quantiles; sd is the sample standard deviation. Angles \
-         (_deg) are unwrapped around their circular mean before the statistics.\n\
+         (_deg) are unwrapped around their circular mean before the statistics. {}\n\
          ensemble_members.csv: one row per member.\n\
          \x20 member                               0-based member number\n\
          \x20 J.offset_body_x_m, J.offset_body_y_m  initial journal offset, in the frame of the \
@@ -299,7 +303,15 @@ fn readme(
          depends on the share in each, and that share on how members are perturbed.\n\
          \x20 Each quantity is taken over a window of each member's run (`window` in {SUMMARY_FILE}):\n",
         settings.perturbation.key(),
-        settings.perturbation.describe()
+        settings.perturbation.describe(),
+        match scene.run.record_rotations {
+            0 => "No rotation is recorded (run.record_rotations = 0).".to_string(),
+            r => format!(
+                "The recorded rotations are the last {r} of each member's run, samples every {} \
+                 s (run.record_interval_s): the recorded maxima are the largest samples.",
+                number(scene.run.record_interval)
+            ),
+        }
     ));
     for (w, covers) in WINDOWS {
         let names: Vec<&str> = (SCALARS.iter().zip(SCALAR_WINDOWS))
@@ -325,7 +337,7 @@ fn readme(
     text.push_str(&format!(
         "{SUMMARY_FILE}: the ensemble as JSON: program, scene, title, fingerprint, changes \
          (--set and --rotations as [key, value]), members, seed, perturbation, rotations, \
-         record_rotations, \
+         record_rotations, record_interval_s, \
          wall_time_s, and per joint every quantity as [name, statistics]: its window (above), \
          then its row of ensemble_summary.csv: n, mean, sd, min, q05 ... q95, max, states, \
          low_n, low_mean, low_sd, high_n, high_mean, high_sd (null where no value exists).\n"
