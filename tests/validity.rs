@@ -371,3 +371,31 @@ fn an_absolute_tolerance_coarser_than_a_tenth_of_the_clearance_is_refused() {
     f.run.fixed_step_s = Some(1e-5);
     f.build().unwrap();
 }
+
+#[test]
+fn at_zero_clearance_the_absolute_tolerance_must_resolve_the_penetration() {
+    // Before: with every clearance zero run.atol was checked against nothing, and atol 1 m ran
+    // the zero-clearance stability scene with exit 0 reporting 1.58e6 N against 723 N.
+    let mut f = standard();
+    f.clearance[0].clearance_mm = 0.0;
+    let wear = f.clearance[0].wear.as_mut().unwrap();
+    wear.pressure = PressureModel::ElasticFoundation;
+    wear.k_over_h_per_pa = 0.0;
+    f.build().unwrap();
+    f.run.atol = 1e-3;
+    let msg = refused(&f);
+    assert!(
+        msg.contains("`run.atol")
+            && msg.contains("at most 1e-7 m")
+            && msg.contains("`rod-slider`")
+            && msg.contains("penetration")
+            && msg.contains("likely cause"),
+        "{msg}"
+    );
+    f.run.atol = 1e-7;
+    f.build().unwrap();
+    // A clearance far below the penetration asks no finer tolerance than none: at 1e-17 mm a
+    // tenth of the clearance, 1e-21 m, was below every valid atol.
+    f.clearance[0].clearance_mm = 1e-17;
+    f.build().unwrap();
+}

@@ -25,7 +25,7 @@ pub use validation::{
     COORDINATE_MM, GRAVITY_M_S2, GRAZING_VELOCITY_M_S, INERTIA_KG_M2, MASS_KG, MAX_CLEARANCE_RATIO,
     MAX_GYRATION_PER_SIZE, MAX_K_OVER_H_PER_PA, MAX_NAME_BYTES, MAX_RUN_STEPS, MAX_SCENE_BYTES,
     MAX_STEP_S, MAX_TITLE_BYTES, MIN_HERTZ_CLEARANCE_RATIO, MIN_RECORD_SAMPLES_PER_ROTATION,
-    MIN_SPEED_RPM, RECORD_BUDGET_BYTES, RESTITUTION, YOUNGS_MODULUS_GPA,
+    MIN_SPEED_RPM, PENETRATION_PER_RADIUS, RECORD_BUDGET_BYTES, RESTITUTION, YOUNGS_MODULUS_GPA,
 };
 
 use crate::laws::contact::{DissipationLaw, NormalForceModel, StiffnessLaw};
@@ -283,7 +283,8 @@ pub struct RunSpec {
     /// Relative tolerance, [1e-13, 1].
     pub rtol: f64,
     /// Absolute tolerance, [1e-20, 1] ([`ABSOLUTE_TOLERANCE`]), and for an adaptive method at
-    /// most [`ATOL_PER_CLEARANCE`] of the smallest clearance.
+    /// most [`ATOL_PER_CLEARANCE`] of the smallest clearance (or, where larger, penetration,
+    /// [`PENETRATION_PER_RADIUS`] of the bearing radius).
     pub atol: f64,
     /// Largest step (s), (0, 1].
     pub max_step_s: f64,

@@ -5,7 +5,7 @@ use super::SceneFile;
 use crate::io::format::exact;
 use crate::io::format::number as terminal;
 use crate::laws::friction::FrictionModel;
-use crate::mechanism::Mechanism;
+use crate::mechanism::{ClearanceJoint, Mechanism};
 use crate::ode::Method;
 use crate::simulation::folder::joint_file_part;
 use crate::simulation::{Scene, MAX_WEAR_RATIO};
@@ -339,6 +339,15 @@ pub const RECORD_BUDGET_BYTES: f64 = 2.0 * GIB;
 /// study runs on the paper's 0.02 mm clearance (a twentieth), passes.
 pub const ATOL_PER_CLEARANCE: f64 = 0.1;
 
+/// The penetration of a journal in its bearing per metre of bearing radius that
+/// [`Scene::check_tolerances`] takes where it exceeds the radial clearance: a journal with
+/// (almost) no clearance moves in its bearing only by its penetration, of the order of 1e-4 of
+/// the radius at the loads of metal bearings (2.3 µm in the 10 mm bearing of the zero-clearance
+/// stability scene, at 723 N). Without it a joint without clearance had no length to resolve:
+/// atol 1 m ran that scene with exit 0 reporting 1.58e6 N (1e-3 m: 1134 N; 1e-5 m: 722 N), and
+/// a clearance of 1e-17 mm asked for an atol below the smallest valid one.
+pub const PENETRATION_PER_RADIUS: f64 = 1e-4;
+
 /// Fewest samples per driver rotation of a recording (`run.record_interval_s` at most the
 /// driver period over this): one per 10 degrees of driver angle, so that each of the 4 to 5
 /// contact onsets a rotation of the standard joint gets about 8 samples (the shipped scenes
@@ -389,38 +398,54 @@ impl Scene {
         ))
     }
 
-    /// Checks that an adaptive method's absolute tolerance resolves the smallest clearance:
-    /// `run.atol` at most [`ATOL_PER_CLEARANCE`] of it (joints without clearance aside). The
-    /// error is controlled to about `atol` in the journal's position, so a coarser one leaves
-    /// contact onsets and micrometre penetrations to chance: rtol 0.01 with atol 1e-4 m, five
-    /// times the standard clearance, turned its continuous contact into free flight with 119
-    /// impacts a rotation and 20 kN against 4.5 and 3.2 kN, exit 0. `rk4` does not use it.
+    /// Checks that an adaptive method's absolute tolerance resolves the smallest length a
+    /// journal moves by in its bearing: `run.atol` at most [`ATOL_PER_CLEARANCE`] of a joint's
+    /// radial clearance or, where larger, of its penetration ([`PENETRATION_PER_RADIUS`] of its
+    /// bearing radius). The error is controlled to about `atol` in the journal's position, so
+    /// a coarser one leaves contact onsets and micrometre penetrations to chance: rtol 0.01
+    /// with atol 1e-4 m, five times the standard clearance, turned its continuous contact into
+    /// free flight with 119 impacts a rotation and 20 kN against 4.5 and 3.2 kN, exit 0. `rk4`
+    /// does not use it.
     pub fn check_tolerances(&self) -> Result<()> {
         let run = &self.run;
         if matches!(run.method, Method::Rk4 { .. }) {
             return Ok(());
         }
-        let smallest = (self.mechanism.clearance_joints.iter())
-            .filter(|c| c.given_clearance > 0.0)
-            .min_by(|a, b| a.given_clearance.total_cmp(&b.given_clearance));
+        let length =
+            |c: &ClearanceJoint| (c.given_clearance).max(PENETRATION_PER_RADIUS * c.r_bearing);
+        let smallest =
+            (self.mechanism.clearance_joints.iter()).min_by(|a, b| length(a).total_cmp(&length(b)));
         let Some(joint) = smallest else {
             return Ok(());
         };
-        let largest = ATOL_PER_CLEARANCE * joint.given_clearance;
+        let largest = ATOL_PER_CLEARANCE * length(joint);
         if run.tolerances.atol <= largest {
             return Ok(());
         }
+        let moves = if joint.given_clearance >= length(joint) {
+            format!(
+                "the radial clearance of `{}` ({} m)",
+                joint.name,
+                terminal(joint.given_clearance)
+            )
+        } else {
+            format!(
+                "the penetration of the journal of `{}`, about {PENETRATION_PER_RADIUS:e} x its \
+                 bearing radius ({} m), which exceeds its radial clearance of {} m",
+                joint.name,
+                terminal(length(joint)),
+                terminal(joint.given_clearance)
+            )
+        };
         Err(Error::invalid(
             "run.atol",
             run.tolerances.atol,
             format!(
-                "at most {} m, {ATOL_PER_CLEARANCE} of the radial clearance of `{}` ({} m): \
-                 the integrator holds the journal's position to about atol, and a coarser one \
-                 cannot tell contact from free flight; likely cause: a tolerance meant for \
-                 another scale or unit (MATLAB's ode45 default is 1e-6)",
+                "at most {} m, {ATOL_PER_CLEARANCE} of {moves}: the integrator holds the \
+                 journal's position to about atol, and a coarser one cannot tell contact from \
+                 free flight; likely cause: a tolerance meant for another scale or unit \
+                 (MATLAB's ode45 default is 1e-6)",
                 terminal(largest),
-                joint.name,
-                terminal(joint.given_clearance)
             ),
         ))
     }
