@@ -261,6 +261,39 @@ fn a_bad_value_of_a_sweep_names_its_case_and_assignments() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Fails on the code before: `run --set K=0.02 --set K=0.03` (or an alias of K) ran with the
+/// last value, exit 0, where `sweep` refuses a key given twice.
+#[test]
+fn a_run_refuses_a_key_given_twice() {
+    let dir = temp_dir("guards", "set_twice");
+    let scene = short_standard(&dir, "few-steps.toml", 2, &[FEW_STEPS]);
+    let run = |args: &[&str]| {
+        let mut all = vec!["run", s(&scene), "--out", s(&dir)];
+        all.extend_from_slice(args);
+        jointwear(&all)
+    };
+    for extra in [&[][..], &["--ensemble", "2"]] {
+        let mut args = vec![
+            "--set",
+            "clearance.0.clearance_mm=0.02",
+            "--set",
+            "clearance.00.clearance_mm=0.03",
+        ];
+        args.extend_from_slice(extra);
+        let o = run(&args);
+        assert_fails(
+            &o,
+            2,
+            &[
+                "`--set`: clearance.0.clearance_mm",
+                "given twice",
+                "`0.02` and as `0.03`",
+            ],
+        );
+    }
+    fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn a_rerun_replaces_the_previous_run_and_leaves_other_files_alone() {
     let dir = temp_dir("guards", "rerun");

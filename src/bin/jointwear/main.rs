@@ -27,7 +27,7 @@ use jointwear::scene::variant::{parse_value, Variant};
 use jointwear::simulation::ensemble::{EnsembleSettings, Perturbation, DEFAULT_SEED, MAX_MEMBERS};
 use jointwear::simulation::folder::{self, FolderCommand};
 use jointwear::simulation::Scene;
-use jointwear::sweep::Assignment;
+use jointwear::sweep::{canonical_sets, Assignment};
 use jointwear::Error;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -446,13 +446,13 @@ pub struct Loaded {
     pub dir: PathBuf,
 }
 
-/// The scene file at `path` with `sets` (`KEY=VALUE`, one value each) assigned by dotted key,
-/// then `rotations` as `run.rotations`, which cuts the wear snapshots past it and the recorded
-/// rotations to it unless they were set ([`Variant::set`]). Validated as a scene file is, and
-/// every error is bad input (exit code 2): a bad key or value names the key, the value, the
-/// valid range and the `--set` it came from. The changes made on the user's behalf are printed
-/// ([`run::print_cuts`]). `out` (default: the folder of `kind`, [`out_dir`]) is checked as the
-/// output folder.
+/// The scene file at `path` with `sets` (`KEY=VALUE`, one value each, each key once) assigned
+/// by dotted key, then `rotations` as `run.rotations`, which cuts the wear snapshots past it
+/// and the recorded rotations to it unless they were set ([`Variant::set`]). Validated as a
+/// scene file is, and every error is bad input (exit code 2): a bad key or value names the
+/// key, the value, the valid range and the `--set` it came from. The changes made on the
+/// user's behalf are printed ([`run::print_cuts`]). `out` (default: the folder of `kind`,
+/// [`out_dir`]) is checked as the output folder.
 fn load_variant(
     path: &Path,
     sets: &[String],
@@ -473,6 +473,9 @@ fn load_variant(
         assignments.push(a);
     }
     let mut variant = Variant::read(path).map_err(input)?;
+    // A key given twice is refused as `sweep` refuses it: the one given last would silently
+    // win.
+    let assignments = canonical_sets(variant.loaded(), assignments).map_err(input)?;
     // The arguments that changed the file, for messages.
     let from: Vec<String> = (sets.iter().map(|s| format!("--set {s}")))
         .chain(rotations.map(|n| format!("--rotations {n}")))
