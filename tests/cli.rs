@@ -158,6 +158,13 @@ fn bad_input_exits_2_naming_file_field_and_range() {
         ("--k-over-h", "NaN", "`--k-over-h`: NaN"),
         ("--max-change", "0", "`--max-change`: 0"),
         ("--until", "NaN", "`--until`: NaN for joint"),
+        // Fails on the code before: 4e9 settling rotations ran into the step limit after 20 s,
+        // exit 1, blamed on the run's length.
+        (
+            "--settle",
+            "10001",
+            "`--settle`: 10001 (expected an integer in [0, 10000]",
+        ),
     ] {
         let o = jointwear(&["longlife", s(&std), option, value]);
         assert_eq!(o.status.code(), Some(2), "{option}: {}", stderr(&o));

@@ -35,6 +35,7 @@
 
 use crate::io::format::{exact, quantity};
 use crate::io::progress::Progress;
+use crate::scene::MAX_SETTLING_ROTATIONS;
 use crate::simulation::Scene;
 use crate::simulation::{
     steepness_cause, too_steep, wear_limit, RunSettings, Simulation, MAX_WEAR_RATIO, OPEN_ENDED,
@@ -52,7 +53,8 @@ pub const MIN_WEAR_LIMIT: f64 = 1e-10;
 pub struct LongLifeSettings {
     /// Rotations to predict, ≥ 1.
     pub rotations: u64,
-    /// Rotations simulated first to reach steady motion (their wear counts).
+    /// Rotations simulated first to reach steady motion (their wear counts), at most
+    /// [`MAX_SETTLING_ROTATIONS`].
     pub settle_rotations: u32,
     /// Rotations simulated per block to measure the wear increment, ≥ 1.
     pub sample_rotations: u32,
@@ -168,6 +170,26 @@ pub fn check_max_change(name: &str, value: f64) -> Result<()> {
     }
 }
 
+/// Checks [`LongLifeSettings::settle_rotations`], given as `name`: an integer in [0,
+/// [`MAX_SETTLING_ROTATIONS`]], the most a scene's run settles for
+/// (`run.steady_state.max_rotations`), after which its motion is taken as chaotic, where
+/// settling longer only wears the bearing unobserved (`--settle 4000000000` ran into the step
+/// limit after 20 s, exit 1, blamed on the run's length).
+pub fn check_settle_rotations(name: &str, value: u32) -> Result<()> {
+    if value <= MAX_SETTLING_ROTATIONS {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            name,
+            value,
+            format!(
+                "an integer in [0, {MAX_SETTLING_ROTATIONS}]: the most rotations a run settles \
+                 for (run.steady_state.max_rotations); a motion not steady after them is chaotic"
+            ),
+        ))
+    }
+}
+
 /// Predicts the wear after `settings.rotations` rotations by cycle-jump extrapolation (see
 /// the module documentation); `progress` is told the rotations done after each block.
 pub fn predict(
@@ -185,6 +207,7 @@ pub fn predict(
         ));
     }
     check_max_change("max_change", settings.max_change)?;
+    check_settle_rotations("settle_rotations", settings.settle_rotations)?;
     if settings.sample_rotations == 0 {
         return Err(Error::invalid("sample_rotations", 0, "at least 1"));
     }

@@ -19,7 +19,9 @@ use jointwear::simulation::folder::{
     body_name, conventions, joint_file, write_folder, write_profiles, write_summary, FolderCommand,
     BLOCKS_FILE, GROWTH_FIGURE, GROWTH_FILE, PROFILES_FIGURE, PROFILES_STEM, PROGRAM, SUMMARY_FILE,
 };
-use jointwear::simulation::longlife::{check_max_change, predict, LongLife, LongLifeSettings};
+use jointwear::simulation::longlife::{
+    check_max_change, check_settle_rotations, predict, LongLife, LongLifeSettings,
+};
 use jointwear::simulation::Scene;
 use jointwear::Error;
 use serde::Serialize;
@@ -98,6 +100,7 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
         )));
     }
     check_max_change("--max-change", max_change).map_err(bad)?;
+    check_settle_rotations("--settle", settle).map_err(bad)?;
     let mut file = SceneFile::read(path).map_err(|e| Failure::input(path, e))?;
     if let Some(k) = k_over_h {
         let worn = |c: &&jointwear::scene::ClearanceSpec| c.wear.is_some();

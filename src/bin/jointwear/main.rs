@@ -210,7 +210,7 @@ enum Command {
         /// Largest depth change per extrapolated block, as a fraction of the clearance
         #[arg(long, default_value_t = 0.02)]
         max_change: f64,
-        /// Rotations simulated before the first block
+        /// Rotations simulated before the first block, at most 10000
         #[arg(long, default_value_t = 3)]
         settle: u32,
         /// Stop when the deepest wear of a joint reaches this depth (mm), and report the
