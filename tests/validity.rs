@@ -399,3 +399,18 @@ fn at_zero_clearance_the_absolute_tolerance_must_resolve_the_penetration() {
     f.clearance[0].clearance_mm = 1e-17;
     f.build().unwrap();
 }
+
+#[test]
+fn a_steady_state_criterion_is_checked_when_the_run_does_not_settle() {
+    // Before: with run.settle false (the standard scene's default) its steady_state was never
+    // read, so NaN or 0 there passed without a word until the next edit turned settling on.
+    let mut f = standard();
+    assert!(!f.run.settle && f.run.steady_state.is_some());
+    f.run.steady_state.as_mut().unwrap().orbit_tolerance = f64::NAN;
+    let msg = refused(&f);
+    assert!(msg.contains("`run.steady_state.orbit_tolerance`"), "{msg}");
+    let mut f = standard();
+    f.run.steady_state.as_mut().unwrap().max_rotations = 0;
+    let msg = refused(&f);
+    assert!(msg.contains("`run.steady_state.max_rotations`"), "{msg}");
+}

@@ -569,9 +569,14 @@ impl RunSpec {
             tolerances,
             baumgarte: check("run.baumgarte_per_s", self.baumgarte_per_s, 0.0, 1e6)?,
             energy_accounting: self.energy_accounting,
-            settle: match (&self.settle, &self.steady_state) {
+            // The criterion is checked whether the run settles or not: a bad one is a mistake
+            // either way, and the next edit turns settling on.
+            settle: match (
+                self.settle,
+                self.steady_state.as_ref().map(|s| s.build()).transpose()?,
+            ) {
                 (false, _) => None,
-                (true, Some(spec)) => Some(spec.build()?),
+                (true, Some(criterion)) => Some(criterion),
                 (true, None) => {
                     return Err(Error::invalid(
                         "run.steady_state",
