@@ -414,3 +414,20 @@ fn a_steady_state_criterion_is_checked_when_the_run_does_not_settle() {
     let msg = refused(&f);
     assert!(msg.contains("`run.steady_state.max_rotations`"), "{msg}");
 }
+
+#[test]
+fn a_body_angle_guess_beyond_a_hundred_turns_is_refused_naming_it() {
+    // Before: a guess of 1e8 deg (17e5 rad, whose doubles are 3e-10 rad apart) failed in the
+    // assembly, blaming a loop that "stays open by 4e-9 mm" at revolute[1], not the angle.
+    let mut f = standard();
+    f.bodies[1].angle_deg = 1e8;
+    let msg = refused(&f);
+    assert!(
+        msg.contains("`bodies[1].angle_deg`")
+            && msg.contains("[-36000, 36000]")
+            && msg.contains("likely cause"),
+        "{msg}"
+    );
+    f.bodies[1].angle_deg = -36000.0;
+    f.build().unwrap();
+}

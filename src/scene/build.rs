@@ -71,7 +71,7 @@ impl SceneFile {
                 inertia: within(&f("inertia_kg_m2"), b.inertia_kg_m2, &INERTIA_KG_M2)?,
             });
             check_coordinates(&f("position_mm"), &b.position_mm)?;
-            check_finite(&f("angle_deg"), &[b.angle_deg])?;
+            within(&f("angle_deg"), b.angle_deg, &BODY_ANGLE_DEG)?;
             for (name, p) in &b.points_mm {
                 check_coordinates(&f(&format!("points_mm.{name}")), p)?;
             }

@@ -22,10 +22,11 @@ pub use build::{MAX_ROTATIONS, MAX_SETTLING_ROTATIONS};
 pub use layering::{reversal_note, scene_path, set_dotted};
 pub use validation::{
     Limit, ABSOLUTE_TOLERANCE, ATOL_PER_CLEARANCE, BEARING_LENGTH_MM, BEARING_RADIUS_MM,
-    COORDINATE_MM, GRAVITY_M_S2, GRAZING_VELOCITY_M_S, INERTIA_KG_M2, MASS_KG, MAX_CLEARANCE_RATIO,
-    MAX_GYRATION_PER_SIZE, MAX_K_OVER_H_PER_PA, MAX_NAME_BYTES, MAX_RUN_STEPS, MAX_SCENE_BYTES,
-    MAX_STEP_S, MAX_TITLE_BYTES, MIN_HERTZ_CLEARANCE_RATIO, MIN_RECORD_SAMPLES_PER_ROTATION,
-    MIN_SPEED_RPM, PENETRATION_PER_RADIUS, RECORD_BUDGET_BYTES, RESTITUTION, YOUNGS_MODULUS_GPA,
+    BODY_ANGLE_DEG, COORDINATE_MM, GRAVITY_M_S2, GRAZING_VELOCITY_M_S, INERTIA_KG_M2, MASS_KG,
+    MAX_CLEARANCE_RATIO, MAX_GYRATION_PER_SIZE, MAX_K_OVER_H_PER_PA, MAX_NAME_BYTES, MAX_RUN_STEPS,
+    MAX_SCENE_BYTES, MAX_STEP_S, MAX_TITLE_BYTES, MIN_HERTZ_CLEARANCE_RATIO,
+    MIN_RECORD_SAMPLES_PER_ROTATION, MIN_SPEED_RPM, PENETRATION_PER_RADIUS, RECORD_BUDGET_BYTES,
+    RESTITUTION, YOUNGS_MODULUS_GPA,
 };
 
 use crate::laws::contact::{DissipationLaw, NormalForceModel, StiffnessLaw};
@@ -127,7 +128,7 @@ pub struct BodySpec {
     pub inertia_kg_m2: f64,
     /// Initial guess of the centre of mass (mm); assembled exactly at load.
     pub position_mm: [f64; 2],
-    /// Initial guess of the body angle (deg).
+    /// Initial guess of the body angle (deg), [-36000, 36000] ([`BODY_ANGLE_DEG`]).
     pub angle_deg: f64,
     /// Named points in the body frame (mm).
     pub points_mm: BTreeMap<String, [f64; 2]>,

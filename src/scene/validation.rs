@@ -208,6 +208,18 @@ pub const MIN_SPEED_RPM: f64 = 60.0 / (MAX_RUN_STEPS as f64 * MAX_STEP_S);
 /// Largest |coordinate| of a point or position guess (mm).
 pub const COORDINATE_MM: f64 = 1e6;
 
+/// Initial guess of a body's angle (deg): a hundred turns either way. A guess some turns on
+/// assembles that many turns on (the same pose), but the radians of a far larger one keep too
+/// few digits for the assembly: 1e8 deg (1.7e6 rad, its doubles 2.3e-10 rad apart) failed,
+/// blaming a loop that "stays open by 4e-9 mm" at a revolute.
+pub const BODY_ANGLE_DEG: Limit = Limit {
+    lo: -36000.0,
+    hi: 36000.0,
+    why: "an angle guess turns on the same pose every 360 deg, and beyond a hundred turns its \
+          radians keep too few digits to assemble the loop; likely cause: an angle in another \
+          unit, or a typo in the exponent",
+};
+
 /// Largest |gravity| component (m/s²): 1000 g.
 pub const GRAVITY_M_S2: f64 = 1e4;
 
@@ -316,13 +328,6 @@ pub(super) fn check_coordinates(field: &str, values: &[f64]) -> Result<()> {
                 terminal(COORDINATE_MM)
             ),
         )),
-        None => Ok(()),
-    }
-}
-
-pub(super) fn check_finite(field: &str, values: &[f64]) -> Result<()> {
-    match values.iter().find(|v| !v.is_finite()) {
-        Some(v) => Err(Error::invalid(field, exact(*v), "finite numbers")),
         None => Ok(()),
     }
 }
