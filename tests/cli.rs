@@ -165,6 +165,14 @@ fn bad_input_exits_2_naming_file_field_and_range() {
             "10001",
             "`--settle`: 10001 (expected an integer in [0, 10000]",
         ),
+        // Fails on the code before: blocks of a depth change of 2e-305 m extrapolated
+        // nothing, so the prediction simulated every rotation (exit 0 here after 189 of them;
+        // at k/H 1e-15, 20 s into the step limit, exit 1).
+        (
+            "--max-change",
+            "1e-300",
+            "`--max-change`: 1e-300 (expected at least 5e-6",
+        ),
     ] {
         let o = jointwear(&["longlife", s(&std), option, value]);
         assert_eq!(o.status.code(), Some(2), "{option}: {}", stderr(&o));

@@ -33,8 +33,9 @@
 //! block jump, which changes the gap discontinuously, restarts the integrator. So the settling
 //! rotations are bit-identical to a plain run of that many rotations.
 
-use crate::io::format::{exact, quantity};
+use crate::io::format::{exact, number, quantity};
 use crate::io::progress::Progress;
+use crate::mechanism::ClearanceJoint;
 use crate::scene::MAX_SETTLING_ROTATIONS;
 use crate::simulation::Scene;
 use crate::simulation::{
@@ -58,7 +59,8 @@ pub struct LongLifeSettings {
     pub settle_rotations: u32,
     /// Rotations simulated per block to measure the wear increment, ≥ 1.
     pub sample_rotations: u32,
-    /// Largest depth change of a block, as a fraction of the effective clearance, (0, 1].
+    /// Largest depth change of a block, as a fraction of the effective clearance, (0, 1] and at
+    /// least an atomic layer of the narrowest wearing joint ([`check_max_change`]).
     pub max_change: f64,
     /// Rotation counts at which the profiles are saved (the final count is always saved).
     pub snapshots: Vec<u64>,
@@ -161,12 +163,35 @@ pub struct LongLife {
 }
 
 /// Checks [`LongLifeSettings::max_change`] (the share of a joint's effective clearance a sector
-/// may deepen by in one block), given as `name`: a fraction in (0, 1].
-pub fn check_max_change(name: &str, value: f64) -> Result<()> {
-    if value > 0.0 && value <= 1.0 {
-        Ok(())
-    } else {
-        Err(Error::invalid(name, exact(value), "a fraction in (0, 1]"))
+/// may deepen by in one block) for `scene`, given as `name`: a fraction in (0, 1] that lets a
+/// block deepen the narrowest wearing joint by at least [`MIN_WEAR_LIMIT`], an atomic layer.
+/// A smaller step is no wear a surface shows, and blocks of it extrapolate nothing: 1e-300
+/// simulated every rotation, 20 s into the step limit at k/H 1e-15.
+pub fn check_max_change(name: &str, value: f64, scene: &Scene) -> Result<()> {
+    if !(value > 0.0 && value <= 1.0) {
+        return Err(Error::invalid(name, exact(value), "a fraction in (0, 1]"));
+    }
+    let wears = |cj: &&ClearanceJoint| {
+        cj.given_clearance > 0.0 && cj.wear.is_some_and(|w| w.k_over_h > 0.0)
+    };
+    let narrowest = (scene.mechanism.clearance_joints.iter().filter(wears))
+        .min_by(|a, b| a.given_clearance.total_cmp(&b.given_clearance));
+    match narrowest {
+        Some(cj) if value < MIN_WEAR_LIMIT / cj.given_clearance => Err(Error::invalid(
+            name,
+            exact(value),
+            format!(
+                "at least {} for this scene: a block deepens a sector by at most this fraction \
+                 of the effective clearance, and of the {} of `{}` a smaller one is less than \
+                 an atomic layer ({}), no wear a surface shows (at 1e-300 the blocks \
+                 extrapolated nothing and every rotation was simulated)",
+                number(MIN_WEAR_LIMIT / cj.given_clearance),
+                quantity(cj.given_clearance * 1e3, "mm"),
+                cj.name,
+                quantity(MIN_WEAR_LIMIT * 1e3, "mm")
+            ),
+        )),
+        _ => Ok(()),
     }
 }
 
@@ -206,7 +231,7 @@ pub fn predict(
             "an integer in [1, 1e12]",
         ));
     }
-    check_max_change("max_change", settings.max_change)?;
+    check_max_change("max_change", settings.max_change, scene)?;
     check_settle_rotations("settle_rotations", settings.settle_rotations)?;
     if settings.sample_rotations == 0 {
         return Err(Error::invalid("sample_rotations", 0, "at least 1"));

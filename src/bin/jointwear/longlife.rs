@@ -99,7 +99,6 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
             format!("an Archard coefficient k/H in [0, {MAX_K_OVER_H_PER_PA:e}] 1/Pa"),
         )));
     }
-    check_max_change("--max-change", max_change).map_err(bad)?;
     check_settle_rotations("--settle", settle).map_err(bad)?;
     let mut file = SceneFile::read(path).map_err(|e| Failure::input(path, e))?;
     if let Some(k) = k_over_h {
@@ -122,6 +121,7 @@ pub fn longlife(path: &Path, options: &Options, out: Option<PathBuf>) -> CliResu
         }
     }
     let mut scene = file.build().map_err(bad)?;
+    check_max_change("--max-change", max_change, &scene).map_err(bad)?;
     if let Some((m, seed)) = member {
         if m >= MAX_MEMBERS {
             return Err(bad(Error::invalid(
