@@ -272,6 +272,16 @@ fn a_sweep_key_given_twice_or_by_an_alias_is_refused() {
     };
     let twice = sweep(&["driver.speed_rpm=-2000,-1000", "driver.speed_rpm=-500"]);
     assert_fails(&twice, 2, &["`--set`: driver.speed_rpm", "each key once"]);
+    // Fails on the code before: a value given twice (as `0.1,1e-1`, `0,0.0` or `0.1,0.1`) ran
+    // the same case twice, two identical rows, exit 0.
+    for values in ["0.1,1e-1", "0.1,0.2,0.1", "0,0.0"] {
+        let o = sweep(&[&format!("clearance.0.clearance_mm={values}")]);
+        assert_fails(
+            &o,
+            2,
+            &["`--set`: clearance.0.clearance_mm", "each value once"],
+        );
+    }
     let alias = sweep(&[
         "clearance.00.clearance_mm=0.1",
         "clearance.0.clearance_mm=0.2",

@@ -192,7 +192,8 @@ class Scene:
         ``seed``, as ``jointwear sweep --ensemble N --seed S``). Every value of every key is
         validated before any case runs (a bad value raises :class:`jointwear.SceneError`), and
         so are the keys (one given twice, also as an alias such as
-        ``clearance.00.clearance_mm``, is refused) and the size (at most 1 000 000 cases);
+        ``clearance.00.clearance_mm``, is refused, and so is a value given twice for one key,
+        such as ``[0.1, 1e-1]``) and the size (at most 1 000 000 cases);
         cases are built as they run, and one that records no rotation
         (``run.record_rotations`` 0) is refused, as a row reports the recorded rotations. A case
         that fails to build or while running has its message in the ``error`` column and the

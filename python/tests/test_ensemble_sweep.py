@@ -287,7 +287,7 @@ def test_a_member_run_is_its_ensemble_member_bit_for_bit():
         scene.run(member=10_000, seed=7)
 
 
-def test_a_grid_beyond_the_case_limit_or_with_a_key_twice_raises_scene_error(tmp_path):
+def test_a_grid_beyond_the_case_limit_or_with_a_key_or_value_twice_raises_scene_error(tmp_path):
     scene = jointwear.Scene.load(short_file(tmp_path))
     grid = {
         "driver.speed_rpm": list(range(-2000, -999)),
@@ -299,6 +299,10 @@ def test_a_grid_beyond_the_case_limit_or_with_a_key_twice_raises_scene_error(tmp
     twice = "`grid`: clearance.0.clearance_mm .*each key once"
     with pytest.raises(jointwear.SceneError, match=twice):
         scene.sweep({"clearance.0.clearance_mm": [0.1], "clearance.00.clearance_mm": [0.2]})
+    # a value given twice ran the same case twice
+    once = "`grid`: clearance.0.clearance_mm .*each value once"
+    with pytest.raises(jointwear.SceneError, match=once):
+        scene.sweep({"clearance.0.clearance_mm": [0.1, 0.2, 1e-1]})
 
 
 def test_a_keys_alias_is_labelled_as_the_program_spells_it(tmp_path):

@@ -468,11 +468,27 @@ fn joint_names(scene: &Scene) -> Vec<String> {
 /// `sets` with every key in its canonical spelling: an array index as its number
 /// (`clearance.00.x` and `clearance.+0.x` are `clearance.0.x`), found by walking `doc` as
 /// [`set_dotted`] does; a key whose canonical spelling is given twice is refused, naming both
-/// spellings (the rows would be labelled with one value while the cases ran with the other).
+/// spellings (the rows would be labelled with one value while the cases ran with the other),
+/// and so is a value given twice for one key (an integer and a float of one number alike; its
+/// cases would run twice).
 pub fn canonical_sets(doc: &toml::Value, sets: Vec<Assignment>) -> Result<Vec<Assignment>> {
     let mut out: Vec<Assignment> = Vec::with_capacity(sets.len());
     for a in sets {
         let key = canonical_key(doc, &a.key);
+        let values: Vec<toml::Value> = a.values.iter().map(|v| parse_value(v)).collect();
+        for (j, v) in values.iter().enumerate() {
+            if let Some(i) = values[..j].iter().position(|u| same_value(u, v)) {
+                return Err(Error::invalid(
+                    "--set",
+                    &key,
+                    format!(
+                        "each value once: given twice (as `{}` and as `{}`), which runs the \
+                         same case twice",
+                        a.values[i], a.values[j]
+                    ),
+                ));
+            }
+        }
         if let Some(other) = out.iter().find(|b| b.key == key) {
             return Err(Error::invalid(
                 "--set",
@@ -487,6 +503,20 @@ pub fn canonical_sets(doc: &toml::Value, sets: Vec<Assignment>) -> Result<Vec<As
         out.push(Assignment { key, ..a });
     }
     Ok(out)
+}
+
+/// Whether two values of a key are one: equal TOML values, or an integer and a float of one
+/// number (`0` and `0.0`, which a key of a float reads alike).
+fn same_value(a: &toml::Value, b: &toml::Value) -> bool {
+    let number = |v: &toml::Value| match v {
+        toml::Value::Integer(i) => Some(*i as f64),
+        toml::Value::Float(x) => Some(*x),
+        _ => None,
+    };
+    match (number(a), number(b)) {
+        (Some(x), Some(y)) => x == y,
+        _ => a == b,
+    }
 }
 
 /// The canonical spelling of the dotted `key` into `doc` ([`canonical_sets`]); parts past
