@@ -82,6 +82,19 @@ fn animate_writes_a_looping_gif_of_several_frames() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Fails on the code before: the shipped zero-clearance scene simulated, then failed to draw
+/// (exit 1, "inset x range (170, 170) must be finite and increasing"): the inset magnified a
+/// clearance circle of radius 0. Its journal moves by its penetration, which the inset shows.
+#[test]
+fn animate_draws_a_joint_without_clearance() {
+    let dir = temp_dir("pictures", "zero");
+    let scene = scene_path("standard").with_file_name("stability/zero_clearance.toml");
+    let o = jointwear(&["animate", s(&scene), "--out", s(&dir), "--frames", "2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(file_names(&dir), ["mechanism_zero_clearance.gif"]);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn animate_refuses_bad_options_with_exit_code_2_and_writes_nothing() {
     let dir = temp_dir("pictures", "bad");

@@ -280,10 +280,16 @@ fn series(p: &MechanismPicture, view: View) -> Vec<Owned> {
 }
 
 /// The inset of the first clearance joint with an orbit: its clearance circle around the
-/// current bearing centre, at the same scale on both axes, titled with its magnification.
+/// current bearing centre, at the same scale on both axes, titled with its magnification; or,
+/// where the orbit reaches farther (a joint without clearance, whose journal moves by its
+/// penetration), the orbit. None if neither has a size.
 fn inset(p: &MechanismPicture, view: View, (w, h): (f64, f64)) -> Option<Inset> {
     let c = p.clearance.iter().find(|c| !c.orbit.is_empty())?;
-    let reach = INSET_REACH * c.clearance();
+    let farthest = (c.orbit.iter()).fold(c.clearance(), |r, &(ex, ey)| r.max(ex.hypot(ey)));
+    let reach = INSET_REACH * farthest;
+    if !(reach > 0.0 && reach.is_finite()) {
+        return None;
+    }
     let y_range = (c.bearing.1 - reach, c.bearing.1 + reach);
     // The pixel box of the inset's chart, as `draw::draw_inset` lays it out in the plotting
     // area (w, h) (approximately: the main view's label area may change by a character when
