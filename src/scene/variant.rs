@@ -95,6 +95,38 @@ pub fn parse_value(text: &str) -> toml::Value {
         .unwrap_or_else(|_| toml::Value::String(text.to_string()))
 }
 
+/// The canonical spelling of the dotted `key` into `doc` (`clearance.0` for `clearance.00`),
+/// by which a key given twice is found ([`Variant::set`], [`crate::sweep::canonical_sets`]);
+/// parts past where the document ends are kept as written (setting them fails with its own
+/// message).
+pub fn canonical_key(doc: &toml::Value, key: &str) -> String {
+    let mut node = Some(doc);
+    let parts: Vec<String> = key
+        .split('.')
+        .map(|part| match node {
+            Some(toml::Value::Array(items)) => match part.parse::<usize>() {
+                Ok(k) => {
+                    node = items.get(k);
+                    k.to_string()
+                }
+                Err(_) => {
+                    node = None;
+                    part.to_string()
+                }
+            },
+            Some(toml::Value::Table(table)) => {
+                node = table.get(part);
+                part.to_string()
+            }
+            _ => {
+                node = None;
+                part.to_string()
+            }
+        })
+        .collect();
+    parts.join(".")
+}
+
 /// A change asked for, as text ([`Variant::state`]): the key, the value as written, and
 /// whether it cuts (`--rotations`).
 pub type Change = (String, String, bool);
@@ -146,7 +178,9 @@ impl Variant {
     /// cannot have or a value of the wrong type is an error and leaves the variant as it was
     /// (a value out of range is refused by [`Variant::build`]). With `cut`, a change of
     /// `run.rotations` to N also drops the wear snapshots past N and cuts
-    /// `run.record_rotations` to N, unless they were set before: it returns those cuts.
+    /// `run.record_rotations` to N, unless they were set before: it returns those cuts. A key
+    /// asked before, under any spelling, replaces that change: the variant is the one asked
+    /// each key once, with its last value.
     pub fn set(
         &mut self,
         key: &str,
@@ -154,6 +188,22 @@ impl Variant {
         text: &str,
         cut: bool,
     ) -> Result<Vec<(String, toml::Value)>> {
+        // A key asked again replaces its earlier value: the variant is made again from the
+        // document as read without it, so that each key is asked once and the command line
+        // makes the same document (the program refuses a key given twice, and an earlier
+        // `run.rotations` would have cut what a later one keeps).
+        let again = canonical_key(&self.loaded, key);
+        if (self.asked.iter()).any(|a| canonical_key(&self.loaded, &a.key) == again) {
+            let mut fresh = Variant::new(self.loaded.clone(), &self.path);
+            for a in &self.asked {
+                if canonical_key(&self.loaded, &a.key) != again {
+                    fresh.set(&a.key, parse_value(&a.text[0]), &a.text[0], a.cut)?;
+                }
+            }
+            let cuts = fresh.set(key, value, text, cut)?;
+            *self = fresh;
+            return Ok(cuts);
+        }
         let mut doc = self.doc.clone();
         set_dotted(&mut doc, key, value)?;
         let mut file = SceneFile::from_document(doc.clone(), &self.path)?;
@@ -318,5 +368,36 @@ mod tests {
         let copy = Variant::restore(v.path(), &loaded, &asked).unwrap();
         assert_eq!(copy.document(), v.document());
         assert_eq!(copy.origin(), v.origin());
+    }
+
+    /// A key set twice (Python's `set`) is asked once, with its last value: the program
+    /// refuses a key given twice, so a command line naming both would not run again. Failed
+    /// before: the command held `--set clearance.0.clearance_mm=0.03 --set
+    /// clearance.00.clearance_mm=0.05`, and a second `run.rotations` kept the first's cut.
+    #[test]
+    fn a_key_set_again_replaces_its_earlier_value() {
+        let path = scene_path("standard");
+        let mut v = Variant::read(&path).unwrap();
+        v.set("clearance.0.clearance_mm", 0.03.into(), "0.03", false)
+            .unwrap();
+        v.set(ROTATIONS, 1.into(), "1", true).unwrap();
+        v.set("clearance.00.clearance_mm", 0.05.into(), "0.05", false)
+            .unwrap();
+        v.set(ROTATIONS, 40.into(), "40", true).unwrap();
+        let mut once = Variant::read(&path).unwrap();
+        once.set("clearance.00.clearance_mm", 0.05.into(), "0.05", false)
+            .unwrap();
+        once.set(ROTATIONS, 40.into(), "40", true).unwrap();
+        assert_eq!(v.document(), once.document());
+        assert_eq!(v.origin(), once.origin());
+        assert!(
+            v.command()
+                .ends_with(" --set clearance.00.clearance_mm=0.05 --rotations 40"),
+            "{}",
+            v.command()
+        );
+        // and a failed change leaves the variant as it was
+        assert!(v.set(ROTATIONS, "x".into(), "x", true).is_err());
+        assert_eq!(v.origin(), once.origin());
     }
 }

@@ -75,6 +75,7 @@ impl Assignment {
     }
 }
 
+use crate::scene::variant::canonical_key;
 pub use crate::scene::variant::parse_value;
 
 /// Shard `index` of `count` (1-based).
@@ -517,36 +518,6 @@ fn same_value(a: &toml::Value, b: &toml::Value) -> bool {
         (Some(x), Some(y)) => x == y,
         _ => a == b,
     }
-}
-
-/// The canonical spelling of the dotted `key` into `doc` ([`canonical_sets`]); parts past
-/// where the document ends are kept as written (setting them fails with its own message).
-fn canonical_key(doc: &toml::Value, key: &str) -> String {
-    let mut node = Some(doc);
-    let parts: Vec<String> = key
-        .split('.')
-        .map(|part| match node {
-            Some(toml::Value::Array(items)) => match part.parse::<usize>() {
-                Ok(k) => {
-                    node = items.get(k);
-                    k.to_string()
-                }
-                Err(_) => {
-                    node = None;
-                    part.to_string()
-                }
-            },
-            Some(toml::Value::Table(table)) => {
-                node = table.get(part);
-                part.to_string()
-            }
-            _ => {
-                node = None;
-                part.to_string()
-            }
-        })
-        .collect();
-    parts.join(".")
 }
 
 /// An ensemble of one case: its joint statistics and wall time.
