@@ -204,7 +204,9 @@ fn a_second_sweep_into_a_file_in_use_is_refused() {
 
 /// Fails on today's code: repeating a killed checkpointed run without `--resume` overwrote
 /// its checkpoint (rotation 520 became 210), and any run that completed in the folder
-/// removed it.
+/// removed it. Failed too before `longlife` checked for it: a prediction into the folder
+/// wrote its outputs beside the checkpoint (exit 0), after which `--resume` was refused as
+/// the folder held another command's outputs.
 #[test]
 fn the_checkpoint_of_an_unfinished_run_is_kept_unless_the_user_says_otherwise() {
     let dir = temp_dir("outputs", "checkpoint");
@@ -224,7 +226,12 @@ fn the_checkpoint_of_an_unfinished_run_is_kept_unless_the_user_says_otherwise() 
     killed.kill().unwrap(); // SIGKILL: the lock stays behind, stale
     killed.wait().unwrap();
     let before = fs::read(&saved).unwrap();
-    for again in [&args[..], &["run", s(&scene), "--out", s(&out)][..]] {
+    let others: [&[&str]; 3] = [
+        &["run", s(&scene), "--out", s(&out)],
+        &["run", s(&scene), "--out", s(&out), "--ensemble", "2"],
+        &["longlife", s(&scene), "--rotations", "10", "--out", s(&out)],
+    ];
+    for again in [&args[..]].into_iter().chain(others) {
         let o = jointwear(again);
         assert_fails(
             &o,

@@ -5,7 +5,6 @@ use crate::failure::{CliResult, Failure};
 use crate::{claim_outputs, load_variant};
 use jointwear::io::format::{self as people, quantity, Reading};
 use jointwear::io::progress::progress_bar;
-use jointwear::simulation::checkpoint::refuse_checkpoint;
 use jointwear::simulation::ensemble::{self, EnsembleSettings};
 use jointwear::simulation::folder::ensemble::{write_ensemble, Member};
 use jointwear::simulation::folder::FolderCommand;
@@ -55,12 +54,8 @@ pub fn run_ensemble(
     let variant = load_variant(path, sets, rotations, ("ensemble", out))?;
     let (scene, dir) = (&variant.scene, &variant.dir);
     fits(path, &settings, scene)?;
+    // (Refused there too: a folder holding a plain run's unfinished checkpoint.)
     let _claim = claim_outputs(path, dir, FolderCommand::Ensemble)?;
-    // A plain run's unfinished checkpoint is not an ensemble's to overwrite or leave beside its
-    // outputs (a later --resume would replace them).
-    let how = "continue that run with `jointwear run ... --resume`, start it over with \
-               --discard-checkpoint (without --ensemble)";
-    refuse_checkpoint("--out", dir, how).map_err(|e| Failure::input(path, e))?;
     let clock = std::time::Instant::now();
     let bar = progress_bar(settings.members as u64, "members");
     let members = ensemble::run(

@@ -24,6 +24,7 @@ use jointwear::io::lock::{self, print_notes, Lock};
 use jointwear::io::paper_claim::claim_output;
 use jointwear::scene::reversal_note;
 use jointwear::scene::variant::{parse_value, Variant};
+use jointwear::simulation::checkpoint::refuse_checkpoint;
 use jointwear::simulation::ensemble::{EnsembleSettings, Perturbation, DEFAULT_SEED, MAX_MEMBERS};
 use jointwear::simulation::folder::{self, FolderCommand};
 use jointwear::simulation::Scene;
@@ -427,11 +428,19 @@ fn claim_with(
 /// [`claim_out`] for `command`, which writes an output folder with a manifest (`run`, `run
 /// --member`, `run --ensemble`, `longlife`): its manifest is checked too, before any work, so
 /// that one this program cannot trust, or one of another command's outputs, is refused at
-/// once (exit 2), not after the run ([`folder::check_manifest`]).
+/// once (exit 2), not after the run ([`folder::check_manifest`]). So is a folder holding the
+/// checkpoint of an unfinished run, for every command but `run` (which continues or discards
+/// it as told, [`run::Saved`]): its outputs beside the checkpoint would make the folder
+/// another command's, into which `run --resume` is then refused.
 fn claim_outputs(scene: &Path, dir: &Path, command: FolderCommand) -> CliResult<Claims> {
     let claim = claim_out(scene, dir)?;
     folder::check_manifest("--out", dir, command, folder::OUT_REMEDY)
         .map_err(|e| Failure::from(scene, e))?;
+    if !matches!(command, FolderCommand::Run | FolderCommand::Member) {
+        let how = "continue that run with `jointwear run ... --resume`, or start it over with \
+                   `jointwear run ... --discard-checkpoint`";
+        refuse_checkpoint("--out", dir, how).map_err(|e| Failure::input(scene, e))?;
+    }
     Ok(claim)
 }
 
