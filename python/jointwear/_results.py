@@ -146,7 +146,8 @@ class Run:
         them), if it holds the outputs of another command (an ensemble's folder, or
         ``jointwear longlife``'s), which this write would remove or overwrite, or if it holds
         the checkpoint of an unfinished ``jointwear run``, which would later replace them, or
-        for a scene from a dict, if it holds another ``scene.toml`` than an earlier save's."""
+        for a scene from a dict, if it holds another ``scene.toml`` than an earlier save's
+        (whose first line says so)."""
         self._folder.save(_path("directory", directory))
 
     def to_pandas(self, table: str = "timeseries"):

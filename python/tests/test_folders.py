@@ -17,7 +17,7 @@ import pytest
 
 import jointwear
 
-from conftest import ROOT, STANDARD, short
+from conftest import ROOT, STANDARD, short, short_file
 
 # The changes both sides make: `--set run.record_rotations=1 --rotations 2` and the same `set`s
 # in the same order (the rotations last, as the program applies them), so that the folders
@@ -138,6 +138,21 @@ def test_a_dict_scenes_save_keeps_another_scene_toml(tmp_path):
     other = short(jointwear.Scene.from_dict({"extends": str(STANDARD), "title": "other"}))
     other.run().save(tmp_path / "out")
     assert 'title = "other"' in (tmp_path / "out" / "scene.toml").read_text()
+
+
+# Fails on the manifest's word: a folder the program ran the user's own scene.toml into
+# (`jointwear run D/scene.toml --out D`) names that file in its manifest's command line, as a
+# save's does, and the save of a dict scene replaced the user's scene by its own.
+def test_a_dict_scenes_save_keeps_the_scene_toml_a_program_ran(tmp_path, cli):
+    mine = tmp_path / "scene.toml"
+    mine.write_text(short_file(tmp_path, "short.toml").read_text() + "# my notes\n")
+    done = cli("run", mine, "--out", tmp_path)
+    assert done.returncode == 0, done.stderr
+    before = mine.read_text()
+    s = short(jointwear.Scene.from_dict({"extends": str(STANDARD), "title": "other"}))
+    with pytest.raises(jointwear.SceneError, match="without another scene's scene.toml"):
+        s.run().save(tmp_path)
+    assert mine.read_text() == before
 
 
 # Fails when the member is handed over as TOML, whose integers stop at 2^63 - 1.

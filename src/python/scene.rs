@@ -8,12 +8,12 @@ use crate::analysis::states::{States, STATE_COLUMNS, STATE_COUNTS};
 use crate::analysis::statistics::{Distribution, VALUE_KEYS};
 use crate::analysis::Motion;
 use crate::io::lock::claim_folder;
-use crate::io::output::{check_output_dir, manifest_title, write_text};
+use crate::io::output::{check_output_dir, read_bounded_text, write_text};
 use crate::io::paper_claim::claim_output;
 use crate::io::progress::Progress;
 use crate::laws::wear::sector_angles_deg;
-use crate::scene::variant::{run_command, Change, Variant};
-use crate::scene::{reversal_note, SceneFile};
+use crate::scene::variant::{Change, Variant};
+use crate::scene::{reversal_note, SceneFile, MAX_SCENE_BYTES};
 use crate::simulation::checkpoint::{refuse_checkpoint, ARITHMETIC};
 use crate::simulation::ensemble::{self, EnsembleSettings, Perturbation, MAX_MEMBERS};
 use crate::simulation::folder::ensemble::{write_ensemble, Member};
@@ -684,23 +684,27 @@ const DICT_NAME: &str = "<dict>";
 /// The file into which `save` writes the scene of a dict ([`save_scene`]).
 const SAVED_SCENE: &str = "scene.toml";
 
+/// The first line of every scene file [`save_scene`] writes: it tells an earlier save's
+/// `scene.toml`, which the next save replaces, from the user's own (a TOML comment, so the
+/// scene and its fingerprint are as without it).
+const SAVED_SCENE_MARK: &str = "# The scene built from a dict that Run.save or Ensemble.save \
+                                of jointwear saved with this folder; the next save replaces it";
+
 /// Writes the scene document of `variant`, built from a dict, as read (before its changes) to
-/// `dir/scene.toml` and returns the origin of the variant named by that file: the folder's
-/// command line then reruns it (`jointwear run DIR/scene.toml --set …`) with the same
-/// fingerprint, which a dict's name (`<dict>`) could not. A `scene.toml` of another scene is
-/// refused (it may be the user's own) unless the folder's manifest names it as its scene, an
-/// earlier save's.
+/// `dir/scene.toml`, under [`SAVED_SCENE_MARK`], and returns the origin of the variant named
+/// by that file: the folder's command line then reruns it (`jointwear run DIR/scene.toml --set
+/// …`) with the same fingerprint, which a dict's name (`<dict>`) could not. A `scene.toml`
+/// without that mark is refused: it is the user's own, even where the folder's manifest names
+/// it (the program's run of that file into its folder, `jointwear run D/scene.toml --out D`,
+/// names it as a save's does).
 fn save_scene(dir: &Path, variant: &Variant) -> crate::Result<Origin> {
     let path = dir.join(SAVED_SCENE);
     let saved = variant.named(&path);
     let (text, _) = saved.state()?;
-    let ours = |title: String| {
-        let command = run_command(&path);
-        title == command || title.starts_with(&format!("{command} "))
-    };
+    let saves = |text: String| text.starts_with(&format!("{SAVED_SCENE_MARK}\n"));
+    let why = "1 MiB; the largest shipped scene is a few kB";
     if path.exists()
-        && std::fs::read_to_string(&path).ok().as_deref() != Some(text.as_str())
-        && !manifest_title(dir)?.is_some_and(ours)
+        && !read_bounded_text(&path, MAX_SCENE_BYTES, "a scene file", why).is_ok_and(saves)
     {
         return Err(Error::invalid(
             SAVE_ARGUMENT,
@@ -713,7 +717,7 @@ fn save_scene(dir: &Path, variant: &Variant) -> crate::Result<Origin> {
             ),
         ));
     }
-    write_text(&path, &text)?;
+    write_text(&path, &format!("{SAVED_SCENE_MARK}\n{text}"))?;
     Ok(saved.origin())
 }
 
