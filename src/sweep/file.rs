@@ -761,7 +761,10 @@ impl<'a> JournaledSweep<'a> {
     /// telling `progress` the cases finished, then rewrites the file in case order from the
     /// rows it holds. Returns the number of rows and the cases that failed (an error in their
     /// last column). A row that cannot be appended does not stop the sweep: the final rewrite
-    /// holds it, and the first such error is returned after it.
+    /// holds it, and the first such error is returned after it. A file that then holds fewer
+    /// rows than the shard's cases lost some while the sweep ran (another program truncated,
+    /// edited or replaced it): rewritten with what it holds, it is an error, never a finished
+    /// sweep.
     pub fn run(self, progress: &dyn Progress) -> Result<(usize, Vec<usize>)> {
         let JournaledSweep {
             sweep,
@@ -795,7 +798,20 @@ impl<'a> JournaledSweep<'a> {
             .collect();
         failed.sort_unstable();
         let count = rows.len();
+        let path = journal.path().to_path_buf();
         journal.finish(&id, &header, rows)?;
+        if count != id.cases {
+            return Err(parse_error(
+                &path,
+                format!(
+                    "holds {count} of the {} cases of shard {}/{} after every one ran: rows \
+                     were lost while the sweep ran; likely cause: the file was truncated, \
+                     edited or replaced by another program meanwhile (resume the sweep with \
+                     --resume to run the missing cases again)",
+                    id.cases, id.shard.index, id.shard.count
+                ),
+            ));
+        }
         match append_error {
             Some(e) => Err(e),
             None => Ok((count, failed)),
