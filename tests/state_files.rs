@@ -524,3 +524,26 @@ fn sweep_files_that_are_devices_or_fifos_are_refused_without_reading_them() {
     }
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// An output folder's manifest is a regular file read with a bound: a device or a FIFO in its
+/// place is refused before it is opened. Before, a manifest linked to /dev/zero was read until
+/// the memory ran out, and a FIFO made `run` wait for a writer (here one writes 2 kB of
+/// comments, and the old code ran, exit 0; /dev/null read as an empty manifest).
+#[test]
+fn manifests_that_are_devices_or_fifos_are_refused_without_reading_them() {
+    let dir = temp_dir("state", "manifest-fifo");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let out = dir.join("out");
+    fs::create_dir_all(&out).unwrap();
+    let manifest = out.join("jointwear-manifest.txt");
+    let refused = || {
+        let o = jointwear(&["run", s(&scene), "--out", s(&out)]);
+        assert_fails(&o, 2, &[s(&manifest), "not a regular file"]);
+    };
+    std::os::unix::fs::symlink("/dev/null", &manifest).unwrap();
+    refused();
+    fs::remove_file(&manifest).unwrap();
+    with_waiting_writer(&manifest, refused);
+    assert_eq!(file_names(&out), ["jointwear-manifest.txt"]);
+    fs::remove_dir_all(&dir).unwrap();
+}

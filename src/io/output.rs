@@ -246,12 +246,20 @@ pub fn manifest_title(dir: &Path) -> Result<Option<String>> {
     Ok(first.and_then(|l| l.strip_prefix("# ")).map(str::to_owned))
 }
 
-/// The text of the manifest of `dir`, None if there is none.
+/// Largest manifest read back (bytes): its lines are a command line, which the system bounds
+/// (2 MiB of arguments on Linux by default), and the names of a folder's files, at most 100
+/// bytes each. A larger file is not a manifest, and reading it whole would only fill the
+/// memory (one linked to `/dev/zero` did).
+const MAX_MANIFEST_BYTES: u64 = 64 << 20;
+
+/// The text of the manifest of `dir`, None if there is none; a regular file of at most
+/// [`MAX_MANIFEST_BYTES`] ([`read_bounded_text`]: a FIFO in its place made a run wait).
 fn manifest_text(dir: &Path) -> Result<Option<String>> {
     let manifest = dir.join(MANIFEST);
-    match fs::read_to_string(&manifest) {
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-        read => read.map(Some).map_err(|e| io_error(&manifest, e)),
+    let why = "a command line and the names of a folder's files";
+    match read_bounded_text(&manifest, MAX_MANIFEST_BYTES, "a manifest", why) {
+        Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        read => read.map(Some),
     }
 }
 
