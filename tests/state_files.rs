@@ -547,3 +547,28 @@ fn manifests_that_are_devices_or_fifos_are_refused_without_reading_them() {
     assert_eq!(file_names(&out), ["jointwear-manifest.txt"]);
     fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A lock file is a regular file read with a bound: a FIFO in its place (an output folder's
+/// lock, or a `.<name>.lock` of a file's claim in it) is refused or passed over, never opened.
+/// Before, `run` waited for a writer of the FIFO (here one writes 2 kB of `#` lines, which the
+/// old code read and refused as a lock cut short, the folder's as the run's own lock: exit 2
+/// without naming the FIFO; the file claim's as a sweep's).
+#[test]
+fn locks_that_are_fifos_are_never_opened() {
+    let dir = temp_dir("state", "lock-fifo");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let out = dir.join("out");
+    fs::create_dir_all(&out).unwrap();
+    let run = || jointwear(&["run", s(&scene), "--out", s(&out)]);
+    let lock = out.join(".jointwear.lock");
+    with_waiting_writer(&lock, || {
+        assert_fails(&run(), 2, &[s(&lock), "not a regular file"])
+    });
+    fs::remove_file(&lock).unwrap();
+    // Not a sweep's claim, which the run looks for: it goes on without reading it.
+    with_waiting_writer(&out.join(".sweep.csv.lock"), || {
+        let o = run();
+        assert!(o.status.success(), "{}", stderr(&o));
+    });
+    fs::remove_dir_all(&dir).unwrap();
+}

@@ -24,7 +24,7 @@
 //! cannot tell whether its holder runs: the refusal says why.
 
 use crate::io::interrupt;
-use crate::io::output::{temporary_of, MANIFEST};
+use crate::io::output::{read_bounded_text, temporary_of, MANIFEST};
 use crate::{Error, Result};
 use std::ffi::OsString;
 use std::fs;
@@ -160,11 +160,21 @@ fn live_file_claim(dir: &Path) -> Option<(PathBuf, String)> {
     })
 }
 
-/// The content of the lock file `lock` if its holder may still run (not [`gone`]).
+/// The content of the lock file `lock` if its holder may still run (not [`gone`]); None if it
+/// cannot be read as a lock ([`read_lock`]).
 fn live_holder(lock: &Path) -> Option<String> {
-    fs::read_to_string(lock)
-        .ok()
-        .filter(|held| gone(held).is_none())
+    read_lock(lock).ok().filter(|held| gone(held).is_none())
+}
+
+/// Largest lock file read (bytes): it holds its holder's id, host and start time and its
+/// command line, whose arguments the system bounds (2 MiB on Linux by default).
+const MAX_LOCK_BYTES: u64 = 64 << 20;
+
+/// The text of the lock file `lock`, a regular file of at most [`MAX_LOCK_BYTES`]
+/// ([`read_bounded_text`]): a FIFO in its place made a claim wait for a writer.
+fn read_lock(lock: &Path) -> Result<String> {
+    let why = "its holder's id, host, start time and command line";
+    read_bounded_text(lock, MAX_LOCK_BYTES, "a lock file", why)
 }
 
 /// Claims the output file `file` (e.g. a sweep's CSV) for this process through the lock file
@@ -456,7 +466,12 @@ fn claim_nested(
                 return Ok(claimed);
             }
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
-                let held = fs::read_to_string(lock).unwrap_or_default();
+                // (One removed since, or unreadable, reads as empty: a flawed lock, refused
+                // below. One that is no regular file, or too large, is no lock of this program.)
+                let held = match read_lock(lock) {
+                    Err(e @ Error::Parse { .. }) => return Err(e),
+                    read => read.unwrap_or_default(),
+                };
                 let Some(how) = gone(&held) else {
                     let why = flaw(&held).map_or(String::new(), |flaw| {
                         format!(", which cannot tell whether its holder runs: {flaw}")
@@ -560,7 +575,7 @@ fn take_over(
     name.push(format!(".takeover-{}", field(held, "pid").unwrap_or("?")));
     let marker = claim_nested(option, target, Path::new(&name), None, None, depth + 1)?;
     notes.extend_from_slice(marker.notes());
-    let now = fs::read_to_string(lock).unwrap_or_default();
+    let now = read_lock(lock).unwrap_or_default();
     if now != held || gone(&now).is_none() {
         // Taken over and released, or claimed afresh, since it was read.
         return Ok(false);
