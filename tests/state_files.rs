@@ -411,7 +411,7 @@ fn edited_cells_of_sweep_files_are_refused_naming_row_column_and_value() {
         (
             header.len() - 1,
             "x",
-            "the label check of its case and set values",
+            "the label check of its case, set values and results",
         ),
     ] {
         let mut cells: Vec<&str> = lines[2].split(',').collect();
@@ -446,12 +446,21 @@ fn edited_cells_of_sweep_files_are_refused_naming_row_column_and_value() {
             );
         }
     }
-    // A set value changed to another valid value, or a row given another case: its label
-    // check no longer matches, which merge and resume both tell (before the check, merge
-    // filed the results under the new label).
+    // A set value changed to another valid value, or a row given another case, or a result
+    // changed to another valid value: its label check no longer matches, which merge and
+    // resume both tell (before the check, merge filed the results under the new label; and
+    // before it covered the results, a wear depth edited, or rounded by a spreadsheet that
+    // saved the file, was merged and resumed as the sweep's, exit 0).
+    let mut result: Vec<&str> = lines[2].split(',').collect();
+    let depth = format!(
+        "{}",
+        result[column("max_wear_depth_m")].parse::<f64>().unwrap() * 2.0
+    );
+    result[column("max_wear_depth_m")] = &depth;
     for relabelled in [
         lines[2].replacen("-1000", "-2000", 1),
         lines[2].replacen("1,", "0,", 1),
+        result.join(","),
     ] {
         let row = if relabelled.starts_with("0,") {
             format!("{relabelled}\n")
@@ -460,8 +469,8 @@ fn edited_cells_of_sweep_files_are_refused_naming_row_column_and_value() {
         };
         fs::write(&edited, format!("{}\n{row}", lines[0])).unwrap();
         let needles = [
-            "the label check of its case and set values",
-            "a set value is not the one the sweep wrote",
+            "the label check of its case, set values and results",
+            "a set value or a result) is not the one the sweep wrote",
         ];
         let merge = jointwear(&["sweep-merge", s(&edited), "--out", s(&merged)]);
         assert_fails(&merge, 2, &needles);
@@ -493,7 +502,7 @@ fn edited_cells_of_sweep_files_are_refused_naming_row_column_and_value() {
     let failed = format!("1,-1000{},some error", ",".repeat(columns - 1));
     let cells: Vec<String> = failed.split(',').map(String::from).collect();
     let id = SweepId::parse(header[header.len() - 1]).unwrap();
-    let check = label_check(&id.fingerprint, &cells, 2);
+    let check = label_check(&id.fingerprint, &cells, column("wall_time_s"));
     fs::write(
         &edited,
         format!("{}\n{}\n{failed},{check}\n", lines[0], lines[1]),

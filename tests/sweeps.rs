@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use jointwear::sweep::file::SweepFile;
+use jointwear::sweep::file::{label_check, SweepFile, SweepId};
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -514,7 +514,8 @@ fn rows_with_impossible_measurements_are_refused() {
         assert!(SweepFile::read(file).is_ok());
     }
     // Within what any scene could run, but not what this case's scene runs (one rotation, no
-    // settling): --resume, which has the scene, refuses them.
+    // settling): --resume, which has the scene, refuses them, also with the row's label check
+    // made again for the edit.
     let scene_edits = [
         ("rod-slider.rotations_simulated", "2"),
         ("rod-slider.settled", "true"),
@@ -522,11 +523,16 @@ fn rows_with_impossible_measurements_are_refused() {
     let whole = fs::read_to_string(&out).unwrap();
     let lines: Vec<&str> = whole.lines().collect();
     let header: Vec<&str> = lines[0].split(',').collect();
+    let id = SweepId::parse(header[header.len() - 1]).unwrap();
+    let wall = header.iter().position(|h| h == &"wall_time_s").unwrap();
     for (column, value) in scene_edits {
         let k = header.iter().position(|h| h == &column).unwrap();
-        let mut row: Vec<&str> = lines[1].split(',').collect();
-        row[k] = value;
-        fs::write(&out, format!("{}\n{}\n", lines[0], row.join(","))).unwrap();
+        let mut row: Vec<String> = lines[1].split(',').map(String::from).collect();
+        row.pop();
+        row[k] = value.to_string();
+        let check = label_check(&id.fingerprint, &row, wall);
+        let edited = format!("{}\n{},{check}\n", lines[0], row.join(","));
+        fs::write(&out, edited).unwrap();
         let resume = sweep(&scene, &[&TWO_CASES[..], &["--resume"]].concat(), &out);
         let needles = [
             "row 1 (case 0)",

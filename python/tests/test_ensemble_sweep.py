@@ -260,7 +260,7 @@ def test_the_programs_sweep_file_is_plain_csv_for_pandas(tmp_path, cli):
     assert frame["case"].tolist() == [0, 1]
     assert frame["driver.speed_rpm"].tolist() == [-600, -2000]
     assert frame.columns[-1].startswith("jointwear sweep fingerprint=")
-    # each row's label check: a hash of the fingerprint, its case and its set values
+    # each row's label check: a hash of the fingerprint and every cell but the wall time
     assert frame[frame.columns[-1]].str.fullmatch("label-[0-9a-f]{16}").all()
     sweep = jointwear.Scene.load(path).sweep({"driver.speed_rpm": [-600, -2000]})
     # pandas' default float parser may miss the last bit of the shortest round-trip text

@@ -2,7 +2,8 @@
 //!
 //! A sweep file is plain CSV, the header then one row per finished case; the name of its last
 //! column names the sweep, and that column holds each row's label check (a hash of the
-//! fingerprint, the case number and the set values, which a row relabelled by hand fails):
+//! fingerprint and of every cell but the measured wall time: the case number, the set values
+//! and the results, which a row relabelled or edited by hand fails):
 //! ```text
 //! case,clearance.0.clearance_mm,…,wall_time_s,error,jointwear sweep fingerprint=5f1c0a9e3b7d2c41 shard=2/4 cases=3 total=12
 //! ```
@@ -233,7 +234,7 @@ impl SweepFile {
         })?;
         let mut rows = Vec::new();
         let mut seen = HashSet::new();
-        let labels = labels_of(&cells);
+        let wall = wall_column(&header);
         // Every line here ends with its newline (a line cut by a kill was dropped above), so a
         // row of another length was edited: dropping it would lose a case without a word.
         for (k, mut row) in all.into_iter().enumerate() {
@@ -267,7 +268,7 @@ impl SweepFile {
                 ));
             }
             // (A cell's misfit, else the label check's, each with its likely cause.)
-            let expected = label_check(&id.fingerprint, &row, labels);
+            let expected = label_check(&id.fingerprint, &row, wall);
             let misfit = misfit_cell(&cells, &row)
                 .map(|(column, value, writes)| {
                     let cause = "the file was edited (remove the row and resume the sweep to \
@@ -275,15 +276,17 @@ impl SweepFile {
                     (header[column].clone(), value, writes, cause)
                 })
                 .or_else(|| {
-                    let writes = "the label check of its case and set values".to_string();
+                    let writes = "the label check of its case, set values and results".to_string();
                     let cause = if check.is_empty() {
                         "a file of an earlier version, whose labels cannot be checked (run its \
                          sweep again)"
                     } else {
-                        "the file was edited: its case number or a set value is not the one the \
-                         sweep wrote, and merged or resumed its results would be filed under \
-                         another case (remove the row and resume the sweep to run its case \
-                         again)"
+                        "the file was edited: a cell of the row (its case number, a set value \
+                         or a result) is not the one the sweep wrote, and merged or resumed the \
+                         row would be kept as the sweep's, its results perhaps filed under \
+                         another case (a spreadsheet that saved the file rounds its numbers), or \
+                         it is a file of a version whose checks covered the case and set values \
+                         alone (remove the row and resume the sweep to run its case again)"
                     };
                     (check != expected).then(|| (id.column_name(), check, writes, cause))
                 });
@@ -560,45 +563,47 @@ fn misfit_cell(cells: &[Cell], row: &[String]) -> Option<(usize, String, String)
 /// Writes a sweep file atomically: the header with the id column, the rows with their label
 /// checks.
 fn write_file(path: &Path, id: &SweepId, header: &[String], rows: Vec<Vec<String>>) -> Result<()> {
-    let labels = label_columns(header);
+    let wall = wall_column(header);
     write_table(
         path,
         None,
         &with_id(header, id),
         rows.into_iter()
-            .map(|r| with_check(r, &id.fingerprint, labels)),
+            .map(|r| with_check(r, &id.fingerprint, wall)),
     )
 }
 
-/// How many leading cells of a row under `header` label its case: `case` and the set values.
-fn label_columns(header: &[String]) -> usize {
-    cell_kinds(header).map_or(1, |kinds| labels_of(&kinds))
-}
-
-/// How many leading cells of a row of `kinds` ([`cell_kinds`]) label its case.
-fn labels_of(kinds: &[Cell]) -> usize {
-    (kinds.iter())
-        .take_while(|c| matches!(c, Cell::Case | Cell::Value))
-        .count()
+/// The cell of a row under `header` that its label check leaves out: `wall_time_s`, measured,
+/// so that two runs of a case (a sweep and the merge of its shards) write the same check.
+fn wall_column(header: &[String]) -> usize {
+    header
+        .iter()
+        .position(|h| h == "wall_time_s")
+        .unwrap_or(header.len())
 }
 
 /// Why a file may hold another sweep's rows, for the messages that refuse it.
 const ANOTHER_SWEEP: &str = "another scene, other --set values, another shard or another \
                              program version's arithmetic";
 
-/// The label check of a row whose first `labels` cells are its case and set values, in a file
-/// of the sweep `fingerprint`: their hash, written in the row's cell of the id column. A row
-/// relabelled by hand (its case number, or a set value turned into another valid one) no
-/// longer matches it, so that no merge or resume files its results under another case.
-pub fn label_check(fingerprint: &str, row: &[String], labels: usize) -> String {
+/// The label check of a row in a file of the sweep `fingerprint`: the hash of its cells but
+/// cell `wall` (the measured wall time, `wall_time_s`), written in the row's cell of the id
+/// column. A row relabelled by hand (its case number, or a set value turned into another valid
+/// one) no longer matches it, so that no merge or resume files its results under another
+/// case; nor does one whose results were edited (a spreadsheet that saved the file rounds
+/// them), so that none is kept as the sweep's.
+pub fn label_check(fingerprint: &str, row: &[String], wall: usize) -> String {
+    let cells: Vec<&str> = (row.iter().enumerate())
+        .filter(|&(k, _)| k != wall)
+        .map(|(_, c)| c.as_str())
+        .collect();
     // (Prefixed, so that CSV readers never take the hex digits for a number.)
-    let hash = salted(fingerprint, &row[..labels.min(row.len())].join("\u{1f}"));
-    format!("label-{hash}")
+    format!("label-{}", salted(fingerprint, &cells.join("\u{1f}")))
 }
 
 /// `row` and its label check in the cell of the id column.
-fn with_check(mut row: Vec<String>, fingerprint: &str, labels: usize) -> Vec<String> {
-    row.push(label_check(fingerprint, &row, labels));
+fn with_check(mut row: Vec<String>, fingerprint: &str, wall: usize) -> Vec<String> {
+    row.push(label_check(fingerprint, &row, wall));
     row
 }
 
@@ -622,9 +627,9 @@ pub fn write_sweep_file(
 #[derive(Debug)]
 pub struct Journal {
     table: GrowingTable,
-    /// The sweep's fingerprint and its rows' label cells, for their checks.
+    /// The sweep's fingerprint and its rows' wall time cell, for their checks.
     fingerprint: String,
-    labels: usize,
+    wall: usize,
 }
 
 impl Journal {
@@ -635,19 +640,19 @@ impl Journal {
         header: &[String],
         kept: &[Vec<String>],
     ) -> Result<Journal> {
-        let (fingerprint, labels) = (id.fingerprint.clone(), label_columns(header));
-        let kept = (kept.iter().cloned()).map(|r| with_check(r, &fingerprint, labels));
+        let (fingerprint, wall) = (id.fingerprint.clone(), wall_column(header));
+        let kept = (kept.iter().cloned()).map(|r| with_check(r, &fingerprint, wall));
         let table = GrowingTable::create(path, None, &with_id(header, id), kept)?;
         Ok(Journal {
             table,
             fingerprint,
-            labels,
+            wall,
         })
     }
 
     /// Appends one row in a single write, so that rows of parallel cases never interleave.
     pub fn append(&self, row: &[String]) -> Result<()> {
-        let row = with_check(row.to_vec(), &self.fingerprint, self.labels);
+        let row = with_check(row.to_vec(), &self.fingerprint, self.wall);
         self.table.append(&row)
     }
 
