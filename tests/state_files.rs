@@ -36,10 +36,12 @@ fn real_checkpoint(dir: &Path) -> (Scene, Value) {
     (scene, json)
 }
 
-/// Writes `file` with its checksum recomputed (the documented FNV-1a 64 of the compact,
-/// key-sorted JSON of `checkpoint`), as an edit that knows the format would.
+/// Writes `file` with its checksum recomputed (the documented FNV-1a 64 of the scene's
+/// fingerprint, U+001F and the compact, key-sorted JSON of `checkpoint`), as an edit that
+/// knows the format would.
 fn reseal(path: &Path, mut file: Value) {
-    let sum = fnv1a(file["checkpoint"].to_string().as_bytes());
+    let scene = file["scene_fingerprint"].as_str().unwrap();
+    let sum = fnv1a(format!("{scene}\u{1f}{}", file["checkpoint"]).as_bytes());
     file["checksum"] = Value::String(format!("{sum:016x}"));
     fs::write(path, file.to_string()).unwrap();
 }
@@ -115,6 +117,19 @@ fn edited_checkpoints_are_refused_naming_the_field() {
     let mut file = real.clone();
     let _ = ptr(&mut file, "/rotation");
     file["checkpoint"]["rotation"] = 2.into();
+    fs::write(&path, file.to_string()).unwrap();
+    let e = resume(&scene, &path).unwrap_err().to_string();
+    assert!(
+        e.contains("checksum") && e.contains("edited or damaged"),
+        "{e}"
+    );
+    // So is the scene's fingerprint: one of another scene's checkpoint edited to this scene's
+    // (which the refusal of the other's names) was resumed as this scene's run, exit 0.
+    let mut file = real.clone();
+    file["scene_fingerprint"] = "another scene".into();
+    reseal(&path, file);
+    let mut file: Value = serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
+    file["scene_fingerprint"] = "fp".into();
     fs::write(&path, file.to_string()).unwrap();
     let e = resume(&scene, &path).unwrap_err().to_string();
     assert!(

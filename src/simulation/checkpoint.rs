@@ -2,16 +2,17 @@
 //! process continue it, bit for bit the same as a run that was never interrupted.
 //!
 //! The file (`checkpoint.json` in the run's output folder) holds the scene's fingerprint (the
-//! resolved scene document, as sweeps fingerprint theirs), the [`Checkpoint`] and its checksum;
-//! a checkpoint of another scene, or of the same scene edited since, is refused, and so is one
-//! whose content does not match its checksum (edited or damaged). [`super::Simulation::resume`]
+//! resolved scene document, as sweeps fingerprint theirs), the [`Checkpoint`] and the checksum
+//! of both; a checkpoint of another scene, or of the same scene edited since, is refused, and
+//! so is one whose fingerprint and content do not match its checksum (edited or damaged: a
+//! fingerprint edited to the scene's would resume another scene's run as this one's). [`super::Simulation::resume`]
 //! then checks every field against the scene. Floats are written in the shortest form that
 //! parses back to the same bits. Files are written atomically, so a run killed while writing
 //! keeps its previous checkpoint.
 //!
-//! The checksum is the 64-bit FNV-1a hash ([`fnv1a`]), as 16 hex digits, of the checkpoint
-//! written as compact JSON with the keys of every object in sorted order (`serde_json`'s
-//! `Value` as it prints).
+//! The checksum is the 64-bit FNV-1a hash ([`fnv1a`]), as 16 hex digits, of the scene's
+//! fingerprint, the character U+001F and the checkpoint written as compact JSON with the keys
+//! of every object in sorted order (`serde_json`'s `Value` as it prints).
 
 use super::record::{Sampler, Settler};
 use super::RunOutput;
@@ -83,14 +84,18 @@ pub fn refuse_checkpoint(option: &str, dir: &Path, how: &str) -> Result<()> {
 #[derive(Serialize, Deserialize)]
 struct CheckpointFile {
     scene_fingerprint: String,
-    /// [`checksum`] of `checkpoint`.
+    /// [`checksum`] of `scene_fingerprint` and `checkpoint`.
     checksum: String,
     checkpoint: serde_json::Value,
 }
 
-/// The checksum of a checkpoint as JSON (see the module documentation).
-fn checksum(checkpoint: &serde_json::Value) -> String {
-    format!("{:016x}", fnv1a(checkpoint.to_string().as_bytes()))
+/// The checksum of a checkpoint as JSON of the scene with `fingerprint` (see the module
+/// documentation).
+fn checksum(fingerprint: &str, checkpoint: &serde_json::Value) -> String {
+    let mut text = format!("{fingerprint}\u{1f}").into_bytes();
+    // (Written into memory, once: a checkpoint may hold a long recording. It cannot fail.)
+    let _ = serde_json::to_writer(&mut text, checkpoint);
+    format!("{:016x}", fnv1a(&text))
 }
 
 /// Writes `checkpoint` of the scene with `fingerprint` to `path`, atomically.
@@ -101,7 +106,7 @@ pub fn write_checkpoint(path: &Path, fingerprint: &str, checkpoint: Checkpoint) 
     })?;
     let file = CheckpointFile {
         scene_fingerprint: fingerprint.to_string(),
-        checksum: checksum(&checkpoint),
+        checksum: checksum(fingerprint, &checkpoint),
         checkpoint,
     };
     write_atomic(path, |tmp| write_json_file(tmp, &file))
@@ -153,14 +158,15 @@ pub fn read_checkpoint(path: &Path, fingerprint: &str) -> Result<Checkpoint> {
             ),
         ));
     }
-    let sum = checksum(&file.checkpoint);
+    let sum = checksum(&file.scene_fingerprint, &file.checkpoint);
     if file.checksum != sum {
         return Err(Error::invalid(
             format!("checksum (of {})", path.display()),
             &file.checksum,
             format!(
-                "{sum}, the checksum of the checkpoint the file holds: it was edited or damaged \
-                 since it was written (start over with --discard-checkpoint)"
+                "{sum}, the checksum of the scene fingerprint and checkpoint the file holds: it \
+                 was edited or damaged since it was written, or written by a version whose \
+                 checksum left the fingerprint out (start over with --discard-checkpoint)"
             ),
         ));
     }
