@@ -125,25 +125,19 @@ fn an_interrupted_sweep_keeps_its_finished_cases() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Fails on today's code: a sweep file truncated to its header while the sweep ran was
-/// rewritten with the rows appended after the cut alone, and the sweep said it wrote them and
-/// exited 0, the finished case before the cut lost.
-#[test]
-fn a_sweep_file_cut_while_the_sweep_runs_is_not_finished_as_complete() {
-    let dir = temp_dir("sweeps", "cut");
-    let scene = short_standard(&dir, "scene.toml", 1, &[]);
-    let out = dir.join("sweep.csv");
-    // Case 0 takes one rotation, case 1 150: on one thread the file is cut between them.
+/// Runs a sweep of `scene` whose case 0 takes one rotation and case 1 150 into `out`, on one
+/// thread, calls `change` on `out` once it holds case 0's row, and returns the sweep's output.
+fn changed_while_running(scene: &Path, out: &Path, change: impl FnOnce()) -> std::process::Output {
     let child = Command::new(env!("CARGO_BIN_EXE_jointwear"))
-        .args(["sweep", s(&scene), "--set", "run.rotations=1,150"])
-        .args(["--out", s(&out)])
+        .args(["sweep", s(scene), "--set", "run.rotations=1,150"])
+        .args(["--out", s(out)])
         .env("RAYON_NUM_THREADS", "1")
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
     let start = Instant::now();
-    while !SweepFile::read(&out).is_ok_and(|f| f.rows.len() == 1) {
+    while !SweepFile::read(out).is_ok_and(|f| f.rows.len() == 1) {
         // A guard against a hang, not the measure of the test.
         assert!(
             start.elapsed() < Duration::from_secs(60),
@@ -151,14 +145,27 @@ fn a_sweep_file_cut_while_the_sweep_runs_is_not_finished_as_complete() {
         );
         std::thread::sleep(Duration::from_millis(10));
     }
-    let text = fs::read_to_string(&out).unwrap();
-    let header = &text[..=text.find('\n').unwrap()];
-    fs::OpenOptions::new()
-        .write(true)
-        .open(&out)
-        .and_then(|f| f.set_len(header.len() as u64))
-        .unwrap();
-    let o = child.wait_with_output().unwrap();
+    change();
+    child.wait_with_output().unwrap()
+}
+
+/// Fails on today's code: a sweep file truncated to its header while the sweep ran was
+/// rewritten with the rows appended after the cut alone, and the sweep said it wrote them and
+/// exited 0, the finished case before the cut lost; one replaced by another sweep's file of as
+/// many cases was rewritten with that sweep's rows under this one's name (case 1 saying
+/// `run.rotations` 2 where this sweep's ran 150), exit 0.
+#[test]
+fn a_sweep_file_cut_or_replaced_while_the_sweep_runs_is_not_finished_as_complete() {
+    let dir = temp_dir("sweeps", "cut");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let out = dir.join("sweep.csv");
+    let cut = || {
+        let text = fs::read_to_string(&out).unwrap();
+        let header = &text[..=text.find('\n').unwrap()];
+        let file = fs::OpenOptions::new().write(true).open(&out);
+        file.and_then(|f| f.set_len(header.len() as u64)).unwrap();
+    };
+    let o = changed_while_running(&scene, &out, cut);
     assert_fails(
         &o,
         2,
@@ -169,6 +176,23 @@ fn a_sweep_file_cut_while_the_sweep_runs_is_not_finished_as_complete() {
     let o = sweep(&scene, &["--set", "run.rotations=1,150", "--resume"], &out);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(cases(&SweepFile::read(&out).unwrap()), ["0", "1"]);
+    // Another sweep's file moved into its place is left as it is.
+    let other = dir.join("other.csv");
+    let o = sweep(&scene, &["--set", "run.rotations=1,2"], &other);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let theirs = fs::read_to_string(&other).unwrap();
+    let replaced = dir.join("replaced.csv");
+    let replace = || {
+        fs::copy(&other, dir.join("copy.csv")).unwrap();
+        fs::rename(dir.join("copy.csv"), &replaced).unwrap();
+    };
+    let o = changed_while_running(&scene, &replaced, replace);
+    assert_fails(
+        &o,
+        2,
+        &[s(&replaced), "no longer the file of this sweep", "replaced"],
+    );
+    assert_eq!(fs::read_to_string(&replaced).unwrap(), theirs);
     fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -304,6 +304,25 @@ impl SweepFile {
         }
         Ok(SweepFile { id, header, rows })
     }
+
+    /// What this file holds, if not the sweep `id` under `header`: `fingerprint F, shard I/N`
+    /// and, for another header, `, another header`.
+    fn another(&self, id: &SweepId, header: &[String]) -> Option<String> {
+        let ours = self.id.fingerprint == id.fingerprint && self.id.shard == id.shard;
+        (!ours || self.header != header).then(|| {
+            format!(
+                "fingerprint {}, shard {}/{}{}",
+                self.id.fingerprint,
+                self.id.shard.index,
+                self.id.shard.count,
+                if self.header != header {
+                    ", another header"
+                } else {
+                    ""
+                }
+            )
+        })
+    }
 }
 
 /// What a cell of a sweep row holds, as [`crate::sweep::CaseResult::record`] writes it.
@@ -769,7 +788,8 @@ impl<'a> JournaledSweep<'a> {
     /// holds it, and the first such error is returned after it. A file that then holds fewer
     /// rows than the shard's cases lost some while the sweep ran (another program truncated,
     /// edited or replaced it): rewritten with what it holds, it is an error, never a finished
-    /// sweep.
+    /// sweep; and one that is another sweep's (another program moved it into its place) is an
+    /// error, left as it is.
     pub fn run(self, progress: &dyn Progress) -> Result<(usize, Vec<usize>)> {
         let JournaledSweep {
             sweep,
@@ -795,7 +815,23 @@ impl<'a> JournaledSweep<'a> {
             progress,
         );
         let (append_error, lost) = unappended.into_inner().unwrap_or_else(|e| e.into_inner());
-        let mut rows = SweepFile::read(journal.path())?.rows;
+        let path = journal.path().to_path_buf();
+        let file = SweepFile::read(&path)?;
+        if let Some(theirs) = file.another(&id, &header) {
+            // (Left as it is: it may be another sweep's own file.)
+            return Err(parse_error(
+                &path,
+                format!(
+                    "no longer the file of this sweep (fingerprint {}, shard {}/{}): it holds \
+                     {theirs}, whose rows this sweep would write as its own; likely cause: \
+                     another program replaced it while the sweep ran, and the rows this sweep \
+                     appended went with the file it replaced (run the sweep again into another \
+                     --out)",
+                    id.fingerprint, id.shard.index, id.shard.count,
+                ),
+            ));
+        }
+        let mut rows = file.rows;
         rows.extend(lost);
         let mut failed: Vec<usize> = (rows.iter())
             .filter(|r| failed(r))
@@ -803,7 +839,6 @@ impl<'a> JournaledSweep<'a> {
             .collect();
         failed.sort_unstable();
         let count = rows.len();
-        let path = journal.path().to_path_buf();
         journal.finish(&id, &header, rows)?;
         if count != id.cases {
             return Err(parse_error(
@@ -897,25 +932,14 @@ pub fn resume_rows(path: &Path, id: &SweepId, header: &[String]) -> Result<Vec<V
         return Ok(Vec::new());
     }
     let file = SweepFile::read(path)?;
-    if file.id.fingerprint != id.fingerprint || file.id.shard != id.shard || file.header != header {
+    if let Some(theirs) = file.another(id, header) {
         return Err(Error::invalid(
             "--resume",
             path.display(),
             format!(
                 "a file of this sweep and shard (fingerprint {}, shard {}/{}); it holds \
-                 fingerprint {}, shard {}/{}{}: {ANOTHER_SWEEP} (use another --out, or remove \
-                 the file to start over)",
-                id.fingerprint,
-                id.shard.index,
-                id.shard.count,
-                file.id.fingerprint,
-                file.id.shard.index,
-                file.id.shard.count,
-                if file.header != header {
-                    ", another header"
-                } else {
-                    ""
-                }
+                 {theirs}: {ANOTHER_SWEEP} (use another --out, or remove the file to start over)",
+                id.fingerprint, id.shard.index, id.shard.count,
             ),
         ));
     }
