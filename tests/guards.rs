@@ -294,6 +294,50 @@ fn a_run_refuses_a_key_given_twice() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// The check for a key given twice changes nothing else: a key given once is asked as
+/// written, so a run's fingerprint (its checkpoint's) and recorded command line are those of
+/// runs before the check and of Python's `set` of the same key. Failed with the keys made
+/// canonical: `clearance.00.clearance_mm` ran as `clearance.0.clearance_mm`, another
+/// fingerprint, and an older checkpoint of that command line could not be resumed.
+#[test]
+fn a_key_given_once_is_asked_as_written() {
+    use jointwear::scene::variant::Variant;
+    let dir = temp_dir("guards", "set_as_written");
+    let scene = scene_path("standard");
+    let sets = [
+        ("clearance.00.clearance_mm", "0.03"),
+        ("run.record_rotations", "0"),
+    ];
+    let mut args = vec!["run", s(&scene), "--rotations", "1", "--out", s(&dir)];
+    let words: Vec<String> = sets.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    for w in &words {
+        args.extend_from_slice(&["--set", w]);
+    }
+    let o = jointwear(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut variant = Variant::read(&scene).unwrap();
+    for (k, v) in sets {
+        variant
+            .set(k, jointwear::sweep::parse_value(v), v, false)
+            .unwrap();
+    }
+    variant.set("run.rotations", 1.into(), "1", true).unwrap();
+    let summary: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(
+        summary["scene"]["fingerprint"].as_str(),
+        Some(variant.fingerprint().as_str()),
+        "{}",
+        summary["scene"]
+    );
+    let readme = fs::read_to_string(dir.join("README.txt")).unwrap();
+    assert!(
+        readme.contains("--set clearance.00.clearance_mm=0.03"),
+        "{readme}"
+    );
+    fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn a_rerun_replaces_the_previous_run_and_leaves_other_files_alone() {
     let dir = temp_dir("guards", "rerun");

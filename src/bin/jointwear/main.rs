@@ -483,8 +483,9 @@ fn load_variant(
     }
     let mut variant = Variant::read(path).map_err(input)?;
     // A key given twice is refused as `sweep` refuses it: the one given last would silently
-    // win.
-    let assignments = canonical_sets(variant.loaded(), assignments).map_err(input)?;
+    // win. Only checked: each key is asked as written, which the fingerprint (a checkpoint's)
+    // and the recorded command line hold as a run before this check and Python's `set` do.
+    canonical_sets(variant.loaded(), assignments.clone()).map_err(input)?;
     // The arguments that changed the file, for messages.
     let from: Vec<String> = (sets.iter().map(|s| format!("--set {s}")))
         .chain(rotations.map(|n| format!("--rotations {n}")))
