@@ -257,20 +257,32 @@ impl Variant {
         &self.path
     }
 
-    /// The [`fingerprint`] of the scene as read and the changes asked for.
+    /// The changes asked for in the order the program asks its options: the plain ones
+    /// (`--set`) in the order asked, then the cutting one (`--rotations`), which the program
+    /// applies after every `--set`. The document is the same in either order (a cut spares the
+    /// keys set before it, and a key set after it replaces the cut value), so the fingerprint
+    /// and command line of Python's `set("run.rotations", n)` followed by other keys are those
+    /// of a run of that command line.
+    fn in_program_order(&self) -> impl Iterator<Item = &Asked> {
+        (self.asked.iter().filter(|a| !a.cut)).chain(self.asked.iter().filter(|a| a.cut))
+    }
+
+    /// The [`fingerprint`] of the scene as read and the changes asked for, in the program's
+    /// order ([`Variant::in_program_order`]).
     pub fn fingerprint(&self) -> String {
         fingerprint(
             &self.loaded,
-            (self.asked.iter()).map(|a| (a.key.as_str(), a.text.as_slice())),
+            (self.in_program_order()).map(|a| (a.key.as_str(), a.text.as_slice())),
         )
     }
 
     /// The command line that makes this variant: `jointwear run SCENE`, then `--set KEY=VALUE`
-    /// per change and `--rotations N` for a cutting change of `run.rotations`, in the order
-    /// asked, each word as a shell reads it back ([`shell_word`]).
+    /// per change in the order asked and `--rotations N` for a cutting change of
+    /// `run.rotations` last ([`Variant::in_program_order`]), each word as a shell reads it back
+    /// ([`shell_word`]).
     pub fn command(&self) -> String {
         let mut command = run_command(&self.path);
-        for a in &self.asked {
+        for a in self.in_program_order() {
             let (option, word) = if a.cut {
                 ("--rotations", a.text[0].clone())
             } else {
@@ -368,6 +380,32 @@ mod tests {
         let copy = Variant::restore(v.path(), &loaded, &asked).unwrap();
         assert_eq!(copy.document(), v.document());
         assert_eq!(copy.origin(), v.origin());
+    }
+
+    /// A variant made as Python's `set` makes it, `run.rotations` before other keys, has the
+    /// fingerprint and command line of the program's run of that command line, which asks
+    /// every `--set` before `--rotations`. Failed with the changes in the order asked: the
+    /// command `--rotations 1 --set run.record_rotations=0` and another fingerprint than its
+    /// run's.
+    #[test]
+    fn rotations_set_first_makes_the_fingerprint_of_its_command_line() {
+        let path = scene_path("standard");
+        let mut python = Variant::read(&path).unwrap();
+        python.set(ROTATIONS, 1.into(), "1", true).unwrap();
+        python
+            .set("run.record_rotations", 0.into(), "0", true)
+            .unwrap();
+        let mut program = Variant::read(&path).unwrap();
+        program
+            .set("run.record_rotations", 0.into(), "0", false)
+            .unwrap();
+        program.set(ROTATIONS, 1.into(), "1", true).unwrap();
+        assert_eq!(python.document(), program.document());
+        assert_eq!(python.command(), program.command());
+        assert_eq!(python.fingerprint(), program.fingerprint());
+        assert!(program
+            .command()
+            .ends_with(" --set run.record_rotations=0 --rotations 1"));
     }
 
     /// A key set twice (Python's `set`) is asked once, with its last value: the program
