@@ -82,7 +82,10 @@ class Scene:
         program's ``--rotations`` does, unless they were set on this scene (a note on
         ``sys.stderr`` says what it changed). A value that turns the driver the other way than
         the scene as loaded (the shipped scenes are calibrated in their own sense) writes a
-        note on ``sys.stderr``."""
+        note on ``sys.stderr``. Setting a key set before (under any spelling,
+        ``clearance.00.clearance_mm`` for ``clearance.0.clearance_mm``) replaces that change:
+        the scene is the one set each key once, with its last value, as the command line a
+        saved folder records (which the program refuses with a key given twice)."""
         if not isinstance(key, str):
             raise TypeError(f"key must be a dotted key (str), got {key!r}")
         self._doc.set(key, value)
