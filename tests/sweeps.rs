@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use jointwear::sweep::file::{label_check, SweepFile, SweepId};
+use jointwear::sweep::file::{label_check, salted, SweepFile, SweepId};
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -565,4 +565,42 @@ fn rows_with_impossible_measurements_are_refused() {
         assert_fails(&resume, 2, &needles);
     }
     fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_sweep_file_of_the_earlier_label_checks_is_refused_saying_so() {
+    let dir = temp_dir("sweeps", "earlier-checks");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let out = dir.join("sweep.csv");
+    assert!(sweep(&scene, &TWO_CASES, &out).status.success());
+    // Each row's check rewritten as versions before 2026-11-28 wrote it: a hash of the
+    // fingerprint, the case number and the set values alone.
+    let fingerprint = SweepFile::read(&out).unwrap().id.fingerprint;
+    let text = fs::read_to_string(&out).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    for line in &mut lines[1..] {
+        let mut cells: Vec<&str> = line.split(',').collect();
+        let labels = cells[..2].join("\u{1f}");
+        let check = format!("label-{}", salted(&fingerprint, &labels));
+        *cells.last_mut().unwrap() = &check;
+        *line = cells.join(",");
+    }
+    fs::write(&out, lines.join("\n") + "\n").unwrap();
+    let merged = dir.join("merged.csv");
+    let resume = [&TWO_CASES[..], &["--resume"]].concat();
+    for output in [
+        jointwear(&["sweep-merge", s(&out), "--out", s(&merged)]),
+        sweep(&scene, &resume, &out),
+        sweep(&scene, &TWO_CASES, &out),
+    ] {
+        assert_eq!(output.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&output.stderr);
+        assert!(
+            err.contains("a file written by an earlier version (before 2026-11-28)")
+                && err.contains("run its sweep again")
+                && !err.contains("the file was edited"),
+            "{err}"
+        );
+    }
+    assert!(!merged.exists());
 }

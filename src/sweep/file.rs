@@ -280,13 +280,17 @@ impl SweepFile {
                     let cause = if check.is_empty() {
                         "a file of an earlier version, whose labels cannot be checked (run its \
                          sweep again)"
+                    } else if check == earlier_label_check(&id.fingerprint, &row, &cells) {
+                        "a file written by an earlier version (before 2026-11-28), whose label \
+                         checks covered the case and set values alone, so that this version \
+                         cannot tell its results are the sweep's (remove the file, or give \
+                         another --out, and run its sweep again)"
                     } else {
                         "the file was edited: a cell of the row (its case number, a set value \
                          or a result) is not the one the sweep wrote, and merged or resumed the \
                          row would be kept as the sweep's, its results perhaps filed under \
-                         another case (a spreadsheet that saved the file rounds its numbers), or \
-                         it is a file of a version whose checks covered the case and set values \
-                         alone (remove the row and resume the sweep to run its case again)"
+                         another case (a spreadsheet that saved the file rounds its numbers) \
+                         (remove the row and resume the sweep to run its case again)"
                     };
                     (check != expected).then(|| (id.column_name(), check, writes, cause))
                 });
@@ -618,6 +622,17 @@ pub fn label_check(fingerprint: &str, row: &[String], wall: usize) -> String {
         .collect();
     // (Prefixed, so that CSV readers never take the hex digits for a number.)
     format!("label-{}", salted(fingerprint, &cells.join("\u{1f}")))
+}
+
+/// The label check that versions before 2026-11-28 wrote for `row` (of cells `kinds`,
+/// [`cell_kinds`]): the hash of its case and set values alone. Only to tell such a file, which
+/// is refused, from an edited one in the message.
+fn earlier_label_check(fingerprint: &str, row: &[String], kinds: &[Cell]) -> String {
+    let labels = (kinds.iter())
+        .take_while(|c| matches!(c, Cell::Case | Cell::Value))
+        .count();
+    let hash = salted(fingerprint, &row[..labels.min(row.len())].join("\u{1f}"));
+    format!("label-{hash}")
 }
 
 /// `row` and its label check in the cell of the id column.
