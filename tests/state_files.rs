@@ -136,6 +136,19 @@ fn edited_checkpoints_are_refused_naming_the_field() {
         e.contains("checksum") && e.contains("edited or damaged"),
         "{e}"
     );
+    // A checkpoint of an earlier version, whose checksum covered the checkpoint alone, is
+    // refused saying so and what to do (it was refused as edited or damaged).
+    let mut file = real.clone();
+    let sum = fnv1a(file["checkpoint"].to_string().as_bytes());
+    file["checksum"] = Value::String(format!("{sum:016x}"));
+    fs::write(&path, file.to_string()).unwrap();
+    let e = resume(&scene, &path).unwrap_err().to_string();
+    assert!(
+        e.contains("written by an earlier version (before 2026-11-28)")
+            && e.contains("--discard-checkpoint")
+            && !e.contains("edited or damaged"),
+        "{e}"
+    );
     // The real one resumes to the end.
     reseal(&path, real);
     assert_eq!(resume(&scene, &path).unwrap(), 2);

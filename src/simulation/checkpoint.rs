@@ -159,14 +159,30 @@ pub fn read_checkpoint(path: &Path, fingerprint: &str) -> Result<Checkpoint> {
         ));
     }
     let sum = checksum(&file.scene_fingerprint, &file.checkpoint);
+    // (The checksum of the checkpoint alone, as versions before 2026-11-28 wrote it: such a
+    // file cannot vouch for its fingerprint, and is refused, saying so.)
+    let earlier = format!("{:016x}", fnv1a(file.checkpoint.to_string().as_bytes()));
+    if file.checksum != sum && file.checksum == earlier {
+        return Err(Error::invalid(
+            format!("checksum (of {})", path.display()),
+            &file.checksum,
+            format!(
+                "{sum}, the checksum of the scene fingerprint and checkpoint the file holds: \
+                 the checkpoint was written by an earlier version (before 2026-11-28), whose \
+                 checksum left the fingerprint out, so that this one cannot tell the run is \
+                 this scene's (finish it with the version that wrote it, or start over with \
+                 --discard-checkpoint)"
+            ),
+        ));
+    }
     if file.checksum != sum {
         return Err(Error::invalid(
             format!("checksum (of {})", path.display()),
             &file.checksum,
             format!(
                 "{sum}, the checksum of the scene fingerprint and checkpoint the file holds: it \
-                 was edited or damaged since it was written, or written by a version whose \
-                 checksum left the fingerprint out (start over with --discard-checkpoint)"
+                 was edited or damaged since it was written (start over with \
+                 --discard-checkpoint)"
             ),
         ));
     }
