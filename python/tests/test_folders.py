@@ -155,6 +155,25 @@ def test_a_dict_scenes_save_keeps_the_scene_toml_a_program_ran(tmp_path, cli):
     assert mine.read_text() == before
 
 
+# Fails with the mark alone: the scene.toml of an earlier save whose line ends were turned
+# into CRLF, or one saved before the mark (this very scene, without it), was refused as the
+# user's own.
+def test_a_dict_scenes_save_replaces_its_earlier_saves_scene_toml(tmp_path):
+    s = short(jointwear.Scene.from_dict({"extends": str(STANDARD)}))
+    saved = tmp_path / "scene.toml"
+    s.run().save(tmp_path)
+    mark, rest = saved.read_text().split("\n", 1)
+    assert mark.startswith("# ")
+    saved.write_bytes(saved.read_bytes().replace(b"\n", b"\r\n"))
+    other = short(jointwear.Scene.from_dict({"extends": str(STANDARD), "title": "other"}))
+    other.run().save(tmp_path)
+    assert 'title = "other"' in saved.read_text()
+    s.run().save(tmp_path)
+    saved.write_text(rest)
+    s.run().save(tmp_path)
+    assert saved.read_text() == mark + "\n" + rest
+
+
 # Fails when the member is handed over as TOML, whose integers stop at 2^63 - 1.
 def test_a_member_run_names_a_seed_beyond_63_bits():
     member = scene().run(member=0, seed=2**64 - 1).ensemble_member

@@ -694,14 +694,20 @@ const SAVED_SCENE_MARK: &str = "# The scene built from a dict that Run.save or E
 /// `dir/scene.toml`, under [`SAVED_SCENE_MARK`], and returns the origin of the variant named
 /// by that file: the folder's command line then reruns it (`jointwear run DIR/scene.toml --set
 /// …`) with the same fingerprint, which a dict's name (`<dict>`) could not. A `scene.toml`
-/// without that mark is refused: it is the user's own, even where the folder's manifest names
-/// it (the program's run of that file into its folder, `jointwear run D/scene.toml --out D`,
-/// names it as a save's does).
+/// without that mark (on a line ending in LF or CRLF), unless it holds this very scene (as a
+/// save of an earlier version wrote it), is refused: it is the user's own, even where the
+/// folder's manifest names it (the program's run of that file into its folder, `jointwear run
+/// D/scene.toml --out D`, names it as a save's does).
 fn save_scene(dir: &Path, variant: &Variant) -> crate::Result<Origin> {
     let path = dir.join(SAVED_SCENE);
     let saved = variant.named(&path);
     let (text, _) = saved.state()?;
-    let saves = |text: String| text.starts_with(&format!("{SAVED_SCENE_MARK}\n"));
+    // (An earlier save's, also with its line ends turned into CRLF, or one that holds this
+    // very scene, as versions before the mark saved it: replacing it loses nothing.)
+    let saves = |old: String| {
+        let rest = old.strip_prefix(SAVED_SCENE_MARK).unwrap_or_default();
+        rest.starts_with('\n') || rest.starts_with("\r\n") || old == text
+    };
     let why = "1 MiB; the largest shipped scene is a few kB";
     if path.exists()
         && !read_bounded_text(&path, MAX_SCENE_BYTES, "a scene file", why).is_ok_and(saves)
