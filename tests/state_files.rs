@@ -114,15 +114,18 @@ fn edited_checkpoints_are_refused_naming_the_field() {
     ];
     refused_after_each(&scene, &real, &edits, &path);
     // Unsealed, any edit is caught by the checksum.
+    let refused_as_edited = |file: Value| {
+        fs::write(&path, file.to_string()).unwrap();
+        let e = resume(&scene, &path).unwrap_err().to_string();
+        assert!(
+            e.contains("checksum") && e.contains("edited or damaged"),
+            "{e}"
+        );
+    };
     let mut file = real.clone();
     let _ = ptr(&mut file, "/rotation");
     file["checkpoint"]["rotation"] = 2.into();
-    fs::write(&path, file.to_string()).unwrap();
-    let e = resume(&scene, &path).unwrap_err().to_string();
-    assert!(
-        e.contains("checksum") && e.contains("edited or damaged"),
-        "{e}"
-    );
+    refused_as_edited(file);
     // So is the scene's fingerprint: one of another scene's checkpoint edited to this scene's
     // (which the refusal of the other's names) was resumed as this scene's run, exit 0.
     let mut file = real.clone();
@@ -130,12 +133,7 @@ fn edited_checkpoints_are_refused_naming_the_field() {
     reseal(&path, file);
     let mut file: Value = serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
     file["scene_fingerprint"] = "fp".into();
-    fs::write(&path, file.to_string()).unwrap();
-    let e = resume(&scene, &path).unwrap_err().to_string();
-    assert!(
-        e.contains("checksum") && e.contains("edited or damaged"),
-        "{e}"
-    );
+    refused_as_edited(file);
     // A checkpoint of an earlier version, whose checksum covered the checkpoint alone, is
     // refused saying so and what to do (it was refused as edited or damaged).
     let mut file = real.clone();

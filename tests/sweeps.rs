@@ -42,30 +42,7 @@ fn an_interrupted_sweep_keeps_its_finished_cases() {
     let out = dir.join("sweep.csv");
     // Case 0 takes one rotation, case 1 a hundred thousand: on one thread the signal comes
     // after exactly one finished row.
-    let child = Command::new(env!("CARGO_BIN_EXE_jointwear"))
-        .args([
-            "sweep",
-            s(&scene),
-            "--set",
-            "run.rotations=1,100000",
-            "--out",
-            s(&out),
-        ])
-        .env("RAYON_NUM_THREADS", "1")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    let one_row = || SweepFile::read(&out).is_ok_and(|f| f.rows.len() == 1);
-    while !one_row() {
-        // A guard against a hang, not the measure of the test.
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "no row after 60 s"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    let child = sweep_holding_one_row(&scene, "run.rotations=1,100000", &out);
     let kill = Command::new("kill")
         .args(["-TERM", &child.id().to_string()])
         .status();
@@ -125,12 +102,11 @@ fn an_interrupted_sweep_keeps_its_finished_cases() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Runs a sweep of `scene` whose case 0 takes one rotation and case 1 150 into `out`, on one
-/// thread, calls `change` on `out` once it holds case 0's row, and returns the sweep's output.
-fn changed_while_running(scene: &Path, out: &Path, change: impl FnOnce()) -> std::process::Output {
+/// Starts a sweep of `scene` over `rotations` (`run.rotations=1,N`: case 0 one rotation, case
+/// 1 N) into `out` on one thread, and returns it running once `out` holds case 0's row.
+fn sweep_holding_one_row(scene: &Path, rotations: &str, out: &Path) -> std::process::Child {
     let child = Command::new(env!("CARGO_BIN_EXE_jointwear"))
-        .args(["sweep", s(scene), "--set", "run.rotations=1,150"])
-        .args(["--out", s(out)])
+        .args(["sweep", s(scene), "--set", rotations, "--out", s(out)])
         .env("RAYON_NUM_THREADS", "1")
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -145,6 +121,13 @@ fn changed_while_running(scene: &Path, out: &Path, change: impl FnOnce()) -> std
         );
         std::thread::sleep(Duration::from_millis(10));
     }
+    child
+}
+
+/// Runs a sweep of `scene` whose case 0 takes one rotation and case 1 150 into `out`, on one
+/// thread, calls `change` on `out` once it holds case 0's row, and returns the sweep's output.
+fn changed_while_running(scene: &Path, out: &Path, change: impl FnOnce()) -> std::process::Output {
+    let child = sweep_holding_one_row(scene, "run.rotations=1,150", out);
     change();
     child.wait_with_output().unwrap()
 }
