@@ -277,7 +277,7 @@ impl Variant {
     }
 
     /// The [`fingerprint`] of the scene as read and the changes asked for, in the program's
-    /// order ([`Variant::in_program_order`]).
+    /// order: every plain change (`--set`) before the cutting one (`--rotations`).
     pub fn fingerprint(&self) -> String {
         fingerprint(
             &self.loaded,
@@ -287,7 +287,7 @@ impl Variant {
 
     /// The command line that makes this variant: `jointwear run SCENE`, then `--set KEY=VALUE`
     /// per change in the order asked and `--rotations N` for a cutting change of
-    /// `run.rotations` last ([`Variant::in_program_order`]), each word as a shell reads it back
+    /// `run.rotations` last, as the program applies them, each word as a shell reads it back
     /// ([`shell_word`]).
     pub fn command(&self) -> String {
         let mut command = run_command(&self.path);
