@@ -311,11 +311,11 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
             sectors: 0,
         };
         let weights = (SCORE_ANGLE_DEG, SCORE_DEEPEST_MISPLACED, SCORE_CONCORDANCE);
-        Inputs {
-            scenes: CASES.list().map(|c| c.scene).to_vec(),
-            golden: true,
-            settings: format!("{:?}", (candidates(zero), weights)),
-        }
+        Inputs::new(
+            CASES.list().map(|c| c.scene).to_vec(),
+            true,
+            (candidates(zero), weights),
+        )
     },
 };
 

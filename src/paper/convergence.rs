@@ -84,17 +84,16 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
     command: "cargo run --release --bin convergence",
     rerun_by_all: true,
     variants: &[],
-    inputs: |_| Inputs {
-        scenes: GOLDEN_NEEDS.iter().map(Need::scene).collect(),
-        golden: true,
-        settings: format!(
-            "{:?}",
+    inputs: |_| {
+        Inputs::new(
+            GOLDEN_NEEDS.iter().map(Need::scene).collect(),
+            true,
             (
                 (MAX_MEMBERS, SIZES, SE_SHARE),
                 GOLDEN_NEEDS,
-                EnsembleSettings::default()
-            )
-        ),
+                EnsembleSettings::default(),
+            ),
+        )
     },
 };
 

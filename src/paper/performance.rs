@@ -140,18 +140,17 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
     command: "cargo run --release --bin scaling",
     rerun_by_all: false,
     variants: &[],
-    inputs: |_| Inputs {
-        scenes: vec![CASES.standard.scene],
-        golden: false,
-        settings: format!(
-            "{:?}",
+    inputs: |_| {
+        Inputs::new(
+            vec![CASES.standard.scene],
+            false,
             (
                 ROTATIONS,
                 CLEARANCES_MM,
                 CLEARANCE_ROTATIONS,
-                STEP_LIMIT_EVERY
-            )
-        ),
+                STEP_LIMIT_EVERY,
+            ),
+        )
     },
 };
 

@@ -321,13 +321,12 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
     command: "cargo run --release --bin perturbation",
     rerun_by_all: false,
     variants: &[],
-    inputs: |_| Inputs {
-        scenes: all_needs().iter().map(Need::scene).collect(),
-        golden: true,
-        settings: format!(
-            "{:?}",
-            (PROTOCOLS, all_needs(), EnsembleSettings::default())
-        ),
+    inputs: |_| {
+        Inputs::new(
+            all_needs().iter().map(Need::scene).collect(),
+            true,
+            (PROTOCOLS, all_needs(), EnsembleSettings::default()),
+        )
     },
 };
 

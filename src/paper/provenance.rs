@@ -99,6 +99,18 @@ pub struct Inputs {
     pub settings: String,
 }
 
+impl Inputs {
+    /// A study's inputs: the `scenes` it reads, whether it scores against the paper's values
+    /// (`golden`), and its `settings`, recorded as their `Debug` text.
+    pub fn new(scenes: Vec<&'static str>, golden: bool, settings: impl std::fmt::Debug) -> Inputs {
+        Inputs {
+            scenes,
+            golden,
+            settings: format!("{settings:?}"),
+        }
+    }
+}
+
 /// The record's key of the study's settings.
 const SETTINGS: &str = "settings";
 
@@ -428,14 +440,16 @@ mod tests {
         command: "cargo run --release --bin tiny",
         rerun_by_all: false,
         variants: &["--wide"],
-        inputs: |variant| Inputs {
-            scenes: if variant.is_empty() {
-                vec!["standard"]
-            } else {
-                vec!["standard", "clearance_0.5mm"]
-            },
-            golden: true,
-            settings: format!("{:?}", (16, 1e-7)),
+        inputs: |variant| {
+            Inputs::new(
+                if variant.is_empty() {
+                    vec!["standard"]
+                } else {
+                    vec!["standard", "clearance_0.5mm"]
+                },
+                true,
+                (16, 1e-7),
+            )
         },
     };
 

@@ -187,19 +187,18 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
     command: "cargo run --release --bin separation",
     rerun_by_all: false,
     variants: &[],
-    inputs: |_| Inputs {
-        scenes: CASES.list().map(|c| c.scene).to_vec(),
-        golden: false,
-        settings: format!(
-            "{:?}",
+    inputs: |_| {
+        Inputs::new(
+            CASES.list().map(|c| c.scene).to_vec(),
+            false,
             (
                 SEPARATION_ROTATIONS,
                 PAIRS,
                 SAMPLES_PER_ROTATION,
                 DEFAULT_SEED,
-                Perturbation::default()
-            )
-        ),
+                Perturbation::default(),
+            ),
+        )
     },
 };
 

@@ -194,9 +194,8 @@ impl Variant {
         // makes the same document (the program refuses a key given twice, and an earlier
         // `run.rotations` would have cut what a later one keeps).
         let again = canonical_key(&self.loaded, key);
-        let earlier: Vec<&Asked> = (self.asked.iter())
-            .filter(|a| canonical_key(&self.loaded, &a.key) == again)
-            .collect();
+        let (earlier, others): (Vec<&Asked>, Vec<&Asked>) =
+            (self.asked.iter()).partition(|a| canonical_key(&self.loaded, &a.key) == again);
         // Except the program's `--rotations` over its `--set run.rotations`, which it has
         // always asked after it, overriding it (tests/cli.rs): its command line holds both, and
         // so does the fingerprint of a checkpoint written with both, which it must resume.
@@ -204,10 +203,8 @@ impl Variant {
         let overrides = cut && key == ROTATIONS && earlier.iter().all(|a| !a.cut);
         if !earlier.is_empty() && !overrides {
             let mut fresh = Variant::new(self.loaded.clone(), &self.path);
-            for a in &self.asked {
-                if canonical_key(&self.loaded, &a.key) != again {
-                    fresh.set(&a.key, parse_value(&a.text[0]), &a.text[0], a.cut)?;
-                }
+            for a in others {
+                fresh.set(&a.key, parse_value(&a.text[0]), &a.text[0], a.cut)?;
             }
             let cuts = fresh.set(key, value, text, cut)?;
             *self = fresh;

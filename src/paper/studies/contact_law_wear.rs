@@ -148,17 +148,14 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
         let s = LawWearSettings::program(variant.iter().any(|f| f == TABLE3_FLAG));
         let scenes = |cases: &[Case]| cases.iter().map(|c| c.scene).collect::<Vec<_>>();
         let (steady, wear) = (scenes(&s.steady), scenes(&s.wear));
-        Inputs {
-            scenes: steady.iter().chain(&wear).copied().collect(),
-            golden: true,
-            settings: format!(
-                "{:?}",
-                (
-                    (s.members, s.pairs, steady, wear),
-                    EnsembleSettings::default()
-                )
+        Inputs::new(
+            steady.iter().chain(&wear).copied().collect(),
+            true,
+            (
+                (s.members, s.pairs, steady, wear),
+                EnsembleSettings::default(),
             ),
-        }
+        )
     },
 };
 

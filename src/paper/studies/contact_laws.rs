@@ -217,17 +217,16 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
     command: "cargo run --release --bin contact_laws",
     rerun_by_all: true,
     variants: &[],
-    inputs: |_| Inputs {
-        scenes: Vec::new(),
-        golden: false,
-        settings: format!(
-            "{:?}",
+    inputs: |_| {
+        Inputs::new(
+            Vec::new(),
+            false,
             (
                 (standard_joint(), MASS_KG, IMPACT_VELOCITY, CLEARANCE),
                 (StiffnessLaw::ALL, DissipationLaw::ALL, RESTITUTIONS),
-                (STEPS_PER_SCALE, MAX_STEPS, LOOP_SAMPLES)
-            )
-        ),
+                (STEPS_PER_SCALE, MAX_STEPS, LOOP_SAMPLES),
+            ),
+        )
     },
 };
 

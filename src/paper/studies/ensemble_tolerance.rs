@@ -179,13 +179,12 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
     command: "cargo run --release --bin ensemble_tolerance",
     rerun_by_all: false,
     variants: &[],
-    inputs: |_| Inputs {
-        scenes: CASES.list().map(|c| c.scene).to_vec(),
-        golden: false,
-        settings: format!(
-            "{:?}",
-            (RTOLS, DEFAULT_MEMBERS, EnsembleSettings::default())
-        ),
+    inputs: |_| {
+        Inputs::new(
+            CASES.list().map(|c| c.scene).to_vec(),
+            false,
+            (RTOLS, DEFAULT_MEMBERS, EnsembleSettings::default()),
+        )
     },
 };
 

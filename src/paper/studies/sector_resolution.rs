@@ -175,13 +175,12 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
     command: "cargo run --release --bin sector_resolution",
     rerun_by_all: false,
     variants: &[],
-    inputs: |_| Inputs {
-        scenes: SECTOR_CASES.to_vec(),
-        golden: false,
-        settings: format!(
-            "{:?}",
-            (SECTOR_COUNTS, SECTOR_MEMBERS, EnsembleSettings::default())
-        ),
+    inputs: |_| {
+        Inputs::new(
+            SECTOR_CASES.to_vec(),
+            false,
+            (SECTOR_COUNTS, SECTOR_MEMBERS, EnsembleSettings::default()),
+        )
     },
 };
 

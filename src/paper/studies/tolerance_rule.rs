@@ -481,17 +481,16 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
     command: "cargo run --release --bin work_precision -- --rule",
     rerun_by_all: true,
     variants: &[],
-    inputs: |_| Inputs {
-        scenes: vec![CASES.standard.scene],
-        golden: false,
-        settings: format!(
-            "{:?}",
+    inputs: |_| {
+        Inputs::new(
+            vec![CASES.standard.scene],
+            false,
             (
                 (RULE_MEMBERS, RULE_SEED, RULE_RTOLS),
                 (BOUND, INERT_BODIES, REFERENCE, CONFIDENCE),
-                EnsembleSettings::default()
-            )
-        ),
+                EnsembleSettings::default(),
+            ),
+        )
     },
 };
 

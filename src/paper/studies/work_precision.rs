@@ -281,18 +281,17 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
     command: "cargo run --release --bin work_precision",
     rerun_by_all: true,
     variants: &[],
-    inputs: |_| Inputs {
-        scenes: vec![CASES.standard.scene],
-        golden: false,
-        settings: format!(
-            "{:?}",
+    inputs: |_| {
+        Inputs::new(
+            vec![CASES.standard.scene],
+            false,
             (
                 work_precision_settings(),
                 (REFERENCE, SECOND_REFERENCE, WP_MAX_STEPS),
                 (WP_MEMBERS, WP_ENSEMBLE_MAX_EVALUATIONS),
-                EnsembleSettings::default()
-            )
-        ),
+                EnsembleSettings::default(),
+            ),
+        )
     },
 };
 
