@@ -432,6 +432,41 @@ fn sweep_and_merge_refuse_an_out_they_would_destroy() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Fails without the check: `run --out <folder of a killed sweep's file>` wrote its outputs and
+/// manifest beside the file, exit 0, after which `sweep --resume` refused the file as one in
+/// another command's output folder, its finished case stranded. The commands that write a
+/// manifest refuse the folder instead, touching nothing, and the sweep resumes there.
+#[test]
+fn a_killed_sweeps_file_is_not_stranded_by_a_run_into_its_folder() {
+    let dir = temp_dir("sweeps", "stranded");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let folder = dir.join("sweeps");
+    let out = folder.join("sweep.csv");
+    let rotations = "run.rotations=1,150";
+    let mut child = sweep_holding_one_row(&scene, rotations, &out);
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let held = fs::read_to_string(&out).unwrap();
+    let names = file_names(&folder);
+    assert_eq!(names, [".sweep.csv.lock", "sweep.csv"]);
+    for extra in [&[][..], &["--ensemble", "1"][..]] {
+        let mut args = vec!["run", s(&scene), "--out", s(&folder)];
+        args.extend(extra);
+        let o = jointwear(&args);
+        assert_fails(
+            &o,
+            2,
+            &["`--out`", s(&out), "a folder of its own", "--resume --out"],
+        );
+        assert_eq!(file_names(&folder), names);
+        assert_eq!(fs::read_to_string(&out).unwrap(), held);
+    }
+    let o = sweep(&scene, &["--set", rotations, "--resume"], &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(cases(&SweepFile::read(&out).unwrap()), ["0", "1"]);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A sweep whose file holds a case that failed to build resumes: `--resume` checked every kept
 /// row against its case's scene, built it, and stopped on that case's error (exit 2).
 #[test]

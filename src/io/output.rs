@@ -131,6 +131,41 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
 /// File listing the outputs of the last run written into a folder.
 pub const MANIFEST: &str = "jointwear-manifest.txt";
 
+/// How the name of a sweep file's last column starts: the column that names its sweep
+/// (`crate::sweep::file`).
+pub const SWEEP_COLUMN_PREFIX: &str = "jointwear sweep ";
+
+/// Longest header line of a sweep file looked for ([`sweep_file_in`]): a sweep's header is at
+/// most 64 KiB (`crate::sweep::file::MAX_SWEEP_FILE_BYTES`).
+const MAX_SWEEP_HEADER_BYTES: u64 = 65536;
+
+/// A sweep file in `dir`, if there is one: a regular file whose first line's last column
+/// names a sweep ([`SWEEP_COLUMN_PREFIX`]). Only the first line of each file is read, at most
+/// 64 KiB of it; what cannot be read is no sweep file. A command that writes a manifest into
+/// `dir` must leave such a file alone: a sweep refuses a file beside a manifest, so a killed
+/// or interrupted sweep's finished cases could no longer be resumed there.
+pub fn sweep_file_in(dir: &Path) -> Option<PathBuf> {
+    let header_names_a_sweep = |path: &Path| {
+        let mut head = Vec::new();
+        let read =
+            File::open(path).and_then(|f| f.take(MAX_SWEEP_HEADER_BYTES).read_to_end(&mut head));
+        let head = String::from_utf8_lossy(&head[..read.unwrap_or(0)]);
+        let first = head.lines().next().unwrap_or_default();
+        first
+            .rsplit(',')
+            .next()
+            .is_some_and(|c| c.starts_with(SWEEP_COLUMN_PREFIX))
+    };
+    let entries = fs::read_dir(dir).ok()?;
+    // (The first by name, so that a refusal names the same file every time.)
+    entries
+        .flatten()
+        .filter(|e| e.file_type().is_ok_and(|t| t.is_file()))
+        .map(|e| e.path())
+        .filter(|p| header_names_a_sweep(p))
+        .min()
+}
+
 /// The second line of the manifest of a write that has not completed.
 const INCOMPLETE: &str = "# INCOMPLETE: the write of this run was interrupted or failed; the \
                           files below are its own and the previous run's, which the next \

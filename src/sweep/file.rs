@@ -22,7 +22,9 @@
 //!   the whole sweep's case count.
 
 use crate::analysis::{CONTINUOUS_CONTACT_FRACTION, MOTION_MODES};
-use crate::io::output::{fnv1a, parse_rows, read_bounded_text, write_table, GrowingTable};
+use crate::io::output::{
+    fnv1a, parse_rows, read_bounded_text, write_table, GrowingTable, SWEEP_COLUMN_PREFIX as PREFIX,
+};
 use crate::io::progress::{Counter, Progress};
 use crate::scene::{MAX_ROTATIONS, MAX_SETTLING_ROTATIONS};
 use crate::simulation::checkpoint::ARITHMETIC;
@@ -50,8 +52,6 @@ pub struct SweepId {
     /// Cases of the whole sweep.
     pub total: usize,
 }
-
-const PREFIX: &str = "jointwear sweep ";
 
 /// Largest sweep file read back (bytes): a header and [`MAX_CASES`] rows of up to 8 KiB. A
 /// number takes at most 25 bytes with its comma (the longest shortest round-trip `f64`,

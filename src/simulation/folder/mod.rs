@@ -15,7 +15,8 @@ pub mod ensemble;
 pub mod run;
 
 use crate::io::output::{
-    manifest_title, read_manifest, write_csv, write_json, write_outputs, write_text, MANIFEST,
+    manifest_title, read_manifest, sweep_file_in, write_csv, write_json, write_outputs, write_text,
+    MANIFEST,
 };
 use crate::io::plot::{render, Axes, Series, Style};
 use crate::laws::wear::sector_angles_deg;
@@ -165,13 +166,31 @@ pub fn write_folder<T>(dir: &Path, title: &str, write: impl FnOnce() -> Result<T
 /// Checks the output folder `dir`, given as `option` (`--out`), before `command` runs to write
 /// into it: a manifest listing a file that is not an output ([`read_manifest`]), or the
 /// outputs of another command ([`check_command`], whose refusal ends with `remedy`), is
-/// refused at once (bad input), not after the run.
+/// refused at once (bad input), not after the run; so is a folder holding a sweep file
+/// ([`sweep_file_in`]), whose sweep refuses to write beside the manifest this write would
+/// leave: a killed sweep's finished cases could no longer be resumed (`run --out <folder of
+/// sweep.csv>` did that, exit 0).
 pub fn check_manifest(
     option: &str,
     dir: &Path,
     command: FolderCommand,
     remedy: &str,
 ) -> Result<()> {
+    if let Some(sweep) = sweep_file_in(dir) {
+        return Err(Error::invalid(
+            option,
+            dir.display(),
+            format!(
+                "a folder without a sweep file: {} is one, which `jointwear sweep` writes and \
+                 resumes only in a folder of no other command's outputs (it would refuse it \
+                 beside this write's {MANIFEST}, its finished cases then stranded); move that \
+                 file to a folder of its own (an unfinished sweep resumes there with \
+                 `jointwear sweep ... --resume --out <its new path>`), or give another \
+                 {option}",
+                sweep.display()
+            ),
+        ));
+    }
     read_manifest(dir, is_folder_file)?;
     check_command(option, dir, Some(command), remedy)
 }
