@@ -1,17 +1,24 @@
 //! Ensembles: bit-identical for a seed whatever the thread count, members that differ where the
 //! motion is chaotic and agree where it is not, offsets that keep every ideal joint closed, the
 //! default protocol's starts unchanged and the others perturbing what they say, and
-//! `jointwear run --ensemble` and `--member` end to end.
+//! `jointwear run --ensemble` and `--member` end to end, and an ensemble killed part-way
+//! resumed from its journal.
 
 mod common;
 
-use common::{jointwear, temp_dir};
+use common::{assert_fails, file_names, jointwear, s, short_standard, stderr, temp_dir};
 use jointwear::io::progress::Silent;
+use jointwear::scene::variant::fingerprint;
 use jointwear::scene::{scene_path, SceneFile};
 use jointwear::simulation::ensemble::{
     member_offsets, member_state, run, run_member, EnsembleSettings, Perturbation, OFFSET_RADIUS,
 };
+use jointwear::simulation::journal::{Journal, MemberResult, JOURNAL_DIR};
+use jointwear::simulation::summary::summarize;
 use jointwear::simulation::Scene;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 fn short(name: &str, rotations: u32) -> Scene {
     let mut f = SceneFile::read(scene_path(name)).unwrap();
@@ -653,4 +660,244 @@ fn the_velocity_protocol_moves_the_journal_at_its_drawn_velocity() {
             assert!((rate - u).norm() < 1e-3 * speed, "{rate:?} vs {u:?}");
         }
     }
+}
+
+/// The bytes of an ensemble folder's file `name` without its wall times, which differ from run
+/// to run (summary.json's `wall_time_s`, ensemble_members.csv's column `wall_time_s`): every
+/// other byte of two runs of one ensemble is the same.
+fn without_wall_times(dir: &Path, name: &str) -> String {
+    let text = std::fs::read_to_string(dir.join(name)).unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    if name == "summary.json" {
+        let wall = "\"wall_time_s\":";
+        let at = text.find(wall).expect("a wall_time_s");
+        let end = at + text[at..].find(',').unwrap();
+        return format!("{}{}", &text[..at], &text[end..]);
+    }
+    if name == "ensemble_members.csv" {
+        let column = lines[0]
+            .split(',')
+            .position(|h| h == "wall_time_s")
+            .unwrap();
+        for line in &mut lines {
+            let mut cells: Vec<&str> = line.split(',').collect();
+            cells.remove(column);
+            *line = cells.join(",");
+        }
+    }
+    lines.join("\n")
+}
+
+/// Asserts that the ensemble folders `a` and `b` hold the same files, byte for byte but for
+/// their wall times ([`without_wall_times`]).
+fn assert_same_folders(a: &Path, b: &Path) {
+    let names = file_names(a);
+    assert_eq!(names, file_names(b));
+    for name in &names {
+        if name.ends_with(".png") {
+            assert!(std::fs::read(a.join(name)).unwrap() == std::fs::read(b.join(name)).unwrap());
+        } else {
+            assert_eq!(
+                without_wall_times(a, name),
+                without_wall_times(b, name),
+                "{name}"
+            );
+        }
+    }
+}
+
+/// The standard scene cut to 40 rotations without recording, in `dir`: about 0.1 s a member.
+fn forty_rotations(dir: &Path) -> PathBuf {
+    short_standard(dir, "scene.toml", 40, &[])
+}
+
+/// Fails without the journal: `run --ensemble --resume` was refused as an unknown combination
+/// of flags, and a killed ensemble lost every finished member. Killed (SIGKILL) once at least
+/// two of its eight members have finished, it resumes running only the others, and its outputs
+/// are those of an ensemble that never stopped, on one thread and two; its journal is then
+/// gone. Interrupted (SIGINT), it exits with 130 saying the finished members stay, no
+/// temporary file left, and resumes as well.
+#[test]
+fn a_killed_ensemble_resumes_to_the_outputs_of_one_that_never_stopped() {
+    let dir = temp_dir("ensemble", "killed");
+    let scene = forty_rotations(&dir);
+    for (threads, signal) in [("1", "KILL"), ("2", "KILL"), ("2", "INT")] {
+        let ensemble = |out: &Path, extra: &[&str]| {
+            let mut args = vec!["run", s(&scene), "--ensemble", "8", "--out", s(out)];
+            args.extend(extra);
+            let mut c = Command::new(env!("CARGO_BIN_EXE_jointwear"));
+            c.args(args).env("RAYON_NUM_THREADS", threads);
+            c
+        };
+        let whole = dir.join(format!("whole-{threads}"));
+        if !whole.exists() {
+            let o = ensemble(&whole, &[]).output().unwrap();
+            assert!(o.status.success(), "{}", stderr(&o));
+        }
+        let killed = dir.join(format!("killed-{threads}-{signal}"));
+        let journal = killed.join(JOURNAL_DIR);
+        let child = ensemble(&killed, &[])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let entries = || std::fs::read_dir(&journal).map_or(0, |d| d.count());
+        let start = Instant::now();
+        while entries() < 2 {
+            assert!(start.elapsed() < Duration::from_secs(60), "no entries");
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let id = child.id().to_string();
+        let kill = Command::new("kill")
+            .args([&format!("-{signal}"), &id])
+            .status();
+        assert!(kill.unwrap().success());
+        let o = child.wait_with_output().unwrap();
+        if signal == "INT" {
+            let kept = format!("the finished members stay in {}", journal.display());
+            assert_fails(&o, 130, &["interrupted", &kept, "--resume"]);
+            let names = [file_names(&killed), file_names(&journal)].concat();
+            assert!(names.iter().all(|n| !n.starts_with('.')), "{names:?}");
+        }
+        let finished = entries();
+        assert!((2..8).contains(&finished), "{finished} members journaled");
+        let o = ensemble(&killed, &["--resume"]).output().unwrap();
+        assert!(o.status.success(), "{}", stderr(&o));
+        let note = format!("{finished} of 8 members finished");
+        assert!(stderr(&o).contains(&note), "{}", stderr(&o));
+        assert!(
+            !journal.exists(),
+            "a completed ensemble removes its journal"
+        );
+        assert_same_folders(&whole, &killed);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A journal entry cut short, edited, of another version, renamed, or of another scene or
+/// ensemble is refused (exit 2) naming the file and what is wrong, nothing written; so is a
+/// file that is no entry, and another command into a folder holding a journal. The journal as
+/// written resumes to the outputs of an ensemble that never stopped.
+#[test]
+fn a_damaged_or_foreign_ensemble_journal_is_refused() {
+    let dir = temp_dir("ensemble", "journal");
+    let path = short_standard(&dir, "scene.toml", 1, &[]);
+    let scene = Scene::load(&path).unwrap();
+    let doc = SceneFile::read_document(&path).unwrap();
+    let print = fingerprint(&doc, std::iter::empty());
+    let settings = EnsembleSettings {
+        members: 2,
+        ..EnsembleSettings::default()
+    };
+    let result = |member: usize| {
+        let o = run_member(&scene, &scene.run, &settings, member, &Silent).unwrap();
+        MemberResult {
+            joints: summarize(&scene, &o),
+            final_wear: o.final_wear,
+            wall_time_s: o.wall_time,
+        }
+    };
+    let out = dir.join("out");
+    let journal = Journal::new(&out, &print, &settings);
+    journal.create().unwrap();
+    journal.record(0, &result(0)).unwrap();
+    let entry = out.join(JOURNAL_DIR).join("member-0.json");
+    let good = std::fs::read_to_string(&entry).unwrap();
+    let resume = |extra: &[&str]| {
+        let mut args = vec!["run", s(&path), "--ensemble", "2", "--out", s(&out)];
+        args.extend(extra);
+        args.push("--resume");
+        jointwear(&args)
+    };
+    let refused = |o: &std::process::Output, needles: &[&str]| {
+        assert_fails(o, 2, needles);
+        assert_eq!(file_names(&out), [JOURNAL_DIR]);
+    };
+    // The member's wall time, its value edited.
+    let at = good.find("\"wall_time_s\":").unwrap() + "\"wall_time_s\":".len();
+    let end = at + good[at..].find(['}', ',']).unwrap();
+    for (text, needles) in [
+        (
+            good[..good.len() / 2].to_string(),
+            &["member-0.json", "cut short"][..],
+        ),
+        (
+            format!("{}1e9{}", &good[..at], &good[end..]),
+            &["checksum (of", "edited or damaged"],
+        ),
+        (
+            good.replace("\"format\":1", "\"format\":0"),
+            &["format (of", "another version"],
+        ),
+        (
+            good.replace("\"format\":1,", ""),
+            &["format (of", "(absent)"],
+        ),
+    ] {
+        std::fs::write(&entry, text).unwrap();
+        refused(&resume(&[]), needles);
+    }
+    // An entry whose checksum matches but whose results do not fit the scene.
+    let mut misfit = result(0);
+    misfit.final_wear[0][3] = -1e-6;
+    journal.record(0, &misfit).unwrap();
+    refused(
+        &resume(&[]),
+        &["result.final_wear[0][3] (of", "at least 0 m"],
+    );
+    misfit.final_wear[0].pop();
+    journal.record(0, &misfit).unwrap();
+    refused(
+        &resume(&[]),
+        &["result.final_wear[0] (of", "sectors of joint"],
+    );
+    std::fs::write(&entry, &good).unwrap();
+    // Another ensemble, or the scene with another --set.
+    refused(&resume(&["--seed", "2"]), &["--seed (of", "member-0.json"]);
+    refused(
+        &resume(&["--perturbation", "axis_10nm"]),
+        &["--perturbation (of", "disc_10nm"],
+    );
+    let set = ["--set", "driver.speed_rpm=-1000"];
+    refused(&resume(&set), &["fingerprint (of", "--set"]);
+    let three = jointwear(&[
+        "run",
+        s(&path),
+        "--ensemble",
+        "3",
+        "--out",
+        s(&out),
+        "--resume",
+    ]);
+    refused(&three, &["--ensemble (of", "this run's member count"]);
+    // A renamed entry, and a file that is no entry.
+    let renamed = out.join(JOURNAL_DIR).join("member-1.json");
+    std::fs::rename(&entry, &renamed).unwrap();
+    refused(&resume(&[]), &["member (of", "renamed"]);
+    std::fs::rename(&renamed, &entry).unwrap();
+    let stray = out.join(JOURNAL_DIR).join("notes.txt");
+    std::fs::write(&stray, "x").unwrap();
+    refused(&resume(&[]), &["notes.txt", "did not write"]);
+    std::fs::remove_file(&stray).unwrap();
+    // Without --resume, and by another command, the journal is kept, not overwritten.
+    let again = jointwear(&["run", s(&path), "--ensemble", "2", "--out", s(&out)]);
+    refused(&again, &["--resume", "--discard-checkpoint"]);
+    let run = jointwear(&["run", s(&path), "--out", s(&out)]);
+    refused(
+        &run,
+        &["journal of an unfinished ensemble", "--ensemble N --resume"],
+    );
+    // As written, it resumes: member 1 runs, and the outputs are an uninterrupted ensemble's.
+    let o = resume(&[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("1 of 2 members finished"),
+        "{}",
+        stderr(&o)
+    );
+    let whole = dir.join("whole");
+    let o = jointwear(&["run", s(&path), "--ensemble", "2", "--out", s(&whole)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_same_folders(&whole, &out);
+    std::fs::remove_dir_all(&dir).unwrap();
 }

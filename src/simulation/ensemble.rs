@@ -489,11 +489,24 @@ pub fn run<T: Send>(
     keep: impl Fn(usize, RunOutput) -> T + Sync,
     progress: &dyn Progress,
 ) -> Result<Vec<T>> {
+    let all: Vec<usize> = (0..ensemble.members).collect();
+    run_members(scene, ensemble, &all, keep, progress)
+}
+
+/// [`run`] of the members `members` of the ensemble only (those a resumed ensemble has not
+/// finished), in their order: each member is the one [`run`] runs, bit for bit.
+pub fn run_members<T: Send>(
+    scene: &Scene,
+    ensemble: &EnsembleSettings,
+    members: &[usize],
+    keep: impl Fn(usize, RunOutput) -> T + Sync,
+    progress: &dyn Progress,
+) -> Result<Vec<T>> {
     ensemble.validate()?;
-    let done = Counter::new(progress, ensemble.members);
-    (0..ensemble.members)
-        .into_par_iter()
-        .map(|m| {
+    let done = Counter::new(progress, members.len());
+    members
+        .par_iter()
+        .map(|&m| {
             let out = run_member(scene, &scene.run, ensemble, m, progress);
             let out =
                 out.map_err(|e| e.in_run(&format!("ensemble member {m} (seed {})", ensemble.seed)));

@@ -23,6 +23,7 @@
 pub mod checkpoint;
 pub mod ensemble;
 pub mod folder;
+pub mod journal;
 pub mod longlife;
 pub mod picture;
 mod record;

@@ -1,13 +1,17 @@
-//! `jointwear run SCENE --ensemble N`: members in parallel from seeded initial offsets, their
-//! folder ([`write_ensemble`]: statistics as CSVs, the band plot) and the summary it prints.
+//! `jointwear run SCENE --ensemble N`: members in parallel from seeded initial offsets, each
+//! journaled as it finishes ([`Journal`]: `--resume` runs only the missing ones), their folder
+//! ([`write_ensemble`]: statistics as CSVs, the band plot) and the summary it prints.
 
 use crate::failure::{CliResult, Failure};
+use crate::run::Saved;
 use crate::{claim_outputs, load_variant};
 use jointwear::io::format::{self as people, quantity, Reading};
+use jointwear::io::interrupt;
 use jointwear::io::progress::progress_bar;
 use jointwear::simulation::ensemble::{self, EnsembleSettings};
 use jointwear::simulation::folder::ensemble::{write_ensemble, Member};
 use jointwear::simulation::folder::FolderCommand;
+use jointwear::simulation::journal::{refuse_journal, Journal, MemberResult};
 use jointwear::simulation::summary::{summarize, window};
 use jointwear::simulation::Scene;
 use jointwear::Error;
@@ -41,13 +45,16 @@ fn flagged(path: &Path, e: Error, flag: &str) -> Failure {
 
 /// `run --ensemble`: members of the scene at `path` (with `sets` and `rotations` applied,
 /// [`load_variant`]) in parallel, their statistics as CSVs, a band plot, `summary.json`,
-/// `README.txt` and a printed summary.
+/// `README.txt` and a printed summary. Each member's results go to the folder's journal as it
+/// finishes ([`Journal`]); `saved` says what to do with the journal of an unfinished ensemble
+/// in the folder: continue it (only its missing members run), discard it, or refuse the folder.
 pub fn run_ensemble(
     path: &Path,
     sets: &[String],
     rotations: Option<u32>,
     out: Option<PathBuf>,
     settings: EnsembleSettings,
+    saved: Saved,
 ) -> CliResult<()> {
     let bad = |e| Failure::from(path, e);
     checked(path, &settings)?;
@@ -56,31 +63,95 @@ pub fn run_ensemble(
     fits(path, &settings, scene)?;
     // (Refused there too: a folder holding a plain run's unfinished checkpoint.)
     let _claim = claim_outputs(path, dir, FolderCommand::Ensemble)?;
+    let journal = Journal::new(dir, &variant.variant.fingerprint(), &settings);
+    let mut kept = match saved {
+        Saved::Resume if !journal.exists() => {
+            return Err(Failure::input(
+                path,
+                Error::invalid(
+                    "--resume",
+                    journal.path().display(),
+                    "the journal of an ensemble interrupted while running into this --out \
+                     folder (an ensemble that completed has removed its own)",
+                ),
+            ))
+        }
+        Saved::Resume => {
+            let kept = journal.read(scene).map_err(|e| Failure::input(path, e))?;
+            eprintln!(
+                "note: continuing the ensemble journaled in {}: {} of {} members finished \
+                 (--resume)",
+                journal.path().display(),
+                kept.iter().flatten().count(),
+                settings.members
+            );
+            kept
+        }
+        Saved::Discard => {
+            if journal.exists() {
+                journal.remove().map_err(bad)?;
+                eprintln!(
+                    "note: removed {}, the journal of an unfinished ensemble \
+                     (--discard-checkpoint)",
+                    journal.path().display()
+                );
+            }
+            vec![None; settings.members]
+        }
+        Saved::Keep => {
+            let how = "continue that ensemble with --resume, start over with \
+                       --discard-checkpoint";
+            refuse_journal("--out", dir, how).map_err(|e| Failure::input(path, e))?;
+            vec![None; settings.members]
+        }
+    };
+    journal.create().map_err(bad)?;
+    interrupt::keep(format!(
+        "the finished members stay in {} (continue with --resume)",
+        journal.path().display()
+    ));
+    let missing: Vec<usize> = (0..settings.members)
+        .filter(|&k| kept[k].is_none())
+        .collect();
     let clock = std::time::Instant::now();
-    let bar = progress_bar(settings.members as u64, "members");
-    let members = ensemble::run(
+    let bar = progress_bar(missing.len() as u64, "members");
+    let ran = ensemble::run_members(
         scene,
         &settings,
-        |_, o| {
-            let unsettled = o.settling.is_some_and(|s| !s.steady);
-            (
-                (summarize(scene, &o), o.final_wear),
-                (o.wall_time, unsettled),
-            )
+        &missing,
+        |k, o| {
+            let result = MemberResult {
+                joints: summarize(scene, &o),
+                final_wear: o.final_wear,
+                wall_time_s: o.wall_time,
+            };
+            journal.record(k, &result).map(|()| result)
         },
         &bar,
     );
     bar.finish_and_clear();
-    let (members, runs): (Vec<Member>, Vec<(f64, bool)>) =
-        members.map_err(bad)?.into_iter().unzip();
-    let (walls, unsettled): (Vec<f64>, Vec<bool>) = runs.into_iter().unzip();
+    for (k, result) in missing.iter().zip(ran.map_err(bad)?) {
+        kept[*k] = Some(result.map_err(bad)?);
+    }
+    let results: Vec<MemberResult> = kept.into_iter().flatten().collect();
+    // A cap reached is not a steady state: those members' recorded rotations are not after
+    // settling (every joint's summary says it of its member).
+    let unsettled = (results.iter())
+        .filter(|r| r.joints.first().is_some_and(|j| j.settled == Some(false)))
+        .count();
+    let walls: Vec<f64> = results.iter().map(|r| r.wall_time_s).collect();
+    let members: Vec<Member> = (results.into_iter())
+        .map(|r| (r.joints, r.final_wear))
+        .collect();
     let wall = clock.elapsed().as_secs_f64();
     let origin = variant.variant.origin();
     let stats =
         write_ensemble(dir, &origin, scene, &settings, (&members, &walls), wall).map_err(bad)?;
+    // The outputs hold every member: the journal has served.
+    journal.remove().map_err(bad)?;
     println!("{}", scene.title);
     println!(
-        "  {} members (seed {}) of {} rotations{} in {} of wall time",
+        "  {} members (seed {}) of {} rotations{} in {} of wall time{}",
         settings.members,
         settings.seed,
         scene.run.rotations,
@@ -90,11 +161,12 @@ pub fn run_ensemble(
         } else {
             ""
         },
-        quantity(wall, "s")
+        quantity(wall, "s"),
+        match settings.members - missing.len() {
+            0 => String::new(),
+            k => format!(" (this process's, {k} members read from the journal)"),
+        }
     );
-    // A cap reached is not a steady state: those members' recorded rotations are not after
-    // settling.
-    let unsettled = unsettled.iter().filter(|&&u| u).count();
     if let Some(note) = ensemble::unsettled_note(unsettled, settings.members) {
         println!("  {note}");
     }

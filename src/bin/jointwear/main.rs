@@ -124,12 +124,14 @@ enum Command {
         #[arg(long, value_name = "K", conflicts_with = "perturbed")]
         checkpoint_every: Option<u32>,
         /// Continue the run saved in <out>/checkpoint.json, bit for bit as if it had never
-        /// stopped
-        #[arg(long, conflicts_with = "perturbed")]
+        /// stopped; with --ensemble, the ensemble journaled in <out>/ensemble_journal, running
+        /// only the members it does not hold
+        #[arg(long, conflicts_with = "member")]
         resume: bool,
-        /// Remove <out>/checkpoint.json, the saved state of an unfinished run, and start over
-        /// (without it or --resume, a run into a folder holding one is refused)
-        #[arg(long, conflicts_with_all = ["ensemble", "resume"])]
+        /// Remove <out>/checkpoint.json, the saved state of an unfinished run (with
+        /// --ensemble, <out>/ensemble_journal, an unfinished ensemble's finished members), and
+        /// start over (without it or --resume, a run into a folder holding one is refused)
+        #[arg(long, conflicts_with = "resume")]
         discard_checkpoint: bool,
     },
     /// Validate a scene, print what it describes and draw its assembled pose.
@@ -295,6 +297,8 @@ fn main() -> ExitCode {
             ensemble: Some(members),
             seed,
             perturbation,
+            resume,
+            discard_checkpoint,
             ..
         } => ensemble::run_ensemble(
             &scene,
@@ -306,6 +310,7 @@ fn main() -> ExitCode {
                 seed,
                 perturbation,
             },
+            run::Saved::from_flags(resume, discard_checkpoint),
         ),
         Command::Check { scene, out } => check::check(&scene, out),
         Command::Animate {

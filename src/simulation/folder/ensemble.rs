@@ -199,7 +199,8 @@ struct EnsembleSummary<'a> {
     /// The grid the recorded rotations are sampled on (s): the recorded maxima are its largest
     /// samples.
     record_interval_s: f64,
-    /// Wall-clock time of all members, in parallel (s).
+    /// Wall-clock time of all members, in parallel (s): of the process that completed the
+    /// ensemble (one resumed from its journal ran only the members the journal lacked).
     wall_time_s: f64,
     joints: Vec<JointDistributions<'a>>,
 }

@@ -23,6 +23,7 @@ use crate::laws::wear::sector_angles_deg;
 use crate::mechanism::{BodyIndex, Mechanism};
 use crate::scene::variant::shell_words;
 use crate::simulation::ensemble::Perturbation;
+use crate::simulation::journal::refuse_journal;
 use crate::{Error, Result};
 use serde::Serialize;
 use std::path::Path;
@@ -169,7 +170,8 @@ pub fn write_folder<T>(dir: &Path, title: &str, write: impl FnOnce() -> Result<T
 /// refused at once (bad input), not after the run; so is a folder holding a sweep file
 /// ([`sweep_file_in`]), whose sweep refuses to write beside the manifest this write would
 /// leave: a killed sweep's finished cases could no longer be resumed (`run --out <folder of
-/// sweep.csv>` did that, exit 0).
+/// sweep.csv>` did that, exit 0); and, for every command but `run --ensemble`, a folder
+/// holding the journal of an unfinished ensemble ([`refuse_journal`]), stranded likewise.
 pub fn check_manifest(
     option: &str,
     dir: &Path,
@@ -190,6 +192,11 @@ pub fn check_manifest(
                 sweep.display()
             ),
         ));
+    }
+    if command != FolderCommand::Ensemble {
+        let how = "continue that ensemble with `jointwear run ... --ensemble N --resume`, or \
+                   start it over with `jointwear run ... --ensemble N --discard-checkpoint`";
+        refuse_journal(option, dir, how)?;
     }
     read_manifest(dir, is_folder_file)?;
     check_command(option, dir, Some(command), remedy)
