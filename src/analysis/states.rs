@@ -5,28 +5,57 @@
 //!
 //! **Rule (largest gap).** Sort the finite values `x₍₀₎ ≤ … ≤ x₍ₙ₋₁₎`. Among the splits that
 //! leave at least [`min_state_members`]`(n)` = max(2, ⌈n/10⌉) members on either side, take the
-//! one at the largest gap `g = x₍ₖ₎ − x₍ₖ₋₁₎`; the members fall into two states when
-//! `g > GAP_OVER_SPREAD · max(1, CALIBRATION_MEMBERS / n) · s_p`, `s_p` the pooled
-//! within-group standard deviation `√(((k−1)s₁² + (n−k−1)s₂²)/(n−2))`. One split at most: two
-//! states. Angles ([`States::of_angles_deg`]) are unwrapped from their largest gap on the
-//! circle first and split only at a gap wider than [`MIN_ANGLE_GAP_DEG`].
+//! one at the largest gap `g = x₍ₖ₎ − x₍ₖ₋₁₎`; the members fall into two states when either
 //!
-//! Why these constants: in 2000 draws each of 32 values from unimodal distributions (normal,
-//! uniform, lognormal σ = 0.5, Student t₃, exponential) the rule splits at most 2.3 % of the
-//! draws (exponential; normal 0 %), while two normal states 8 sd apart with 5 of 32 members in
-//! the smaller are split in 99 % of the draws. Without the minimum share a skewed sample's two
-//! or three extreme members split off in up to 12 % of the draws (exponential, gap ratio 2); a
-//! state held by fewer than a tenth of the members is not resolved by 32 members anyway.
-//! Fewer members estimate `s_p` worse and leave fewer gaps to pick the largest of, so the same
-//! 2 sds split unimodal samples far more often (3000 draws: 16 members, exponential 20 %; 8
-//! members, uniform 37 %; 4 members, normal 25 %): the bound grows as 32/n below 32 members
-//! ([`gap_over_spread`]), which keeps normal samples at most 1.1 % (4 members) and the
-//! skewed exponential at most 4.3 % from 4 to 32 members (10 000 draws a size: 2.8 % at 16,
-//! 4.2 % at 20 and 4.3 % at 30, the sizes below 21 and 31 where ⌈n/10⌉ leaves a state only 2
-//! or 3 members; 2.2 % at 32), and still splits two normal states 12 sd apart with 2 of 16
-//! members in the smaller in all of 1000 draws (2 of 8: 80 %). Four members split only
-//! states far apart (one split, 2 and 2, at 16 pooled sds with 2 degrees of freedom): two
-//! normal states 12 sd apart in 40 % of the draws, 16 sd in 59 %, 32 sd in 96 %.
+//! * `g > GAP_OVER_SPREAD · max(1, CALIBRATION_MEMBERS / n) · s_p` ([`gap_over_spread`]),
+//!   `s_p` the pooled within-group standard deviation `√(((k−1)s₁² + (n−k−1)s₂²)/(n−2))`; or
+//! * `g > GAP_OVER_SIDE_SPREAD · √max(1, CALIBRATION_MEMBERS / n) · s_narrow`
+//!   ([`gap_over_side_spread`]) and `g > s_other`, `s_narrow` the sd of the narrower side
+//!   holding at least [`MIN_REFERENCE_MEMBERS`] members and `s_other` the other side's: a
+//!   narrow state beside a wide one, whose gap the pooled sd, the wide state's, hides.
+//!
+//! One split at most: two states. Angles ([`States::of_angles_deg`]) are unwrapped from their
+//! largest gap on the circle first and split only at a gap wider than [`MIN_ANGLE_GAP_DEG`].
+//!
+//! Why the pooled bound: in 2000 draws each of 32 values from unimodal distributions (normal,
+//! uniform, lognormal σ = 0.5, Student t₃, exponential) 2 pooled sds split at most 2.3 % of
+//! the draws, while two normal states 8 sd apart with 5 of 32 members in the smaller are split
+//! in 99 % of the draws. Without the minimum share a skewed sample's two or three extreme
+//! members split off in up to 12 % of the draws (exponential, gap ratio 2); a state held by
+//! fewer than a tenth of the members is not resolved by 32 members anyway. Fewer members
+//! estimate `s_p` worse and leave fewer gaps to pick the largest of, so the same 2 sds split
+//! unimodal samples far more often (3000 draws: 16 members, exponential 20 %; 8 members,
+//! uniform 37 %; 4 members, normal 25 %): the bound grows as 32/n below 32 members, and still
+//! splits two normal states 12 sd apart with 2 of 16 members in the smaller in all of 1000
+//! draws (2 of 8: 80 %). Four members split only states far apart (one split, 2 and 2, at 16
+//! pooled sds with 2 degrees of freedom): two normal states 12 sd apart in 40 % of the draws,
+//! 16 sd in 59 %, 32 sd in 96 %.
+//!
+//! Why the narrow side's bound: the pooled bound alone lost states of unequal spread. In the
+//! contact-law study's 16 members the paper law's P-w concordance (standard case) has four
+//! members, the four with contact onsets, within 2.2e-5 and 2.0e-4 below the other twelve,
+//! which scatter over 3.8e-4: 2.1 pooled sds against 4, but 19 sds of the four. Liu's time in
+//! contact at 0.5 mm has four members in free flight and impact at 45-74 % and twelve in
+//! continuous contact at 94-100 %: 3.2 pooled sds, 8.6 sds of the twelve. A side's own sd
+//! scatters more than the pooled one, the more so with fewer members, hence the larger bound,
+//! growing as √(32/n) below 32 members so that the false splits stay near the pooled bound's
+//! at every size, and its four members at least: with two, a unimodal sample's two extreme
+//! members agree closely often enough to stand off as a state. The other side's sd keeps a skewed state's
+//! dense part from being split off its sparse tail, and a quantity of few distinct values
+//! from being split at one of them. `cargo run --release --example states_calibration`
+//! (10 000 seeded draws a size and distribution) gives the false splits of the rule, against
+//! the pooled bound alone: at most 1.8 % (uniform) of 4 members, as before; 2.3 % (exponential,
+//! 1.1 % before) of 8; 2.8 % (2.6 %) of 16; 4.2 % (4.0 %) of 20; 4.8 % (4.7 %) of 30; 2.7 %
+//! (2.5 %) of 32; normal samples at most 1.0 % (4 members), 0.4 % from 8 on. Two normal
+//! states with sds 1:10, the four of 16 the narrow ones, 30 narrow sds apart (3 of the wide)
+//! are split exactly in 64 % of the draws against 2.4 % before, 40 apart 93 % against 15 %;
+//! with sds 1:30, 90 and 120 apart, 69 % and 93.5 % against 2.6 % and 16 %; five of 32 narrow,
+//! 1:10, 30 and 40 apart, 46 % and 91 % against 6.6 % and 54 %. Where the smaller state is the
+//! wide one the narrow side is the majority: four of 16 wide, 1:10, 20 and 30 apart, 40 % and
+//! 76 % against 24 % and 55 %; five of 32, unchanged (44 % and 79 %). The contact-law study's
+//! deepest wear under gonthier (3 members at 0.57-0.61 µm, 13 at 0.66-0.70 µm) and flores (6
+//! at 0.57-0.63, 10 at 0.67-0.69), which look like one skewed state, gap 3.9 and 4.1 sds of
+//! their narrower side and stay one state.
 
 use super::statistics::Distribution;
 
@@ -40,9 +69,30 @@ pub const CALIBRATION_MEMBERS: usize = 32;
 /// How many pooled within-state standard deviations the largest gap of `n` finite values must
 /// exceed: [`GAP_OVER_SPREAD`] from [`CALIBRATION_MEMBERS`] on, growing as 1/n below it, so
 /// that a small ensemble splits unimodal samples about as rarely as 32 members do (module
-/// documentation: at most 4.3 % of exponential draws, against 2.2 % at 32).
+/// documentation: at most 4.7 % of exponential draws, 30 members, against 2.5 % at 32).
 pub fn gap_over_spread(n: usize) -> f64 {
     GAP_OVER_SPREAD * (CALIBRATION_MEMBERS as f64 / n.max(1) as f64).max(1.0)
+}
+
+/// The largest gap must exceed this many standard deviations of the narrower side of the split
+/// that holds at least [`MIN_REFERENCE_MEMBERS`], in an ensemble of at least
+/// [`CALIBRATION_MEMBERS`] (more in a smaller one: [`gap_over_side_spread`]). One side's sd
+/// scatters more than the pooled one, hence a larger bound than [`GAP_OVER_SPREAD`].
+pub const GAP_OVER_SIDE_SPREAD: f64 = 5.5;
+
+/// The fewest members a side of a split must hold for its own sd to judge the gap: two or
+/// three members agree closely by chance often enough that a unimodal sample's sparse tail
+/// would stand off them as a state (module documentation).
+pub const MIN_REFERENCE_MEMBERS: usize = 4;
+
+/// How many standard deviations of its narrower side (of at least [`MIN_REFERENCE_MEMBERS`])
+/// the largest gap of `n` finite values must exceed: [`GAP_OVER_SIDE_SPREAD`] from
+/// [`CALIBRATION_MEMBERS`] on, growing as 1/√n below it (module documentation).
+pub fn gap_over_side_spread(n: usize) -> f64 {
+    GAP_OVER_SIDE_SPREAD
+        * (CALIBRATION_MEMBERS as f64 / n.max(1) as f64)
+            .max(1.0)
+            .sqrt()
 }
 
 /// The smallest gap (deg) between the two states of an angle: the angle tolerance of the
@@ -91,8 +141,14 @@ pub struct States {
     /// Non-finite values are in none.
     pub states: Vec<State>,
     /// The largest admissible gap over the pooled within-group sd (NaN when no split was
-    /// admissible: too few members or no spread).
+    /// admissible: too few members or no spread); the members split when it exceeds
+    /// [`gap_over_spread`] (or `side_gap_ratio` its bound).
     pub gap_ratio: f64,
+    /// The same gap over the sd of the narrower side that holds at least
+    /// [`MIN_REFERENCE_MEMBERS`]: 0 when neither side does or when the gap does not exceed the
+    /// other side's sd, NaN where `gap_ratio` is; the members split when it exceeds
+    /// [`gap_over_side_spread`] (or `gap_ratio` its bound).
+    pub side_gap_ratio: f64,
 }
 
 impl States {
@@ -125,22 +181,37 @@ impl States {
             }
         };
         let pooled = Distribution::of(sorted.iter().copied());
-        let gap_ratio = split.map_or(f64::NAN, |k| {
-            let (low, high) = (
+        let (gap_ratio, side_gap_ratio) = split.map_or((f64::NAN, f64::NAN), |k| {
+            let gap = sorted[k] - sorted[k - 1];
+            if gap <= 0.0 {
+                return (f64::NAN, f64::NAN);
+            }
+            let sides = [
                 Distribution::of(sorted[..k].iter().copied()),
                 Distribution::of(sorted[k..].iter().copied()),
-            );
-            let ss = (k - 1) as f64 * low.sd.powi(2) + (n - k - 1) as f64 * high.sd.powi(2);
-            let spread = (ss / (n - 2) as f64).sqrt();
-            let gap = sorted[k] - sorted[k - 1];
-            if gap > 0.0 {
-                gap / spread
-            } else {
-                f64::NAN
-            }
+            ];
+            let ss =
+                (k - 1) as f64 * sides[0].sd.powi(2) + (n - k - 1) as f64 * sides[1].sd.powi(2);
+            // A narrow state beside a wide one: the pooled sd is the wide one's, so the gap is
+            // judged against the narrow side's own sd too, where it has members to estimate it,
+            // provided the gap also clears the other side's sd (else the narrow side is the
+            // dense part of one skewed state, or one level of a quantity of few values).
+            let narrow = usize::from(sides[1].sd < sides[0].sd);
+            let (a, b) = (&sides[narrow], &sides[1 - narrow]);
+            let reference = match (a.n, b.n) {
+                (m, _) if m >= MIN_REFERENCE_MEMBERS => Some((a, b)),
+                (_, m) if m >= MIN_REFERENCE_MEMBERS => Some((b, a)),
+                _ => None,
+            };
+            let side = (reference.filter(|(_, other)| gap > other.sd))
+                .map_or(0.0, |(narrow, _)| gap / narrow.sd);
+            (gap / (ss / (n - 2) as f64).sqrt(), side)
         });
         let states = match split {
-            Some(k) if gap_ratio > gap_over_spread(n) && sorted[k] - sorted[k - 1] > min_gap => {
+            Some(k)
+                if (gap_ratio > gap_over_spread(n) || side_gap_ratio > gap_over_side_spread(n))
+                    && sorted[k] - sorted[k - 1] > min_gap =>
+            {
                 vec![state(&order[..k]), state(&order[k..])]
             }
             // no value, no state (a quantity nothing recorded)
@@ -151,6 +222,7 @@ impl States {
             pooled,
             states,
             gap_ratio,
+            side_gap_ratio,
         }
     }
 
@@ -358,6 +430,131 @@ mod tests {
             States::of(&[1.0, 1.1, 0.9]).cells(number),
             ["1", "", "", "", "", "", ""]
         );
+    }
+
+    /// The contact-law study's 16-member ensembles (`data/contact_law_wear.csv`, seed 1), per
+    /// member. Failed with the pooled bound alone: the paper law's P-w concordance (gap 2.1
+    /// pooled sds against 4) and liu's contact fraction at 0.5 mm (3.2) made one state.
+    #[test]
+    fn a_narrow_state_beside_a_wide_one_is_split() {
+        // the paper's law, standard case: members 0, 2, 4 and 13 (the four with contact
+        // onsets) agree within 2.2e-5, 2.0e-4 below the others, which scatter over 3.8e-4
+        let pw = [
+            0.920445056,
+            0.920847323,
+            0.920443930,
+            0.920981623,
+            0.920423043,
+            0.921015425,
+            0.921031803,
+            0.920649138,
+            0.920962868,
+            0.920992074,
+            0.920933783,
+            0.920870460,
+            0.921000863,
+            0.920431232,
+            0.921014445,
+            0.921031802,
+        ];
+        // liu, 0.5 mm: four members in free flight and impact, twelve in continuous contact
+        let contact = [
+            1.0,
+            1.0,
+            0.546742210,
+            1.0,
+            1.0,
+            0.453424429,
+            0.945009165,
+            0.937343776,
+            0.740543243,
+            1.0,
+            1.0,
+            0.646725546,
+            1.0,
+            1.0,
+            1.0,
+            1.0,
+        ];
+        for (v, low) in [(&pw, [0, 2, 4, 13]), (&contact, [2, 5, 8, 11])] {
+            let s = States::of(v);
+            assert!(s.gap_ratio < gap_over_spread(16), "{s:?}");
+            assert!(s.side_gap_ratio > gap_over_side_spread(16), "{s:?}");
+            assert_eq!(
+                s.states.first().map(|s| &s.members[..]),
+                Some(&low[..]),
+                "{s:?}"
+            );
+        }
+        // against the narrow side's sd (the four's in the first, the twelve's in the second)
+        assert_relative_eq!(States::of(&pw).side_gap_ratio, 19.30, max_relative = 1e-3);
+        assert_relative_eq!(
+            States::of(&contact).side_gap_ratio,
+            8.57,
+            max_relative = 1e-3
+        );
+    }
+
+    /// A skewed state's sparse tail is no second state: the deepest wear (µm) under gonthier
+    /// (3 members 0.57-0.61, 13 at 0.66-0.70) and flores (6 at 0.57-0.63, 10 at 0.67-0.69)
+    /// gap 3.9 and 4.1 sds of their narrower side of at least four. Failed with the side's
+    /// bound at the pooled one's 2 × 32/16 = 4 sds (flores split, 6 of 16), with
+    /// `MIN_REFERENCE_MEMBERS` at 2, where two close members in a tail make a "state", and
+    /// without the other side's sd, where seven equal members of 32 make one.
+    #[test]
+    fn a_skewed_state_or_a_close_pair_in_its_tail_is_not_split() {
+        let gonthier = [
+            0.6953928, 0.6904702, 0.6599853, 0.6858684, 0.5781660, 0.6084696, 0.6786635, 0.6568500,
+            0.6736768, 0.6901855, 0.6854035, 0.6721942, 0.6713238, 0.6946573, 0.6731712, 0.5727554,
+        ];
+        let flores = [
+            0.6684009, 0.6676638, 0.6897407, 0.5726474, 0.6779137, 0.6870775, 0.6726281, 0.6147027,
+            0.6068372, 0.6743711, 0.6724286, 0.6318700, 0.5982532, 0.6884364, 0.6871508, 0.5914543,
+        ];
+        for (v, side) in [(&gonthier, 3.87), (&flores, 4.11)] {
+            let s = States::of(v);
+            assert!(!s.split(), "{s:?}");
+            assert_relative_eq!(s.side_gap_ratio, side, max_relative = 2e-3);
+        }
+        // fourteen members spread evenly over 0-2.6 and two 0.01 apart at 3.5: the pair's own
+        // sd (0.007) is no measure of a state's spread, the fourteen's (0.8) is
+        let mut v: Vec<f64> = (0..14).map(|i| 0.2 * i as f64).collect();
+        v.extend([3.5, 3.51]);
+        let s = States::of(&v);
+        assert!(!s.split(), "{s:?}");
+        let fourteen = Distribution::of(v[..14].iter().copied());
+        assert_relative_eq!(s.side_gap_ratio, 0.9 / fourteen.sd, max_relative = 1e-12);
+        // five levels 0.001 apart, six or seven members on each: the seven on the lowest
+        // agree exactly (sd 0), but the gap above them is no wider than the others' spacing
+        // and within their sd (0.0011)
+        let levels: Vec<f64> = (0..32).map(|i| 0.91 + 0.001 * (i % 5) as f64).collect();
+        let s = States::of(&levels);
+        assert!(!s.split(), "{s:?}");
+        assert_eq!(s.side_gap_ratio, 0.0);
+    }
+
+    /// Deepest sectors of four members within 1° of 46°, of twelve scattered over 120-200°:
+    /// two regions, though the gap of 73° is 3.1 pooled sds (the scattered twelve's) against
+    /// 4. Failed with the pooled bound alone (one state). A gap under 10° stays one region
+    /// however narrow the sides.
+    #[test]
+    fn angles_of_a_narrow_region_beside_a_scattered_one_split() {
+        let scattered = (0..12).map(|i| 120.0 + 80.0 * i as f64 / 11.0);
+        let narrow = [46.0, 46.5, 47.0, 46.0];
+        let s = States::of_angles_deg(narrow.into_iter().chain(scattered.clone()));
+        assert!(s.gap_ratio < gap_over_spread(16), "{s:?}");
+        let (low, high) = s.low_high().expect("two regions");
+        assert_eq!(
+            (low.members.clone(), high.distribution.n),
+            (vec![0, 1, 2, 3], 12)
+        );
+        assert_relative_eq!(low.distribution.mean, 46.375, max_relative = 1e-12);
+        // four within 0.3° and twelve within 1.1°, 9.6° apart: one region
+        let near = [184.0, 184.1, 184.2, 184.3];
+        let far = (0..12).map(|i| 193.9 + 0.1 * i as f64);
+        let s = States::of_angles_deg(near.into_iter().chain(far));
+        assert!(s.side_gap_ratio > gap_over_side_spread(16), "{s:?}");
+        assert!(!s.split(), "{s:?}");
     }
 
     #[test]
