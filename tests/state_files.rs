@@ -449,8 +449,9 @@ fn edited_cells_of_sweep_files_are_refused_naming_row_column_and_value() {
         )
         .unwrap();
         let shown = if at == column("error") {
-            // the error makes the first measured cell the misfit
-            header[column("max_normal_force_recorded_n")]
+            // the error makes the first cell after the set values (the recorded window's) the
+            // misfit
+            "record_rotations"
         } else {
             name
         };

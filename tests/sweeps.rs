@@ -27,6 +27,22 @@ fn cases(f: &SweepFile) -> Vec<&str> {
     f.rows.iter().map(|r| r[0].as_str()).collect()
 }
 
+/// The header and rows of the sweep file at `path` with the measured `wall_time_s` left out:
+/// what a merged or resumed sweep writes as an uninterrupted one does, cell for cell.
+fn without_wall(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let f = SweepFile::read(path).unwrap();
+    let wall = f.header.iter().position(|h| h == "wall_time_s").unwrap();
+    let drop_wall = |row: &[String]| {
+        let mut row = row.to_vec();
+        row.remove(wall);
+        row
+    };
+    (
+        drop_wall(&f.header),
+        f.rows.iter().map(|r| drop_wall(r)).collect(),
+    )
+}
+
 fn temporaries(dir: &Path) -> Vec<PathBuf> {
     fs::read_dir(dir)
         .unwrap()
@@ -84,8 +100,8 @@ fn an_interrupted_sweep_keeps_its_finished_cases() {
         ],
     );
     assert_eq!(fs::read_to_string(&out).unwrap(), before);
-    // So is a sweep file that cannot be read back (here an earlier version's, without its
-    // label check): it was replaced unseen.
+    // So is a sweep file that cannot be read back (here a row without its label check): it
+    // was replaced unseen.
     let (head, check) = before.trim_end().rsplit_once(',').unwrap();
     assert!(check.starts_with("label-"), "{before}");
     fs::write(&out, format!("{head},\n")).unwrap();
@@ -212,6 +228,11 @@ fn resume_skips_finished_cases_and_refuses_another_sweep() {
     // Case 0 is not run again: its row, wall time included, is the one that was there.
     assert_eq!(again[..2], lines[..2]);
     assert!(again[2].starts_with("1,-1000,"), "{resumed}");
+    // The resumed file is the uninterrupted one, recorded window and label checks included,
+    // but for the measured wall time.
+    let uninterrupted = dir.join("uninterrupted.csv");
+    fs::write(&uninterrupted, &whole).unwrap();
+    assert_eq!(without_wall(&out), without_wall(&uninterrupted));
     // Resuming into the file of another sweep or shard is bad input.
     for extra in [
         vec!["--set", "driver.speed_rpm=-2000,-500", "--resume"],
@@ -265,6 +286,11 @@ fn merge_refuses_missing_foreign_repeated_and_unfinished_shards() {
     let whole = SweepFile::read(&merged).unwrap();
     assert_eq!(cases(&whole), ["0", "1"]);
     assert_eq!(whole.id.shard.count, 1);
+    // The merge is the sweep run whole, recorded window included, cell for cell but for the
+    // measured wall time.
+    let single = dir.join("single.csv");
+    assert!(sweep(&scene, &TWO_CASES, &single).status.success());
+    assert_eq!(without_wall(&merged), without_wall(&single));
 
     assert_fails(
         &merge(&[&shards[0], &shards[2]], &[]),
@@ -520,6 +546,10 @@ fn rows_with_impossible_measurements_are_refused() {
         ("rod-slider.motion_mode", "free flight and impact"),
         ("rod-slider.max_normal_force_recorded_n", "-1"),
         ("wall_time_s", "-1"),
+        ("record_rotations", "0"),
+        ("record_rotations", ""),
+        ("record_interval_s", "0"),
+        ("record_interval_s", "2"),
     ];
     let ensemble_edits = [
         ("rod-slider.contact_fraction.mean", "1.5"),
@@ -527,6 +557,7 @@ fn rows_with_impossible_measurements_are_refused() {
         ("rod-slider.max_wear_angle_deg.mean", "400"),
         ("rod-slider.max_wear_depth_m.n", "3"),
         ("rod-slider.max_wear_depth_m.states", "0"),
+        ("record_interval_s", "-1e-5"),
     ];
     for (file, extra, edits) in [
         (&out, &TWO_CASES[..], &run_edits[..]),
@@ -561,6 +592,8 @@ fn rows_with_impossible_measurements_are_refused() {
     let scene_edits = [
         ("rod-slider.rotations_simulated", "2"),
         ("rod-slider.settled", "true"),
+        ("record_rotations", "2"),
+        ("record_interval_s", "1e-4"),
     ];
     let whole = fs::read_to_string(&out).unwrap();
     let lines: Vec<&str> = whole.lines().collect();
@@ -585,40 +618,98 @@ fn rows_with_impossible_measurements_are_refused() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Each row names the window of its recorded quantities: the rotations recorded and the
+/// interval they were sampled on. The largest recorded force is the largest sample, 3223 N
+/// every 1e-5 s and 497 N every 8e-4 s in the standard scene's first rotation, and the rows
+/// did not say which.
 #[test]
-fn a_sweep_file_of_the_earlier_label_checks_is_refused_saying_so() {
-    let dir = temp_dir("sweeps", "earlier-checks");
+fn every_row_names_the_recorded_window_and_its_sampling() {
+    let dir = temp_dir("sweeps", "window");
+    let scene = short_standard(&dir, "scene.toml", 1, &[]);
+    let (out, ensemble) = (dir.join("sweep.csv"), dir.join("ensemble.csv"));
+    let intervals = ["--set", "run.record_interval_s=1e-5,8e-4"];
+    assert!(sweep(&scene, &intervals, &out).status.success());
+    let members = [&intervals[..], &["--ensemble", "2"]].concat();
+    assert!(sweep(&scene, &members, &ensemble).status.success());
+    for (path, before) in [(&out, "run.record_interval_s"), (&ensemble, "members")] {
+        let f = SweepFile::read(path).unwrap();
+        let column = |name: &str| f.header.iter().position(|h| h == name).unwrap();
+        let (rotations, interval) = (column("record_rotations"), column("record_interval_s"));
+        assert_eq!(
+            (rotations, interval),
+            (column(before) + 1, column(before) + 2)
+        );
+        for (row, set) in f.rows.iter().zip([1e-5, 8e-4]) {
+            assert_eq!(row[rotations], "1", "{row:?}");
+            let sampled: f64 = row[interval].parse().unwrap();
+            approx::assert_relative_eq!(sampled, set, max_relative = 0.0);
+        }
+    }
+    // The same maximum read on the two grids: the row says which it is.
+    let f = SweepFile::read(&out).unwrap();
+    let force = f
+        .header
+        .iter()
+        .position(|h| h == "rod-slider.max_normal_force_recorded_n");
+    let force: Vec<f64> = f
+        .rows
+        .iter()
+        .map(|r| r[force.unwrap()].parse().unwrap())
+        .collect();
+    assert!(force[0] > 2.0 * force[1], "{force:?}");
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A sweep file written before its rows named their recorded window, with the label checks
+/// of that version (every cell but the wall time) or of the versions before 2026-11-28 (the
+/// case and set values alone), is refused by `sweep-merge`, `--resume` and a rerun into it,
+/// saying so and what to do.
+#[test]
+fn a_sweep_file_of_an_earlier_version_is_refused_saying_so() {
+    let dir = temp_dir("sweeps", "earlier");
     let scene = short_standard(&dir, "scene.toml", 1, &[]);
     let out = dir.join("sweep.csv");
     assert!(sweep(&scene, &TWO_CASES, &out).status.success());
-    // Each row's check rewritten as versions before 2026-11-28 wrote it: a hash of the
-    // fingerprint, the case number and the set values alone.
+    let now = fs::read_to_string(&out).unwrap();
     let fingerprint = SweepFile::read(&out).unwrap().id.fingerprint;
-    let text = fs::read_to_string(&out).unwrap();
-    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
-    for line in &mut lines[1..] {
-        let mut cells: Vec<&str> = line.split(',').collect();
-        let labels = cells[..2].join("\u{1f}");
-        let check = format!("label-{}", salted(&fingerprint, &labels));
-        *cells.last_mut().unwrap() = &check;
-        *line = cells.join(",");
-    }
-    fs::write(&out, lines.join("\n") + "\n").unwrap();
+    // The file without the window's columns (after the case and its one set value).
+    let lines: Vec<Vec<String>> = (now.lines())
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    assert_eq!(lines[0][2..4], ["record_rotations", "record_interval_s"]);
+    let cut = |row: &[String]| [&row[..2], &row[4..]].concat();
+    let header = cut(&lines[0]);
+    let wall = header.iter().position(|h| h == "wall_time_s").unwrap();
     let merged = dir.join("merged.csv");
     let resume = [&TWO_CASES[..], &["--resume"]].concat();
-    for output in [
-        jointwear(&["sweep-merge", s(&out), "--out", s(&merged)]),
-        sweep(&scene, &resume, &out),
-        sweep(&scene, &TWO_CASES, &out),
-    ] {
-        assert_eq!(output.status.code(), Some(2));
-        let err = String::from_utf8_lossy(&output.stderr);
-        assert!(
-            err.contains("a file written by an earlier version (before 2026-11-28)")
-                && err.contains("run its sweep again")
-                && !err.contains("the file was edited"),
-            "{err}"
-        );
+    for before_2026_11_28 in [false, true] {
+        let mut text = header.join(",") + "\n";
+        for row in &lines[1..] {
+            let mut row = cut(row);
+            row.pop();
+            let check = if before_2026_11_28 {
+                format!("label-{}", salted(&fingerprint, &row[..2].join("\u{1f}")))
+            } else {
+                label_check(&fingerprint, &row, wall)
+            };
+            text += &format!("{},{check}\n", row.join(","));
+        }
+        fs::write(&out, &text).unwrap();
+        for output in [
+            jointwear(&["sweep-merge", s(&out), "--out", s(&merged)]),
+            sweep(&scene, &resume, &out),
+            sweep(&scene, &TWO_CASES, &out),
+        ] {
+            let needles = [
+                "a file written by an earlier version",
+                "record_interval_s",
+                "run its sweep again into another --out",
+            ];
+            assert_fails(&output, 2, &needles);
+            assert!(!stderr(&output).contains("the file was edited"));
+        }
+        assert_eq!(fs::read_to_string(&out).unwrap(), text);
+        assert!(!merged.exists());
     }
-    assert!(!merged.exists());
+    fs::remove_dir_all(&dir).unwrap();
 }

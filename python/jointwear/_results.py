@@ -350,7 +350,9 @@ class SweepResult:
         keys: the swept dotted keys.
         members: the ensemble size of every case, or None for single runs.
         columns: column name -> array over the cases: ``case``, each swept key (its values as
-            given), then the columns of ``jointwear sweep``'s file: per joint
+            given), then the columns of ``jointwear sweep``'s file: ``members`` (ensembles),
+            ``record_rotations`` and ``record_interval_s`` (the recorded rotations and the
+            interval they were sampled on, s: the window of every recorded quantity), per joint
             ``<joint>.<quantity>`` for single runs, each of :attr:`Ensemble.scalar_names`
             (``continuous_contact``, which the file lacks, and ``settled`` as 1 or 0, NaN where
             the file's cell is empty; the window of each is its ``window`` in
@@ -380,8 +382,10 @@ class SweepResult:
             for k in c:
                 if k not in ("case", "error") and k not in names:
                     names.append(k)
-        # the program's column order: members (ensembles), the joints' columns, wall time
-        names.sort(key=lambda k: 0 if k == "members" else 2 if k == "wall_time_s" else 1)
+        # the program's column order: members (ensembles), the recorded window, the joints'
+        # columns, wall time
+        order = {"members": 0, "record_rotations": 1, "record_interval_s": 2, "wall_time_s": 4}
+        names.sort(key=lambda k: order.get(k, 3))
         columns: Dict[str, Any] = {"case": np.array([c["case"] for c in cases], dtype=np.int64)}
         for i, key in enumerate(self.keys):
             columns[key] = _column([combos[c["case"]][i] for c in cases])

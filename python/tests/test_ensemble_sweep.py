@@ -266,6 +266,11 @@ def test_the_programs_sweep_file_is_plain_csv_for_pandas(tmp_path, cli):
     # pandas' default float parser may miss the last bit of the shortest round-trip text
     depth = frame["rod-slider.max_wear_depth_m"].tolist()
     assert depth == pytest.approx(list(sweep["rod-slider.max_wear_depth_m"]), rel=1e-15)
+    # the window of the recorded maxima, named by both where the program's row names it
+    window = ["record_rotations", "record_interval_s"]
+    assert list(frame.columns[2:4]) == window and list(sweep.columns)[2:4] == window
+    for column in window:
+        assert frame[column].tolist() == list(sweep[column])
 
 
 def test_sweep_to_pandas():

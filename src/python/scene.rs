@@ -21,7 +21,7 @@ use crate::simulation::folder::run::{write_run, EnsembleMember};
 use crate::simulation::folder::{check_manifest, FolderCommand, Origin, PROGRAM};
 use crate::simulation::summary::{joint_statistics, summarize, window, JointSummary, SCALARS};
 use crate::simulation::{simulate_with_progress, RunOutput, Scene};
-use crate::sweep::{Assignment, CaseResult, Outcome, Shard, Sweep};
+use crate::sweep::{Assignment, CaseResult, Outcome, Shard, Sweep, RECORD_COLUMNS};
 use crate::Error;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -564,16 +564,18 @@ fn payload(scene: &Scene, out: RunOutput) -> MemberPayload {
     }
 }
 
-/// One case of a sweep as a dict: `case`, `error`, and with no error `wall_time_s` and the
-/// columns of the program's sweep file.
+/// One case of a sweep as a dict: `case`, `error`, and with no error `wall_time_s`, the
+/// recorded window ([`RECORD_COLUMNS`]) and the columns of the program's sweep file.
 fn case_dict<'py>(py: Python<'py>, r: &CaseResult) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("case", r.case)?;
     match &r.outcome {
         Err(message) => d.set_item("error", message)?,
-        Ok((outcome, wall)) => {
+        Ok((outcome, recorded, wall)) => {
             d.set_item("error", py.None())?;
             d.set_item("wall_time_s", wall)?;
+            d.set_item(RECORD_COLUMNS[0], recorded.rotations)?;
+            d.set_item(RECORD_COLUMNS[1], recorded.interval_s)?;
             sweep_columns(&d, outcome)?;
         }
     }

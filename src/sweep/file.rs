@@ -20,10 +20,14 @@
 //!   is recognised when resuming or merging. `shard=I/N` and `cases` (rows the shard holds
 //!   when complete) let [`merge`] refuse a missing, repeated or unfinished shard; `total` is
 //!   the whole sweep's case count.
+//! * A file of an earlier version, whose rows do not name their recorded window
+//!   ([`crate::sweep::RECORD_COLUMNS`]), is refused when read, saying so: its sweep is run
+//!   again into another file.
 
 use crate::analysis::{CONTINUOUS_CONTACT_FRACTION, MOTION_MODES};
 use crate::io::output::{
-    fnv1a, parse_rows, read_bounded_text, write_table, GrowingTable, SWEEP_COLUMN_PREFIX as PREFIX,
+    fnv1a, number, parse_rows, read_bounded_text, write_table, GrowingTable,
+    SWEEP_COLUMN_PREFIX as PREFIX,
 };
 use crate::io::progress::{Counter, Progress};
 use crate::scene::{MAX_ROTATIONS, MAX_SETTLING_ROTATIONS};
@@ -32,7 +36,7 @@ use crate::simulation::ensemble::MAX_MEMBERS;
 use crate::simulation::summary::{JOINT_COLUMNS, SCALARS};
 use crate::simulation::RunSettings;
 use crate::sweep::{
-    case_values, shard_cases, Assignment, Shard, Sweep, ENSEMBLE_COLUMNS, MAX_CASES,
+    case_values, shard_cases, Assignment, Shard, Sweep, ENSEMBLE_COLUMNS, MAX_CASES, RECORD_COLUMNS,
 };
 use crate::{Error, Result};
 use std::collections::hash_map::Entry;
@@ -221,14 +225,23 @@ impl SweepFile {
             ));
         }
         let cells = cell_kinds(&header).ok_or_else(|| {
+            let earlier = if header.iter().any(|h| h == RECORD_COLUMNS[1]) {
+                ""
+            } else {
+                "; likely cause: a file written by an earlier version, whose rows do not say \
+                 the recorded window (record_rotations) nor the sampling interval \
+                 (record_interval_s) of their recorded maxima and motion, so that this version \
+                 cannot keep them beside its own (run its sweep again into another --out, or \
+                 remove the file)"
+            };
             parse_error(
                 path,
                 format!(
-                    "header `{}` is not a sweep's: `case`, the set keys, per clearance joint \
-                     its summary columns (or `members` and per quantity its n, mean, sd and \
-                     states), `wall_time_s`, `error` (a sweep of an earlier version must be run \
-                     again: its runs' rows lack `settled`, its ensembles' the states)",
-                    header.join(",")
+                    "header `{}` is not a sweep's: `case`, the set keys, `members` for an \
+                     ensemble sweep, `{}`, per clearance joint its summary columns (or per \
+                     quantity its n, mean, sd and states), `wall_time_s`, `error`{earlier}",
+                    header.join(","),
+                    RECORD_COLUMNS.join("`, `"),
                 ),
             )
         })?;
@@ -277,21 +290,12 @@ impl SweepFile {
                 })
                 .or_else(|| {
                     let writes = "the label check of its case, set values and results".to_string();
-                    let cause = if check.is_empty() {
-                        "a file of an earlier version, whose labels cannot be checked (run its \
-                         sweep again)"
-                    } else if check == earlier_label_check(&id.fingerprint, &row, &cells) {
-                        "a file written by an earlier version (before 2026-11-28), whose label \
-                         checks covered the case and set values alone, so that this version \
-                         cannot tell its results are the sweep's (remove the file, or give \
-                         another --out, and run its sweep again)"
-                    } else {
-                        "the file was edited: a cell of the row (its case number, a set value \
-                         or a result) is not the one the sweep wrote, and merged or resumed the \
-                         row would be kept as the sweep's, its results perhaps filed under \
-                         another case (a spreadsheet that saved the file rounds its numbers) \
-                         (remove the row and resume the sweep to run its case again)"
-                    };
+                    let cause = "the file was edited: a cell of the row (its case number, a set \
+                                 value or a result) is not the one the sweep wrote, and merged or \
+                                 resumed the row would be kept as the sweep's, its results perhaps \
+                                 filed under another case (a spreadsheet that saved the file \
+                                 rounds its numbers) (remove the row and resume the sweep to run \
+                                 its case again)";
                     (check != expected).then(|| (id.column_name(), check, writes, cause))
                 });
             if let Some((name, value, writes, cause)) = misfit {
@@ -345,6 +349,9 @@ enum Cell {
     /// A run's rotations simulated: an integer in [1, [`MAX_ROTATIONS_SIMULATED`]], always
     /// written.
     Rotations,
+    /// The rotations recorded (`record_rotations`): an integer in [1, [`MAX_ROTATIONS`]] (a
+    /// sweep records at least one), always written.
+    RecordRotations,
     /// Members of an ensemble quantity or of one of its states (`n`, `low_n`, `high_n`): an
     /// integer from 0 to the row's member count, or empty where there is no such state.
     Count,
@@ -379,6 +386,8 @@ enum Range {
     Angle,
     /// Rotations simulated, or their mean: in [1, [`MAX_ROTATIONS_SIMULATED`]].
     Rotations,
+    /// A sampling interval (s): in (0, 1], as `run.record_interval_s` takes it.
+    Interval,
 }
 
 impl Range {
@@ -402,6 +411,7 @@ impl Range {
                 Range::Fraction => (0.0..=1.0).contains(&x),
                 Range::Angle => (0.0..360.0).contains(&x),
                 Range::Rotations => (1.0..=f64::from(MAX_ROTATIONS_SIMULATED)).contains(&x),
+                Range::Interval => x > 0.0 && x <= 1.0,
             }
     }
 
@@ -413,14 +423,16 @@ impl Range {
             Range::Fraction => "a number in [0, 1]".into(),
             Range::Angle => "an angle in [0, 360) degrees".into(),
             Range::Rotations => format!("a number in [1, {MAX_ROTATIONS_SIMULATED}]"),
+            Range::Interval => "a sampling interval in (0, 1] s".into(),
         }
     }
 }
 
 /// The cells of a row under `header` (without the id column), or None if it is not a sweep's:
-/// `case`, the set values, then per clearance joint its [`JOINT_COLUMNS`] (a run's) or
-/// `members` and per joint the [`ENSEMBLE_COLUMNS`] of each of [`SCALARS`] (an ensemble's), then
-/// `wall_time_s` and `error` ([`crate::sweep::header`], [`crate::sweep::ensemble_header`]).
+/// `case`, the set values, then (after `members`, for an ensemble's) [`RECORD_COLUMNS`], then
+/// per clearance joint its [`JOINT_COLUMNS`] (a run's) or the [`ENSEMBLE_COLUMNS`] of each of
+/// [`SCALARS`] (an ensemble's), then `wall_time_s` and `error` ([`crate::sweep::header`],
+/// [`crate::sweep::ensemble_header`]).
 /// Joints are matched from the end, a group of columns at a time sharing the joint's name; a
 /// joint's column outside its group makes the header not a sweep's.
 fn cell_kinds(header: &[String]) -> Option<Vec<Cell>> {
@@ -476,18 +488,22 @@ fn cell_kinds(header: &[String]) -> Option<Vec<Cell>> {
         }
         (rest, joints)
     };
-    let (sets, before_joints, joints) = match strip(&ensemble) {
-        (rest, joints) if rest.last().is_some_and(|m| m == "members") => {
-            (&rest[..rest.len() - 1], vec![Cell::Members], joints)
-        }
-        _ => {
-            let (rest, joints) = strip(&run);
-            (rest, Vec::new(), joints)
-        }
+    let window = [Cell::RecordRotations, Cell::Number(Range::Interval)];
+    let ensemble_tail = ["members", RECORD_COLUMNS[0], RECORD_COLUMNS[1]];
+    let (rest, joints) = match strip(&ensemble) {
+        (rest, joints) if without_tail(rest, &ensemble_tail).is_some() => (rest, joints),
+        _ => strip(&run),
     };
-    // A joint's column left among the set keys: a group was edited.
+    let rest = without_tail(rest, &RECORD_COLUMNS)?;
+    let (sets, before_joints) = match rest.split_last() {
+        Some((last, sets)) if last == "members" => (sets, vec![Cell::Members]),
+        _ => (rest, Vec::new()),
+    };
+    // A joint's column, or a window's, left among the set keys: a group was edited.
     let joint_column = |name: &String| {
-        name == "members" || (run.iter().chain(&ensemble)).any(|(s, _)| name.ends_with(s.as_str()))
+        name == "members"
+            || RECORD_COLUMNS.contains(&name.as_str())
+            || (run.iter().chain(&ensemble)).any(|(s, _)| name.ends_with(s.as_str()))
     };
     if sets.iter().any(joint_column) {
         return None;
@@ -495,9 +511,16 @@ fn cell_kinds(header: &[String]) -> Option<Vec<Cell>> {
     let mut cells = vec![Cell::Case];
     cells.extend(sets.iter().map(|_| Cell::Value));
     cells.extend(before_joints);
+    cells.extend(window);
     cells.extend(joints);
     cells.extend([Cell::Number(Range::NonNegative), Cell::Error]);
     Some(cells)
+}
+
+/// `names` without its last names `tail`, if it ends with them.
+fn without_tail<'a>(names: &'a [String], tail: &[&str]) -> Option<&'a [String]> {
+    let (head, last) = names.split_at(names.len().checked_sub(tail.len())?);
+    (last.iter().zip(tail)).all(|(n, t)| n == t).then_some(head)
 }
 
 /// The first cell of `row` (of `cells`) that a sweep does not write, as (column, value, what
@@ -528,6 +551,9 @@ fn misfit_cell(cells: &[Cell], row: &[String]) -> Option<(usize, String, String)
                 Cell::Rotations => v
                     .parse::<u32>()
                     .is_ok_and(|n| (1..=MAX_ROTATIONS_SIMULATED).contains(&n)),
+                Cell::RecordRotations => v
+                    .parse::<u32>()
+                    .is_ok_and(|n| (1..=MAX_ROTATIONS).contains(&n)),
                 Cell::Count => v.is_empty() || count(v, 0..=members),
                 Cell::States => v.is_empty() || count(v, 1..=2),
                 Cell::Mode(after) => {
@@ -558,6 +584,9 @@ fn misfit_cell(cells: &[Cell], row: &[String]) -> Option<(usize, String, String)
                     }
                     Cell::Rotations => {
                         format!("a whole number of rotations in [1, {MAX_ROTATIONS_SIMULATED}]")
+                    }
+                    Cell::RecordRotations => {
+                        format!("a whole number of rotations in [1, {MAX_ROTATIONS}]")
                     }
                     Cell::Count => format!(
                         "a whole number of members in [0, {members}] (the row's members), or \
@@ -622,17 +651,6 @@ pub fn label_check(fingerprint: &str, row: &[String], wall: usize) -> String {
         .collect();
     // (Prefixed, so that CSV readers never take the hex digits for a number.)
     format!("label-{}", salted(fingerprint, &cells.join("\u{1f}")))
-}
-
-/// The label check that versions before 2026-11-28 wrote for `row` (of cells `kinds`,
-/// [`cell_kinds`]): the hash of its case and set values alone. Only to tell such a file, which
-/// is refused, from an edited one in the message.
-fn earlier_label_check(fingerprint: &str, row: &[String], kinds: &[Cell]) -> String {
-    let labels = (kinds.iter())
-        .take_while(|c| matches!(c, Cell::Case | Cell::Value))
-        .count();
-    let hash = salted(fingerprint, &row[..labels.min(row.len())].join("\u{1f}"));
-    format!("label-{hash}")
 }
 
 /// `row` and its label check in the cell of the id column.
@@ -771,7 +789,7 @@ impl<'a> JournaledSweep<'a> {
                     Entry::Occupied(e) => e.into_mut(),
                     Entry::Vacant(e) => e.insert(sweep.build(case)?.run),
                 };
-                check_rotations(out, (k, case), &header, row, run)?;
+                check_run(out, (k, case), &header, row, run)?;
             }
             finished.insert(case);
         }
@@ -875,12 +893,14 @@ impl<'a> JournaledSweep<'a> {
 }
 
 /// Checks row `k` (of case `case`) of the sweep file at `path`, under `header`, against the
-/// case's run settings `run`: each joint's rotations simulated (a run's, or an ensemble's
-/// mean) is what the case runs, `run.rotations` plus at most `steady_state.max_rotations`
-/// settling rotations (exactly `run.rotations` without settling), and `settled` (a run's, or
-/// an ensemble's mean) is empty exactly where the case does not settle. The file alone bounds
-/// them only by what any scene could run. For a row of a case that ran.
-fn check_rotations(
+/// case's run settings `run`: the recorded window ([`RECORD_COLUMNS`]) is the case's
+/// `run.record_rotations` and `run.record_interval_s`, each joint's rotations simulated (a
+/// run's, or an ensemble's mean) is what the case runs, `run.rotations` plus at most
+/// `steady_state.max_rotations` settling rotations (exactly `run.rotations` without settling),
+/// and `settled` (a run's, or an ensemble's mean) is empty exactly where the case does not
+/// settle. The file alone bounds them only by what any scene could run. For a row of a case
+/// that ran.
+fn check_run(
     path: &Path,
     (k, case): (usize, usize),
     header: &[String],
@@ -892,7 +912,15 @@ fn check_rotations(
     for (name, value) in header.iter().zip(row) {
         // (A run's cell, or an ensemble's mean.)
         let q = name.strip_suffix(".mean").unwrap_or(name);
-        let (fits, writes) = if q.ends_with(".rotations_simulated") {
+        let window = match name.as_str() {
+            n if n == RECORD_COLUMNS[0] => Some((run.record_rotations.to_string(), "rotations")),
+            n if n == RECORD_COLUMNS[1] => Some((number(run.record_interval), "s")),
+            _ => None,
+        };
+        let (fits, writes) = if let Some((setting, unit)) = window {
+            let writes = format!("{setting} {unit} (run.{name})");
+            (*value == setting, writes)
+        } else if q.ends_with(".rotations_simulated") {
             let fits = value
                 .parse::<f64>()
                 .is_ok_and(|n| (f64::from(run.rotations)..=f64::from(most)).contains(&n));
