@@ -4,6 +4,7 @@
 //! in `paper.md`. Never to make a chaotic number pass: the bounds already allow for chaos.
 use jointwear::error::exit_on_error;
 use jointwear::io::output::write_atomic;
+use jointwear::io::paper_claim::{output_root, output_root_moved, OUTPUT_ROOT_VAR};
 use jointwear::io::progress::progress_bar;
 use jointwear::paper::cases::Runs;
 use jointwear::paper::golden::{
@@ -18,6 +19,15 @@ fn main() {
         "Records the model's ensemble statistics into data/golden/ensemble.toml, with REASON, \
          why they are recorded (a physics fix, a new statistic)",
     );
+    if output_root_moved() {
+        // (Its file is an input of the checkout's tests, not an output to move.)
+        exit_on_error::<()>(Err(Error::invalid(
+            OUTPUT_ROOT_VAR,
+            output_root().display(),
+            "unset: golden_record records data/golden/ensemble.toml of the checkout it was \
+             built from, which the golden tests read",
+        )));
+    }
     let _claim = jointwear::paper::program::claim_outputs();
     let golden = exit_on_error(Golden::load());
     let ensemble = EnsembleSettings {

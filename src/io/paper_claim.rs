@@ -1,5 +1,5 @@
 //! The claim of the paper's outputs, `figures/`, `data/` and `paper.md` of the crate this was
-//! built from: held by each paper program while it writes them (`jointwear::paper::program`),
+//! built from (or of the directory [`OUTPUT_ROOT_VAR`] names): held by each paper program while it writes them (`jointwear::paper::program`),
 //! and by a `jointwear` command or Python's `save` whose output lies among them, so that none
 //! writes there while another does. Outside the paper feature too: a build without it still writes into a
 //! checkout whose paper programs may run.
@@ -13,11 +13,29 @@
 use crate::io::lock::{claim_name, remove_temporaries_of, Lock};
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// The environment variable that moves the generated outputs out of the checkout: the
+/// directory under which the paper programs write and read back `figures/`, `data/` and
+/// `paper.md`, and claim them, in place of the crate root. For a test or a scratch run beside
+/// the checkout's own programs, which it then never collides with; their inputs (scenes, the
+/// paper's values) are still read from the checkout.
+pub const OUTPUT_ROOT_VAR: &str = "JOINTWEAR_OUTPUT_ROOT";
 
 /// The root of the generated outputs: the crate the program was built from, wherever it runs
-/// (a program built in one checkout writes into that checkout, so it says where).
+/// (a program built in one checkout writes into that checkout, so it says where), or the
+/// directory [`OUTPUT_ROOT_VAR`] names (made absolute when first asked).
 pub fn output_root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    static ROOT: OnceLock<PathBuf> = OnceLock::new();
+    ROOT.get_or_init(|| match std::env::var_os(OUTPUT_ROOT_VAR) {
+        Some(dir) => std::path::absolute(&dir).unwrap_or_else(|_| dir.into()),
+        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")),
+    })
+}
+
+/// Whether [`OUTPUT_ROOT_VAR`] moved the outputs out of the crate root.
+pub fn output_root_moved() -> bool {
+    std::env::var_os(OUTPUT_ROOT_VAR).is_some()
 }
 
 /// The name, never written, whose lock (`.paper-outputs.lock` beside it, in the crate root)
@@ -47,6 +65,14 @@ const OUTPUT_DIRS: [(&str, Option<&str>); 4] = [
 /// [`Lock::taken_from`]); its notes ([`Lock::notes`]) say so, for
 /// the caller to show where its user sees them.
 pub fn claim_paper_outputs(option: &str, value: &str) -> Result<Lock> {
+    if output_root_moved() && !output_root().is_dir() {
+        return Err(Error::invalid(
+            OUTPUT_ROOT_VAR,
+            output_root().display(),
+            "an existing directory, under which the paper's outputs are written in place of \
+             the checkout's (create it, or unset the variable to write into the checkout)",
+        ));
+    }
     let mut lock = claim_name(option, &outputs_claim_target()).map_err(|e| match e {
         // the claim's message, which names the holder, said of these outputs
         Error::Invalid { expected, .. } => Error::invalid(

@@ -16,7 +16,9 @@
 use crate::error::exit_on_error;
 use crate::io::interrupt;
 use crate::io::lock::Lock;
-use crate::io::paper_claim::{claim_paper_outputs, output_root, PAPER_OUTPUTS};
+use crate::io::paper_claim::{
+    claim_paper_outputs, output_root, output_root_moved, OUTPUT_ROOT_VAR, PAPER_OUTPUTS,
+};
 use crate::{Error, Result};
 
 /// A flag a program takes, and what it does (for `--help`).
@@ -61,8 +63,13 @@ pub fn parse(args: impl IntoIterator<Item = String>, flags: &[Flag]) -> Result<A
 
 /// The usage `--help` prints: what `program` does and its flags.
 pub fn usage(program: &str, about: &str, flags: &[Flag]) -> String {
+    let chosen = if output_root_moved() {
+        OUTPUT_ROOT_VAR
+    } else {
+        "the crate this program was built from"
+    };
     let mut text = format!(
-        "{about}\n(outputs under {}, the crate this program was built from)\n\nUsage: {program}",
+        "{about}\n(outputs under {}, {chosen})\n\nUsage: {program}",
         output_root().display()
     );
     for (flag, _) in flags {
