@@ -1196,11 +1196,14 @@ fn a_set_key_outside_the_scene_names_the_part_that_is_not_there() {
 
 // Fails without the claim: `check … --out figures`, as the README runs it, redrew
 // figures/mechanism_standard.png while a paper program held the outputs, and a sweep's `--out`
-// in data/ could replace a paper program's CSV or be replaced by it, each exit 0.
+// in data/ could replace a paper program's CSV or be replaced by it, each exit 0. (Under a
+// temporary output root: the checkout's lock, held here, refused a paper program or another
+// test run meanwhile.)
 #[test]
 fn a_command_writing_among_the_paper_outputs_waits_for_no_paper_program() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let lock = root.join(".paper-outputs.lock");
+    let root = temp_dir("paper-outputs");
+    fs::create_dir_all(root.join("figures")).unwrap();
+    fs::create_dir_all(root.join("data")).unwrap();
     // This test's process holds the outputs, as a paper program would.
     let host = fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
     let held = format!(
@@ -1208,10 +1211,14 @@ fn a_command_writing_among_the_paper_outputs_waits_for_no_paper_program() {
         std::process::id(),
         host.trim()
     );
-    fs::write(&lock, held).unwrap();
-    let png = root.join("figures/mechanism_standard.png");
-    let modified = || fs::metadata(&png).and_then(|m| m.modified()).ok();
-    let before = modified();
+    fs::write(root.join(".paper-outputs.lock"), held).unwrap();
+    let jointwear = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_jointwear"))
+            .env("JOINTWEAR_OUTPUT_ROOT", &root)
+            .args(args)
+            .output()
+            .unwrap()
+    };
     let scene = scene_path("standard");
     let check = jointwear(&["check", s(&scene), "--out", s(&root.join("figures"))]);
     // (A path into data/ by another way is data/ all the same.)
@@ -1224,9 +1231,6 @@ fn a_command_writing_among_the_paper_outputs_waits_for_no_paper_program() {
         "--out",
         s(&csv),
     ]);
-    let after = modified();
-    fs::remove_file(&lock).unwrap();
-    let _ = fs::remove_file(&csv);
     for o in [&check, &sweep] {
         let err = stderr(o);
         assert_eq!(o.status.code(), Some(2), "{err}");
@@ -1235,5 +1239,11 @@ fn a_command_writing_among_the_paper_outputs_waits_for_no_paper_program() {
             "{err}"
         );
     }
-    assert_eq!(before, after, "check drew into figures/");
+    let written: Vec<_> = ["figures", "data"]
+        .iter()
+        .flat_map(|d| fs::read_dir(root.join(d)).unwrap())
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(written, Vec::<PathBuf>::new(), "written among the outputs");
+    fs::remove_dir_all(&root).unwrap();
 }

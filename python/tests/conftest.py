@@ -1,9 +1,11 @@
 """Shared fixtures: the repository's scenes, a short standard scene, and the `jointwear`
 program the bindings are compared with."""
 
+import atexit
 import os
 import shutil
 import subprocess
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -11,6 +13,13 @@ import pytest
 import jointwear
 
 ROOT = Path(__file__).resolve().parents[2]
+
+# The paper's outputs (figures/, data/, paper.md and their lock) of this session and of the
+# programs it starts: a temporary root, never the checkout's, where a test's lock or save
+# collided with a paper program or another test run. Set before any save or claim reads it.
+PAPER_OUTPUTS = Path(tempfile.mkdtemp(prefix="jointwear-pytest-outputs-"))
+atexit.register(shutil.rmtree, PAPER_OUTPUTS, ignore_errors=True)
+os.environ["JOINTWEAR_OUTPUT_ROOT"] = str(PAPER_OUTPUTS)
 SCENES = ROOT / "data" / "scenes"
 STANDARD = SCENES / "standard.toml"
 

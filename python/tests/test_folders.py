@@ -17,7 +17,7 @@ import pytest
 
 import jointwear
 
-from conftest import ROOT, STANDARD, short, short_file
+from conftest import PAPER_OUTPUTS, STANDARD, short, short_file
 
 # The changes both sides make: `--set run.record_rotations=1 --rotations 2` and the same `set`s
 # in the same order (the rotations last, as the program applies them), so that the folders
@@ -231,9 +231,11 @@ def test_save_refuses_a_folder_another_process_writes(tmp_path):
 # Fails without the claim in Folder.save: a save into the crate's figures/ or data/ (the
 # package built from this checkout) wrote beside a running paper program, which could replace
 # the folder's files or they its own, and returned normally; the program's commands refused.
+# (Under the session's output root, JOINTWEAR_OUTPUT_ROOT: the checkout's lock and data/ were
+# written, colliding with a paper program or another test run.)
 def test_save_among_the_paper_outputs_waits_for_no_paper_program(short_run):
-    lock = ROOT / ".paper-outputs.lock"
-    out = ROOT / "data" / f"save-test-{os.getpid()}"
+    lock = PAPER_OUTPUTS / ".paper-outputs.lock"
+    out = PAPER_OUTPUTS / "data" / f"save-test-{os.getpid()}"
     host = open("/proc/sys/kernel/hostname").read().strip()
     # This live process holds the outputs, as a paper program would (never over a real one's).
     with open(lock, "x") as held:
