@@ -2,7 +2,9 @@
 //!
 //! Every output is written to a temporary file in the same directory and renamed into place,
 //! so a failed run never leaves a half-written CSV or PNG behind: the target either keeps its
-//! previous content or receives the complete new one.
+//! previous content or receives the complete new one. The temporary is flushed to the disk
+//! (`fsync`) before the rename and the directory after it, so that a power loss cannot leave
+//! the new name on an empty or partial file, nor lose the rename of a file reported written.
 //!
 //! Every CSV table of the crate is written here ([`write_csv`], [`write_rows`],
 //! [`write_table`], [`GrowingTable`]) and read here ([`read_csv`], [`read_rows`],
@@ -111,13 +113,47 @@ fn replace(
             Error::Io { path: p, source } if p == tmp => io_error(path, source),
             e => e,
         })
+        .and_then(|()| sync(&tmp).map_err(|e| io_error(path, e)))
         .and_then(|()| before_rename())
-        .and_then(|()| fs::rename(&tmp, path).map_err(|e| io_error(path, e)));
+        .and_then(|()| fs::rename(&tmp, path).map_err(|e| io_error(path, e)))
+        .and_then(|()| sync_dir(path));
     if result.is_err() {
         // Best effort: the writer may have failed before creating the file.
         let _ = fs::remove_file(&tmp);
     }
     result
+}
+
+/// Flushes the file or directory at `path` to the disk (`fsync`): without it a file renamed
+/// into place can be empty after a power loss, its data not yet written when the rename was.
+fn sync(path: &Path) -> std::io::Result<()> {
+    sync_file(&File::open(path)?, path)
+}
+
+/// Flushes `file`, open at `path`, to the disk (`path` is only recorded, in tests).
+#[cfg_attr(not(test), allow(unused_variables))]
+fn sync_file(file: &File, path: &Path) -> std::io::Result<()> {
+    file.sync_all()?;
+    #[cfg(test)]
+    SYNCED.with_borrow_mut(|s| s.push(path.to_path_buf()));
+    Ok(())
+}
+
+/// Flushes the directory of `path`, which was just renamed into it, so that the rename
+/// itself survives a power loss. Unix only: elsewhere a directory cannot be opened as a file.
+fn sync_dir(path: &Path) -> Result<()> {
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
+    let dir = dir.unwrap_or(Path::new("."));
+    if cfg!(unix) {
+        sync(dir).map_err(|e| io_error(dir, e))?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+thread_local! {
+    /// The paths this thread's [`sync`] flushed, in order (tests check what was flushed).
+    static SYNCED: RefCell<Vec<PathBuf>> = const { RefCell::new(Vec::new()) };
 }
 
 /// 64-bit FNV-1a of `bytes`: a stable hash (the standard library's may change between
@@ -702,7 +738,7 @@ fn write_records(
 
 /// A CSV table that grows a row at a time (a sweep's results as its cases finish): written
 /// atomically with its first rows by [`GrowingTable::create`], then appended to by
-/// [`GrowingTable::append`], each row in a single write that is flushed at once, so that rows
+/// [`GrowingTable::append`], each row in a single write that is flushed to the disk at once, so that rows
 /// appended from parallel threads never interleave and an interrupted program keeps every row
 /// appended before.
 #[derive(Debug)]
@@ -737,8 +773,9 @@ impl GrowingTable {
         w.write_record(row).map_err(|e| failed(e.to_string()))?;
         let line = w.into_inner().map_err(|e| failed(e.to_string()))?;
         let mut file = self.file.lock().unwrap_or_else(|e| e.into_inner());
+        // Flushed to the disk: a finished row must survive a power loss too.
         file.write_all(&line)
-            .and_then(|()| file.flush())
+            .and_then(|()| sync_file(&file, &self.path))
             .map_err(|e| io_error(&self.path, e))
     }
 
@@ -818,6 +855,29 @@ mod tests {
         assert_eq!(fnv1a(b""), 0xcbf2_9ce4_8422_2325);
         assert_eq!(fnv1a(b"a"), 0xaf63_dc4c_8601_ec8c);
         assert_eq!(fnv1a(b"foobar"), 0x8594_4171_f739_67e8);
+    }
+
+    /// An atomic write flushes its temporary to the disk before renaming it into place and
+    /// the directory after, so that a power loss leaves neither an empty file under the new
+    /// name nor the rename lost. Would fail without either `fsync`.
+    #[test]
+    fn a_committed_output_is_flushed_before_and_after_its_rename() {
+        let dir = std::env::temp_dir().join(format!("jointwear-synced-{}", std::process::id()));
+        let path = dir.join("a.csv");
+        SYNCED.with_borrow_mut(Vec::clear);
+        write_text(&path, "x\n").unwrap();
+        let synced = SYNCED.with_borrow_mut(std::mem::take);
+        assert_eq!(synced.len(), 2, "{synced:?}");
+        let file = synced[0].file_name().and_then(|n| n.to_str()).unwrap();
+        assert_eq!(temporary_of(file).map(|(stem, _)| stem), Some("a"));
+        assert_eq!(synced[1], dir);
+        assert_eq!(fs::read_to_string(&path).unwrap(), "x\n");
+        // An appended row (a sweep's finished case) is flushed as it is written.
+        let table = GrowingTable::create(&path, None, &["a"], []).unwrap();
+        SYNCED.with_borrow_mut(Vec::clear);
+        table.append(&["1".into()]).unwrap();
+        assert_eq!(SYNCED.with_borrow_mut(std::mem::take), [path.clone()]);
+        fs::remove_dir_all(&dir).unwrap();
     }
 
     /// A full disk is a write error naming the file. Would fail with the error of
