@@ -601,6 +601,11 @@ fn run_bad_set_exits_2_naming_the_field() {
             &["clearance[0].contact.restitution", "1.5", "[0.1, 1]"][..],
         ),
         ("clearance.0.clearance_mm=-1", &["clearance_mm", "-1"][..]),
+        // The hybrid K is derived for n = 1.5: n = 2 penetrated 102 µm with exit 0.
+        (
+            "clearance.0.contact.exponent=2",
+            &["clearance[0].contact.exponent", ": 2 ", "expected 1.5"][..],
+        ),
         ("clearance.0.nope=1", &["nope", "clearance.0.nope=1"][..]),
         ("driver.nope.x=1", &["driver.nope.x", "speed_rpm"][..]),
         ("clearance.0.clearance_mm=abc", &["abc", "clearance_mm"][..]),

@@ -323,6 +323,31 @@ fn contact_catalogue_spelling_is_checked() {
     );
 }
 
+/// The power laws' K are derived for n = 1.5: another exponent with the same K is another,
+/// unphysical law (n = 2 let the standard joint penetrate 102 µm, five clearances, with exit
+/// 0), so it is refused naming the field, the value, the exponent to give and the laws with
+/// a shape of their own; 1.5 builds. Fails with any exponent in [1, 3] accepted.
+#[test]
+fn a_power_law_takes_only_the_exponent_its_stiffness_is_derived_for() {
+    for stiffness in [StiffnessLaw::Hybrid, StiffnessLaw::Hertz] {
+        let mut f = catalogue(stiffness, DissipationLaw::HuGuo);
+        f.clearance[0].contact.exponent = Some(1.5);
+        f.build().unwrap();
+        for n in [1.0, 2.0, 2.5] {
+            f.clearance[0].contact.exponent = Some(n);
+            let msg = refused(&f);
+            for needle in [
+                &format!("`clearance[0].contact.exponent`: {n}") as &str,
+                "expected 1.5",
+                &format!("stiffness \"{}\" is derived for n = 1.5", stiffness.name()),
+                "\"pereira\"",
+            ] {
+                assert!(msg.contains(needle), "{n}: lacks `{needle}`: {msg}");
+            }
+        }
+    }
+}
+
 #[test]
 fn a_recording_grid_coarser_than_ten_degrees_of_driver_angle_is_refused() {
     // Before: 1 s on the 30 ms period recorded t = 0 alone and reported 0 N, -20 µm and 0 % in

@@ -17,7 +17,10 @@
 //! `χ` one of [`DissipationLaw`]. The scene's `model = "hybrid"` is stiffness `hybrid` with
 //! dissipation `zhiying-qishao`; `model = "lankarani-nikravesh"` is the classical Hertz law
 //! for internal cylinders, `K = (4/3) E* sqrt(R*)`, `R* = R_i R_j / ΔR`, with
-//! `χ = 3(1 − c_e²)/4`. At the paper's n = 1.5 the hybrid elastic force is evaluated as one
+//! `χ = 3(1 − c_e²)/4`. Both K are derived for n = 1.5 (N/m^1.5): with another n the same K
+//! gives a different law, not a stiffer or softer steel (n = 2 let the standard joint
+//! penetrate 102 µm, five clearances, where n = 1.5 gives 10 µm), so the power laws here are
+//! K δ^1.5 and a scene's `exponent` must be 1.5. The hybrid elastic force is evaluated as one
 //! expression, `(π/8) E* √2 (3ΔR + 2δ) δ² / (ΔR + δ)^{3/2}`, which equals `K δ^1.5` of eq. 2 to
 //! a few ulp (test below) and takes one square root instead of two.
 //!
@@ -90,10 +93,9 @@ pub struct ContactLaw {
     stiffness: StiffnessLaw,
     dissipation: DissipationLaw,
     e_star: f64,
-    exponent: f64,
     /// Hysteresis factor χ of the dissipation law at the scene's c_e.
     damping_factor: f64,
-    /// Lankarani-Nikravesh stiffness (N/m^n) for the unworn radii.
+    /// Lankarani-Nikravesh stiffness (N/m^1.5) for the unworn radii.
     k_ln: f64,
     /// Bearing length L (m).
     length: f64,
@@ -112,7 +114,6 @@ impl ContactLaw {
         e_star: f64,
         r_bearing: f64,
         r_journal: f64,
-        exponent: f64,
         restitution: f64,
         grazing_velocity: f64,
     ) -> Self {
@@ -127,19 +128,18 @@ impl ContactLaw {
             stiffness,
             dissipation,
             &joint,
-            exponent,
             restitution,
             grazing_velocity,
         )
     }
 
-    /// Any stiffness law with any dissipation law; `exponent` is used by the power laws only
-    /// ([`StiffnessLaw::uses_exponent`]), `restitution` in (0, 1], `grazing_velocity` m/s.
+    /// Any stiffness law with any dissipation law; `restitution` in (0, 1], `grazing_velocity`
+    /// m/s. The power laws (`hybrid`, `hertz`) are K δ^1.5: their K are derived for n = 1.5
+    /// ([`StiffnessLaw::uses_exponent`]).
     pub fn from_laws(
         stiffness: StiffnessLaw,
         dissipation: DissipationLaw,
         joint: &JointElasticity,
-        exponent: f64,
         restitution: f64,
         grazing_velocity: f64,
     ) -> Self {
@@ -149,7 +149,6 @@ impl ContactLaw {
             stiffness,
             dissipation,
             e_star,
-            exponent,
             damping_factor: dissipation.hysteresis_factor(restitution),
             k_ln: 4.0 / 3.0 * e_star * r_star.sqrt(),
             length: joint.length,
@@ -172,20 +171,6 @@ impl ContactLaw {
     /// `(π/8) √2`, eq. 2's constant with the root of its 2.
     const HYBRID_FACTOR: f64 = 0.125 * PI * std::f64::consts::SQRT_2;
 
-    /// Stiffness K (N/m^n) of the power laws at penetration `delta` (m) for radial clearance
-    /// `delta_r` (m): eq. 2 for `hybrid`, the constant Lankarani-Nikravesh K for `hertz`.
-    #[inline]
-    fn power_law_stiffness(&self, delta: f64, delta_r: f64) -> f64 {
-        match self.stiffness {
-            StiffnessLaw::Hybrid => {
-                let a = 3.0 * delta_r + 2.0 * delta;
-                let b = delta_r + delta;
-                0.125 * PI * self.e_star * (2.0 * delta * a * a / (b * b * b)).sqrt()
-            }
-            _ => self.k_ln,
-        }
-    }
-
     /// Elastic part F_e (N) at penetration `delta` ≥ 0 (m) and local clearance `delta_r` (m).
     #[inline(always)]
     pub fn elastic_force(&self, delta: f64, delta_r: f64) -> f64 {
@@ -195,7 +180,7 @@ impl ContactLaw {
     /// [`ContactLaw::elastic_force`] given `span = ΔR + δ` (m), which is the distance of the
     /// centres |e| (`δ = |e| − ΔR`): the kinematics has it before the wear depth that δ waits
     /// for, so the hybrid law's `span^{3/2}` and its reciprocal are off the force's path. The
-    /// caller vouches for `span`: only the hybrid law at n = 1.5 reads it (the others ignore it),
+    /// caller vouches for `span`: only the hybrid law reads it (the others ignore it),
     /// and a wrong one changes that force silently (`tests/model.rs` checks the kinematics'
     /// force against [`ContactLaw::force`]).
     #[inline(always)]
@@ -203,7 +188,7 @@ impl ContactLaw {
         match self.stiffness {
             // Eq. 2 times δ^1.5 folded into (π/8) E* √2 (3ΔR + 2δ) δ² / (ΔR + δ)^{3/2}: one
             // square root instead of two, and neither it nor the division waits for δ.
-            StiffnessLaw::Hybrid if self.exponent == 1.5 => {
+            StiffnessLaw::Hybrid => {
                 let per_span = 1.0 / (span * span.sqrt());
                 Self::HYBRID_FACTOR
                     * self.e_star
@@ -212,9 +197,7 @@ impl ContactLaw {
                     * delta
                     * per_span
             }
-            StiffnessLaw::Hybrid | StiffnessLaw::Hertz => {
-                self.power_law_stiffness(delta, delta_r) * self.power(delta)
-            }
+            StiffnessLaw::Hertz => self.k_ln * delta * delta.sqrt(),
             StiffnessLaw::Liu => {
                 self.length * elastic_foundation_force(self.e_star, delta_r, delta)
             }
@@ -251,16 +234,6 @@ impl ContactLaw {
         let f = self.elastic_force_spanning(delta, delta_r, span) * (1.0 + delta_dot * per_onset);
         f.max(0.0)
     }
-    /// `δ^n` with a fast path for the usual n = 1.5.
-    #[inline]
-    fn power(&self, delta: f64) -> f64 {
-        if self.exponent == 1.5 {
-            delta * delta.sqrt()
-        } else {
-            delta.powf(self.exponent)
-        }
-    }
-
     /// Elastic energy (J) stored at penetration `delta`: ∫₀^δ F_e(x) dx, by 8-point
     /// Gauss-Legendre on the substitution x = δ s² (smooth integrand); used by energy checks.
     pub fn elastic_energy(&self, delta: f64, delta_r: f64) -> f64 {
@@ -303,32 +276,27 @@ mod tests {
         }
     }
 
+    /// Eq. 2's K (N/m^1.5) at penetration `delta` (m) for radial clearance `delta_r` (m),
+    /// written out as the paper gives it.
+    fn eq2_stiffness(delta: f64, delta_r: f64) -> f64 {
+        let a = 3.0 * delta_r + 2.0 * delta;
+        let b = delta_r + delta;
+        0.125 * PI * E_STAR * (2.0 * delta * a * a / (b * b * b)).sqrt()
+    }
+
     fn hybrid(ce: f64) -> ContactLaw {
-        ContactLaw::new(
-            NormalForceModel::Hybrid,
-            E_STAR,
-            10e-3,
-            9.98e-3,
-            1.5,
-            ce,
-            1e-4,
-        )
+        ContactLaw::new(NormalForceModel::Hybrid, E_STAR, 10e-3, 9.98e-3, ce, 1e-4)
     }
 
     #[test]
     fn stiffness_is_derivative_of_elastic_foundation_law() {
-        let law = hybrid(0.9);
         for dr in [2e-5, 2e-4, 5e-4] {
             for delta in [1e-8, 1e-7, 1e-6, 5e-6, 2e-5] {
                 let h = delta * 1e-5;
                 let numeric = (elastic_foundation_force(E_STAR, dr, delta + h)
                     - elastic_foundation_force(E_STAR, dr, delta - h))
                     / (2.0 * h);
-                assert_relative_eq!(
-                    law.power_law_stiffness(delta, dr),
-                    numeric,
-                    max_relative = 1e-8
-                );
+                assert_relative_eq!(eq2_stiffness(delta, dr), numeric, max_relative = 1e-8);
             }
         }
     }
@@ -344,7 +312,7 @@ mod tests {
             for delta in [1e-9, 1e-8, 1e-7, 1e-6, 5e-6, 2e-5] {
                 assert_relative_eq!(
                     law.elastic_force(delta, dr),
-                    law.power_law_stiffness(delta, dr) * delta.powf(1.5),
+                    eq2_stiffness(delta, dr) * delta.powf(1.5),
                     max_relative = 1e-15
                 );
             }
@@ -399,7 +367,6 @@ mod tests {
             E_STAR,
             10e-3,
             9.98e-3,
-            1.5,
             1.0,
             1e-4,
         )
@@ -442,7 +409,6 @@ mod tests {
             StiffnessLaw::Johnson,
             DissipationLaw::Flores,
             &joint,
-            1.5,
             0.5,
             1e-4,
         );
@@ -467,14 +433,13 @@ mod tests {
             StiffnessLaw::Hybrid,
             DissipationLaw::ZhiyingQishao,
             &joint,
-            1.5,
             0.7,
             1e-4,
         );
         assert_eq!(named, explicit);
         // Eq. 2 and 3 written out: the same force to rounding (the folded elastic force).
         let (d, dd, v0, dr) = (1e-6, 0.05, 0.1, 2e-5);
-        let k = named.power_law_stiffness(d, dr);
+        let k = eq2_stiffness(d, dr);
         let eq3 = 0.75 * (1.0 - 0.7 * 0.7) * (2.0 * (1.0 - 0.7_f64)).exp();
         assert_relative_eq!(
             named.force(d, dd, v0, dr),

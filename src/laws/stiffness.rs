@@ -51,8 +51,8 @@
 //! consistent and Persson's law is only given in a parametric form that the one public
 //! implementation marks as not working.
 //!
-//! The `hybrid` and `hertz` stiffnesses keep the scene's exponent n; the others have their own
-//! shape. The hybrid law is not dimensionally consistent (n = 1.5 on the derivative of a force
+//! The `hybrid` and `hertz` stiffnesses are K δ^n with their K derived for n = 1.5, the only
+//! exponent a scene may give them ([`super::contact`]); the others have their own shape. The hybrid law is not dimensionally consistent (n = 1.5 on the derivative of a force
 //! law), so it is only meaningful in SI units, as the paper uses it.
 
 use serde::{Deserialize, Serialize};
@@ -104,7 +104,8 @@ impl StiffnessLaw {
         }
     }
 
-    /// Whether the law is K δ^n with the scene's exponent n (else it has its own shape).
+    /// Whether the law is K δ^n, its K derived for n = 1.5 so that the scene's exponent n must
+    /// be 1.5 (else it has its own shape and the scene gives no exponent).
     pub fn uses_exponent(self) -> bool {
         matches!(self, StiffnessLaw::Hybrid | StiffnessLaw::Hertz)
     }
@@ -137,6 +138,10 @@ impl StiffnessLaw {
         }
     }
 }
+
+/// The exponent n the power laws' K are derived for (eq. 2's K and Hertz's are N/m^1.5): the
+/// only one a scene may give them.
+pub const POWER_LAW_EXPONENT: f64 = 1.5;
 
 /// Smallest and largest radial clearance (mm) of Pereira et al.'s fit.
 pub const PEREIRA_CLEARANCE_MM: (f64, f64) = (0.005, 10.0);

@@ -211,8 +211,8 @@ pub struct ContactSpec {
     pub dissipation: Option<DissipationLaw>,
     /// Coefficient of restitution c_e, [0.1, 1] ([`RESTITUTION`]).
     pub restitution: f64,
-    /// Exponent n, [1, 3], of the power laws (`hybrid`, `hertz`); the paper uses 1.5. The
-    /// other elastic laws have their own shape and take none.
+    /// Exponent n of the power laws (`hybrid`, `hertz`): 1.5, the paper's, which their K are
+    /// derived for. The other elastic laws have their own shape and take none.
     pub exponent: Option<f64>,
     /// Bearing length L (mm) for the elastic laws written per length (`liu`, `johnson`,
     /// `radzimovsky`, `esdu-78035`, `pereira`); absent: `wear.length_mm`.

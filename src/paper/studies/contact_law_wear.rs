@@ -36,6 +36,7 @@ use crate::io::output::{parse_rows, write_table};
 use crate::io::plot::{render, Axes, Series, Style};
 use crate::io::progress::Progress;
 use crate::laws::contact::{DissipationLaw, StiffnessLaw};
+use crate::laws::stiffness::POWER_LAW_EXPONENT;
 use crate::paper::cases::{case_of_scene, Case, Need, Runs, SteadyMember, WearMember, CASES};
 use crate::paper::figures::output_path;
 use crate::paper::format::{csv_statistic, parse_statistic};
@@ -513,7 +514,8 @@ pub fn paper_results(
 }
 
 /// The scene change that puts `pair` on the first clearance joint, keeping its restitution
-/// and grazing floor (the power laws keep the scene's exponent, the others take none).
+/// and grazing floor (the power laws take the exponent their K is derived for, the others
+/// none).
 fn set_law(file: &mut SceneFile, (stiffness, dissipation): (StiffnessLaw, DissipationLaw)) {
     for c in &mut file.clearance {
         let old = &c.contact;
@@ -522,9 +524,7 @@ fn set_law(file: &mut SceneFile, (stiffness, dissipation): (StiffnessLaw, Dissip
             stiffness: Some(stiffness),
             dissipation: Some(dissipation),
             restitution: old.restitution,
-            exponent: stiffness
-                .uses_exponent()
-                .then_some(old.exponent.unwrap_or(1.5)),
+            exponent: stiffness.uses_exponent().then_some(POWER_LAW_EXPONENT),
             length_mm: None,
             grazing_velocity_m_s: old.grazing_velocity_m_s,
         };

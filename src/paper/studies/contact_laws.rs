@@ -66,10 +66,10 @@ pub fn standard_joint() -> JointElasticity {
     }
 }
 
-/// The law `stiffness` with `dissipation` at restitution `ce` on the standard joint (exponent
-/// 1.5 for the power laws; a grazing floor far below the impact velocity, so never active).
+/// The law `stiffness` with `dissipation` at restitution `ce` on the standard joint (a grazing
+/// floor far below the impact velocity, so never active).
 pub fn standard_law(stiffness: StiffnessLaw, dissipation: DissipationLaw, ce: f64) -> ContactLaw {
-    ContactLaw::from_laws(stiffness, dissipation, &standard_joint(), 1.5, ce, 1e-9)
+    ContactLaw::from_laws(stiffness, dissipation, &standard_joint(), ce, 1e-9)
 }
 
 /// One impact and what it did.
