@@ -662,6 +662,38 @@ fn run_without_recording_prints_no_nan() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// An ensemble of one member is refused, by `run` and by `sweep`, naming the flag and saying
+/// how to run one run: its statistics printed "± 0" and "1 members", and wrote an sd of 0 into
+/// its CSV and summary.json, a spread that one value does not have.
+#[test]
+fn an_ensemble_of_one_member_is_refused() {
+    let dir = temp_dir("ensemble-one");
+    let scene = short_standard(&dir, 1);
+    let out = dir.join("out");
+    let run = ["run", s(&scene), "--ensemble", "1", "--out", s(&out)];
+    let sweep_file = dir.join("sweep.csv");
+    let sweep = [
+        "sweep",
+        s(&scene),
+        "--set",
+        "driver.speed_rpm=-600,-2000",
+        "--ensemble",
+        "1",
+        "--out",
+        s(&sweep_file),
+    ];
+    for args in [&run[..], &sweep[..]] {
+        let o = jointwear(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stdout(&o));
+        let err = stderr(&o);
+        for needle in ["`--ensemble`: 1", "[2, 10000]", "--member K"] {
+            assert!(err.contains(needle), "{args:?}: lacks {needle}: {err}");
+        }
+    }
+    assert!(!out.exists() && !sweep_file.exists());
+    fs::remove_dir_all(&dir).unwrap();
+}
+
 /// `run --ensemble` writes README.txt and summary.json too, with `--set` applied.
 #[test]
 fn ensemble_outputs_are_documented() {
@@ -679,6 +711,12 @@ fn ensemble_outputs_are_documented() {
         s(&out),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
+    // The sd of two members scatters widely: the printout says over how many it is.
+    assert!(
+        stdout(&o).contains("joint rod-slider (mean ± sd over 2 members, [5 %, 95 %]):"),
+        "{}",
+        stdout(&o)
+    );
     let summary = json(&out.join("summary.json"));
     assert_eq!(summary["members"], 2);
     assert!(summary["changes"].to_string().contains("driver.speed_rpm"));

@@ -377,6 +377,10 @@ impl Default for EnsembleSettings {
 /// The largest ensemble accepted (a guard against a typo running for days).
 pub const MAX_MEMBERS: usize = 10_000;
 
+/// The smallest ensemble accepted: one member has no spread (its sd would read 0, a spread it
+/// does not have), and a single run is run as one, not as an ensemble.
+pub const MIN_MEMBERS: usize = 2;
+
 /// What an ensemble of `members` of which `unsettled` reached
 /// `run.steady_state.max_rotations` unsettled says of them (None if none did): their recorded
 /// rotations are no steady state. The program prints it under the ensemble's summary, Python
@@ -394,13 +398,18 @@ pub fn unsettled_note(unsettled: usize, members: usize) -> Option<String> {
 impl EnsembleSettings {
     /// Checks the member count (the field `members`; the program names its flag instead).
     pub fn validate(&self) -> Result<()> {
-        if (1..=MAX_MEMBERS).contains(&self.members) {
+        if (MIN_MEMBERS..=MAX_MEMBERS).contains(&self.members) {
             Ok(())
         } else {
             Err(Error::invalid(
                 "members",
                 self.members,
-                format!("a member count in [1, {MAX_MEMBERS}]"),
+                format!(
+                    "a member count in [{MIN_MEMBERS}, {MAX_MEMBERS}]: the spread of one member \
+                     is not zero but unknown; for one run, run the scene without an ensemble \
+                     (`jointwear run` without --ensemble, Python's `run()`), or one member of \
+                     an ensemble (--member K --seed S, `run(member=K, seed=S)`)"
+                ),
             ))
         }
     }

@@ -185,7 +185,11 @@ pub fn run_ensemble(
         );
     }
     for j in &stats {
-        println!("  joint {} (mean ± sd, [5 %, 95 %]):", j.name);
+        // The sd and quantiles of a few members scatter widely: the header says how many.
+        println!(
+            "  joint {} (mean ± sd over {} members, [5 %, 95 %]):",
+            j.name, settings.members
+        );
         for (name, states) in &j.quantities {
             // Said once for the run above ("not settled: …"), not per joint.
             if name == &"settled" {
@@ -212,8 +216,14 @@ pub fn run_ensemble(
                     d.n
                 );
             } else {
+                // Over fewer members than the header says where some have no value.
+                let over = if d.n == settings.members {
+                    String::new()
+                } else {
+                    format!("  (over the {} members with a value)", d.n)
+                };
                 println!(
-                    "    {:38} {}  [{}, {}]",
+                    "    {:38} {}  [{}, {}]{over}",
                     r.label,
                     r.mean_sd(d.mean, d.sd),
                     people::number(d.quantiles[0] * r.scale),
