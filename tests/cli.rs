@@ -662,6 +662,43 @@ fn run_without_recording_prints_no_nan() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A slider-crank whose 40 mm rod cannot reach the slider's axis past 53.1 deg of crank
+/// angle is refused before it simulates by every command that simulates, exit 2 naming the
+/// lock as `check` does. Before, `run` simulated into the lock and failed there with exit 1.
+#[test]
+fn a_linkage_that_locks_is_refused_before_any_command_simulates_it() {
+    let dir = temp_dir("locks");
+    let standard = short_standard(&dir, 2);
+    let text = fs::read_to_string(&standard).unwrap().replace(
+        "A = [-60.0, 0.0], B = [60.0, 0.0]",
+        "A = [-20.0, 0.0], B = [20.0, 0.0]",
+    );
+    let scene = dir.join("short_rod.toml");
+    fs::write(&scene, text).unwrap();
+    let out = dir.join("out");
+    let (scene, o) = (s(&scene), s(&out));
+    for args in [
+        &["check", scene, "--out", o][..],
+        &["run", scene, "--out", o],
+        &["run", scene, "--ensemble", "2", "--out", o],
+        &["run", scene, "--member", "3", "--out", o],
+        &["animate", scene, "--rotations", "1", "--out", o],
+        &["longlife", scene, "--rotations", "1e3", "--out", o],
+    ] {
+        let run = jointwear(args);
+        let err = stderr(&run);
+        assert_eq!(run.status.code(), Some(2), "{args:?}: {err}");
+        for needle in [
+            "`joints (one driver rotation)`",
+            "the driver cannot turn from 306.9 to 53.1 deg of driver angle",
+            "revolute[1] (crank-rod)",
+        ] {
+            assert!(err.contains(needle), "{args:?}: lacks {needle}: {err}");
+        }
+    }
+    fs::remove_dir_all(&dir).unwrap();
+}
+
 /// An ensemble of one member is refused, by `run` and by `sweep`, naming the flag and saying
 /// how to run one run: its statistics printed "± 0" and "1 members", and wrote an sd of 0 into
 /// its CSV and summary.json, a spread that one value does not have.

@@ -76,8 +76,10 @@ impl Mechanism {
 
     /// Turns the driver of the ideal loop (clearance joints held centred) through one rotation
     /// from time `t0` at coordinates `q0` (assembled, or close to it), closing the loop every
-    /// [`SWEEP_STEP_DEG`] by Newton iterations from the last pose: where it cannot close, the
-    /// links cannot reach, and a run locks there. Returns that range of driver angles (found
+    /// [`SWEEP_STEP_DEG`] by Newton iterations from the secant through the last two poses:
+    /// where it cannot close, the links cannot reach, and a run locks there; where it fails at
+    /// one step but closes at the next, that was a singular pose the loop passes (a rod as long
+    /// as its crank), not a lock. Returns that range of driver angles (found
     /// turning forwards and backwards from the start, to [`SWEEP_RESOLUTION_DEG`]) and the
     /// joints left open, or `None` if the loop closes at every angle.
     pub fn check_rotation(&self, t0: f64, q0: &[f64]) -> Result<Option<Lock>> {
@@ -97,8 +99,6 @@ impl Mechanism {
             start: self.driver_angle(t0),
             from: self.driver_angle(from),
             to: self.driver_angle(to),
-            t_from: from - t0,
-            t_to: to - t0,
             counter_clockwise: self.driver.omega > 0.0,
             joints,
         }))
@@ -117,17 +117,33 @@ impl Mechanism {
     ) -> Option<(f64, Vec<String>)> {
         let steps = (360.0 / SWEEP_STEP_DEG).round() as usize;
         let mut q = q0.to_vec();
+        // The pose before `q` and its time, for a secant predictor (none yet: `q` itself).
+        let (mut before, mut t_before) = (q.clone(), t0);
         let mut trial = q.clone();
         let (mut closed, mut open) = (t0, None);
-        for i in 1..=steps {
+        let mut i = 1;
+        while i <= steps {
             let t = t0 + i as f64 * step;
-            trial.copy_from_slice(&q);
-            if self.close(ws, t, &mut trial, held).is_err() {
-                open = Some(t);
-                break;
+            predict(&before, t_before, &q, closed, t, &mut trial);
+            if self.close(ws, t, &mut trial, held).is_ok() {
+                (before, t_before) = (std::mem::replace(&mut q, trial.clone()), closed);
+                closed = t;
+                i += 1;
+                continue;
             }
-            q.copy_from_slice(&trial);
-            closed = t;
+            // A singular pose (the change point of a slider-crank whose rod is as long as its
+            // crank, where both branches cross) defeats Newton although the loop closes there
+            // and beyond: closing one step further along the secant tells it from a lock.
+            let beyond = t + step;
+            predict(&before, t_before, &q, closed, beyond, &mut trial);
+            if i < steps && self.close(ws, beyond, &mut trial, held).is_ok() {
+                (before, t_before) = (std::mem::replace(&mut q, trial.clone()), closed);
+                closed = beyond;
+                i += 2;
+                continue;
+            }
+            open = Some(t);
+            break;
         }
         let mut open = open?;
         let halvings = (SWEEP_STEP_DEG / SWEEP_RESOLUTION_DEG).log2().ceil() as usize;
@@ -306,6 +322,16 @@ impl Mechanism {
     }
 }
 
+/// Into `out`, the pose at time `t` on the secant through `before` (at `t_before`) and `q`
+/// (at `t_q`); `q` itself when the two times coincide (the sweep's first step).
+fn predict(before: &[f64], t_before: f64, q: &[f64], t_q: f64, t: f64, out: &mut [f64]) {
+    let span = t_q - t_before;
+    let ahead = if span == 0.0 { 0.0 } else { (t - t_q) / span };
+    for ((o, b), q) in out.iter_mut().zip(before).zip(q) {
+        *o = q + ahead * (q - b);
+    }
+}
+
 /// Driver step of [`Mechanism::check_rotation`] (deg): 360 closures of a few Newton
 /// iterations each, a millisecond for a four-bar.
 pub const SWEEP_STEP_DEG: f64 = 1.0;
@@ -325,10 +351,6 @@ pub struct Lock {
     /// Driver angle (deg) where it closes again: the last one reached turning backwards from
     /// the start (`from` if it closes nowhere else).
     pub to: f64,
-    /// Time from the start of the sweep to `from` (s, positive).
-    pub t_from: f64,
-    /// Time from the start of the sweep to `to` (s, negative or zero).
-    pub t_to: f64,
     /// The driver turns counter-clockwise (its angle grows from `from` to `to`).
     pub counter_clockwise: bool,
     /// The joints left open just past `from`, in the scene's words.
@@ -374,13 +396,5 @@ impl Lock {
              other two, the crank being the shortest); likely cause: a link length or a pivot \
              in the wrong place",
         )
-    }
-
-    /// Whether a run from the sweep's start that failed `elapsed` (s) after it failed at
-    /// the lock: within `near` (s) before the angle where the loop stops closing, or past it
-    /// in the range where it cannot close; `period`: the driver's period (s).
-    pub fn explains(&self, elapsed: f64, near: f64, period: f64) -> bool {
-        let phase = (elapsed - self.t_from).rem_euclid(period);
-        phase <= self.t_to + period - self.t_from || phase >= period - near
     }
 }

@@ -199,12 +199,6 @@ pub const CHATTER_STEP_RATIO: f64 = 1e-3;
 /// 7.7e-5 s) in sticking contact.
 pub const CONTACT_STEP_SHARE: f64 = 1e-3;
 
-/// How far before the driver angle where its ideal loop stops closing a failed run counts as
-/// locked there (deg): the clearance and the contacts' compliance let the linkage go on a
-/// little, or give way a little earlier (a rod shorter than the crank passed 20 clearances
-/// 0.1 deg before the lock of its ideal loop, 10 % of its journal radius 1.3 deg before).
-pub const LOCK_NEAR_DEG: f64 = 5.0;
-
 /// Orbit samples per rotation for the steady-state test.
 pub const ORBIT_PHASES: usize = 360;
 

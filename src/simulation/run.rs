@@ -66,9 +66,6 @@ pub struct Simulation {
     /// The same at the start of the step being taken (for the whole run's largest
     /// penetration inside a step, [`Integrator::peak_inside`]).
     gaps_start: Vec<EventValue>,
-    /// Time and coordinates the run started (or resumed) from: where a failed run turns its
-    /// ideal loop through a rotation to see whether the links lock ([`Simulation::at_lock`]).
-    start: (f64, Vec<f64>),
     /// Absolute states (of `Mechanism::state_len`) at an onset, anywhere.
     y_event: Vec<f64>,
     y_abs: Vec<f64>,
@@ -84,8 +81,14 @@ pub struct Simulation {
 
 impl Simulation {
     /// Starts a run of `mechanism` from coordinates and velocities `y0` with the joints'
-    /// initial wear profiles and no contact.
+    /// initial wear profiles and no contact. Refuses (bad input, as `jointwear check` does) a
+    /// mechanism whose ideal loop cannot close over one driver rotation from `y0`
+    /// ([`Mechanism::check_rotation`]): its run would lock part-way, pulling a clearance joint
+    /// apart, after simulating up to the lock.
     pub fn new(mechanism: Mechanism, settings: RunSettings, y0: &[f64]) -> Result<Simulation> {
+        if let Some(lock) = mechanism.check_rotation(0.0, y0)? {
+            return Err(lock.error());
+        }
         let state = mechanism.initial_state();
         let z0 = mechanism.ode_state(y0);
         Simulation::with_state(mechanism, state, settings, 0.0, &z0)
@@ -100,7 +103,6 @@ impl Simulation {
         z0: &[f64],
     ) -> Result<Simulation> {
         let clock = std::time::Instant::now();
-        let n = mechanism.coordinates();
         let joints = mechanism.clearance_joints.len();
         let period = TAU / mechanism.driver.omega.abs();
         let (dim, ode) = (mechanism.state_len(), mechanism.ode_len());
@@ -152,7 +154,6 @@ impl Simulation {
             pace_origin: None,
             gaps_start: vec![EventValue::default(); joints],
             gaps,
-            start: (t0, y0[..n].to_vec()),
             y_event: vec![0.0; dim],
             y_abs: y0,
             contacts: vec![ContactState::default(); joints],
@@ -760,7 +761,7 @@ impl Simulation {
             return Ok(());
         }
         let boundary = (self.rotation + 1) as f64 * self.period;
-        self.accepted_step(boundary).map_err(|e| self.at_lock(e))?;
+        self.accepted_step(boundary)?;
         if self.integrator.t() >= boundary {
             self.finish_rotation();
             self.check_gap_slope()?;
@@ -795,25 +796,6 @@ impl Simulation {
                 self.settler = None;
             }
         }
-    }
-
-    /// `e`, a failure of this run, with the lock of its ideal loop appended when the links
-    /// cannot close at its driver angle or [`LOCK_NEAR_DEG`] before it
-    /// ([`Mechanism::check_rotation`] from the run's start): the run failed because the
-    /// mechanism locks, whatever gave way first (a penetration, the constraint solve).
-    fn at_lock(&self, e: Error) -> Error {
-        let Error::Integration { time, cause } = e else {
-            return e;
-        };
-        let (t0, q0) = &self.start;
-        let near = LOCK_NEAR_DEG.to_radians() / self.mechanism.driver.omega.abs();
-        let cause = match self.mechanism.check_rotation(*t0, q0) {
-            Ok(Some(lock)) if lock.explains(time - t0, near, self.period) => {
-                format!("{cause}; {}", lock.describe())
-            }
-            _ => cause,
-        };
-        Error::Integration { time, cause }
     }
 
     /// The error of clearance joint `k` penetrating `delta` (m) at time `t` beyond its

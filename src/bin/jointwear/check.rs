@@ -1,6 +1,7 @@
 //! `jointwear check SCENE`: validates a scene, prints what it describes and the pose it
 //! assembles to, noting bodies that may have closed on another branch of their loop, turns
-//! the driver through one rotation to find where the loop cannot close (bad input), and
+//! the driver through one rotation to find where the loop cannot close (bad input, which every
+//! command that simulates refuses too: `Simulation::new`), and
 //! draws the assembled pose (`mechanism_<scene>.png`).
 
 use crate::failure::{CliResult, Failure};
