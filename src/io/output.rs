@@ -876,7 +876,7 @@ mod tests {
         let table = GrowingTable::create(&path, None, &["a"], []).unwrap();
         SYNCED.with_borrow_mut(Vec::clear);
         table.append(&["1".into()]).unwrap();
-        assert_eq!(SYNCED.with_borrow_mut(std::mem::take), [path.clone()]);
+        assert_eq!(SYNCED.with_borrow_mut(std::mem::take), [path.as_path()]);
         fs::remove_dir_all(&dir).unwrap();
     }
 
