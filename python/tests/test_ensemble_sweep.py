@@ -149,6 +149,10 @@ def test_a_bad_member_count_is_a_scene_error():
     # The argument's name, not the program's flag.
     with pytest.raises(jointwear.SceneError, match=r"`members`: 0 \(expected a member count in"):
         jointwear.Scene.load(STANDARD).ensemble(0)
+    # One member has no spread: refused (it reported sd 0), saying how to run one run.
+    one = r"`members`: 1 \(expected a member count in \[2, 10000\]"
+    with pytest.raises(jointwear.SceneError, match=one):
+        jointwear.Scene.load(STANDARD).ensemble(1)
 
 
 def test_a_sweep_runs_the_product_in_case_order():
