@@ -197,7 +197,8 @@ impl ContactLaw {
                     * delta
                     * per_span
             }
-            StiffnessLaw::Hertz => self.k_ln * delta * delta.sqrt(),
+            // K (δ √δ), associated as before the exponent was fixed: the same rounding.
+            StiffnessLaw::Hertz => self.k_ln * (delta * delta.sqrt()),
             StiffnessLaw::Liu => {
                 self.length * elastic_foundation_force(self.e_star, delta_r, delta)
             }
