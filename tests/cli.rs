@@ -1033,7 +1033,7 @@ fn an_ensemble_and_an_animation_refuse_what_a_run_refuses() {
     fs::write(out.join("checkpoint.json"), "{}").unwrap();
     let o = jointwear(&["run", s(&scene), "--ensemble", "2", "--out", s(&out)]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("holds one"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("there is one at"), "{}", stderr(&o));
     assert!(!out.join("summary.json").exists());
     let dense = dir.join("dense.toml");
     let text = fs::read_to_string(&scene).unwrap();

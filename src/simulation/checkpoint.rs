@@ -66,7 +66,26 @@ pub const CHECKPOINT_FILE: &str = "checkpoint.json";
 /// them (a later `--resume` would replace them); `how` says what the user can do about that
 /// run besides choosing another `option`.
 pub fn refuse_checkpoint(option: &str, dir: &Path, how: &str) -> Result<()> {
-    let saved = dir.join(CHECKPOINT_FILE);
+    refuse_unfinished(
+        option,
+        dir,
+        CHECKPOINT_FILE,
+        "the checkpoint of an unfinished run",
+        how,
+    )
+}
+
+/// Refuses (bad input, naming `option` and `dir`) an output folder `dir` in which `name`
+/// exists: the saved state (`what`) of an unfinished job that the folder's next outputs would
+/// strand; `how` says what the user can do about that job besides choosing another `option`.
+pub(crate) fn refuse_unfinished(
+    option: &str,
+    dir: &Path,
+    name: &str,
+    what: &str,
+    how: &str,
+) -> Result<()> {
+    let saved = dir.join(name);
     if !saved.exists() {
         return Ok(());
     }
@@ -74,8 +93,7 @@ pub fn refuse_checkpoint(option: &str, dir: &Path, how: &str) -> Result<()> {
         option,
         dir.display(),
         format!(
-            "a folder without the checkpoint of an unfinished run: {} holds one; {how}, or \
-             choose another {option}",
+            "a folder without {what}: there is one at {}; {how}, or choose another {option}",
             saved.display()
         ),
     ))

@@ -16,7 +16,7 @@
 //! is refused naming the file and the field, never trusted. The ensemble removes its journal
 //! when it has written its outputs.
 
-use super::checkpoint::ARITHMETIC;
+use super::checkpoint::{refuse_unfinished, ARITHMETIC};
 use super::ensemble::{EnsembleSettings, MAX_MEMBERS};
 use super::summary::JointSummary;
 use super::Scene;
@@ -410,17 +410,11 @@ fn check_result(
 /// stranded (its `--resume` then refused as into another command's folder); `how` says what
 /// the user can do about that ensemble besides choosing another `option`.
 pub fn refuse_journal(option: &str, dir: &Path, how: &str) -> Result<()> {
-    let journal = dir.join(JOURNAL_DIR);
-    if !journal.exists() {
-        return Ok(());
-    }
-    Err(Error::invalid(
+    refuse_unfinished(
         option,
-        dir.display(),
-        format!(
-            "a folder without the journal of an unfinished ensemble: {} is one; {how}, or \
-             choose another {option}",
-            journal.display()
-        ),
-    ))
+        dir,
+        JOURNAL_DIR,
+        "the journal of an unfinished ensemble",
+        how,
+    )
 }
