@@ -117,17 +117,16 @@ impl Journal {
         self.dir.join(format!("member-{member}.json"))
     }
 
-    /// Creates the journal's folder, if there is none.
-    pub fn create(&self) -> Result<()> {
+    /// Saves the results of `member`, atomically. The journal's folder appears with its first
+    /// entry: an ensemble that fails before any member finished (a scene that every member
+    /// refuses, say) leaves no journal, which would hold nothing to resume and refuse the
+    /// folder to the next command.
+    pub fn record(&self, member: usize, result: &MemberResult) -> Result<()> {
+        let path = self.entry_path(member);
         std::fs::create_dir_all(&self.dir).map_err(|source| Error::Io {
             path: self.dir.clone(),
             source,
-        })
-    }
-
-    /// Saves the results of `member`, atomically.
-    pub fn record(&self, member: usize, result: &MemberResult) -> Result<()> {
-        let path = self.entry_path(member);
+        })?;
         let json = |e: serde_json::Error| Error::Parse {
             path: path.clone(),
             message: format!("the member's results cannot be written as JSON: {e}"),

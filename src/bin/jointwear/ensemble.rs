@@ -105,7 +105,6 @@ pub fn run_ensemble(
             vec![None; settings.members]
         }
     };
-    journal.create().map_err(bad)?;
     interrupt::keep(format!(
         "the finished members stay in {} (continue with --resume)",
         journal.path().display()
