@@ -475,7 +475,7 @@ fn a_killed_sweeps_file_is_not_stranded_by_a_run_into_its_folder() {
     let held = fs::read_to_string(&out).unwrap();
     let names = file_names(&folder);
     assert_eq!(names, [".sweep.csv.lock", "sweep.csv"]);
-    for extra in [&[][..], &["--ensemble", "1"][..]] {
+    for extra in [&[][..], &["--ensemble", "2"][..]] {
         let mut args = vec!["run", s(&scene), "--out", s(&folder)];
         args.extend(extra);
         let o = jointwear(&args);
