@@ -12,7 +12,9 @@
 //! * `g > GAP_OVER_SIDE_SPREAD · √max(1, CALIBRATION_MEMBERS / n) · s_narrow`
 //!   ([`gap_over_side_spread`]) and `g > s_other`, `s_narrow` the sd of the narrower side
 //!   holding at least [`MIN_REFERENCE_MEMBERS`] members and `s_other` the other side's: a
-//!   narrow state beside a wide one, whose gap the pooled sd, the wide state's, hides.
+//!   narrow state beside a wide one, whose gap the pooled sd, the wide state's, hides. A
+//!   narrower side whose values all agree (`s_narrow` = 0) measures no spread and leaves the
+//!   pooled bound alone to judge.
 //!
 //! One split at most: two states. Angles ([`States::of_angles_deg`]) are unwrapped from their
 //! largest gap on the circle first and split only at a gap wider than [`MIN_ANGLE_GAP_DEG`].
@@ -41,8 +43,11 @@
 //! growing as √(32/n) below 32 members so that the false splits stay near the pooled bound's
 //! at every size, and its four members at least: with two, a unimodal sample's two extreme
 //! members agree closely often enough to stand off as a state. The other side's sd keeps a skewed state's
-//! dense part from being split off its sparse tail, and a quantity of few distinct values
-//! from being split at one of them. `cargo run --release --example states_calibration`
+//! dense part from being split off its sparse tail. A narrower side whose values all agree is
+//! no reference: its sd of 0 puts any gap infinitely many sds off it, and where a quantity
+//! takes a few levels (contact onsets per rotation over two recorded rotations, in steps of
+//! 0.5) the other side's sd is below their spacing, so three or four levels split at the
+//! lowest one when it held four members ("2.5 ± 0" beside "3.292 ± 0.334"). `cargo run --release --example states_calibration`
 //! (10 000 seeded draws a size and distribution) gives the false splits of the rule, against
 //! the pooled bound alone: at most 1.8 % (uniform) of 4 members, as before; 2.3 % (exponential,
 //! 1.1 % before) of 8; 2.8 % (2.6 %) of 16; 4.2 % (4.0 %) of 20; 4.8 % (4.7 %) of 30; 2.7 %
@@ -145,8 +150,9 @@ pub struct States {
     /// [`gap_over_spread`] (or `side_gap_ratio` its bound).
     pub gap_ratio: f64,
     /// The same gap over the sd of the narrower side that holds at least
-    /// [`MIN_REFERENCE_MEMBERS`]: 0 when neither side does or when the gap does not exceed the
-    /// other side's sd, NaN where `gap_ratio` is; the members split when it exceeds
+    /// [`MIN_REFERENCE_MEMBERS`]: 0 when neither side does, when the narrower side's values all
+    /// agree (sd 0) or when the gap does not exceed the other side's sd, NaN where `gap_ratio`
+    /// is; the members split when it exceeds
     /// [`gap_over_side_spread`] (or `gap_ratio` its bound).
     pub side_gap_ratio: f64,
 }
@@ -195,10 +201,14 @@ impl States {
             // A narrow state beside a wide one: the pooled sd is the wide one's, so the gap is
             // judged against the narrow side's own sd too, where it has members to estimate it,
             // provided the gap also clears the other side's sd (else the narrow side is the
-            // dense part of one skewed state, or one level of a quantity of few values).
+            // dense part of one skewed state).
+            // A narrower side whose values all agree measures no spread: its ties are a
+            // quantity's levels (a count per rotation, a sector) or a bound (a contact
+            // fraction of 1), and any gap would be infinitely many of its sds.
             let narrow = usize::from(sides[1].sd < sides[0].sd);
             let (a, b) = (&sides[narrow], &sides[1 - narrow]);
             let reference = match (a.n, b.n) {
+                _ if a.sd == 0.0 => None,
                 (m, _) if m >= MIN_REFERENCE_MEMBERS => Some((a, b)),
                 (_, m) if m >= MIN_REFERENCE_MEMBERS => Some((b, a)),
                 _ => None,
@@ -531,6 +541,36 @@ mod tests {
         let s = States::of(&levels);
         assert!(!s.split(), "{s:?}");
         assert_eq!(s.side_gap_ratio, 0.0);
+    }
+
+    /// A quantity of few levels is not split at one of them: contact onsets per rotation of
+    /// the four-bar's 16 members over 2 recorded rotations (`run data/scenes/fourbar.toml
+    /// --ensemble 16 --rotations 10 --seed 3`), in steps of 0.5, and a count of three levels.
+    /// The lowest level's members agree exactly (sd 0), so the gap above them was infinitely
+    /// many of their sds and cleared the other side's sd (0.33): failed before the narrower
+    /// side had to have a spread ("low 4 of 16: 2.5 ± 0, high 12 of 16: 3.292 ± 0.334").
+    #[test]
+    fn a_quantity_of_few_levels_is_not_split_at_a_level() {
+        let level = |counts: &[(f64, usize)]| -> Vec<f64> {
+            (counts.iter())
+                .flat_map(|&(x, k)| std::iter::repeat_n(x, k))
+                .collect()
+        };
+        for v in [
+            level(&[(2.5, 4), (3.0, 6), (3.5, 5), (4.0, 1)]),
+            level(&[(3.0, 4), (4.0, 5), (5.0, 3)]),
+        ] {
+            let s = States::of(&v);
+            assert!(!s.split(), "{v:?}: {s:?}");
+            assert_eq!(s.side_gap_ratio, 0.0, "{v:?}");
+            assert!(s.gap_ratio < gap_over_spread(v.len()), "{v:?}: {s:?}");
+        }
+        // a narrow side with a spread is still judged against it (four onsets within 2.2e-5)
+        assert!(States::of(&[
+            0.920445, 0.920444, 0.920423, 0.920431, 0.92085, 0.92098, 0.92102, 0.92103, 0.92065,
+            0.92096, 0.92099, 0.92093, 0.92087, 0.92100, 0.92101, 0.92103,
+        ])
+        .split());
     }
 
     /// Deepest sectors of four members within 1° of 46°, of twelve scattered over 120-200°:

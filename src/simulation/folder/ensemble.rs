@@ -298,8 +298,8 @@ fn readme(
          states the members fall into (largest-gap rule: split at the largest gap of the sorted \
          values that leaves max(2, ceil(n/10)) members on each side, when it exceeds 2 pooled \
          within-state sds, 2 * 32/n of them below 32 members, or 5.5 sds of the narrower side \
-         of at least 4 members, 5.5 * sqrt(32/n) of them below 32 members, and one sd of the \
-         other side (a narrow state beside a wide one); angles cut at their largest gap on the circle first, so that low \
+         of at least 4 members whose values do not all agree, 5.5 * sqrt(32/n) of them below \
+         32 members, and one sd of the other side (a narrow state beside a wide one); angles cut at their largest gap on the circle first, so that low \
          and high are the two sides of the cut, and split only at a gap over 10 deg): states \
          (1 or 2; empty where n is 0), and with two low_n, low_mean, \
          low_sd, high_n, high_mean, high_sd. Where a quantity has two states, its pooled mean \
