@@ -67,6 +67,9 @@ fn a_rod_shorter_than_the_crank_is_refused_before_it_runs() {
         "the driver cannot turn from 336.4 to 23.6 deg of driver angle (turning clockwise)",
         "revolute[1] (crank-rod)",
         "clearance joint `rod-slider` (rod-slider, held ideal)",
+        // what a slider-crank needs, not only a four-bar's condition
+        "a slider-crank's crank turns fully when its rod is no shorter than the crank plus \
+         the slider guide's offset from the crank pivot",
     ] {
         assert!(msg.contains(needle), "lacks `{needle}`: {msg}");
     }

@@ -391,10 +391,11 @@ impl Lock {
         Error::invalid(
             "joints (one driver rotation)",
             self.describe(),
-            "links whose lengths close every loop at every driver angle (a four-bar's crank \
-             turns fully when its shortest and longest links together are no longer than the \
-             other two, the crank being the shortest); likely cause: a link length or a pivot \
-             in the wrong place",
+            "links whose lengths close every loop at every driver angle (a slider-crank's \
+             crank turns fully when its rod is no shorter than the crank plus the slider \
+             guide's offset from the crank pivot; a four-bar's when its shortest and longest \
+             links together are no longer than the other two, the crank being the shortest); \
+             likely cause: a link length or a pivot in the wrong place",
         )
     }
 }
