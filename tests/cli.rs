@@ -695,6 +695,10 @@ fn a_linkage_that_locks_is_refused_before_any_command_simulates_it() {
         ] {
             assert!(err.contains(needle), "{args:?}: lacks {needle}: {err}");
         }
+        // A refused ensemble finished no member: it leaves no journal, which made the next
+        // command into the folder (--member) refuse it as an unfinished ensemble.
+        let journal = out.join("ensemble_journal");
+        assert!(!journal.exists(), "{args:?} left {}", journal.display());
     }
     fs::remove_dir_all(&dir).unwrap();
 }
