@@ -24,7 +24,7 @@
 //! cannot tell whether its holder runs: the refusal says why.
 
 use crate::io::interrupt;
-use crate::io::output::{read_bounded_text, temporary_of, MANIFEST};
+use crate::io::output::{create_dir_synced, read_bounded_text, temporary_of, MANIFEST};
 use crate::{Error, Result};
 use std::ffi::OsString;
 use std::fs;
@@ -117,10 +117,7 @@ impl Lock {
 /// refuse it, as no file is written at that name.
 pub fn claim_folder(option: &str, dir: &Path) -> Result<Lock> {
     let created = (!dir.exists()).then(|| dir.to_path_buf());
-    fs::create_dir_all(dir).map_err(|source| Error::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
+    create_dir_synced(dir)?;
     let lock = claim(option, dir, &dir.join(FOLDER_LOCK), created.as_deref()).and_then(|lock| {
         match live_file_claim(dir) {
             // (Dropping the lock releases the claim and the folder it created.)
@@ -234,10 +231,7 @@ fn claim_at(option: &str, name: &Path, kind: Option<&str>) -> Result<Lock> {
     lock_name.push(".lock");
     let lock = name.with_file_name(lock_name);
     if let Some(dir) = lock.parent().filter(|d| !d.as_os_str().is_empty()) {
-        fs::create_dir_all(dir).map_err(|source| Error::Io {
-            path: dir.to_path_buf(),
-            source,
-        })?;
+        create_dir_synced(dir)?;
     }
     claim_nested(option, name, &lock, None, kind, 0)
 }

@@ -97,7 +97,7 @@ fn replace(
         ));
     }
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        fs::create_dir_all(dir).map_err(|e| io_error(dir, e))?;
+        create_dir_synced(dir)?;
     }
     let tmp = temp_path(path);
     // Registered while it exists, so that an interrupted program removes it.
@@ -148,6 +148,23 @@ fn sync_dir(path: &Path) -> Result<()> {
         sync(dir).map_err(|e| io_error(dir, e))?;
     }
     Ok(())
+}
+
+/// Creates the directory `dir` and its missing ancestors, each one created flushed into its
+/// parent (`fsync` of the parent): without that a power loss can lose a new output folder,
+/// and with it every file flushed into it. Nothing is flushed for a directory that exists.
+pub fn create_dir_synced(dir: &Path) -> Result<()> {
+    if dir.is_dir() {
+        return Ok(());
+    }
+    let missing: Vec<&Path> = dir
+        .ancestors()
+        .filter(|d| !d.as_os_str().is_empty())
+        .take_while(|d| !d.exists())
+        .collect();
+    fs::create_dir_all(dir).map_err(|e| io_error(dir, e))?;
+    // Outermost first: each new directory's entry into the one that held it.
+    missing.iter().rev().try_for_each(|d| sync_dir(d))
 }
 
 #[cfg(test)]
@@ -864,6 +881,8 @@ mod tests {
     fn a_committed_output_is_flushed_before_and_after_its_rename() {
         let dir = std::env::temp_dir().join(format!("jointwear-synced-{}", std::process::id()));
         let path = dir.join("a.csv");
+        // (A folder this write creates is flushed too: a_new_output_folder_is_flushed_….)
+        fs::create_dir_all(&dir).unwrap();
         SYNCED.with_borrow_mut(Vec::clear);
         write_text(&path, "x\n").unwrap();
         let synced = SYNCED.with_borrow_mut(std::mem::take);
@@ -878,6 +897,23 @@ mod tests {
         table.append(&["1".into()]).unwrap();
         assert_eq!(SYNCED.with_borrow_mut(std::mem::take), [path.as_path()]);
         fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A write into a folder that does not exist creates it flushed into its parent, each new
+    /// level, so that a power loss cannot lose the folder of the files flushed into it. Would
+    /// fail with the folder made by a bare `create_dir_all` (only the file's folder flushed).
+    #[test]
+    fn a_new_output_folder_is_flushed_into_its_parent() {
+        let dir = std::env::temp_dir().join(format!("jointwear-new-dir-{}", std::process::id()));
+        let path = dir.join("a").join("b.csv");
+        SYNCED.with_borrow_mut(Vec::clear);
+        write_text(&path, "x\n").unwrap();
+        let synced = SYNCED.with_borrow_mut(std::mem::take);
+        fs::remove_dir_all(&dir).unwrap();
+        let parent = dir.parent().unwrap().to_path_buf();
+        assert_eq!(synced[..2], [parent, dir.clone()], "{synced:?}");
+        assert_eq!(synced.len(), 4, "{synced:?}");
+        assert_eq!(synced[3], dir.join("a"));
     }
 
     /// A full disk is a write error naming the file. Would fail with the error of

@@ -20,7 +20,9 @@ use super::checkpoint::{refuse_unfinished, ARITHMETIC};
 use super::ensemble::{EnsembleSettings, MAX_MEMBERS};
 use super::summary::JointSummary;
 use super::Scene;
-use crate::io::output::{fnv1a, read_bounded_text, write_atomic, write_json_file};
+use crate::io::output::{
+    create_dir_synced, fnv1a, read_bounded_text, write_atomic, write_json_file,
+};
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -123,10 +125,7 @@ impl Journal {
     /// folder to the next command.
     pub fn record(&self, member: usize, result: &MemberResult) -> Result<()> {
         let path = self.entry_path(member);
-        std::fs::create_dir_all(&self.dir).map_err(|source| Error::Io {
-            path: self.dir.clone(),
-            source,
-        })?;
+        create_dir_synced(&self.dir)?;
         let json = |e: serde_json::Error| Error::Parse {
             path: path.clone(),
             message: format!("the member's results cannot be written as JSON: {e}"),
