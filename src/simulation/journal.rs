@@ -168,6 +168,9 @@ impl Journal {
             }
             let member = (name.strip_prefix("member-"))
                 .and_then(|n| n.strip_suffix(".json"))
+                // Digits only, as written: `usize::from_str` also takes a leading `+`, which
+                // read `member-+1.json` as member 1 and then opened `member-1.json`.
+                .filter(|n| n.bytes().all(|b| b.is_ascii_digit()))
                 .filter(|n| !n.starts_with('0') || *n == "0")
                 .and_then(|n| n.parse::<usize>().ok())
                 .filter(|&k| k < MAX_MEMBERS);
@@ -415,4 +418,31 @@ pub fn refuse_journal(option: &str, dir: &Path, how: &str) -> Result<()> {
         "the journal of an unfinished ensemble",
         how,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A file whose name is an entry's but for a sign, `member-+1.json`, is no entry: refused
+    /// naming it. Would fail with `+1` read as member 1 and the refusal naming
+    /// `member-1.json`, which does not exist ("No such file or directory").
+    #[test]
+    fn a_file_named_as_an_entry_with_a_sign_is_refused_naming_it() {
+        let scene = Scene::load(crate::scene::scene_path("standard")).unwrap();
+        let dir = std::env::temp_dir().join(format!("jointwear-journal-{}", std::process::id()));
+        let settings = EnsembleSettings {
+            members: 2,
+            ..EnsembleSettings::default()
+        };
+        let journal = Journal::new(&dir, "f", &settings);
+        journal.create().unwrap();
+        std::fs::write(journal.path().join("member-+1.json"), "{}").unwrap();
+        let e = journal.read(&scene).unwrap_err().to_string();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert!(
+            e.contains("member-+1.json") && e.contains("did not write"),
+            "{e}"
+        );
+    }
 }
