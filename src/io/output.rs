@@ -214,6 +214,10 @@ pub fn sweep_file_in(dir: &Path) -> Option<PathBuf> {
     entries
         .flatten()
         .filter(|e| e.file_type().is_ok_and(|t| t.is_file()))
+        // Not a temporary of a sweep's file (a killed sweep leaves its own beside the file):
+        // no sweep resumes from it, and named first ('.' sorts before letters) the refusal
+        // told the user to move it instead of the file.
+        .filter(|e| temporary_of(&e.file_name().to_string_lossy()).is_none())
         .map(|e| e.path())
         .filter(|p| header_names_a_sweep(p))
         .min()
@@ -914,6 +918,21 @@ mod tests {
         assert_eq!(synced[..2], [parent, dir.clone()], "{synced:?}");
         assert_eq!(synced.len(), 4, "{synced:?}");
         assert_eq!(synced[3], dir.join("a"));
+    }
+
+    /// A sweep file beside a temporary of its own, which a killed sweep leaves, is the one
+    /// named. Would fail with the temporary named, first by name.
+    #[test]
+    fn the_sweep_file_named_in_a_folder_is_not_a_temporary() {
+        let dir = std::env::temp_dir().join(format!("jointwear-sweep-in-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let header = format!("case,a,{SWEEP_COLUMN_PREFIX}fingerprint=0\n0,1,\n");
+        fs::write(dir.join(".s.tmp-123-1.csv"), &header).unwrap();
+        assert_eq!(sweep_file_in(&dir), None);
+        fs::write(dir.join("s.csv"), &header).unwrap();
+        let found = sweep_file_in(&dir);
+        fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(found, Some(dir.join("s.csv")));
     }
 
     /// A full disk is a write error naming the file. Would fail with the error of
