@@ -38,7 +38,8 @@ pub const FOLDER_LOCK: &str = ".jointwear.lock";
 #[derive(Debug)]
 pub struct Lock {
     path: PathBuf,
-    /// The folder the claim created, removed with the lock if nothing was written into it.
+    /// The outermost folder the claim created, removed with the lock, with those below it down
+    /// to the output folder, if nothing was written into them.
     created: Option<PathBuf>,
     _registered: Option<interrupt::Temporary>,
     /// What the claim did that its user should hear of ([`Lock::notes`]).
@@ -59,9 +60,19 @@ impl Drop for Lock {
 pub(crate) fn release(lock: &Path, created: Option<&Path>) {
     // Best effort: a lock left behind is stale and taken over by the next writer.
     let _ = fs::remove_file(lock);
-    if let Some(dir) = created {
+    if let (Some(created), Some(dir)) = (created, lock.parent()) {
+        remove_created(dir, created);
+    }
+}
+
+/// Removes the folder `dir` and its ancestors up to `created` (the outermost one a claim
+/// created), each only if empty: the first that is not stops it.
+fn remove_created(dir: &Path, created: &Path) {
+    for d in dir.ancestors() {
         // Fails, as it should, unless the folder is empty.
-        let _ = fs::remove_dir(dir);
+        if fs::remove_dir(d).is_err() || d == created {
+            break;
+        }
     }
 }
 
@@ -116,7 +127,13 @@ impl Lock {
 /// claim of a name beside it ([`claim_name`]: the paper's outputs' in a crate's root) does not
 /// refuse it, as no file is written at that name.
 pub fn claim_folder(option: &str, dir: &Path) -> Result<Lock> {
-    let created = (!dir.exists()).then(|| dir.to_path_buf());
+    // The outermost folder the claim creates: `--out out/standard/longlife` in a fresh
+    // checkout creates out/ too, and a refused command must not leave it behind.
+    let created = (dir.ancestors())
+        .filter(|d| !d.as_os_str().is_empty())
+        .take_while(|d| !d.exists())
+        .last()
+        .map(Path::to_path_buf);
     create_dir_synced(dir)?;
     let lock = claim(option, dir, &dir.join(FOLDER_LOCK), created.as_deref()).and_then(|lock| {
         match live_file_claim(dir) {
@@ -136,8 +153,8 @@ pub fn claim_folder(option: &str, dir: &Path) -> Result<Lock> {
         }
     });
     if lock.is_err() {
-        if let Some(dir) = &created {
-            let _ = fs::remove_dir(dir);
+        if let Some(created) = &created {
+            remove_created(dir, created);
         }
     }
     lock
@@ -591,6 +608,10 @@ mod tests {
         let _ = fs::remove_dir_all(&dir);
         // A folder the claim created goes with it, if left empty.
         drop(claim_folder("--out", &dir).unwrap());
+        assert!(!dir.exists());
+        // So do the folders it created above it (a refused `longlife --until NaN` left out/
+        // and out/standard/ in the working directory), and no folder that existed.
+        drop(claim_folder("--out", &dir.join("a").join("b")).unwrap());
         assert!(!dir.exists());
         fs::create_dir_all(&dir).unwrap();
         let first = claim_folder("--out", &dir).unwrap();
