@@ -436,7 +436,7 @@ mod tests {
             ..EnsembleSettings::default()
         };
         let journal = Journal::new(&dir, "f", &settings);
-        journal.create().unwrap();
+        std::fs::create_dir_all(journal.path()).unwrap();
         std::fs::write(journal.path().join("member-+1.json"), "{}").unwrap();
         let e = journal.read(&scene).unwrap_err().to_string();
         std::fs::remove_dir_all(&dir).unwrap();
