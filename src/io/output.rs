@@ -967,7 +967,7 @@ mod tests {
         let stems: Vec<Option<String>> = synced[..3].iter().map(stem).collect();
         let want = ["a", "b", "jointwear-manifest"].map(|s| Some(s.to_owned()));
         assert_eq!(stems, want, "{synced:?}");
-        assert_eq!(synced[3..], [dir.clone()], "{synced:?}");
+        assert_eq!(synced[3..], [dir.as_path()], "{synced:?}");
         fs::remove_dir_all(&dir).unwrap();
     }
 
