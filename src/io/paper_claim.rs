@@ -1,7 +1,7 @@
 //! The claim of the paper's outputs, `figures/`, `data/` and `paper.md` of the crate this was
-//! built from (or of the directory [`OUTPUT_ROOT_VAR`] names): held by each paper program while it writes them (`jointwear::paper::program`),
-//! and by a `jointwear` command or Python's `save` whose output lies among them, so that none
-//! writes there while another does. Outside the paper feature too: a build without it still writes into a
+//! built from (or of the directory [`OUTPUT_ROOT_VAR`] names): held by each paper program
+//! while it writes them (`jointwear::paper::program`), and by a `jointwear` command or
+//! Python's `save` whose output lies among them, so that none writes there while another does. Outside the paper feature too: a build without it still writes into a
 //! checkout whose paper programs may run.
 //!
 //! Its lock lies in the crate root, which may also be a command's output folder (`jointwear

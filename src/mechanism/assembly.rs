@@ -124,26 +124,25 @@ impl Mechanism {
         let mut i = 1;
         while i <= steps {
             let t = t0 + i as f64 * step;
-            predict(&before, t_before, &q, closed, t, &mut trial);
-            if self.close(ws, t, &mut trial, held).is_ok() {
-                (before, t_before) = (std::mem::replace(&mut q, trial.clone()), closed);
-                closed = t;
-                i += 1;
-                continue;
-            }
             // A singular pose (the change point of a slider-crank whose rod is as long as its
             // crank, where both branches cross) defeats Newton although the loop closes there
             // and beyond: closing one step further along the secant tells it from a lock.
-            let beyond = t + step;
-            predict(&before, t_before, &q, closed, beyond, &mut trial);
-            if i < steps && self.close(ws, beyond, &mut trial, held).is_ok() {
-                (before, t_before) = (std::mem::replace(&mut q, trial.clone()), closed);
-                closed = beyond;
-                i += 2;
-                continue;
-            }
-            open = Some(t);
-            break;
+            let tries = if i < steps { 2 } else { 1 };
+            let reached = [(t, 1), (t + step, 2)]
+                .into_iter()
+                .take(tries)
+                .find(|&(at, _)| {
+                    predict(&before, t_before, &q, closed, at, &mut trial);
+                    self.close(ws, at, &mut trial, held).is_ok()
+                });
+            let Some((at, advance)) = reached else {
+                open = Some(t);
+                break;
+            };
+            std::mem::swap(&mut before, &mut q);
+            q.copy_from_slice(&trial);
+            (t_before, closed) = (closed, at);
+            i += advance;
         }
         let mut open = open?;
         let halvings = (SWEEP_STEP_DEG / SWEEP_RESOLUTION_DEG).log2().ceil() as usize;

@@ -107,12 +107,14 @@ struct CheckpointFile {
     checkpoint: serde_json::Value,
 }
 
-/// The checksum of a checkpoint as JSON of the scene with `fingerprint` (see the module
-/// documentation).
-fn checksum(fingerprint: &str, checkpoint: &serde_json::Value) -> String {
-    let mut text = format!("{fingerprint}\u{1f}").into_bytes();
+/// The checksum of a saved state `body` (JSON) of what `head` says it is of: the 64-bit FNV-1a
+/// hash, as 16 hex digits, of `head`, U+001F and `body` as compact JSON. A checkpoint's head is
+/// its scene's fingerprint (see the module documentation), an ensemble journal entry's its
+/// binding as compact JSON (`crate::simulation::journal`).
+pub(crate) fn checksum(head: &str, body: &serde_json::Value) -> String {
+    let mut text = format!("{head}\u{1f}").into_bytes();
     // (Written into memory, once: a checkpoint may hold a long recording. It cannot fail.)
-    let _ = serde_json::to_writer(&mut text, checkpoint);
+    let _ = serde_json::to_writer(&mut text, body);
     format!("{:016x}", fnv1a(&text))
 }
 

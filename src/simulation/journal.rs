@@ -9,20 +9,18 @@
 //! removed with the journal). An entry holds what it is of ([`JOURNAL_FORMAT`], the program's
 //! [`ARITHMETIC`], the scene's fingerprint, the ensemble's member count, seed and protocol, and
 //! the member's number), the member's joint summaries, final wear profiles and wall time, and
-//! the checksum of both: the 64-bit FNV-1a hash ([`fnv1a`]), as 16 hex digits, of the two as
-//! compact JSON (keys sorted, `serde_json`'s `Value` as it prints) joined by U+001F. An entry
+//! the checksum of both, a checkpoint's: the 64-bit FNV-1a hash, as 16 hex digits, of the two
+//! as compact JSON (keys sorted, `serde_json`'s `Value` as it prints) joined by U+001F. An entry
 //! is read back only if its checksum matches, it is of this scene and ensemble, and its
 //! results fit the scene (joints, sectors, finite values in range); otherwise the resumption
 //! is refused naming the file and the field, never trusted. The ensemble removes its journal
 //! when it has written its outputs.
 
-use super::checkpoint::{refuse_unfinished, ARITHMETIC};
+use super::checkpoint::{checksum, refuse_unfinished, ARITHMETIC};
 use super::ensemble::{EnsembleSettings, MAX_MEMBERS};
 use super::summary::JointSummary;
 use super::Scene;
-use crate::io::output::{
-    create_dir_synced, fnv1a, read_bounded_text, write_atomic, write_json_file,
-};
+use crate::io::output::{create_dir_synced, read_bounded_text, write_atomic, write_json_file};
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -65,12 +63,6 @@ struct Entry {
     of: serde_json::Value,
     checksum: String,
     result: serde_json::Value,
-}
-
-/// The checksum of an entry (see the module documentation).
-fn checksum(of: &serde_json::Value, result: &serde_json::Value) -> String {
-    let text = format!("{of}\u{1f}{result}");
-    format!("{:016x}", fnv1a(text.as_bytes()))
 }
 
 /// The journal of an ensemble of a scene, in an output folder.
@@ -133,7 +125,7 @@ impl Journal {
         let of = serde_json::to_value(self.binding(member)).map_err(json)?;
         let result = serde_json::to_value(result).map_err(json)?;
         let entry = Entry {
-            checksum: checksum(&of, &result),
+            checksum: checksum(&of.to_string(), &result),
             of,
             result,
         };
@@ -230,7 +222,7 @@ impl Journal {
                 ),
             ));
         }
-        let sum = checksum(&entry.of, &entry.result);
+        let sum = checksum(&entry.of.to_string(), &entry.result);
         if entry.checksum != sum {
             return Err(mismatch(
                 &path,
