@@ -420,3 +420,48 @@ fn a_commands_folder_in_the_root_does_not_block_the_paper_programs(root: &Root) 
     }
     assert!(!root.lock().exists(), "released when it ends");
 }
+
+// Fails without the columns: data/benchmarks.csv held medians without saying when or on which
+// machine criterion measured them, and the report compared medians of different hosts.
+#[test]
+fn the_benchmark_summary_names_when_and_where_each_bench_ran() {
+    leaving_the_checkout_unchanged(|| {
+        let root = Root::new("benchmarks", false);
+        let estimates = r#"{"median":{"point_estimate":12.5,"confidence_interval":
+            {"lower_bound":12.0,"upper_bound":13.0}},"median_abs_dev":{"point_estimate":0.25,
+            "confidence_interval":{"lower_bound":0.2,"upper_bound":0.3}}}"#;
+        let file = root.file("criterion/rhs/standard/new/estimates.json");
+        std::fs::create_dir_all(file.parent().unwrap()).unwrap();
+        std::fs::write(&file, estimates).unwrap();
+        // 2026-01-02 03:04:05 UTC
+        let when = SystemTime::UNIX_EPOCH + std::time::Duration::from_secs(1_767_323_045);
+        let f = std::fs::File::options().write(true).open(&file).unwrap();
+        f.set_modified(when).unwrap();
+        drop(f);
+        let o = root
+            .command(env!("CARGO_BIN_EXE_bench_summary"))
+            .env("CRITERION_HOME", root.file("criterion"))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let csv = std::fs::read_to_string(root.file("data/benchmarks.csv")).unwrap();
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(
+            lines[0],
+            "bench,median_ns,ci_low_ns,ci_high_ns,mad_ns,measured_utc,machine"
+        );
+        let row: Vec<&str> = lines[1].split(',').collect();
+        assert_eq!(
+            &row[..6],
+            [
+                "rhs/standard",
+                "12.5",
+                "12",
+                "13",
+                "0.25",
+                "2026-01-02 03:04 UTC"
+            ]
+        );
+        assert!(row[6].ends_with(" threads)"), "{}", lines[1]);
+    });
+}

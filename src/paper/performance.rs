@@ -375,6 +375,41 @@ fn labelled_rows<'a>(
     })
 }
 
+/// The trimmed standard output of a command, or `unknown`.
+pub fn command_output(program: &str, args: &[&str]) -> String {
+    std::process::Command::new(program)
+        .args(args)
+        .output()
+        .ok()
+        .and_then(|o| String::from_utf8(o.stdout).ok())
+        .map(|s| s.trim().to_string())
+        .filter(|s| !s.is_empty())
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// The CPU model named in `/proc/cpuinfo`, or `unknown`.
+fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|c| {
+            c.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// The machine a measurement ran on, as the report and `data/benchmarks.csv` name it: the CPU
+/// model and the threads available to this process.
+pub fn machine() -> String {
+    format!(
+        "{} ({} threads)",
+        cpu_model(),
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    )
+}
+
 /// Criterion's estimate of one bench (ns).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BenchEstimate {
@@ -388,6 +423,8 @@ pub struct BenchEstimate {
     pub ci_high: f64,
     /// Median absolute deviation.
     pub mad: f64,
+    /// When criterion measured it: its estimates' modification time, `YYYY-MM-DD HH:MM UTC`.
+    pub measured: String,
 }
 
 #[derive(Deserialize)]
@@ -471,26 +508,49 @@ pub fn benchmark_summary(dir: &Path) -> Result<Vec<BenchEstimate>> {
                 ci_low: e.median.confidence_interval.lower_bound,
                 ci_high: e.median.confidence_interval.upper_bound,
                 mad: e.median_abs_dev.point_estimate,
+                measured: modified_utc(&path),
             });
         }
     }
     if results.is_empty() {
         return Err(missing());
     }
-    let labels: Vec<&str> = results.iter().map(|r| r.bench.as_str()).collect();
-    let column = |get: fn(&BenchEstimate) -> f64| results.iter().map(get).collect::<Vec<_>>();
+    let machine = machine();
+    // Medians of different days or hosts are not comparable (paper.md section 7): each row says
+    // when and where it was measured. `bench_summary` runs where `cargo bench` ran.
+    let number = crate::io::output::number;
+    let rows = results.iter().map(|r| {
+        vec![
+            r.bench.clone(),
+            number(r.median),
+            number(r.ci_low),
+            number(r.ci_high),
+            number(r.mad),
+            r.measured.clone(),
+            machine.clone(),
+        ]
+    });
     write_rows(
         &output_path("data", "benchmarks.csv"),
-        &["bench", "median_ns", "ci_low_ns", "ci_high_ns", "mad_ns"],
-        labelled_rows(
-            &labels,
-            &[
-                &column(|r| r.median),
-                &column(|r| r.ci_low),
-                &column(|r| r.ci_high),
-                &column(|r| r.mad),
-            ],
-        ),
+        &BENCHMARK_COLUMNS,
+        rows,
     )?;
     Ok(results)
+}
+
+/// The columns of `data/benchmarks.csv`.
+pub const BENCHMARK_COLUMNS: [&str; 7] = [
+    "bench",
+    "median_ns",
+    "ci_low_ns",
+    "ci_high_ns",
+    "mad_ns",
+    "measured_utc",
+    "machine",
+];
+
+/// The modification time of `path` in UTC to the minute, or `unknown`.
+fn modified_utc(path: &Path) -> String {
+    let path = path.to_string_lossy();
+    command_output("date", &["-u", "-r", &path, "+%Y-%m-%d %H:%M UTC"])
 }

@@ -41,6 +41,7 @@ use crate::paper::figures::{all_needs, output_root, Figure, FIGURES};
 use crate::paper::format::seconds;
 use crate::paper::golden::Golden;
 use crate::paper::performance::REPORT_BUDGET_S;
+use crate::paper::performance::{command_output, machine};
 use crate::paper::perturbation::read_perturbation;
 use crate::paper::provenance;
 use crate::paper::studies::accuracy::{ensemble_checks, EnsembleCheck};
@@ -49,7 +50,7 @@ use crate::paper::studies::{AccuracyDependence, StabilityRow};
 use crate::simulation::ensemble::EnsembleSettings;
 use crate::simulation::ensemble::Perturbation;
 use crate::{Error, Result};
-use markdown::{command_output, cpu_model, md_table};
+use markdown::md_table;
 use std::fmt::Write as _;
 use text::{calibration_findings, errata, why, Dominance, IMPLEMENTATION};
 
@@ -138,11 +139,10 @@ pub fn write(
     );
     let _ = writeln!(
         md,
-        "**Run:** {} on {} ({} threads), {}; {n}-member ensembles (seed {}) of every case in {} of \
+        "**Run:** {} on {}, {}; {n}-member ensembles (seed {}) of every case in {} of \
          wall time, report total {} (budget {} s).\n",
         command_output("date", &["-u", "+%Y-%m-%d %H:%M UTC"]),
-        cpu_model(),
-        std::thread::available_parallelism().map_or(1, |n| n.get()),
+        machine(),
         command_output("rustc", &["--version"]),
         runs.ensemble.seed,
         seconds(runs.seconds),

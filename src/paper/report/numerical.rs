@@ -15,7 +15,9 @@ use crate::paper::cases::CASES;
 use crate::paper::figures::output_path;
 use crate::paper::format::{count, number, sci};
 use crate::paper::golden::Golden;
-use crate::paper::performance::{ROTATIONS, STEP_LIMIT_EVERY, STEP_LIMIT_FILE, TARGETS};
+use crate::paper::performance::{
+    BENCHMARK_COLUMNS, ROTATIONS, STEP_LIMIT_EVERY, STEP_LIMIT_FILE, TARGETS,
+};
 use crate::paper::studies::accuracy::{EnsembleCheck, Finding, WINDOWS, WINDOW_ROTATIONS};
 use crate::paper::studies::ensemble_tolerance::{
     family_z, read_ensemble_tolerance, ToleranceRow, ENSEMBLE_TOLERANCE_FILE, RTOLS,
@@ -788,10 +790,9 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
 ",
     );
     md.push_str(
-            "Criterion benchmarks (`cargo bench`, then `cargo run --release --bin bench_summary`), medians and \
-             95% intervals in nanoseconds, as `cargo bench` last measured them: `data/benchmarks.csv` records \
-             neither the machine nor the date, so they need not be this run's machine (named at the top):\n\n",
-        );
+        "Criterion benchmarks (`cargo bench`, then `cargo run --release --bin bench_summary`), medians and \
+         95% intervals in nanoseconds, as `cargo bench` last measured them, ",
+    );
     benchmarks(md);
     md.push_str(&targets());
     md.push_str(
@@ -1528,26 +1529,57 @@ fn ns(v: f64) -> String {
     }
 }
 
-/// The table of `data/benchmarks.csv`, every duration written as [`ns`] writes it.
+/// Where and when `data/benchmarks.csv` was measured (it completes the sentence the section
+/// opens with), then its table, every duration written as [`ns`] writes it.
 fn benchmarks(md: &mut String) {
     let Ok((header, rows)) = read_rows(&output_path("data", "benchmarks.csv")) else {
+        md.push_str("but none are recorded:\n\n");
         return csv_table(md, "benchmarks.csv", "cargo bench");
     };
+    if header != BENCHMARK_COLUMNS {
+        // An older file has no machine or date; one of another layout is not read by position.
+        let _ = writeln!(
+            md,
+            "but `data/benchmarks.csv` has the columns `{}`, not `{}`: it was written by an older \
+             `bench_summary`, so neither its machine nor its date is known; rerun `cargo bench` and \
+             `bench_summary`.\n",
+            header.join(","),
+            BENCHMARK_COLUMNS.join(",")
+        );
+        return;
+    }
+    let distinct = |column: usize| {
+        let mut v: Vec<&str> = rows.iter().map(|r| r[column].as_str()).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    let dates = distinct(5);
+    let _ = writeln!(
+        md,
+        "on {} from {} to {} (each row's `measured_utc`); medians of other days or hosts are not \
+         comparable with them (below, \"Wall time, paired\"):\n",
+        distinct(6).join(" and on "),
+        dates.first().unwrap_or(&"unknown"),
+        dates.last().unwrap_or(&"unknown"),
+    );
     let rows: Vec<Vec<String>> = (rows.into_iter())
         .map(|row| {
-            let (name, values) = row.split_first().expect("a bench row has a name");
+            let (name, values) = row[..5].split_first().expect("a bench row has a name");
             std::iter::once(name.clone())
                 .chain(values.iter().map(|v| v.parse().map_or(v.clone(), ns)))
                 .collect()
         })
         .collect();
-    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    let header: Vec<&str> = header[..5].iter().map(String::as_str).collect();
     md_table(md, &header, &rows);
 }
 
-/// The medians (ns) of `data/benchmarks.csv` by bench name; `None` if it is missing.
+/// The medians (ns) of `data/benchmarks.csv` by bench name; `None` if it is missing or of
+/// another layout than [`BENCHMARK_COLUMNS`].
 fn bench_medians() -> Option<Vec<(String, f64)>> {
-    let (_, rows) = read_rows(&output_path("data", "benchmarks.csv")).ok()?;
+    let (header, rows) = read_rows(&output_path("data", "benchmarks.csv")).ok()?;
+    (header == BENCHMARK_COLUMNS).then_some(())?;
     Some(
         rows.into_iter()
             .filter_map(|r| Some((r.first()?.clone(), r.get(1)?.parse().ok()?)))
