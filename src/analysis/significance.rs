@@ -14,6 +14,12 @@
 //!   statistics `x₍ₖ₎` and `x₍ₙ₊₁₋ₖ₎` (1-based) hold any continuous distribution's median with
 //!   probability exactly `1 − 2·P(B ≤ k − 1)`, `B ~ Binomial(n, ½)`; the largest `k` whose
 //!   coverage reaches the asked confidence gives the narrowest such interval.
+//! * **Holm's step-down adjustment** (Holm 1979, *Scand. J. Statist.* 6:65–70) of a family of
+//!   `m` p values, for deciding many comparisons at once ([`holm`]): sorted ascending
+//!   `p₍₁₎ ≤ … ≤ p₍ₘ₎`, the adjusted `p̃₍ᵢ₎ = min(1, maxⱼ≤ᵢ (m − j + 1)·p₍ⱼ₎)`. Rejecting where
+//!   `p̃ < α` keeps the chance of any false rejection in the family at most `α` whatever the
+//!   tests' dependence, and never rejects less than Bonferroni (`m·p < α`). The same values as
+//!   R's `p.adjust(p, method = "holm")`.
 
 use super::statistics::Distribution;
 
@@ -128,6 +134,25 @@ pub fn median_interval(values: &[f64], confidence: f64) -> Option<MedianInterval
     })
 }
 
+/// Holm's step-down adjusted p values of one family of tests (module documentation), in the
+/// order of `p`. A NaN is no test: it stays NaN and does not count in the family's size `m`
+/// (as R's `p.adjust` drops `NA`), so a law that could not run or a statistic without spread
+/// neither adds a comparison nor makes the others harder to reject. Empty in, empty out.
+pub fn holm(p: &[f64]) -> Vec<f64> {
+    let mut order: Vec<usize> = (0..p.len()).filter(|&i| !p[i].is_nan()).collect();
+    order.sort_by(|&a, &b| p[a].total_cmp(&p[b]));
+    let m = order.len();
+    let mut adjusted = vec![f64::NAN; p.len()];
+    // the running maximum makes the adjusted values monotone in the raw ones: a smaller p
+    // is never harder to reject than a larger one
+    let mut running = 0.0_f64;
+    for (rank, &i) in order.iter().enumerate() {
+        running = running.max((m - rank) as f64 * p[i]).min(1.0);
+        adjusted[i] = running;
+    }
+    adjusted
+}
+
 /// ln n! (exact summation: the tables here have at most a few thousand members).
 fn ln_factorial(n: usize) -> f64 {
     (2..=n).map(|i| (i as f64).ln()).sum()
@@ -234,6 +259,114 @@ mod tests {
             median_interval(&[1.0, f64::NAN, 3.0, 4.0, 5.0, 6.0], 0.95),
             None
         );
+    }
+
+    // Holm by hand: sorted 0.01, 0.02, 0.03, 0.04, 0.05 times 5, 4, 3, 2, 1 give 0.05, 0.08,
+    // 0.09, 0.08, 0.05; the running maximum makes them 0.05, 0.08, 0.09, 0.09, 0.09. R:
+    // p.adjust(c(0.04, 0.01, 0.05, 0.03, 0.02), "holm") = 0.09 0.05 0.09 0.09 0.08.
+    // Tolerance 1e-15 relative: one product and one comparison per value.
+    #[test]
+    fn holm_matches_the_hand_computed_step_down() {
+        let adjusted = holm(&[0.04, 0.01, 0.05, 0.03, 0.02]);
+        for (a, e) in adjusted.iter().zip([0.09, 0.05, 0.09, 0.09, 0.08]) {
+            assert_relative_eq!(*a, e, max_relative = 1e-15);
+        }
+        // R: p.adjust(c(0.002, 0.2, 0.001, 0.5), "holm") = 0.006 0.4 0.004 0.5; capped at 1:
+        // p.adjust(c(0.6, 0.3), "holm") = 0.6 0.6
+        for (a, e) in holm(&[0.002, 0.2, 0.001, 0.5])
+            .iter()
+            .zip([0.006, 0.4, 0.004, 0.5])
+        {
+            assert_relative_eq!(*a, e, max_relative = 1e-15);
+        }
+        assert_eq!(holm(&[0.6, 0.3]), [0.6, 0.6]);
+        assert_eq!(holm(&[0.9, 0.8]), [1.0, 1.0]);
+    }
+
+    // Eleven laws against one, as section 8's families: raw 0.0008 and 0.00095 with nine of
+    // 0.5. Bonferroni multiplies all by 11: 0.0088 and 0.01045, one rejection at 0.01; Holm
+    // multiplies the second smallest by 10 only: 0.0095, two. Checked to fail with m instead
+    // of m − i + 1 (0.01045, one rejection).
+    #[test]
+    fn holm_rejects_where_bonferroni_does_not() {
+        let mut p = vec![0.0008, 0.00095];
+        p.extend([0.5; 9]);
+        let adjusted = holm(&p);
+        assert_relative_eq!(adjusted[0], 0.0088, max_relative = 1e-14);
+        assert_relative_eq!(adjusted[1], 0.0095, max_relative = 1e-14);
+        let bonferroni: Vec<f64> = p.iter().map(|p| (p * 11.0).min(1.0)).collect();
+        let rejected = |v: &[f64]| v.iter().filter(|&&p| p < 0.01).count();
+        assert_eq!((rejected(&adjusted), rejected(&bonferroni)), (2, 1));
+        // the nine 0.5 are tied: each one's 0.5 × (number left) is below the running maximum
+        // of the first of them, 9 × 0.5 capped at 1
+        assert!(adjusted[2..].iter().all(|&a| a == 1.0));
+    }
+
+    // Ties take one adjusted value whatever their order. R: p.adjust(c(0.01, 0.03, 0.01, 0.03),
+    // "holm") = 0.04 0.06 0.04 0.06 (4 × 0.01, then max(0.04, 3 × 0.01), then 2 × 0.03, then
+    // max(0.06, 0.03)). Checked to fail without the running maximum (the second 0.01 gets
+    // 0.03 and the second 0.03 gets 0.03).
+    #[test]
+    fn holm_gives_ties_one_value() {
+        let adjusted = holm(&[0.01, 0.03, 0.01, 0.03]);
+        for (a, e) in adjusted.iter().zip([0.04, 0.06, 0.04, 0.06]) {
+            assert_relative_eq!(*a, e, max_relative = 1e-15);
+        }
+    }
+
+    // A NaN is no test: R's p.adjust(c(NA, 0.01, NA, 0.02), "holm") = NA 0.02 NA 0.02 (m = 2,
+    // not 4). An empty or all-NaN family adjusts nothing.
+    #[test]
+    fn holm_leaves_out_what_was_not_tested() {
+        let adjusted = holm(&[f64::NAN, 0.01, f64::NAN, 0.02]);
+        assert!(adjusted[0].is_nan() && adjusted[2].is_nan());
+        assert_relative_eq!(adjusted[1], 0.02, max_relative = 1e-15);
+        assert_relative_eq!(adjusted[3], 0.02, max_relative = 1e-15);
+        assert!(holm(&[]).is_empty());
+        assert!(holm(&[f64::NAN; 3]).iter().all(|p| p.is_nan()));
+        assert_eq!(holm(&[0.003]), [0.003]);
+    }
+
+    // Identities over many pseudo-random families (a fixed linear congruential sequence, with
+    // ties and NaNs mixed in): Holm is never below the raw p nor above Bonferroni's m·p (so it
+    // rejects at most what the raw p does and at least what Bonferroni does), is at most 1,
+    // and keeps the raw order (a smaller raw p never gets a larger adjusted one).
+    #[test]
+    fn holm_lies_between_the_raw_p_and_bonferroni_and_keeps_their_order() {
+        let mut state: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut draw = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for family in 0..500 {
+            let n = 1 + family % 13;
+            let p: Vec<f64> = (0..n)
+                .map(|_| match draw() {
+                    u if u < 0.1 => f64::NAN,
+                    // coarse values tie often
+                    u if u < 0.3 => (draw() * 20.0).floor() / 1000.0,
+                    _ => draw().powi(3),
+                })
+                .collect();
+            let adjusted = holm(&p);
+            let m = p.iter().filter(|p| !p.is_nan()).count() as f64;
+            for (i, (&raw, &a)) in p.iter().zip(&adjusted).enumerate() {
+                if raw.is_nan() {
+                    assert!(a.is_nan());
+                    continue;
+                }
+                assert!(a >= raw && a <= (m * raw).min(1.0), "{p:?} {adjusted:?}");
+                for (&other, &b) in p.iter().zip(&adjusted).skip(i + 1) {
+                    if raw < other {
+                        assert!(a <= b, "{p:?} {adjusted:?}");
+                    } else if raw == other {
+                        assert_eq!(a, b, "{p:?} {adjusted:?}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]
