@@ -327,19 +327,13 @@ mod tests {
         assert_eq!(holm(&[0.003]), [0.003]);
     }
 
-    // Identities over many pseudo-random families (a fixed linear congruential sequence, with
-    // ties and NaNs mixed in): Holm is never below the raw p nor above Bonferroni's m·p (so it
-    // rejects at most what the raw p does and at least what Bonferroni does), is at most 1,
-    // and keeps the raw order (a smaller raw p never gets a larger adjusted one).
+    // Identities over many pseudo-random families (a fixed uniform sequence, with ties and
+    // NaNs mixed in): Holm is never below the raw p nor above Bonferroni's m·p (so it rejects
+    // at most what the raw p does and at least what Bonferroni does), is at most 1, and keeps
+    // the raw order (a smaller raw p never gets a larger adjusted one).
     #[test]
     fn holm_lies_between_the_raw_p_and_bonferroni_and_keeps_their_order() {
-        let mut state: u64 = 0x2545_f491_4f6c_dd1d;
-        let mut draw = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut draw = crate::test_support::uniform(0x2545_f491_4f6c_dd1d);
         for family in 0..500 {
             let n = 1 + family % 13;
             let p: Vec<f64> = (0..n)

@@ -41,8 +41,9 @@ pub struct Robustness {
     pub paper: Verdict,
     /// The members reproducing it under the paper's law, `count/members`.
     pub paper_members: String,
-    /// The laws whose verdict differs significantly (Fisher's p < [`SIGNIFICANT_P`] on the
-    /// members reproducing it), with it and their members `count/members`.
+    /// The laws whose verdict differs significantly (Fisher's p on the members reproducing it,
+    /// Holm-adjusted over the laws, below [`SIGNIFICANT_P`]: [`LawRow::differs`]), with it and
+    /// their members `count/members`.
     pub changed: Vec<(String, Verdict, String)>,
     /// The laws whose verdict differs but not significantly: an ensemble of this size does
     /// not tell them from the paper's law.
@@ -173,7 +174,7 @@ impl<'a> Spread<'a> {
         })
     }
 
-    /// The other laws that differ from the paper's at [`SIGNIFICANT_P`].
+    /// The other laws that differ from the paper's: Holm-adjusted p below [`SIGNIFICANT_P`].
     pub fn significant(&self) -> Vec<&'a LawRow> {
         self.others
             .iter()
@@ -206,6 +207,18 @@ fn p_value(p: f64) -> String {
     } else {
         sig(p)
     }
+}
+
+/// A tested row's p as the tables print it: the raw p, and beside it the Holm-adjusted one the
+/// significance call rests on, bold when significant.
+fn p_cell(r: &LawRow) -> String {
+    let holm = format!("Holm {}", p_value(r.p_holm));
+    let holm = if r.differs() {
+        format!("**{holm}**")
+    } else {
+        holm
+    };
+    format!("p = {} ({holm})", p_value(r.p))
 }
 
 /// The laws of a verdict change with their verdict and members, or `none`.
@@ -243,7 +256,7 @@ fn mean_cell(rows: &[LawRow], r: &LawRow, scale: f64, digits: usize) -> String {
         );
     }
     if r.test == "welch" {
-        let _ = write!(cell, ", p = {}", p_value(r.p));
+        let _ = write!(cell, ", {}", p_cell(r));
     }
     cell
 }
@@ -258,7 +271,7 @@ fn region_cell(r: &LawRow, paper_one_region: bool) -> String {
     }
     let mut cell = format!("{:.0} ± {:.0}", r.mean, r.sd);
     if paper_one_region && r.test == "welch" {
-        let _ = write!(cell, ", p = {}", p_value(r.p));
+        let _ = write!(cell, ", {}", p_cell(r));
     }
     cell
 }
@@ -267,7 +280,7 @@ fn region_cell(r: &LawRow, paper_one_region: bool) -> String {
 fn share_cell(r: &LawRow) -> String {
     let mut cell = format!("{}/{}", r.count.unwrap_or(0), r.members);
     if r.test == "fisher" {
-        let _ = write!(cell, ", p = {}", p_value(r.p));
+        let _ = write!(cell, ", {}", p_cell(r));
     }
     cell
 }
@@ -402,6 +415,7 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow], larger: &[PaperRes
         v
     });
     let members = rows.iter().map(|r| r.members).max().unwrap_or(0);
+    let tested = rows.iter().filter(|r| !r.test.is_empty()).count();
     let times = wall_times(rows);
     let paper_time = times.first().map_or(f64::NAN, |t| t.1);
     let slowest = times
@@ -434,8 +448,12 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow], larger: &[PaperRes
          dissipation law with the paper's stiffness law `{}`, all at the scenes' nominal restitution \
          c_e = {NOMINAL_RESTITUTION}. Each case runs steady (Table 3's window: two rotations after settling) and for \
          wear (the scene's 40 rotations). {table3} The ensembles took {} s of wall time when last run; the slowest \
-         law, `{}`, {} times the paper law's. A difference from the paper's law is significant at p < {SIGNIFICANT_P} \
-         (Welch's t for means, Fisher's exact test for shares of members).\n",
+         law, `{}`, {} times the paper law's. A difference from the paper's law is tested by Welch's t for means and \
+         Fisher's exact test for shares of members, and is significant when its p, Holm-adjusted within each family \
+         of the {} other laws' comparisons for one quantity and case, is below {SIGNIFICANT_P} (Holm's step-down \
+         procedure: a family calls any difference falsely with chance at most {SIGNIFICANT_P}; on the raw p, \
+         {} comparisons at {SIGNIFICANT_P} would make about {} false calls if no law mattered). The tables print \
+         the raw p and the adjusted one beside it, bold where significant.\n",
         cases.iter().map(|c| case_label(c)).collect::<Vec<_>>().join(" and "),
         pairs.len(),
         PAPER_LAW.1.name(),
@@ -443,6 +461,9 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow], larger: &[PaperRes
         number(times.iter().map(|t| t.1).sum::<f64>().round()),
         slowest.0,
         sig(slowest.1 / paper_time),
+        pairs.len().saturating_sub(1),
+        tested,
+        sig(tested as f64 * SIGNIFICANT_P),
     );
     for r in rows.iter().filter(|r| r.quantity == RUN_FAILED) {
         let _ = writeln!(
@@ -462,9 +483,11 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow], larger: &[PaperRes
         "**Which results of the paper are robust to the law.** Each result is checked in every member as section 1 \
          checks it, and decided as there (holds in ≥ {:.0} % of the members: reproduced); it *hinges on the law* when \
          a law gives another verdict with a share of members reproducing it that differs significantly from the \
-         paper law's, and is *robust* otherwise. {robust_count} of {} are robust. The paper law's verdict rests on \
+         paper law's (Fisher's p, Holm-adjusted over the {} other laws, below {SIGNIFICANT_P}), and is *robust* \
+         otherwise. {robust_count} of {} are robust. The paper law's verdict rests on \
          this study's {members} members{}.\n",
         100.0 * MEMBER_MAJORITY,
+        pairs.len().saturating_sub(1),
         found.len(),
         larger.iter().map(|l| l.members).max().map_or(String::new(), |n| format!(
             "; section 1 checks the same results under the same law in {n} members, and where the two \
@@ -616,7 +639,7 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow], larger: &[PaperRes
         let _ = writeln!(
             md,
             "**{}** (per law: mean ± sd over the members, the two states where the members split, p against \
-             the paper's law, first row):\n",
+             the paper's law, first row, raw and Holm-adjusted):\n",
             case_label(case)
         );
         md_table(
@@ -645,6 +668,7 @@ pub(super) fn law_wear_text(md: &mut String, rows: &[LawRow], larger: &[PaperRes
 #[cfg(test)]
 mod tests {
     use super::*;
+    use approx::assert_relative_eq;
 
     /// The committed restitution sweep is whole; a row lost, a row cut short (which panicked
     /// the report) or a law renamed is not.
@@ -688,6 +712,7 @@ mod tests {
             statistic: f64::NAN,
             dof: f64::NAN,
             p,
+            p_holm: p,
             error: String::new(),
             wall_time_s: 1.0,
         }
@@ -730,6 +755,68 @@ mod tests {
         assert!(robustness(&rows)[0].robust());
     }
 
+    /// The 0.5 mm case's continuous contact after a rounding-only change of the Hertz force:
+    /// 1 of 16 members under the paper's law, 10 of 16 under `hertz` (Fisher's p 0.00205 by
+    /// exact rational sums, below 0.01 raw), the ten other laws as the paper's. Holm over the
+    /// eleven laws makes it 11 × 0.00205 = 0.0226: a verdict changed, but not significantly.
+    /// Checked to fail when the raw p decides (hertz among the changed, the result hinging).
+    #[test]
+    fn a_verdict_changed_at_the_raw_p_alone_is_not_significant() {
+        use crate::analysis::significance::fisher_two_sided;
+        use crate::paper::studies::contact_law_wear::adjust_within_families;
+        let claim = format!("{CLAIM_PREFIX}table3_motion_continuous_contact");
+        let share = |stiffness: &str, count: usize| {
+            let mut r = row(
+                (stiffness, "zhiying-qishao"),
+                &claim,
+                Some(count),
+                0.0,
+                f64::NAN,
+            );
+            if stiffness != "hybrid" {
+                r.test = "fisher".into();
+                r.p = fisher_two_sided(count, 16, 1, 16);
+            }
+            r
+        };
+        let mut rows = vec![share("hybrid", 1), share("hertz", 10)];
+        rows.extend((0..10).map(|i| share(&format!("law{i}"), 1)));
+        adjust_within_families(&mut rows);
+        assert_relative_eq!(rows[1].p, 0.002_053_811_803_775_531, max_relative = 1e-9);
+        assert_relative_eq!(rows[1].p_holm, 11.0 * rows[1].p, max_relative = 1e-12);
+        let f = &robustness(&rows)[0];
+        assert!(f.robust() && f.changed.is_empty(), "{f:?}");
+        assert_eq!(f.unresolved[0].0, "hertz + zhiying-qishao");
+        assert_eq!(share_cell(&rows[1]), "10/16, p = 0.00205 (Holm 0.0226)");
+        // a call the adjusted p makes is bold
+        rows[1].p_holm = 0.005;
+        assert_eq!(share_cell(&rows[1]), "10/16, p = 0.00205 (**Holm 0.005**)");
+    }
+
+    /// The committed study's text states the adjusted threshold, prints every tested p with its
+    /// adjusted one, and reads no NaN.
+    #[test]
+    fn the_committed_study_reads_with_the_adjusted_threshold() {
+        let rows = read_law_wear().expect("data/contact_law_wear.csv of this layout");
+        let mut md = String::new();
+        law_wear_text(&mut md, &rows, &[]);
+        let others = pairs_of(&rows).len() - 1;
+        for expected in [
+            format!(
+                "is significant when its p, Holm-adjusted within each family of the {others} other \
+                 laws' comparisons for one quantity and case, is below {SIGNIFICANT_P}"
+            ),
+            format!(
+                "(Fisher's p, Holm-adjusted over the {others} other laws, below {SIGNIFICANT_P})"
+            ),
+        ] {
+            assert!(md.contains(&expected), "{expected}\n{md}");
+        }
+        let adjusted = md.matches("(Holm ").count() + md.matches("(**Holm ").count();
+        assert_eq!(md.matches("p = ").count(), adjusted, "{md}");
+        assert!(!md.contains("NaN"), "{md}");
+    }
+
     #[test]
     fn a_mean_angle_over_different_regions_is_not_printed_as_a_region() {
         // checked: printing every mean ± sd (the old cell) fails the first assertion
@@ -747,7 +834,7 @@ mod tests {
             "members in different regions (sd 66)"
         );
         r.sd = 3.0;
-        assert_eq!(region_cell(&r, true), "139 ± 3, p = 0.3");
+        assert_eq!(region_cell(&r, true), "139 ± 3, p = 0.3 (Holm 0.3)");
         // against a paper law whose members split between regions, no test
         assert_eq!(region_cell(&r, false), "139 ± 3");
     }
