@@ -9,6 +9,10 @@
 //!   (4 of 16, 5 of 32 members) the narrow one or the wide one, their means apart by a number
 //!   of the narrow state's sds: the share of draws split exactly between the two, by the rule
 //!   and by the pooled bound alone.
+//! * Quantised quantities: the share of [`DRAWS`] samples of counts (Poisson, binomial,
+//!   Bernoulli) divided by what they are counted over that the rule splits, without the
+//!   quantum ([`States::of`]) and with it ([`States::of_quantised`]); and two states of a
+//!   count with empty levels between them, split exactly, without and with the quantum.
 
 use jointwear::analysis::states::{gap_over_spread, States};
 
@@ -51,6 +55,66 @@ const FAMILIES: [(&str, Draw); 5] = [
     ("exponential", |u| -u.next().ln()),
 ];
 
+/// A Poisson count of mean `mean` (Knuth's product of uniforms; means up to a few tens).
+fn poisson(u: &mut Uniform, mean: f64) -> f64 {
+    let limit = (-mean).exp();
+    let (mut count, mut product) = (0.0, u.next());
+    while product > limit {
+        count += 1.0;
+        product *= u.next();
+    }
+    count
+}
+
+/// A binomial count of `trials` trials of probability `p`.
+fn binomial(u: &mut Uniform, trials: usize, p: f64) -> f64 {
+    (0..trials).map(|_| f64::from(u8::from(u.next() < p))).sum()
+}
+
+/// A quantity on a lattice: a count drawn by `count`, divided by `over` (the inverse of its
+/// quantum).
+struct Lattice {
+    name: &'static str,
+    count: fn(&mut Uniform) -> f64,
+    over: f64,
+}
+
+/// The counts the rule must not split, as the program meets them: contact onsets per rotation
+/// over 2 or 10 recorded rotations (Poisson rates of 0.5 and 3 a rotation, and 6-8 onsets in 2
+/// rotations, the four-bar's), members in a mode (Bernoulli, 1 in 4).
+const LATTICES: [Lattice; 6] = [
+    Lattice {
+        name: "poisson 0.5/rot over 2",
+        count: |u| poisson(u, 1.0),
+        over: 2.0,
+    },
+    Lattice {
+        name: "poisson 3/rot over 2",
+        count: |u| poisson(u, 6.0),
+        over: 2.0,
+    },
+    Lattice {
+        name: "poisson 3/rot over 10",
+        count: |u| poisson(u, 30.0),
+        over: 10.0,
+    },
+    Lattice {
+        name: "6 + binomial(2, 0.5) over 2",
+        count: |u| 6.0 + binomial(u, 2, 0.5),
+        over: 2.0,
+    },
+    Lattice {
+        name: "binomial(4, 0.5) over 2",
+        count: |u| binomial(u, 4, 0.5),
+        over: 2.0,
+    },
+    Lattice {
+        name: "bernoulli 0.25",
+        count: |u| binomial(u, 1, 0.25),
+        over: 1.0,
+    },
+];
+
 /// Percentage of `count` in [`DRAWS`].
 fn percent(count: usize) -> f64 {
     100.0 * count as f64 / DRAWS as f64
@@ -73,6 +137,57 @@ fn main() {
             })
             .collect();
         println!("  {n:2} members: {}", cells.join(", "));
+    }
+    println!(
+        "False splits of quantised samples, % of {DRAWS} draws (without the quantum / with it):"
+    );
+    for n in SIZES {
+        let cells: Vec<String> = (LATTICES.iter().enumerate())
+            .map(|(f, lattice)| {
+                let mut u = Uniform(3000 * n as u64 + f as u64);
+                let (mut before, mut after) = (0, 0);
+                for _ in 0..DRAWS {
+                    let v: Vec<f64> = (0..n)
+                        .map(|_| (lattice.count)(&mut u) / lattice.over)
+                        .collect();
+                    before += usize::from(States::of(&v).split());
+                    after += usize::from(States::of_quantised(&v, 1.0 / lattice.over).split());
+                }
+                let name = lattice.name;
+                format!("{name} {:.1} / {:.1}", percent(before), percent(after))
+            })
+            .collect();
+        println!("  {n:2} members: {}", cells.join(", "));
+    }
+    println!(
+        "Two states of onsets over 2 rotations, the smaller at 3 a rotation (Poisson), split \
+         exactly, % of {DRAWS} draws (without the quantum / with it):"
+    );
+    for (n, few) in [(16, 4), (32, 5)] {
+        let cells: Vec<String> = [0.0, 0.25, 0.5, 1.0]
+            .iter()
+            .map(|&low_rate| {
+                let mut u = Uniform(n as u64 * 104_729 + (100.0 * low_rate) as u64);
+                let (mut before, mut after) = (0, 0);
+                for _ in 0..DRAWS {
+                    let v: Vec<f64> = (0..n)
+                        .map(|i| poisson(&mut u, 2.0 * if i < few { 3.0 } else { low_rate }) / 2.0)
+                        .collect();
+                    let exact = |s: &States| {
+                        s.states.last().map(|s| &s.members[..])
+                            == Some(&(0..few).collect::<Vec<_>>()[..])
+                    };
+                    before += usize::from(exact(&States::of(&v)));
+                    after += usize::from(exact(&States::of_quantised(&v, 0.5)));
+                }
+                format!(
+                    "the others at {low_rate}/rot {:.1} / {:.1}",
+                    percent(before),
+                    percent(after)
+                )
+            })
+            .collect();
+        println!("  {few}/{n}: {}", cells.join(", "));
     }
     println!("Two normal states split exactly, % of {DRAWS} draws (pooled bound alone / rule):");
     for (n, few) in [(16, 4), (32, 5)] {

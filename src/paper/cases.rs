@@ -19,6 +19,7 @@ use crate::analysis::Motion;
 use crate::io::progress::{Counter, Progress};
 use crate::scene::{scene_path, SceneFile};
 use crate::simulation::ensemble::{run_member, EnsembleSettings};
+use crate::simulation::summary::{contact_quantum, onset_quantum};
 use crate::simulation::Scene;
 use crate::simulation::{simulate, RunOutput, Settling};
 use crate::{Error, Result};
@@ -215,7 +216,7 @@ pub struct SteadyMember {
     /// Largest sampled penetration of the recorded rotations (m): the window of the force,
     /// without the start-up impact.
     pub max_penetration: f64,
-    /// Share of the circumference (1° bins) touched while in contact.
+    /// Share of the circumference ([`COVERAGE_BINS`] bins of 1°) touched while in contact.
     pub contact_coverage: f64,
     /// Largest wear rate of the recorded rotations (m/s).
     pub max_wear_rate: f64,
@@ -286,6 +287,9 @@ impl WearMember {
     }
 }
 
+/// The bins of the circumference [`SteadyMember::contact_coverage`] counts: 1° each.
+pub const COVERAGE_BINS: usize = 360;
+
 /// The members of a steady ensemble of a scene.
 #[derive(Clone, Debug)]
 pub struct SteadyEnsemble {
@@ -304,6 +308,31 @@ impl SteadyEnsemble {
     /// States of `f` over the members ([`States`]).
     pub fn states(&self, f: impl Fn(&SteadyMember) -> f64) -> States {
         States::of(&self.members.iter().map(f).collect::<Vec<f64>>())
+    }
+
+    /// States of the members' contact onsets per rotation, a count over the recorded rotations:
+    /// split only across an empty level ([`States::of_quantised`], [`onset_quantum`]).
+    pub fn onset_states(&self) -> States {
+        let quantum = onset_quantum(&self.scene);
+        self.quantised_states(|m| m.motion.impacts_per_rotation, quantum)
+    }
+
+    /// States of the members' share of the recorded time in contact, a count of samples:
+    /// split only across an empty level ([`States::of_quantised`], [`contact_quantum`]).
+    pub fn contact_states(&self) -> States {
+        let quantum = contact_quantum(&self.scene);
+        self.quantised_states(|m| m.motion.contact_fraction, quantum)
+    }
+
+    /// States of the members' share of the circumference touched, a count of 1° bins: split
+    /// only across an empty level ([`States::of_quantised`], quantum `1/COVERAGE_BINS`).
+    pub fn coverage_states(&self) -> States {
+        self.quantised_states(|m| m.contact_coverage, 1.0 / COVERAGE_BINS as f64)
+    }
+
+    /// States of `f`, on a lattice of spacing `quantum`, over the members.
+    fn quantised_states(&self, f: impl Fn(&SteadyMember) -> f64, quantum: f64) -> States {
+        States::of_quantised(&self.members.iter().map(f).collect::<Vec<f64>>(), quantum)
     }
 
     /// The members grouped by `label` (a motion mode, a steady state), the groups in the order
@@ -475,10 +504,10 @@ pub fn steady_member(scene: &Scene, out: &RunOutput, keep_traces: bool) -> Resul
     let dt = rec.time[1] - rec.time[0];
     let slider_acc = &rec.accelerations[slider][0];
     let abs_acc: Vec<f64> = slider_acc.iter().map(|a| a.abs()).collect();
-    let mut touched = [false; 360];
+    let mut touched = [false; COVERAGE_BINS];
     for (th, d) in j.theta.iter().zip(&j.delta) {
         if *d >= 0.0 {
-            touched[(th.to_degrees() as usize).min(359)] = true;
+            touched[(th.to_degrees() as usize).min(COVERAGE_BINS - 1)] = true;
         }
     }
     let max = |v: &[f64]| v.iter().cloned().fold(f64::MIN, f64::max);
@@ -493,7 +522,7 @@ pub fn steady_member(scene: &Scene, out: &RunOutput, keep_traces: bool) -> Resul
         max_slider_acc: max(&abs_acc),
         max_normal_force: max(&j.normal_force),
         max_penetration: max(&j.delta),
-        contact_coverage: touched.iter().filter(|&&b| b).count() as f64 / 360.0,
+        contact_coverage: touched.iter().filter(|&&b| b).count() as f64 / COVERAGE_BINS as f64,
         max_wear_rate: max(&j.wear_rate),
         acc_wear_correlation: centred_cmf(&abs_acc, &j.wear_rate),
         force_wear_correlation: centred_cmf(&j.normal_force, &j.wear_rate),

@@ -380,6 +380,14 @@ impl Scene {
         std::f64::consts::TAU / self.mechanism.driver.omega.abs()
     }
 
+    /// The samples of the recorded rotations: `run.record_rotations` driver periods sampled
+    /// every `run.record_interval_s`, both ends included (a settling run's window may hold one
+    /// sample fewer, as its start rounds).
+    pub fn recorded_samples(&self) -> f64 {
+        (f64::from(self.run.record_rotations) * self.period() / self.run.record_interval).floor()
+            + 1.0
+    }
+
     /// Checks that the run can finish within `run.max_steps` at all: its largest step (the
     /// fixed step of `rk4`) needs at least `rotations` × period / step steps. A smaller step
     /// would crawl into the step limit (1e-300 s took 78 s to fail); it fails here at once.
@@ -492,8 +500,7 @@ impl Scene {
     /// [`RECORD_BUDGET_BYTES`], naming the setting that dominates the estimate if not.
     pub fn check_record_budget(&self) -> Result<()> {
         let (run, m) = (&self.run, &self.mechanism);
-        let period = self.period();
-        let rows = (run.record_rotations as f64 * period / run.record_interval).floor() + 1.0;
+        let (period, rows) = (self.period(), self.recorded_samples());
         let columns = record_columns(m);
         let series = rows * columns as f64 * 8.0;
         let points = run.rotations as f64 * run.profile_history_per_rotation as f64;

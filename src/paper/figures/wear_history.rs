@@ -59,21 +59,29 @@ pub fn share_window(e: &WearEnsemble) -> String {
     )
 }
 
+/// The spacing of [`staircase_shares`] in `e`: one of the crank intervals of its whole run
+/// ([`share_window`]), which a share counts.
+pub fn share_quantum(e: &WearEnsemble) -> f64 {
+    1.0 / f64::from(e.scene.run.rotations * HISTORY_PER_ROTATION)
+}
+
 /// For the first, second and third most prominent region: the states over the members of
-/// [`staircase_shares`] (members with fewer regions left out: NaN, in no state).
-pub fn region_share_stats(shares: &[Vec<f64>]) -> [States; 3] {
+/// [`staircase_shares`] (members with fewer regions left out: NaN, in no state), counts of
+/// crank intervals split only across an empty level ([`States::of_quantised`], `quantum` of
+/// [`share_quantum`]).
+pub fn region_share_stats(shares: &[Vec<f64>], quantum: f64) -> [States; 3] {
     [0, 1, 2].map(|i| {
         let values: Vec<f64> = (shares.iter())
             .map(|s| s.get(i).copied().unwrap_or(f64::NAN))
             .collect();
-        States::of(&values)
+        States::of_quantised(&values, quantum)
     })
 }
 
 /// The lines figure 7's program prints: per region rank, the states over the members of the
 /// share of [`share_window`] that carries 90 % of the region's wear.
 fn share_lines(e: &WearEnsemble) -> Vec<String> {
-    region_share_stats(&staircase_shares(e))
+    region_share_stats(&staircase_shares(e), share_quantum(e))
         .iter()
         .enumerate()
         .map(|(i, d)| {

@@ -94,7 +94,7 @@ fn paper_results(runs: &Runs, golden: &Golden) -> Result<Vec<PaperResult>> {
         let wear = runs.wear(case.scene)?;
         found.extend(contact_law_wear::paper_results(
             case,
-            &runs.steady(case.scene)?.members,
+            runs.steady(case.scene)?,
             &wear.members,
             wear.scene.run.rotations,
             golden,

@@ -40,7 +40,9 @@ use crate::io::plot::{render, Axes, Series, Style};
 use crate::io::progress::Progress;
 use crate::laws::contact::{DissipationLaw, StiffnessLaw};
 use crate::laws::stiffness::POWER_LAW_EXPONENT;
-use crate::paper::cases::{case_of_scene, Case, Need, Runs, SteadyMember, WearMember, CASES};
+use crate::paper::cases::{
+    case_of_scene, Case, Need, Runs, SteadyEnsemble, SteadyMember, WearMember, CASES,
+};
 use crate::paper::figures::output_path;
 use crate::paper::format::{csv_statistic, parse_statistic};
 use crate::paper::golden::{angle_distance, angle_offset, Golden};
@@ -48,6 +50,7 @@ use crate::paper::provenance::{self, Inputs};
 use crate::paper::studies::accuracy::Table3Test;
 use crate::scene::{ContactSpec, SceneFile};
 use crate::simulation::ensemble::EnsembleSettings;
+use crate::simulation::summary::{contact_quantum, onset_quantum};
 use crate::{Error, Result};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -386,6 +389,9 @@ struct Mean {
     values: Vec<f64>,
     /// An angle (deg): compared as offsets from the paper law's circular mean, not split.
     angle: bool,
+    /// The spacing of a count's values (contact onsets over the recorded rotations): its
+    /// members split only across an empty level ([`States::of_quantised`]).
+    quantum: Option<f64>,
 }
 
 /// A share of the members of one case under one law.
@@ -406,16 +412,18 @@ struct Measured {
 /// Window of the steady quantities.
 const STEADY_WINDOW: &str = "2 rotations recorded after settling";
 
-/// The steady statistics of `members` of `case`, with the paper's Table 3 results checked per
-/// member against `golden`.
-fn measure_steady(case: &Case, members: &[SteadyMember], golden: &Golden) -> Measured {
+/// The steady statistics of the members of `e` of `case`, with the paper's Table 3 results
+/// checked per member against `golden`.
+fn measure_steady(case: &Case, e: &SteadyEnsemble, golden: &Golden) -> Measured {
+    let members = &e.members;
     let of = |f: &dyn Fn(&SteadyMember) -> f64| members.iter().map(f).collect::<Vec<f64>>();
-    let mean = |quantity, unit, values| Mean {
+    let mean = |quantity, unit, values, quantum| Mean {
         quantity,
         unit,
         window: STEADY_WINDOW.into(),
         values,
         angle: false,
+        quantum,
     };
     let n = members.len();
     let count = |f: &dyn Fn(&SteadyMember) -> bool| members.iter().filter(|m| f(m)).count();
@@ -454,17 +462,29 @@ fn measure_steady(case: &Case, members: &[SteadyMember], golden: &Golden) -> Mea
     }
     Measured {
         means: vec![
-            mean("pw_concordance", "1", of(&|m| m.concordance.pressure_wear)),
-            mean("sw_concordance", "1", of(&|m| m.concordance.sliding_wear)),
+            mean(
+                "pw_concordance",
+                "1",
+                of(&|m| m.concordance.pressure_wear),
+                None,
+            ),
+            mean(
+                "sw_concordance",
+                "1",
+                of(&|m| m.concordance.sliding_wear),
+                None,
+            ),
             mean(
                 "contact_time_fraction",
                 "share",
                 of(&|m| m.motion.contact_fraction),
+                Some(contact_quantum(&e.scene)),
             ),
             mean(
                 "contact_onsets",
                 "1/rotation",
                 of(&|m| m.motion.impacts_per_rotation),
+                Some(onset_quantum(&e.scene)),
             ),
         ],
         shares,
@@ -520,6 +540,7 @@ fn measure_wear(case: &Case, members: &[WearMember], rotations: u32, golden: &Go
                 window: window.clone(),
                 values: members.iter().map(WearMember::max_depth).collect(),
                 angle: false,
+                quantum: None,
             },
             Mean {
                 quantity: "deepest_region_angle",
@@ -529,6 +550,7 @@ fn measure_wear(case: &Case, members: &[WearMember], rotations: u32, golden: &Go
                     .map(|m| m.deepest_angle().unwrap_or(f64::NAN))
                     .collect(),
                 angle: true,
+                quantum: None,
             },
         ],
         shares,
@@ -555,7 +577,7 @@ pub struct PaperResult {
 /// ensemble beside a larger one of the same law.
 pub fn paper_results(
     case: &Case,
-    steady: &[SteadyMember],
+    steady: &SteadyEnsemble,
     wear: &[WearMember],
     rotations: u32,
     golden: &Golden,
@@ -632,7 +654,7 @@ fn run_case(
         seconds: runs.seconds,
     };
     if steady {
-        let s = measure_steady(case, &runs.steady(case.scene)?.members, golden);
+        let s = measure_steady(case, runs.steady(case.scene)?, golden);
         m.means.extend(s.means);
         m.shares.extend(s.shares);
     }
@@ -714,7 +736,11 @@ fn rows_of(
             (r.test, r.statistic, r.dof, r.p) = ("welch".into(), w.t, w.dof, w.p);
         }
         rows.push(r);
-        if let Some((low, high)) = States::of(&mean.values).low_high() {
+        let states = match mean.quantum {
+            Some(quantum) => States::of_quantised(&mean.values, quantum),
+            None => States::of(&mean.values),
+        };
+        if let Some((low, high)) = states.low_high() {
             rows.push(distribution(low.distribution, "low"));
             rows.push(distribution(high.distribution, "high"));
         }

@@ -4,7 +4,7 @@
 //! wear regions at every clearance) and figure 11 (more uniform wear, similar depth).
 
 use super::{across, decreasing, increasing, within, Claims, Ensembles};
-use crate::paper::cases::{recorded_window, SteadyMember, WearMember};
+use crate::paper::cases::{recorded_window, SteadyEnsemble, SteadyMember, WearMember};
 use crate::paper::figures::mean_profile_regions;
 use crate::paper::figures::wear_profiles::deepest_wear_states;
 use crate::paper::golden::Golden;
@@ -33,8 +33,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
             big[0].members.len() - big[0].continuous(),
             big[1].members.len() - big[1].continuous(),
             big[0].members.len(),
-            across(&big, e.n, |e| e.states(|m| m.motion.contact_fraction), 100.0, 1),
-            across(&big, e.n, |e| e.states(|m| m.motion.impacts_per_rotation), 1.0, 1)
+            across(&big, e.n, SteadyEnsemble::contact_states, 100.0, 1),
+            across(&big, e.n, SteadyEnsemble::onset_states, 1.0, 1)
         ),
         &|m| {
             Some(

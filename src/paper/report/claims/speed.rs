@@ -21,8 +21,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
             "over {}: free flight and impact in {} of {n}; {} contact onsets per rotation, in contact {} % of the time",
             recorded_window(&[slow]),
             n - slow.continuous(),
-            mean_sd(&slow.states(|m| m.motion.impacts_per_rotation), n, 1.0, 1),
-            mean_sd(&slow.states(|m| m.motion.contact_fraction), n, 100.0, 1)
+            mean_sd(&slow.onset_states(), n, 1.0, 1),
+            mean_sd(&slow.contact_states(), n, 100.0, 1)
         ),
         &|m| Some(vec![!m.steady.speed_30rpm.motion.continuous()]),
     );
@@ -55,8 +55,8 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
             "over {}: continuous contact in {} of {n}; in contact {} % of the time, {} % of the circumference touched",
             recorded_window(&[mid]),
             mid.continuous(),
-            mean_sd(&mid.states(|m| m.motion.contact_fraction), n, 100.0, 1),
-            mean_sd(&mid.states(|m| m.contact_coverage), n, 100.0, 0)
+            mean_sd(&mid.contact_states(), n, 100.0, 1),
+            mean_sd(&mid.coverage_states(), n, 100.0, 0)
         ),
         &|m| {
             let s = m.steady.speed_600rpm;

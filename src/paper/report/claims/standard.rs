@@ -5,7 +5,7 @@
 
 use super::{deepest_angle, increasing, mean_sd, within, Claims, Ensembles, WHOLE_SURFACE};
 use crate::paper::cases::{recorded_window, WearMember};
-use crate::paper::figures::wear_history::{region_share_stats, share_window};
+use crate::paper::figures::wear_history::{region_share_stats, share_quantum, share_window};
 use crate::paper::golden::{angle_distance, Golden};
 
 /// Correlation at which the wear rate is said to follow a driver (figure 3): at 0.5 a
@@ -64,9 +64,9 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
             recorded_window(&[std_st]),
             std_st.continuous(),
             std_st.members.len(),
-            mean_sd(&std_st.states(|m| m.motion.contact_fraction), n, 100.0, 1),
-            mean_sd(&std_st.states(|m| m.motion.impacts_per_rotation), n, 1.0, 1),
-            mean_sd(&std_st.states(|m| m.contact_coverage), n, 100.0, 0)
+            mean_sd(&std_st.contact_states(), n, 100.0, 1),
+            mean_sd(&std_st.onset_states(), n, 1.0, 1),
+            mean_sd(&std_st.coverage_states(), n, 100.0, 0)
         ),
         &|m| {
             let s = m.steady.standard;
@@ -135,7 +135,7 @@ pub(super) fn claims(c: &mut Claims, e: &Ensembles, golden: &Golden) {
         ),
         format!(
             "the three most prominent regions get 90% of their wear in {} % of {}",
-            region_share_stats(&e.shares)
+            region_share_stats(&e.shares, share_quantum(e.wear.standard))
                 .map(|d| mean_sd(&d, n, 100.0, 0))
                 .join(", "),
             share_window(e.wear.standard)
