@@ -136,6 +136,20 @@ fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
         jointwear::io::output::read_rows(&out.join("ensemble_members.csv")).unwrap();
     assert_eq!(rows.len(), 3);
     assert_eq!(header[0], "member");
+    // Every row names the window of its recorded quantities (contact_fraction,
+    // impacts_per_rotation, the maxima _recorded) as a sweep's row does: the scene's one
+    // recorded rotation, sampled every run.record_interval_s. Failed before: no such column,
+    // only summary.json and README.txt beside it said so.
+    let scene = SceneFile::read(&file).unwrap().build().unwrap();
+    let window = ["record_rotations", "record_interval_s"]
+        .map(|c| header.iter().position(|h| h == c).expect(c));
+    for row in &rows {
+        assert_eq!(row[window[0]], "1");
+        assert_eq!(
+            row[window[1]].parse::<f64>().ok(),
+            Some(scene.run.record_interval)
+        );
+    }
     let (head, summary) =
         jointwear::io::output::read_rows(&out.join("ensemble_summary.csv")).unwrap();
     // every quantity with values has its state count (1 or 2), one without (`settled` of a

@@ -212,6 +212,13 @@ impl Recorded {
             interval_s: scene.run.record_interval,
         }
     }
+
+    /// The [`RECORD_COLUMNS`] cells: the rotations, and the interval as
+    /// [`number_or_empty`](crate::io::output::number_or_empty) writes it.
+    pub fn cells(&self) -> [String; 2] {
+        let interval = crate::io::output::number_or_empty(self.interval_s);
+        [self.rotations.to_string(), interval]
+    }
 }
 
 /// Header of a sweep CSV.
@@ -286,11 +293,10 @@ impl CaseResult {
         let mut r = vec![self.case.to_string()];
         r.extend(self.values.iter().cloned());
         let number = crate::io::output::number_or_empty;
-        let window = |w: &Recorded| [w.rotations.to_string(), number(w.interval_s)];
         match &self.outcome {
             Ok((Outcome::Ensemble(members, stats), recorded, wall)) => {
                 r.push(members.to_string());
-                r.extend(window(recorded));
+                r.extend(recorded.cells());
                 for j in stats {
                     for (_, states) in &j.quantities {
                         let d = &states.pooled;
@@ -301,7 +307,7 @@ impl CaseResult {
                 r.extend([number(*wall), String::new()]);
             }
             Ok((Outcome::Run(summaries), recorded, wall)) => {
-                r.extend(window(recorded));
+                r.extend(recorded.cells());
                 r.extend(summaries.iter().flat_map(JointSummary::cells));
                 r.extend([number(*wall), String::new()]);
             }

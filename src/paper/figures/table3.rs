@@ -8,7 +8,7 @@
 use super::output_path;
 use crate::analysis::states::{States, STATE_COLUMNS};
 use crate::analysis::statistics::Distribution;
-use crate::io::output::write_rows;
+use crate::io::output::{number, write_rows};
 use crate::paper::cases::{Case, PerCase, Runs, SteadyEnsemble, SteadyMember, CASES};
 use crate::paper::golden::{Golden, Table3Golden};
 use crate::Result;
@@ -22,6 +22,8 @@ pub struct Table3Row<'a> {
     pub paper: &'a Table3Golden,
     /// Members of the ensemble.
     pub members: usize,
+    /// The window every measured column is read off ([`steady_window`]).
+    pub window: String,
     /// CMF(P, w) over the members.
     pub pw: Distribution,
     /// CMF(s, w) over the members.
@@ -71,17 +73,17 @@ fn in_band(d: &Distribution, v: f64) -> bool {
 pub fn table3_rows<'a>(runs: &Runs, golden: &'a Golden) -> Result<PerCase<Table3Row<'a>>> {
     CASES.zip(&golden.table3).try_map(|&(case, paper)| {
         let e = runs.steady(case.scene)?;
-        let quantities: [fn(&crate::paper::cases::SteadyMember) -> f64; 4] = [
-            |m| m.concordance.pressure_wear,
-            |m| m.concordance.sliding_wear,
-            |m| m.motion.contact_fraction,
-            |m| m.motion.impacts_per_rotation,
-        ];
         Ok(Table3Row {
-            states: quantities.map(|f| e.states(f)),
+            states: [
+                e.states(|m| m.concordance.pressure_wear),
+                e.states(|m| m.concordance.sliding_wear),
+                e.contact_states(),
+                e.onset_states(),
+            ],
             case: *case,
             paper,
             members: e.members.len(),
+            window: steady_window(e),
             pw: e.stat(|m| m.concordance.pressure_wear),
             sw: e.stat(|m| m.concordance.sliding_wear),
             contact_fraction: e.stat(|m| m.motion.contact_fraction),
@@ -90,6 +92,17 @@ pub fn table3_rows<'a>(runs: &Runs, golden: &'a Golden) -> Result<PerCase<Table3
             pressure_dominated: e.pressure_dominated(),
         })
     })
+}
+
+/// The window of a steady ensemble's measured quantities, as `data/table3.csv`'s `window`
+/// names it: `2 rotations recorded after settling, samples every 2e-5 s` (its scene's
+/// `run.record_rotations` and `run.record_interval_s`).
+pub fn steady_window(e: &SteadyEnsemble) -> String {
+    format!(
+        "{} rotations recorded after settling, samples every {} s",
+        e.scene.run.record_rotations,
+        number(e.scene.run.record_interval)
+    )
 }
 
 /// The line of a case whose members settle in more than one motion mode: each mode's members
@@ -118,7 +131,9 @@ fn motion_mode_line(e: &SteadyEnsemble) -> Option<String> {
     Some(format!("  by motion mode: {}", parts.join("; ")))
 }
 
-/// The header of `data/table3.csv`. The distribution of every member of a case, whatever its
+/// The header of `data/table3.csv`. `window` names the recorded rotations every measured
+/// column (the concordances, the contact share and onsets, the members counted by motion mode
+/// and dominance) is read off. The distribution of every member of a case, whatever its
 /// state, is named `pooled` (`pw_pooled_mean`, and the band `paper_pw_in_pooled_band` tests):
 /// where a quantity's members fall into two states (`pw_states` 2) its pooled mean is no
 /// member's value, and the states' own columns follow.
@@ -127,6 +142,7 @@ fn table3_header() -> Vec<String> {
         "clearance_mm",
         "speed_rpm",
         "members",
+        "window",
         "paper_motion",
         "continuous_contact_members",
         "paper_pw",
@@ -178,6 +194,7 @@ pub fn table3(runs: &Runs) -> Result<Vec<String>> {
             c_mm.to_string(),
             rpm.to_string(),
             n.to_string(),
+            row.window.clone(),
             g.motion.clone(),
             row.continuous.to_string(),
             num(g.pw),
@@ -265,6 +282,27 @@ mod tests {
                 "{column} pools the states without saying so"
             );
         }
+    }
+
+    // Fails on the header as it was: the contact share and onsets (and the concordances) did
+    // not say over which recorded rotations they were taken; paper.md and the printouts did.
+    #[test]
+    fn table3_csv_names_the_window_of_its_measured_columns() {
+        use crate::paper::figures::time_series::tests::member;
+        let header = table3_header();
+        let window = header.iter().position(|h| h == "window");
+        assert_eq!(window, Some(3), "{header:?}");
+        let mut scene =
+            crate::simulation::Scene::load(crate::scene::scene_path("standard")).unwrap();
+        (scene.run.record_rotations, scene.run.record_interval) = (2, 2e-5);
+        let e = SteadyEnsemble {
+            scene,
+            members: vec![member(1.0, 0.0)],
+        };
+        assert_eq!(
+            steady_window(&e),
+            "2 rotations recorded after settling, samples every 2e-5 s"
+        );
     }
 
     // Passes once data/table3.csv is written by this version (`cargo run --release --bin

@@ -154,6 +154,7 @@ mod tests {
             case: CASES.speed_600rpm,
             paper: &paper,
             members: 32,
+            window: "2 rotations recorded after settling, samples every 2e-5 s".into(),
             pw: Distribution::of(pw.iter().copied()),
             sw: Distribution::of(pw.iter().copied()),
             contact_fraction: Distribution::of(contact.iter().copied()),

@@ -17,6 +17,7 @@ use crate::simulation::summary::{
     SCALAR_WINDOWS, WINDOWS,
 };
 use crate::simulation::Scene;
+use crate::sweep::{Recorded, RECORD_COLUMNS};
 use crate::Result;
 use serde::Serialize;
 use std::path::Path;
@@ -86,8 +87,9 @@ fn write_files(
 ) -> Result<Vec<JointStatistics>> {
     let m = &scene.mechanism;
     let joints: Vec<String> = m.clearance_joints.iter().map(|c| c.name.clone()).collect();
-    // One row per member: its offsets d (journal body frame), its tolerances, then a sweep
-    // row's joint columns.
+    // One row per member: its offsets d (journal body frame), its tolerances, the window of its
+    // recorded quantities as a sweep row names it, then a sweep row's joint columns.
+    let recorded = Recorded::of(scene).cells();
     let mut head = vec!["member".to_string()];
     for j in &joints {
         head.extend([
@@ -95,7 +97,12 @@ fn write_files(
             format!("{j}.offset_body_y_m"),
         ]);
     }
-    head.extend(["rtol".to_string(), "atol".to_string()]);
+    head.extend(
+        ["rtol", "atol"]
+            .iter()
+            .chain(&RECORD_COLUMNS)
+            .map(|c| c.to_string()),
+    );
     for j in &joints {
         head.extend(JOINT_COLUMNS.iter().map(|c| format!("{j}.{c}")));
     }
@@ -112,6 +119,7 @@ fn write_files(
             }
             let tolerances = p.run_settings(&scene.run, settings.seed, i).tolerances;
             row.extend([number(tolerances.rtol), number(tolerances.atol)]);
+            row.extend(recorded.iter().cloned());
             row.extend(summary.iter().flat_map(JointSummary::cells));
             row.extend([number(*secs), String::new()]);
             row
@@ -269,6 +277,10 @@ fn readme(
          \x20 rtol, atol                           the member's integration tolerances: the \
          scene's run.rtol and run.atol, multiplied under tolerance_S by the member's factor, uniform \
          in [1 - S, 1 + S]\n\
+         \x20 record_rotations, record_interval_s  the window of every recorded quantity \
+         below (the maxima _recorded, motion_mode, contact_fraction, impacts_per_rotation): the \
+         last run.record_rotations rotations of the member's run, sampled every \
+         run.record_interval_s (s)\n\
          \x20 J.max_normal_force_recorded_n        largest sampled normal force of the \
          recorded rotations (N; samples every run.record_interval_s); empty when none were \
          recorded\n\
@@ -299,7 +311,11 @@ fn readme(
          values that leaves max(2, ceil(n/10)) members on each side, when it exceeds 2 pooled \
          within-state sds, 2 * 32/n of them below 32 members, or 5.5 sds of the narrower side \
          of at least 4 members whose values do not all agree, 5.5 * sqrt(32/n) of them below \
-         32 members, and one sd of the other side (a narrow state beside a wide one); angles cut at their largest gap on the circle first, so that low \
+         32 members, and one sd of the other side (a narrow state beside a wide one); a count \
+         (contact_fraction, samples in contact over the recorded samples; impacts_per_rotation, \
+         onsets over run.record_rotations; continuous_contact, settled and rotations_simulated, \
+         whole numbers) split only at a gap of at least 2 of its steps, across a value no \
+         member takes; angles cut at their largest gap on the circle first, so that low \
          and high are the two sides of the cut, and split only at a gap over 10 deg): states \
          (1 or 2; empty where n is 0), and with two low_n, low_mean, \
          low_sd, high_n, high_mean, high_sd. Where a quantity has two states, its pooled mean \
