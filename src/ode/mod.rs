@@ -29,6 +29,8 @@
 //! `h * clamp(safety * err^-(1/q - 0.75 β) * err_prev^β, fac_min, fac_max)` where `β = 0` is the
 //! plain (I) controller and `β ≈ 0.04` Hairer's PI controller ([`StepControl`]); `fac_max` is
 //! replaced by 1 for the step that follows a rejection, and `|h|` never exceeds `max_step`.
+//! Opt-in, a digital filter of Söderlind's ([`Filter`], e.g. PI.4.2) takes the place of that
+//! formula after an accepted step, with the same limits.
 //! After a rejection the step shrinks by `max(fac_min, safety * err^(-1/q))`; `err^(-1/q)` is
 //! taken by Newton's method (`root.rs`, within 2 ulp of the exact root), not libm's `pow`.
 //! A trial whose right-hand side fails ([`OdeSystem::rhs`] returns an error, e.g. a contact
@@ -98,6 +100,49 @@ pub struct StepControl {
     pub fac_max: f64,
     /// PI gain on the previous error; 0 gives the classical I controller.
     pub beta: f64,
+    /// A digital filter in place of the I/PI formula after an accepted step (`None`, the
+    /// default: the I/PI controller).
+    pub filter: Option<Filter>,
+}
+
+/// Söderlind's two-step digital filter for the step size (G. Söderlind, "Digital filters in
+/// adaptive time-stepping", ACM TOMS 29, 2003). After an accepted step `h_n` with error norm
+/// `r_n` the next step is `h_n ρ`, limited as the I controller's (to
+/// `[fac_min, fac_max]`, `fac_max` replaced by 1 after a rejection, at most `max_step`), with
+/// `ρ = (ε/r_n)^(β1/k) (ε/r_{n-1})^(β2/k) (h_n/h_{n-1})^(-α2)`, `k` the order of the error
+/// estimate (5 for Dopri5), `r_n` floored at 1e-10, and `r_{n-1}`, `h_{n-1}` the error norm
+/// (floored at 1e-4) and size of the accepted step before; right after a (re)start
+/// `r_{n-1} = r_n` and `h_n/h_{n-1} = 1`. Rejected attempts shrink the step as the I
+/// controller's do (with [`StepControl::safety`], which the filter itself does not use). Its
+/// memory is the integrator's checkpointed state ([`IntegratorState`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Filter {
+    /// β1, the gain on the last error.
+    pub beta1: f64,
+    /// β2, the gain on the error of the accepted step before it.
+    pub beta2: f64,
+    /// α2, the gain on the last ratio of step sizes.
+    pub alpha2: f64,
+    /// ε, the error norm the filter steers to (a norm up to 1 is accepted).
+    pub target: f64,
+}
+
+impl Filter {
+    /// PI.4.2 (β1 = 3/5, β2 = −1/5, α2 = 0), steering to ε = 0.9⁵, the norm at which the I
+    /// controller's safety factor 0.9 keeps the step constant. Measured on the standard scene
+    /// (2026-11-28): at rtol 2e-7 at least as accurate as the I controller at the scenes'
+    /// 1.5e-7 by the default-tolerance rule's measure (each member's first-rotation orbit error
+    /// over its bound's, median 0.72 against 0.86 over 256 members of seed 1), for a median
+    /// 10 % fewer evaluations over 40 rotations (members 0-63 of seed 1). Not the default:
+    /// the scenes' rtol is the rule's pick for the I controller.
+    pub fn pi42() -> Filter {
+        Filter {
+            beta1: 0.6,
+            beta2: -0.2,
+            alpha2: 0.0,
+            target: 0.9f64.powi(5),
+        }
+    }
 }
 
 impl Default for StepControl {
@@ -107,6 +152,7 @@ impl Default for StepControl {
             fac_min: 0.2,
             fac_max: 5.0,
             beta: 0.0,
+            filter: None,
         }
     }
 }
@@ -610,6 +656,27 @@ impl Integrator {
         let c = self.control;
         let order = self.method.tableau().order;
         let fac_max = if after_rejection { 1.0 } else { c.fac_max };
+        if let Some(f) = c.filter {
+            let h_last = self.s.t - self.s.t_prev;
+            let r = err.max(1e-10);
+            let (r_prev, ratio) = if h_last > 0.0 {
+                (self.s.err_prev, h / h_last)
+            } else {
+                (r, 1.0)
+            };
+            // `powf` with a zero exponent gives 1 exactly: skipped, bit for bit the same.
+            let ratio_term = if f.alpha2 == 0.0 {
+                1.0
+            } else {
+                ratio.powf(-f.alpha2)
+            };
+            let rho = (f.target / r).powf(f.beta1 / order)
+                * (f.target / r_prev).powf(f.beta2 / order)
+                * ratio_term;
+            self.s.err_prev = err.max(1e-4);
+            self.s.h = (h * rho.clamp(c.fac_min, fac_max)).min(self.tol.max_step);
+            return;
+        }
         // The I controller (β = 0) needs no `powf`: its exponent is −1/q and the PI factor 1.
         let fac = if c.beta == 0.0 {
             c.safety * inverse_root(err, order)

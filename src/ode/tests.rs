@@ -249,6 +249,50 @@ fn integrator_pi_control_matches_i_control() {
 }
 
 #[test]
+fn integrator_pi42_filter_sets_the_steps() {
+    // Kepler's orbit (e = 0.5) over one period: after every accepted step that followed an
+    // accepted one, the next step is PI.4.2's, not the I controller's, and the orbit closes.
+    let e: f64 = 0.5;
+    let y0 = [1.0 - e, 0.0, 0.0, ((1.0 + e) / (1.0 - e)).sqrt()];
+    let t_end = 2.0 * PI;
+    let f = Filter::pi42();
+    let control = StepControl {
+        filter: Some(f),
+        ..StepControl::default()
+    };
+    let mut sys = Sys(4, |_t: f64, y: &[f64], dy: &mut [f64]| kepler(y, dy));
+    let mut int = Integrator::new(Method::Dopri5, 4, 4, tol(1e-8, 1e-8)).with_control(control);
+    int.reset(&mut sys, 0.0, &y0).unwrap();
+    let mut checked = 0;
+    while int.t() < t_end {
+        let (before, err_before) = (int.stats(), int.s.err_prev);
+        let stop = int.step(&mut sys, t_end).unwrap();
+        let after = int.stats();
+        let (h, err) = (int.t() - int.t_prev(), int.s.err_prev);
+        let plain = after.rejected == before.rejected && before.steps > 0;
+        if plain && stop == Stop::Step && err > 1e-4 && err_before > 1e-4 {
+            let rho = (f.target / err).powf(0.6 / 5.0) * (f.target / err_before).powf(-0.2 / 5.0);
+            assert_relative_eq!(
+                int.step_size(),
+                h * rho.clamp(0.2, 5.0),
+                max_relative = 1e-12
+            );
+            let i_controller = h * (0.9 * err.powf(-0.2)).clamp(0.2, 5.0);
+            assert!((int.step_size() / i_controller - 1.0).abs() > 1e-6);
+            checked += 1;
+        }
+    }
+    assert!(checked > 20, "{checked} steps checked");
+    let error = int
+        .y()
+        .iter()
+        .zip(y0)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(error < 1e-5, "error {error}");
+}
+
+#[test]
 fn integrator_dense_output() {
     let mid_error = |method: Method, h: f64| {
         let mut sys = Sys(1, |t: f64, _y: &[f64], dy: &mut [f64]| dy[0] = t.cos());
