@@ -134,14 +134,16 @@ fn command_line_resumes_and_refuses_what_it_cannot() {
         sim.checkpoint(),
     )
     .unwrap();
-    let set = ["--set", "driver.speed_rpm=1000"];
-    let r = jointwear(&[&["run", p, "--out", o, "--resume"][..], &set].concat());
-    assert_eq!(r.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&r.stderr);
-    assert!(
-        err.contains("started with other --set/--rotations values"),
-        "{err}"
-    );
+    // (another step-size controller too: a run continued under it would match neither's)
+    for set in ["driver.speed_rpm=1000", "run.step_control=pi42"] {
+        let r = jointwear(&["run", p, "--out", o, "--resume", "--set", set]);
+        assert_eq!(r.status.code(), Some(2), "{set}");
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(
+            err.contains("started with other --set/--rotations values"),
+            "{set}: {err}"
+        );
+    }
     // --checkpoint-every writes checkpoints and removes the last one when the run completes;
     // the folder's checkpoint of an unfinished run goes only when the user says so
     let every = ["run", p, "--out", o, "--checkpoint-every", "2"];

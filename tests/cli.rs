@@ -611,6 +611,10 @@ fn run_bad_set_exits_2_naming_the_field() {
         ("clearance.0.clearance_mm=abc", &["abc", "clearance_mm"][..]),
         ("clearance.0.clearance_mm=0.1,0.2", &["one value"][..]),
         ("run.rotations", &["KEY=VALUE"][..]),
+        (
+            "run.step_control=pi4",
+            &["run.step_control", "pi4", "`i` or `pi42`"][..],
+        ),
     ] {
         let o = jointwear(&["run", s(&scene), "--set", set, "--out", s(&out)]);
         assert_eq!(o.status.code(), Some(2), "{set}: {}", stderr(&o));
@@ -623,6 +627,36 @@ fn run_bad_set_exits_2_naming_the_field() {
     let o = jointwear(&["run", s(&scene), "--rotations", "0", "--out", s(&out)]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("run.rotations") && stderr(&o).contains("--rotations 0"));
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `run.step_control` chooses the integrator's step-size controller: `pi42` takes another
+/// step sequence than the default, and `i` is the default itself (the same counts as a run
+/// without the key). Failed before it was a run setting (an unknown key, exit code 2).
+#[test]
+fn step_control_is_a_run_setting() {
+    let dir = temp_dir("stepcontrol");
+    let scene = short_standard(&dir, 1);
+    let counts = |set: Option<&str>| {
+        let out = dir.join(set.unwrap_or("default").replace(['.', '='], "_"));
+        let mut args = vec!["run", s(&scene), "--set", "run.record_rotations=0"];
+        args.extend(set.iter().flat_map(|v| ["--set", v]));
+        args.extend(["--out", s(&out)]);
+        let o = jointwear(&args);
+        assert!(o.status.success(), "{set:?}: {}", stderr(&o));
+        json(&out.join("summary.json"))["counts"].clone()
+    };
+    let default = counts(None);
+    assert!(
+        default["rhs_evaluations"].as_u64().unwrap() > 0,
+        "{default}"
+    );
+    assert_eq!(counts(Some("run.step_control=i")), default);
+    let pi42 = counts(Some("run.step_control=pi42"));
+    assert_ne!(
+        pi42["rhs_evaluations"], default["rhs_evaluations"],
+        "{pi42}"
+    );
     fs::remove_dir_all(&dir).unwrap();
 }
 

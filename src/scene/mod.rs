@@ -32,6 +32,7 @@ pub use validation::{
 use crate::laws::contact::{DissipationLaw, NormalForceModel, StiffnessLaw};
 use crate::laws::friction::FrictionModel;
 use crate::laws::wear::PressureModel;
+use crate::ode::{Filter, StepControl};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -265,6 +266,30 @@ pub enum MethodSpec {
     Rk4,
 }
 
+/// Step-size controller of an adaptive method (`run.step_control`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StepControlSpec {
+    /// The I controller, the default: the scenes' tolerances were chosen with it.
+    #[default]
+    I,
+    /// Söderlind's PI.4.2 digital filter ([`Filter::pi42`]).
+    Pi42,
+}
+
+impl StepControlSpec {
+    /// The integrator's step control of this choice.
+    pub fn control(self) -> StepControl {
+        match self {
+            StepControlSpec::I => StepControl::default(),
+            StepControlSpec::Pi42 => StepControl {
+                filter: Some(Filter::pi42()),
+                ..StepControl::default()
+            },
+        }
+    }
+}
+
 /// Run settings (units in the key names).
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -281,6 +306,10 @@ pub struct RunSpec {
     pub wear_snapshots: Vec<u32>,
     /// Integration method.
     pub method: MethodSpec,
+    /// Step-size controller of `dopri5` and `dop853` (`rk4` takes fixed steps), `"i"` by
+    /// default.
+    #[serde(default)]
+    pub step_control: StepControlSpec,
     /// Relative tolerance, [1e-13, 1].
     pub rtol: f64,
     /// Absolute tolerance, [1e-20, 1] ([`ABSOLUTE_TOLERANCE`]), and for an adaptive method at

@@ -37,7 +37,7 @@ use crate::io::format::quantity;
 use crate::io::progress::{Progress, Silent};
 use crate::laws::wear::WearProfile;
 use crate::mechanism::{ClearanceJoint, Mechanism};
-use crate::ode::{Method, Stats, Tolerances};
+use crate::ode::{Method, Stats, StepControl, Tolerances};
 use crate::Result;
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
@@ -69,6 +69,8 @@ pub struct RunSettings {
     pub wear_snapshots: Vec<u32>,
     /// Integration method.
     pub method: Method,
+    /// Step-size controller of an adaptive method (`run.step_control`).
+    pub step_control: StepControl,
     /// Error tolerances and step bounds.
     pub tolerances: Tolerances,
     /// Baumgarte α = β (1/s).

@@ -113,7 +113,8 @@ impl Simulation {
             ode,
             mechanism.ode_controlled(),
             settings.tolerances,
-        );
+        )
+        .with_control(settings.step_control);
         let settler = settings.settle.map(|s| Settler::new(&mechanism, s, period));
         let end_rotation = settler.is_none().then_some(settings.rotations);
         // Wear history points do not cut steps (that would change the run they describe): a
