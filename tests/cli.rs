@@ -632,7 +632,8 @@ fn run_bad_set_exits_2_naming_the_field() {
 
 /// `run.step_control` chooses the integrator's step-size controller: `pi42` takes another
 /// step sequence than the default, and `i` is the default itself (the same counts as a run
-/// without the key). Failed before it was a run setting (an unknown key, exit code 2).
+/// without the key), and summary.json names it. Failed before it was a run setting (an unknown
+/// key, exit code 2), and without its name in summary.json.
 #[test]
 fn step_control_is_a_run_setting() {
     let dir = temp_dir("stepcontrol");
@@ -644,15 +645,23 @@ fn step_control_is_a_run_setting() {
         args.extend(["--out", s(&out)]);
         let o = jointwear(&args);
         assert!(o.status.success(), "{set:?}: {}", stderr(&o));
-        json(&out.join("summary.json"))["counts"].clone()
+        let summary = json(&out.join("summary.json"));
+        let control = summary["settings"]["step_control"].clone();
+        (summary["counts"].clone(), control)
     };
-    let default = counts(None);
+    let (default, control) = counts(None);
+    // summary.json names the controller its counts came from
+    assert_eq!(control, "i");
     assert!(
         default["rhs_evaluations"].as_u64().unwrap() > 0,
         "{default}"
     );
-    assert_eq!(counts(Some("run.step_control=i")), default);
-    let pi42 = counts(Some("run.step_control=pi42"));
+    assert_eq!(
+        counts(Some("run.step_control=i")),
+        (default.clone(), control)
+    );
+    let (pi42, control) = counts(Some("run.step_control=pi42"));
+    assert_eq!(control, "pi42");
     assert_ne!(
         pi42["rhs_evaluations"], default["rhs_evaluations"],
         "{pi42}"

@@ -565,7 +565,7 @@ impl RunSpec {
             record_interval: check_open("run.record_interval_s", self.record_interval_s, 0.0, 1.0)?,
             wear_snapshots,
             method,
-            step_control: self.step_control.control(),
+            step_control: self.step_control,
             tolerances,
             baumgarte: check("run.baumgarte_per_s", self.baumgarte_per_s, 0.0, 1e6)?,
             energy_accounting: self.energy_accounting,

@@ -37,7 +37,8 @@ use crate::io::format::quantity;
 use crate::io::progress::{Progress, Silent};
 use crate::laws::wear::WearProfile;
 use crate::mechanism::{ClearanceJoint, Mechanism};
-use crate::ode::{Method, Stats, StepControl, Tolerances};
+use crate::ode::{Method, Stats, Tolerances};
+use crate::scene::StepControlSpec;
 use crate::Result;
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
@@ -70,7 +71,7 @@ pub struct RunSettings {
     /// Integration method.
     pub method: Method,
     /// Step-size controller of an adaptive method (`run.step_control`).
-    pub step_control: StepControl,
+    pub step_control: StepControlSpec,
     /// Error tolerances and step bounds.
     pub tolerances: Tolerances,
     /// Baumgarte α = β (1/s).

@@ -114,7 +114,7 @@ impl Simulation {
             mechanism.ode_controlled(),
             settings.tolerances,
         )
-        .with_control(settings.step_control);
+        .with_control(settings.step_control.control());
         let settler = settings.settle.map(|s| Settler::new(&mechanism, s, period));
         let end_rotation = settler.is_none().then_some(settings.rotations);
         // Wear history points do not cut steps (that would change the run they describe): a

@@ -12,6 +12,7 @@ use crate::io::output::write_csv;
 use crate::io::plot::{render, Axes, Series, Style};
 use crate::laws::wear::sector_angles_deg;
 use crate::ode::Method;
+use crate::scene::StepControlSpec;
 use crate::simulation::ensemble::EnsembleSettings;
 use crate::simulation::summary::{summarize, JointSummary};
 use crate::simulation::{RunOutput, RunSettings, Scene, Settling};
@@ -228,6 +229,8 @@ struct SettingsSummary {
     method: Method,
     rtol: f64,
     atol: f64,
+    /// The step-size controller (`run.step_control`): the steps and counts depend on it.
+    step_control: StepControlSpec,
     /// `null`: no bound.
     max_step_s: f64,
     baumgarte_per_s: f64,
@@ -321,6 +324,7 @@ impl RunSummary {
                 method: run.method,
                 rtol: run.tolerances.rtol,
                 atol: run.tolerances.atol,
+                step_control: run.step_control,
                 max_step_s: run.tolerances.max_step,
                 baumgarte_per_s: run.baumgarte,
                 max_steps: run.max_steps,
