@@ -21,8 +21,8 @@ fn main() {
     bar.finish_and_clear();
     for r in rows.iter().filter(|r| r.differs()) {
         println!(
-            "{:>16} {:>16} {:>32} {:>6}: {:.4e} (p = {:.1e}, {})",
-            r.protocol, r.case, r.quantity, r.state, r.mean, r.p, r.test
+            "{:>16} {:>16} {:>32} {:>6}: {:.4e} (p = {:.1e}, Holm {:.1e}, {})",
+            r.protocol, r.case, r.quantity, r.state, r.mean, r.p, r.p_holm, r.test
         );
     }
     println!(

@@ -2,6 +2,7 @@
 //! digits without trailing zeros, counts with thousands grouped, durations with a sensible
 //! precision. (Data files keep full precision; these are for text a person reads.)
 
+use crate::analysis::significance::{holm_consistent, FamilyTest};
 pub use crate::io::format::sig_n;
 use crate::io::plot::superscript;
 use crate::laws::friction::FrictionModel;
@@ -63,6 +64,22 @@ pub fn parse_statistic(cell: &str) -> Option<f64> {
         "" => Some(f64::NAN),
         s => s.parse::<f64>().ok(),
     }
+}
+
+/// A study's CSV table (its header and rows, as read) parsed row by row by `parse`: `None`
+/// when the header is not `header` (a file of another layout, such as one written before its
+/// adjusted p column, whose cells would shift), a row does not parse, or a row's adjusted p is
+/// not the Holm adjustment of its family's raw p ([`holm_consistent`]).
+pub fn parse_adjusted<T: FamilyTest>(
+    (found, rows): (Vec<String>, Vec<Vec<String>>),
+    header: &[&str],
+    parse: impl Fn(&[String]) -> Option<T>,
+) -> Option<Vec<T>> {
+    if found != header {
+        return None;
+    }
+    let rows: Vec<T> = rows.iter().map(|r| parse(r)).collect::<Option<_>>()?;
+    holm_consistent(&rows).then_some(rows)
 }
 
 /// `v` in scientific notation for people: `4.24×10⁻⁴`, `3.00×10⁻⁴` (three significant digits),

@@ -4,12 +4,12 @@
 //! [`crate::paper::studies::contact_laws`]). `report --all` reruns both first. Every number
 //! and verdict below is computed from the files' rows.
 
-use super::markdown::md_table;
+use super::markdown::{md_table, p_cell};
 use super::verdict::{Verdict, MEMBER_MAJORITY};
 use crate::laws::contact::{DissipationLaw, StiffnessLaw};
 use crate::paper::cases::{case_of_scene, CASES};
 use crate::paper::figures::output_path;
-use crate::paper::format::{number, sci, sig};
+use crate::paper::format::{number, sig};
 use crate::paper::studies::contact_law_wear::{
     pairs_of, pooled, read_commented, read_law_wear, wear_window, LawRow, PaperResult,
     CLAIM_PREFIX, LAW_WEAR_FIGURE, ONE_REGION_SD_DEG, PAPER_LAW, RUN_FAILED, SIGNIFICANT_P,
@@ -200,27 +200,6 @@ impl<'a> Spread<'a> {
     }
 }
 
-/// A p value for people: three significant digits, in scientific notation below 10⁻³.
-fn p_value(p: f64) -> String {
-    if p < 1e-3 {
-        sci(p)
-    } else {
-        sig(p)
-    }
-}
-
-/// A tested row's p as the tables print it: the raw p, and beside it the Holm-adjusted one the
-/// significance call rests on, bold when significant.
-fn p_cell(r: &LawRow) -> String {
-    let holm = format!("Holm {}", p_value(r.p_holm));
-    let holm = if r.differs() {
-        format!("**{holm}**")
-    } else {
-        holm
-    };
-    format!("p = {} ({holm})", p_value(r.p))
-}
-
 /// The laws of a verdict change with their verdict and members, or `none`.
 fn laws_cell(laws: &[(String, Verdict, String)]) -> String {
     if laws.is_empty() {
@@ -256,7 +235,7 @@ fn mean_cell(rows: &[LawRow], r: &LawRow, scale: f64, digits: usize) -> String {
         );
     }
     if r.test == "welch" {
-        let _ = write!(cell, ", {}", p_cell(r));
+        let _ = write!(cell, ", {}", p_cell(r.p, r.p_holm, r.differs()));
     }
     cell
 }
@@ -271,7 +250,7 @@ fn region_cell(r: &LawRow, paper_one_region: bool) -> String {
     }
     let mut cell = format!("{:.0} ± {:.0}", r.mean, r.sd);
     if paper_one_region && r.test == "welch" {
-        let _ = write!(cell, ", {}", p_cell(r));
+        let _ = write!(cell, ", {}", p_cell(r.p, r.p_holm, r.differs()));
     }
     cell
 }
@@ -280,7 +259,7 @@ fn region_cell(r: &LawRow, paper_one_region: bool) -> String {
 fn share_cell(r: &LawRow) -> String {
     let mut cell = format!("{}/{}", r.count.unwrap_or(0), r.members);
     if r.test == "fisher" {
-        let _ = write!(cell, ", {}", p_cell(r));
+        let _ = write!(cell, ", {}", p_cell(r.p, r.p_holm, r.differs()));
     }
     cell
 }
@@ -762,8 +741,8 @@ mod tests {
     /// Checked to fail when the raw p decides (hertz among the changed, the result hinging).
     #[test]
     fn a_verdict_changed_at_the_raw_p_alone_is_not_significant() {
+        use crate::analysis::significance::adjust_within_families;
         use crate::analysis::significance::fisher_two_sided;
-        use crate::paper::studies::contact_law_wear::adjust_within_families;
         let claim = format!("{CLAIM_PREFIX}table3_motion_continuous_contact");
         let share = |stiffness: &str, count: usize| {
             let mut r = row(

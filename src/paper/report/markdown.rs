@@ -3,8 +3,29 @@
 
 use crate::io::output::read_rows;
 use crate::paper::figures::output_path;
-use crate::paper::format;
+use crate::paper::format::{self, sci, sig};
 use std::fmt::Write as _;
+
+/// A p value for people: three significant digits, in scientific notation below 10⁻³.
+pub(super) fn p_value(p: f64) -> String {
+    if p < 1e-3 {
+        sci(p)
+    } else {
+        sig(p)
+    }
+}
+
+/// A tested p as the report's tables print it: the raw `p`, and beside it the Holm-adjusted
+/// `p_holm` the significance call rests on, bold when `significant` (sections 2 and 8 alike).
+pub(super) fn p_cell(p: f64, p_holm: f64, significant: bool) -> String {
+    let holm = format!("Holm {}", p_value(p_holm));
+    let holm = if significant {
+        format!("**{holm}**")
+    } else {
+        holm
+    };
+    format!("p = {} ({holm})", p_value(p))
+}
 
 /// A markdown table, every header and cell as a person reads it ([`format::header`],
 /// [`format::column`]: CSV column names with their units in words, no e-notation counts or

@@ -2,7 +2,7 @@
 //! `data/perturbation_sensitivity.csv` ([`crate::paper::perturbation`]): every sentence is
 //! computed from the file's rows.
 
-use super::markdown::md_table;
+use super::markdown::{md_table, p_cell};
 use super::verdict::{tally, Claim, Verdict};
 use crate::paper::format::{sci, sig};
 use crate::paper::perturbation::{
@@ -76,29 +76,30 @@ pub(super) fn verdict_changes(claim: &Claim, rows: Option<&[SensitivityRow]>) ->
     (!changed.is_empty(), note)
 }
 
-/// A row's value as the table shows it: `7/32` for a share, the mean otherwise; `*` marks a
-/// difference from the default at [`SIGNIFICANT_P`], with its p.
+/// A row's value as the table shows it: `7/32` for a share, the mean otherwise; a tested row
+/// with its p, raw and Holm-adjusted ([`p_cell`]: bold where it differs from the default).
 fn cell(r: &SensitivityRow) -> String {
     let value = match r.count {
         Some(k) => format!("{k}/{}", r.members),
         None if r.members == 0 => "none".into(),
         None => sci(r.mean),
     };
-    match (r.test.is_empty(), r.differs()) {
-        (true, _) => value,
-        (false, true) => format!("**{value}** (p {})", sci(r.p)),
-        (false, false) => format!("{value} (p {})", sig(r.p)),
+    if r.test.is_empty() {
+        value
+    } else {
+        format!("{value}, {}", p_cell(r.p, r.p_holm, r.differs()))
     }
 }
 
 /// Row `r` (not under the default) where it differs from the default's (`base`: the
 /// default's rows): both values and the change, which three significant digits alone can hide
-/// (0.920810 against 0.920944 both read 9.21×10⁻¹), its p and why it differs.
+/// (0.920810 against 0.920944 both read 9.21×10⁻¹), its p, raw and Holm-adjusted, and why it
+/// differs.
 fn differing_text(r: &SensitivityRow, base: &[&SensitivityRow]) -> String {
     let b =
         (base.iter()).find(|b| b.case == r.case && b.quantity == r.quantity && b.state == r.state);
     format!(
-        "{} {} ({}) under `{}`: {} against {} ({}p {}): {}",
+        "{} {} ({}) under `{}`: {} against {} ({}{}): {}",
         r.case,
         r.quantity,
         r.state,
@@ -109,7 +110,7 @@ fn differing_text(r: &SensitivityRow, base: &[&SensitivityRow]) -> String {
             "change {}, ",
             sci(r.mean - b.mean)
         )),
-        sci(r.p),
+        p_cell(r.p, r.p_holm, r.differs()),
         why_differs(r, base)
     )
 }
@@ -157,9 +158,14 @@ pub(super) fn perturbation_section() -> String {
          default. Where the default's members of a statistic fall into two states (largest-gap rule, \
          `src/analysis/states.rs`), every protocol's members are assigned to them by the default's gap, and \
          each state's mean and the low state's share are compared too. A mean is compared with the \
-         default's by Welch's t test, a share by Fisher's exact test; p below {SIGNIFICANT_P} is bold.\n",
+         default's by Welch's t test, a share by Fisher's exact test. A difference is significant when its \
+         p, Holm-adjusted within each family of one statistic's comparisons under the {} other protocols, \
+         is below {SIGNIFICANT_P} (Holm's step-down procedure: a family calls any difference falsely with \
+         chance at most {SIGNIFICANT_P}). The table prints the raw p and the adjusted one beside it, bold \
+         where significant.\n",
         PROTOCOLS.len(),
-        protocols.join("; ")
+        protocols.join("; "),
+        PROTOCOLS.len() - 1
     );
     let Some(rows) = read_perturbation() else {
         md.push_str("*`data/perturbation_sensitivity.csv` is missing: run `cargo run --release --bin perturbation`.*\n\n");
@@ -214,10 +220,11 @@ pub(super) fn perturbation_section() -> String {
     let differing: Vec<&SensitivityRow> = tested.iter().copied().filter(|r| r.differs()).collect();
     let _ = write!(
         md,
-        "Of {} comparisons with the default, {} differ at p < {SIGNIFICANT_P} (about {} would by chance \
-         alone). ",
+        "Of {} comparisons with the default, {} differ at Holm-adjusted p < {SIGNIFICANT_P} ({} at raw \
+         p < {SIGNIFICANT_P}, where about {} would by chance alone if no protocol mattered). ",
         tested.len(),
         differing.len(),
+        tested.iter().filter(|r| r.p < SIGNIFICANT_P).count(),
         sig(tested.len() as f64 * SIGNIFICANT_P)
     );
     let robust = base
@@ -279,6 +286,7 @@ mod tests {
                 statistic: f64::NAN,
                 dof: f64::NAN,
                 p: f64::NAN,
+                p_holm: f64::NAN,
                 wall_time_s: 1.0,
             })
             .collect()
@@ -306,6 +314,7 @@ mod tests {
             statistic: f64::NAN,
             dof: f64::NAN,
             p,
+            p_holm: 5.0 * p,
             wall_time_s: 1.0,
         };
         let default = row(0, 0.920_944, f64::NAN);
@@ -313,7 +322,7 @@ mod tests {
         assert!(
             text.starts_with(
                 "standard pw_concordance (high) under `tolerance_1e-3`: 9.21×10⁻¹ against \
-                 9.21×10⁻¹ (change \u{2212}1.34×10⁻⁴, p 1.65×10⁻⁷): "
+                 9.21×10⁻¹ (change \u{2212}1.34×10⁻⁴, p = 1.65×10⁻⁷ (**Holm 8.25×10⁻⁷**)): "
             ),
             "{text}"
         );
@@ -378,6 +387,7 @@ mod tests {
             statistic: f64::NAN,
             dof: f64::NAN,
             p: 1e-3,
+            p_holm: 5e-3,
             wall_time_s: 1.0,
         }
     }
@@ -411,5 +421,28 @@ mod tests {
         assert!(md.contains("| case | quantity | state |"), "{md}");
         assert!(md.contains("differ from the default under no protocol"));
         assert!(!md.contains("NaN") && !md.contains("missing"), "{md}");
+        // the threshold is stated with its family, and every p printed with its adjusted one
+        let others = PROTOCOLS.len() - 1;
+        let stated = format!(
+            "is significant when its p, Holm-adjusted within each family of one statistic's \
+             comparisons under the {others} other protocols, is below {SIGNIFICANT_P}"
+        );
+        assert!(md.contains(&stated), "{md}");
+        let adjusted = md.matches("(Holm ").count() + md.matches("(**Holm ").count();
+        assert_eq!(md.matches("p = ").count(), adjusted, "{md}");
+    }
+
+    /// A cell and a comparison's text print the raw p with the adjusted one, bold only when
+    /// the adjusted p is significant. Checked to fail deciding on the raw p (1e-3, bold).
+    #[test]
+    fn a_cell_is_bold_on_the_adjusted_p() {
+        let mut r = stat_row(1, "deepest_wear_m", "pooled", 32);
+        let value = sci(r.mean);
+        assert!(r.differs());
+        assert!(cell(&r).starts_with(&format!("{value}, p = ")));
+        assert!(cell(&r).contains("(**Holm "), "{}", cell(&r));
+        r.p_holm = 0.02;
+        assert!(cell(&r).ends_with("(Holm 0.02)"), "{}", cell(&r));
+        assert!(!r.differs());
     }
 }

@@ -21,7 +21,7 @@
 //!   the report checks per member: Table 3's motion mode, dominance and concordances within the
 //!   golden tolerance, the standard case's wear regions), against the paper's law by Fisher's
 //!   exact test;
-//! * each p also Holm-adjusted ([`holm`]) within its family: the other laws' comparisons with
+//! * each p also Holm-adjusted ([`holm`](crate::analysis::significance::holm)) within its family: the other laws' comparisons with
 //!   the paper's law of one quantity on one case ([`adjust_within_families`]); a difference is
 //!   called significant on the adjusted p alone ([`LawRow::differs`]);
 //! * a law that cannot run a case (refused by the scene checks, or failing to integrate) as
@@ -32,7 +32,7 @@
 //!
 //! [`DEFAULT_SEED`]: crate::simulation::ensemble::DEFAULT_SEED
 
-use crate::analysis::significance::{fisher_two_sided, holm, Welch};
+use crate::analysis::significance::{adjust_within_families, fisher_two_sided, FamilyTest, Welch};
 use crate::analysis::states::States;
 use crate::analysis::statistics::Distribution;
 use crate::io::output::{parse_rows, write_table};
@@ -44,7 +44,7 @@ use crate::paper::cases::{
     case_of_scene, Case, Need, Runs, SteadyEnsemble, SteadyMember, WearMember, CASES,
 };
 use crate::paper::figures::output_path;
-use crate::paper::format::{csv_statistic, parse_statistic};
+use crate::paper::format::{csv_statistic, parse_adjusted, parse_statistic};
 use crate::paper::golden::{angle_distance, angle_offset, Golden};
 use crate::paper::provenance::{self, Inputs};
 use crate::paper::studies::accuracy::Table3Test;
@@ -311,60 +311,30 @@ impl LawRow {
 
 /// The rows of `data/contact_law_wear.csv`; `None` when it is missing, of another layout (a
 /// file written before `p_holm`, whose 17 columns would shift), or when a `p_holm` is not the
-/// Holm adjustment of its family's raw p ([`holm_consistent`]).
+/// Holm adjustment of its family's raw p ([`parse_adjusted`]).
 pub fn read_law_wear() -> Option<Vec<LawRow>> {
     read_law_wear_at(&output_path("data", LAW_WEAR_FILE))
 }
 
 /// The rows of the study's CSV at `path`, as [`read_law_wear`] reads them.
 pub fn read_law_wear_at(path: &Path) -> Option<Vec<LawRow>> {
-    let (header, rows) = read_commented(path).ok()?;
-    if header != LAW_WEAR_HEADER {
-        return None;
-    }
-    let rows: Vec<LawRow> = rows
-        .iter()
-        .map(|r| LawRow::parse(r))
-        .collect::<Option<_>>()?;
-    holm_consistent(&rows).then_some(rows)
+    parse_adjusted(read_commented(path).ok()?, &LAW_WEAR_HEADER, LawRow::parse)
 }
 
-/// Sets every tested row's [`LawRow::p_holm`] to its `p` Holm-adjusted within its family: the
-/// rows of one quantity on one case that carry a test, one per law other than the paper's.
-/// A law that could not run the case, or whose test is undefined, adds no comparison. Rows of
-/// a state and the paper law's rows have no test, and keep NaN.
-pub fn adjust_within_families(rows: &mut [LawRow]) {
-    let mut families: Vec<(String, String)> = Vec::new();
-    for r in rows.iter().filter(|r| !r.test.is_empty()) {
-        let key = (r.case.clone(), r.quantity.clone());
-        if !families.contains(&key) {
-            families.push(key);
-        }
+/// A law's comparison with the paper's law belongs to the family of the other laws'
+/// comparisons of the same quantity on the same case; rows of a state, the paper law's rows
+/// and a law that failed or whose test is undefined carry no test.
+impl FamilyTest for LawRow {
+    type Family = (String, String);
+    fn family_test(&self) -> Option<((String, String), f64)> {
+        (!self.test.is_empty()).then(|| ((self.case.clone(), self.quantity.clone()), self.p))
     }
-    for (case, quantity) in families {
-        let members: Vec<usize> = (0..rows.len())
-            .filter(|&i| {
-                let r = &rows[i];
-                !r.test.is_empty() && r.case == case && r.quantity == quantity
-            })
-            .collect();
-        let p: Vec<f64> = members.iter().map(|&i| rows[i].p).collect();
-        for (&i, adjusted) in members.iter().zip(holm(&p)) {
-            rows[i].p_holm = adjusted;
-        }
+    fn adjusted_p(&self) -> f64 {
+        self.p_holm
     }
-}
-
-/// Whether every row's `p_holm` is what [`adjust_within_families`] makes of the rows' raw p,
-/// to the CSV's seven significant digits (a file edited by hand, or whose adjusted column
-/// is not its raw one's, would print calls its p values do not support).
-pub fn holm_consistent(rows: &[LawRow]) -> bool {
-    let mut again = rows.to_vec();
-    adjust_within_families(&mut again);
-    rows.iter().zip(&again).all(|(r, a)| {
-        (r.p_holm.is_nan() && a.p_holm.is_nan())
-            || (r.p_holm - a.p_holm).abs() <= 1e-5 * a.p_holm.abs()
-    })
+    fn set_adjusted_p(&mut self, p: f64) {
+        self.p_holm = p;
+    }
 }
 
 /// The header and rows of a CSV whose first line may be a `#` line saying what it holds (as
@@ -1138,6 +1108,7 @@ pub fn draw_law_wear(rows: &[LawRow]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::analysis::significance::holm_consistent;
 
     /// The committed study reads back; a row whose count of members exceeds its members
     /// (read as 160 of 16 reproducing), or that lost a cell, does not.
@@ -1159,47 +1130,13 @@ mod tests {
     /// its header and again by its rows' length, so dropping either check alone passes).
     #[test]
     fn a_file_without_the_adjusted_p_or_with_another_is_refused() {
-        let path = output_path("data", LAW_WEAR_FILE);
-        let text = std::fs::read_to_string(&path).unwrap();
-        let holm = LAW_WEAR_HEADER.iter().position(|&c| c == "p_holm").unwrap();
-        let dir = std::env::temp_dir().join(format!("jointwear-law-wear-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let write = |name: &str, body: String| {
-            let p = dir.join(name);
-            std::fs::write(&p, body).unwrap();
-            p
-        };
-        let kept = write("kept.csv", text.clone());
-        assert!(read_law_wear_at(&kept).is_some());
-        // the old layout: the column dropped from the header and every row
-        let mut lines = text.lines();
-        let comment = lines.next().unwrap();
-        let old: Vec<String> = lines
-            .map(|l| {
-                let mut cells: Vec<&str> = l.split(',').collect();
-                cells.remove(holm);
-                cells.join(",")
-            })
-            .collect();
-        let stale = write("stale.csv", format!("{comment}\n{}\n", old.join("\n")));
-        assert!(read_law_wear_at(&stale).is_none());
-        // the old rows under the new header (a header mended by hand)
-        let mut mended = old.clone();
-        mended[0] = LAW_WEAR_HEADER.join(",");
-        let mended = write("mended.csv", format!("{comment}\n{}\n", mended.join("\n")));
-        assert!(read_law_wear_at(&mended).is_none());
-        // one adjusted p that is not its family's: the raw p copied over it
-        let (_, rows) = read_commented(&path).unwrap();
-        let tested = rows.iter().position(|r| !r[11].is_empty()).unwrap();
-        let mut edited: Vec<String> = std::iter::once(LAW_WEAR_HEADER.join(","))
-            .chain(rows.iter().map(|r| r.join(",")))
-            .collect();
-        let mut row = rows[tested].clone();
-        row[holm] = row[holm - 1].clone();
-        edited[tested + 1] = row.join(",");
-        let edited = write("edited.csv", format!("{comment}\n{}\n", edited.join("\n")));
-        assert!(read_law_wear_at(&edited).is_none());
-        std::fs::remove_dir_all(&dir).unwrap();
+        let text = std::fs::read_to_string(output_path("data", LAW_WEAR_FILE)).unwrap();
+        crate::test_support::assert_refuses_stale_adjusted(
+            "law-wear",
+            &text,
+            &LAW_WEAR_HEADER,
+            read_law_wear_at,
+        );
     }
 
     /// The adjustment's families: one quantity on one case, across the laws; states, the paper
