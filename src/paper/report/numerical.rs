@@ -38,6 +38,7 @@ use crate::simulation::{CRAWL_FRACTION, CRAWL_WINDOW, MAX_ECCENTRICITY_SLOPE};
 use crate::Error;
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
+use std::path::Path;
 
 /// What sections 5 and 7 state the default tolerance from: the scenes' setting and the rule's
 /// measurement, read once so that both sections state it from the same reading.
@@ -1532,9 +1533,26 @@ fn ns(v: f64) -> String {
 /// Where and when `data/benchmarks.csv` was measured (it completes the sentence the section
 /// opens with), then its table, every duration written as [`ns`] writes it.
 fn benchmarks(md: &mut String) {
-    let Ok((header, rows)) = read_rows(&output_path("data", "benchmarks.csv")) else {
+    benchmarks_at(md, &output_path("data", "benchmarks.csv"));
+}
+
+/// [`benchmarks`] of the file at `path`.
+fn benchmarks_at(md: &mut String, path: &Path) {
+    if !path.exists() {
         md.push_str("but none are recorded:\n\n");
         return csv_table(md, "benchmarks.csv", "cargo bench");
+    }
+    let (header, rows) = match read_rows(path) {
+        Ok(table) => table,
+        // present but not a table (a row cut short, say): not "missing"
+        Err(e) => {
+            let _ = writeln!(
+                md,
+                "but `data/benchmarks.csv` cannot be read ({e}); rerun `cargo bench` and \
+                 `bench_summary`.\n"
+            );
+            return;
+        }
     };
     if header != BENCHMARK_COLUMNS {
         // An older file has no machine or date; one of another layout is not read by position.
@@ -1554,7 +1572,13 @@ fn benchmarks(md: &mut String) {
         v.dedup();
         v
     };
-    let dates = distinct(5);
+    if rows.is_empty() {
+        md.push_str("but `data/benchmarks.csv` holds no bench; rerun `cargo bench` and `bench_summary`.\n\n");
+        return;
+    }
+    // a row whose date could not be read says `unknown`: it bounds no range
+    let mut dates = distinct(5);
+    dates.retain(|d| *d != "unknown");
     let _ = writeln!(
         md,
         "on {} from {} to {} (each row's `measured_utc`); medians of other days or hosts are not \
@@ -1622,6 +1646,44 @@ mod tests {
     use super::*;
     use crate::analysis::significance::MedianInterval;
     use crate::paper::studies::ensemble_tolerance::PairedMean;
+
+    /// A `data/benchmarks.csv` that is there but cannot be read (a row cut short) is not called
+    /// missing, nor does a row whose date is `unknown` end the range of dates; a file with no
+    /// bench says so. Failed before: "but none are recorded: ... is missing", "from 2026-11-28
+    /// 09:08 UTC to unknown", and "on  from unknown to unknown" over an empty table.
+    #[test]
+    fn a_benchmark_file_that_cannot_be_read_is_not_called_missing() {
+        let dir = std::env::temp_dir().join(format!("jointwear-bench-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("benchmarks.csv");
+        let header = BENCHMARK_COLUMNS.join(",");
+        let text = |body: &str| {
+            std::fs::write(&path, format!("{header}\n{body}")).unwrap();
+            let mut md = String::new();
+            benchmarks_at(&mut md, &path);
+            md
+        };
+        let short = text("rhs/standard,12.5,12,13\n");
+        assert!(
+            !short.contains("missing") && !short.contains("none are recorded"),
+            "{short}"
+        );
+        assert!(short.contains("cannot be read"), "{short}");
+        let undated = text(
+            "a,1,1,1,0.1,2026-11-28 09:08 UTC,AMD EPYC (2 threads)\n\
+             b,1,1,1,0.1,unknown,AMD EPYC (2 threads)\n",
+        );
+        assert!(
+            undated.contains("from 2026-11-28 09:08 UTC to 2026-11-28 09:08 UTC"),
+            "{undated}"
+        );
+        let empty = text("");
+        assert!(
+            empty.contains("holds no bench") && !empty.contains('|'),
+            "{empty}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     fn scene(rtol: f64, clearance_mm: f64) -> SceneSetting {
         SceneSetting {
