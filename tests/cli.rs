@@ -666,6 +666,24 @@ fn step_control_is_a_run_setting() {
         pi42["rhs_evaluations"], default["rhs_evaluations"],
         "{pi42}"
     );
+    // rk4's fixed step has no controller: a filter would be named in summary.json and steer
+    // nothing (accepted before, exit 0)
+    let out = dir.join("rk4");
+    let o = jointwear(&[
+        "run",
+        s(&scene),
+        "--set",
+        "run.method=rk4",
+        "--set",
+        "run.fixed_step_s=1e-5",
+        "--set",
+        "run.step_control=pi42",
+        "--out",
+        s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("run.step_control") && stderr(&o).contains("rk4"));
+    assert!(!out.exists());
     fs::remove_dir_all(&dir).unwrap();
 }
 

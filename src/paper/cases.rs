@@ -517,7 +517,7 @@ pub fn steady_member(scene: &Scene, out: &RunOutput, keep_traces: bool) -> Resul
             time: 0.0,
             cause: "a steady run ended without settling".into(),
         })?,
-        motion: Motion::classify(&j.delta, dt, scene.run.rotations as f64),
+        motion: Motion::classify(&j.delta, dt, scene.run.record_rotations as f64),
         concordance: Concordance::of(&j.pressure, &j.sliding_velocity, &j.wear_rate, dt),
         max_slider_acc: max(&abs_acc),
         max_normal_force: max(&j.normal_force),

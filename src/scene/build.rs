@@ -551,6 +551,16 @@ impl RunSpec {
                         "a step in (0, 1] s for method rk4",
                     )
                 })?;
+                // A fixed step has no controller: a filter chosen for it would be named in
+                // summary.json and steer nothing.
+                if self.step_control != StepControlSpec::I {
+                    return Err(Error::invalid(
+                        "run.step_control",
+                        "pi42",
+                        "\"i\" (the default) with method rk4, whose step is fixed; \
+                         the filter steers dopri5 and dop853",
+                    ));
+                }
                 Method::Rk4 {
                     step: check_open("run.fixed_step_s", step, 0.0, MAX_STEP_S)?,
                 }
