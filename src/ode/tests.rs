@@ -88,10 +88,13 @@ fn global_error(method: Method, h: f64) -> f64 {
         &[1.0, 0.0, 1.0],
         t_end,
     );
-    let exact = rotation_forced_exact(t_end);
-    int.y()
-        .iter()
-        .zip(exact)
+    largest_difference(int.y(), &rotation_forced_exact(t_end))
+}
+
+/// The largest |a_i − b_i|.
+fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
         .map(|(a, b)| (a - b).abs())
         .fold(0.0, f64::max)
 }
@@ -224,13 +227,7 @@ fn integrator_pi_control_matches_i_control() {
         while int.t() < t_end {
             int.step(&mut sys, t_end).unwrap();
         }
-        let error = int
-            .y()
-            .iter()
-            .zip(y0)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
-        (error, int.stats().steps)
+        (largest_difference(int.y(), &y0), int.stats().steps)
     };
     let (i_error, i_steps) = orbit(StepControl::default());
     let (pi_error, pi_steps) = orbit(StepControl {
@@ -283,12 +280,7 @@ fn integrator_pi42_filter_sets_the_steps() {
         }
     }
     assert!(checked > 20, "{checked} steps checked");
-    let error = int
-        .y()
-        .iter()
-        .zip(y0)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
+    let error = largest_difference(int.y(), &y0);
     assert!(error < 1e-5, "error {error}");
 }
 
