@@ -14,8 +14,9 @@ use jointwear::simulation::Scene;
 use jointwear::simulation::{RunOutput, Simulation};
 use std::path::{Path, PathBuf};
 
-/// The chaotic 0.5 mm scene, 5 rotations, the last 2 recorded, snapshots and history on.
-fn scene_file(dir: &Path, settle: bool) -> PathBuf {
+/// The chaotic 0.5 mm scene, 5 rotations, the last 2 recorded, snapshots and history on;
+/// `more` adds overrides.
+fn scene_file(dir: &Path, settle: bool, more: &str) -> PathBuf {
     let path = dir.join("scene.toml");
     let extra = if settle {
         "\"run.settle\" = true\n\"run.steady_state\" = { orbit_tolerance = 1e-9, max_rotations = 3 }\n\"run.rotations\" = 2\n\"run.wear_snapshots\" = []\n"
@@ -23,7 +24,7 @@ fn scene_file(dir: &Path, settle: bool) -> PathBuf {
         "\"run.rotations\" = 5\n\"run.wear_snapshots\" = [1, 4]\n\"run.profile_history_per_rotation\" = 6\n"
     };
     let text = format!(
-        "extends = {:?}\n[overrides]\n\"run.record_rotations\" = 2\n{extra}",
+        "extends = {:?}\n[overrides]\n\"run.record_rotations\" = 2\n{extra}{more}",
         scene_path("clearance_0.5mm").display().to_string()
     );
     std::fs::write(&path, text).unwrap();
@@ -62,9 +63,22 @@ fn whole(scene: &Scene) -> RunOutput {
 #[test]
 fn a_resumed_run_is_bit_identical_to_one_that_never_stopped() {
     let dir = temp_dir("cp", "lib");
-    let scene = Scene::load(scene_file(&dir, false)).unwrap();
+    let scene = Scene::load(scene_file(&dir, false, "")).unwrap();
     let reference = whole(&scene);
     for stop in [1, 3, 4] {
+        assert_same(&reference, &interrupted(&scene, stop, &dir.join("cp.json")));
+    }
+}
+
+/// PI.4.2 steers by the last two errors and the last step ratio: a checkpoint must carry them.
+#[test]
+fn a_run_under_the_digital_filter_resumes_bit_identically() {
+    let dir = temp_dir("cp", "pi42");
+    let scene = Scene::load(scene_file(&dir, false, "\"run.step_control\" = \"pi42\"\n")).unwrap();
+    let reference = whole(&scene);
+    let i_controller = whole(&Scene::load(scene_file(&dir, false, "")).unwrap());
+    assert_ne!(reference.stats.steps, i_controller.stats.steps);
+    for stop in [1, 3] {
         assert_same(&reference, &interrupted(&scene, stop, &dir.join("cp.json")));
     }
 }
@@ -72,7 +86,7 @@ fn a_resumed_run_is_bit_identical_to_one_that_never_stopped() {
 #[test]
 fn a_run_resumed_while_settling_is_bit_identical_too() {
     let dir = temp_dir("cp", "settle");
-    let scene = Scene::load(scene_file(&dir, true)).unwrap();
+    let scene = Scene::load(scene_file(&dir, true, "")).unwrap();
     let reference = whole(&scene);
     assert_eq!(reference.settling.map(|s| s.rotations), Some(3));
     // While settling, where it ends (the recording window opened then, with its first grid
@@ -91,7 +105,7 @@ fn a_run_resumed_while_settling_is_bit_identical_too() {
 #[test]
 fn command_line_resumes_and_refuses_what_it_cannot() {
     let dir = temp_dir("cp", "cli");
-    let path = scene_file(&dir, false);
+    let path = scene_file(&dir, false, "");
     let scene = Scene::load(&path).unwrap();
     let out = dir.join("out");
     std::fs::create_dir_all(&out).unwrap();
