@@ -181,24 +181,43 @@ fn command_line_ensemble_writes_statistics_and_refuses_zero_members() {
 fn summary_json_has_the_states_and_the_window_of_every_quantity() {
     let dir = temp_dir("ensemble", "summary_states");
     let file = two_rotation_scene(&dir);
-    let out = dir.join("out");
-    let r = jointwear(&[
-        "run",
-        file.to_str().unwrap(),
-        "--set",
-        "run.settle=true",
-        "--set",
-        "run.steady_state.max_rotations=4",
-        "--ensemble",
-        "8",
-        "--seed",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    // The state keys are checked on an ensemble with a quantity in two states. Which seed gives
+    // one is a chaotic draw (since counts and flags split only across an empty level, seed 1
+    // has none and seed 2 its deepest wear's angle), so the first of eight seeds that does.
+    let ensemble = |seed: u32| {
+        let out = dir.join(format!("out{seed}"));
+        let r = jointwear(&[
+            "run",
+            file.to_str().unwrap(),
+            "--set",
+            "run.settle=true",
+            "--set",
+            "run.steady_state.max_rotations=4",
+            "--ensemble",
+            "8",
+            "--seed",
+            &seed.to_string(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let text = std::fs::read_to_string(out.join("summary.json")).unwrap();
+        (
+            out,
+            serde_json::from_str::<serde_json::Value>(&text).unwrap(),
+        )
+    };
+    let in_two_states = |summary: &serde_json::Value| {
+        (summary["joints"][0]["quantities"]
+            .as_array()
+            .unwrap()
+            .iter())
+        .any(|q| q[1]["states"] == 2)
+    };
+    let (out, summary) = (1..=8)
+        .map(ensemble)
+        .find(|(_, summary)| in_two_states(summary))
+        .expect("no quantity in two states under seeds 1-8");
     let quantities = summary["joints"][0]["quantities"].as_array().unwrap();
     let quantity = |name: &str| {
         let q = quantities.iter().find(|q| q[0] == name);
@@ -223,7 +242,6 @@ fn summary_json_has_the_states_and_the_window_of_every_quantity() {
         }
         split += usize::from(q["states"] == 2);
     }
-    // continuous contact in some members and not in others: the motion splits
     assert!(split > 0, "{summary}");
     for (name, window) in [
         ("max_normal_force_recorded_n", "recorded"),
