@@ -70,16 +70,22 @@ fn a_resumed_run_is_bit_identical_to_one_that_never_stopped() {
     }
 }
 
-/// PI.4.2 steers by the last two errors and the last step ratio: a checkpoint must carry them.
+/// PI.4.2 steers by the last two errors: a checkpoint must carry them. The standard scene
+/// runs it; the I controller, a setting, resumes bit-identically too.
 #[test]
-fn a_run_under_the_digital_filter_resumes_bit_identically() {
-    let dir = temp_dir("cp", "pi42");
-    let scene = Scene::load(scene_file(&dir, false, "\"run.step_control\" = \"pi42\"\n")).unwrap();
-    let reference = whole(&scene);
-    let i_controller = whole(&Scene::load(scene_file(&dir, false, "")).unwrap());
+fn a_run_under_either_step_control_resumes_bit_identically() {
+    let dir = temp_dir("cp", "control");
+    let scene = |control: &str| {
+        let set = format!("\"run.step_control\" = \"{control}\"\n");
+        Scene::load(scene_file(&dir, false, &set)).unwrap()
+    };
+    let (pi42, i) = (scene("pi42"), scene("i"));
+    let reference = whole(&pi42);
+    let i_controller = whole(&i);
     assert_ne!(reference.stats.steps, i_controller.stats.steps);
     for stop in [1, 3] {
-        assert_same(&reference, &interrupted(&scene, stop, &dir.join("cp.json")));
+        assert_same(&reference, &interrupted(&pi42, stop, &dir.join("cp.json")));
+        assert_same(&i_controller, &interrupted(&i, stop, &dir.join("cp.json")));
     }
 }
 

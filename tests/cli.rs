@@ -630,10 +630,10 @@ fn run_bad_set_exits_2_naming_the_field() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
-/// `run.step_control` chooses the integrator's step-size controller: `pi42` takes another
-/// step sequence than the default, and `i` is the default itself (the same counts as a run
-/// without the key), and summary.json names it. Failed before it was a run setting (an unknown
-/// key, exit code 2), and without its name in summary.json.
+/// `run.step_control` chooses the integrator's step-size controller: the standard scene names
+/// `pi42` (the same counts as setting it again), `i` takes another step sequence, a scene
+/// without the key runs `i`, and summary.json names it. Failed before it was a run setting (an
+/// unknown key, exit code 2), and without its name in summary.json.
 #[test]
 fn step_control_is_a_run_setting() {
     let dir = temp_dir("stepcontrol");
@@ -651,20 +651,34 @@ fn step_control_is_a_run_setting() {
     };
     let (default, control) = counts(None);
     // summary.json names the controller its counts came from
-    assert_eq!(control, "i");
+    assert_eq!(control, "pi42");
     assert!(
         default["rhs_evaluations"].as_u64().unwrap() > 0,
         "{default}"
     );
     assert_eq!(
-        counts(Some("run.step_control=i")),
+        counts(Some("run.step_control=pi42")),
         (default.clone(), control)
     );
-    let (pi42, control) = counts(Some("run.step_control=pi42"));
-    assert_eq!(control, "pi42");
-    assert_ne!(
-        pi42["rhs_evaluations"], default["rhs_evaluations"],
-        "{pi42}"
+    let (i, control) = counts(Some("run.step_control=i"));
+    assert_eq!(control, "i");
+    assert_ne!(i["rhs_evaluations"], default["rhs_evaluations"], "{i}");
+    // the four-bar's scene has no key: the I controller
+    let out = dir.join("fourbar");
+    let o = jointwear(&[
+        "run",
+        s(&scene_path("fourbar")),
+        "--rotations",
+        "1",
+        "--set",
+        "run.record_rotations=0",
+        "--out",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        json(&out.join("summary.json"))["settings"]["step_control"],
+        "i"
     );
     // rk4's fixed step has no controller: a filter would be named in summary.json and steer
     // nothing (accepted before, exit 0)

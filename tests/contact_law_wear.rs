@@ -19,8 +19,8 @@ fn tiny(f: &mut SceneFile) {
     f.run.rotations = 1;
     f.run.wear_snapshots.clear();
     // The test's time budget: hertz with hu-guo takes about 4.9e4 steps a rotation here in
-    // continuous contact (joint coordinates at rtol 2e-7; about 10 % more at the scenes'
-    // 1.5e-7), so five rotations need 2.5e5-2.7e5.
+    // continuous contact (joint coordinates at rtol 2e-7 with the I controller; about 10 % more
+    // at 1.5e-7, its setting until 2026-11-28), so five rotations need 2.5e5-2.7e5.
     f.run.max_steps = 300_000;
     if let Some(s) = f.run.steady_state.as_mut() {
         s.max_rotations = 4;

@@ -274,6 +274,7 @@ fn a_fixed_step_too_long_for_the_contact_is_named_as_a_cause() {
     for step in [1e-3, 5e-5] {
         let mut f = one_rotation();
         f.run.method = jointwear::scene::MethodSpec::Rk4;
+        f.run.step_control = jointwear::scene::StepControlSpec::I;
         f.run.fixed_step_s = Some(step);
         let (_, cause) = run_failure(&f);
         assert_contains(

@@ -10,11 +10,14 @@ const MAX_STEPS: u64 = 400_000;
 /// Penetration bound (m): the softest case (E = 1 GPa) reaches 0.14 mm; 0.5 mm is far beyond
 /// any physical contact yet far below the 10 mm bearing radius.
 const MAX_PENETRATION: f64 = 5e-4;
-/// Energy-balance residual bound, relative to the driver work. Measured: at most 1.3e-4
-/// (restitution_1.0, whose many elastic impacts each leave an event-location error in the
-/// energy quadratures, which are outside error control). The smallest loss term of the suite,
-/// that case's normal-force work, is 2.5e-3 of its driver work: a dropped term still fails.
-const MAX_RESIDUAL: f64 = 5e-4;
+/// Energy-balance residual bound, relative to the driver work. The energy quadratures are
+/// outside error control, so the residual grows with the tolerance: over this one rotation
+/// restitution_0.1, the largest, has 3.0e-4 at rtol 1.5e-7 and 5.2e-4 at 2.5e-7 with either
+/// step control (measured 2026-11-28; the bound was 5e-4 while the scenes ran at 1.5e-7). The
+/// smallest loss term of the suite, restitution_1.0's normal-force work, is 2.5e-3 of its
+/// driver work: a dropped term still fails (checked: without the friction work in the
+/// balance, or without the damping loss, the tests fail).
+const MAX_RESIDUAL: f64 = 1e-3;
 
 fn completes(name: &str) -> StabilityRow {
     let r = stability_case(name, 1, MAX_STEPS).expect("scene loads");

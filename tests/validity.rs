@@ -3,7 +3,7 @@
 
 use jointwear::laws::contact::{DissipationLaw, NormalForceModel, StiffnessLaw};
 use jointwear::laws::wear::PressureModel;
-use jointwear::scene::{scene_path, MethodSpec, SceneFile};
+use jointwear::scene::{scene_path, MethodSpec, SceneFile, StepControlSpec};
 
 fn standard() -> SceneFile {
     SceneFile::read(scene_path("standard")).unwrap()
@@ -221,6 +221,7 @@ fn a_step_too_small_to_finish_within_the_step_limit_is_refused() {
     f.run.max_step_s = 6.1e-8;
     f.build().unwrap();
     f.run.method = MethodSpec::Rk4;
+    f.run.step_control = StepControlSpec::I;
     f.run.fixed_step_s = Some(1e-9);
     let msg = refused(&f);
     assert!(
@@ -393,6 +394,7 @@ fn an_absolute_tolerance_coarser_than_a_tenth_of_the_clearance_is_refused() {
     // rk4 does not use atol (the paper's rk4 settings give it 1).
     f.run.atol = 1.0;
     f.run.method = MethodSpec::Rk4;
+    f.run.step_control = StepControlSpec::I;
     f.run.fixed_step_s = Some(1e-5);
     f.build().unwrap();
 }

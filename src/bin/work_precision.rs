@@ -5,30 +5,37 @@
 //! measures the rule over members (`jointwear::paper::studies::tolerance_rule`).
 use jointwear::error::exit_on_error;
 use jointwear::io::progress::progress_bar;
-use jointwear::paper::studies::tolerance_rule::{pick, rule_rows, Reading, RuleRow, RULE_FILE};
+use jointwear::paper::studies::tolerance_rule::{
+    pick, rule_rows, Reading, RuleRow, RULE_CONTROLS, RULE_FILE,
+};
 use jointwear::paper::{program, studies};
 
 /// Prints the members' median paired orbit ratio per setting and what the rule picks from
-/// `rule` by each reading.
+/// `rule` for each step control by each reading.
 fn print_picks(rule: &[RuleRow]) {
     for r in rule {
         let (p, i) = (r.orbit_ratio, r.orbit_ratio.interval);
         println!(
-            "rtol {:e}{}: first-rotation orbit error over the member's own bound's, median {:.3} \
-             (interval {:.3}-{:.3}, coverage {:.4})",
+            "rtol {:e}, step control {}{}: first-rotation orbit error over the member's own bound's, \
+             median {:.3} (interval {:.3}-{:.3}, coverage {:.4}), {:.0} evaluations",
             r.integration.rtol,
+            r.integration.control.name(),
             if r.absolute { " (bound)" } else { "" },
             p.median,
             i.lower,
             i.upper,
-            i.coverage
+            i.coverage,
+            r.evaluations
         );
     }
-    for reading in Reading::ALL {
-        println!(
-            "default Dopri5 rtol by the rule, {reading:?}: {:?}",
-            pick(rule, reading)
-        );
+    for control in RULE_CONTROLS {
+        for reading in Reading::ALL {
+            println!(
+                "default Dopri5 rtol by the rule, step control {}, {reading:?}: {:?}",
+                control.name(),
+                pick(rule, control, reading)
+            );
+        }
     }
 }
 

@@ -558,7 +558,9 @@ impl RunSpec {
                         "run.step_control",
                         "pi42",
                         "\"i\" (the default) with method rk4, whose step is fixed; \
-                         the filter steers dopri5 and dop853",
+                         the filter steers dopri5 and dop853; likely cause: the method changed \
+                         to rk4 in a scene that names the filter (the standard scene and its \
+                         variants do): set run.step_control = \"i\" as well",
                     ));
                 }
                 Method::Rk4 {

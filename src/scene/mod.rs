@@ -278,6 +278,14 @@ pub enum StepControlSpec {
 }
 
 impl StepControlSpec {
+    /// The choice's name in a scene file (`run.step_control`) and in the outputs.
+    pub fn name(self) -> &'static str {
+        match self {
+            StepControlSpec::I => "i",
+            StepControlSpec::Pi42 => "pi42",
+        }
+    }
+
     /// The integrator's step control of this choice.
     pub fn control(self) -> StepControl {
         match self {

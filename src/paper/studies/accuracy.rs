@@ -22,6 +22,7 @@ use crate::ode::Method;
 use crate::paper::cases::{wear_run_with, Case, SteadyMember, CASES};
 use crate::paper::figures::output_path;
 use crate::paper::golden::{angle_distance, Golden, Table3Golden};
+use crate::scene::StepControlSpec;
 use crate::scene::{scene_path, SceneFile};
 use crate::simulation::{simulate, RunOutput};
 use crate::Result;
@@ -72,6 +73,7 @@ impl Setting {
                 rtol: 1e-3,
                 atol: 1e-6,
                 max_step: 1e-2,
+                control: StepControlSpec::I,
             }),
             Setting::Rk4Fine => Some(Integration::rk4(1e-5)),
             Setting::Rk4Coarse => Some(Integration::rk4(1e-4)),

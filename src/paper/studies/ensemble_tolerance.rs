@@ -1,8 +1,9 @@
-//! Does Table 3 need the scenes' tolerance? The scenes' rtol ([`SCENE_RTOL`]) is chosen on
+//! Does Table 3 need the scenes' tolerance? The scenes' rtol ([`SCENE`]) is chosen on
 //! first-rotation orbit and peak-force errors (the default-tolerance rule over members), while this
 //! project's results are ensemble statistics. This study runs Table 3's ensembles (every case,
 //! [`DEFAULT_MEMBERS`] members, settled, two rotations recorded) with Dopri5 at each rtol of
-//! [`RTOLS`] (`atol = 1e-3·rtol`, step cap 1e-3 s, as in the work-precision study) and sets each
+//! [`RTOLS`] with the scenes' step control (`atol = 1e-3·rtol`, step cap 1e-3 s, as in the
+//! work-precision study) and sets each
 //! statistic beside the same ensemble at the scenes' setting. Member `i` starts from the same
 //! offsets at every tolerance, so the two ensembles are paired and a mean's change is judged
 //! by the spread of the members' own changes `dᵢ = xᵢ − xᵢ,scene`:
@@ -18,7 +19,7 @@
 //! it. The scenes keep their tolerance: this measures what a looser one would change.
 
 use super::integration::Integration;
-use super::work_precision::SCENE_RTOL;
+use super::work_precision::SCENE;
 use crate::analysis::significance::student_two_sided_quantile;
 use crate::analysis::statistics::Distribution;
 use crate::io::output::{read_rows, write_rows};
@@ -30,9 +31,10 @@ use crate::paper::provenance::{self, Inputs};
 use crate::simulation::ensemble::{EnsembleSettings, DEFAULT_MEMBERS};
 use crate::Result;
 
-/// Dopri5 relative tolerances compared; the first is the scenes' own setting ([`SCENE_RTOL`],
-/// atol `1e-3·rtol`, step cap 1e-3 s), the one the others are measured against.
-pub const RTOLS: [f64; 4] = [SCENE_RTOL, 1e-6, 1e-5, 1e-4];
+/// Dopri5 relative tolerances compared, each with the scenes' step control; the first is the
+/// scenes' own setting ([`SCENE`], atol `1e-3·rtol`, step cap 1e-3 s), the one the others are
+/// measured against.
+pub const RTOLS: [f64; 4] = [SCENE.rtol, 1e-6, 1e-5, 1e-4];
 
 /// File of the study under `data/`.
 pub const ENSEMBLE_TOLERANCE_FILE: &str = "ensemble_tolerance.csv";
@@ -183,7 +185,12 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
         Inputs::new(
             CASES.list().map(|c| c.scene).to_vec(),
             false,
-            (RTOLS, DEFAULT_MEMBERS, EnsembleSettings::default()),
+            (
+                RTOLS,
+                SCENE.control,
+                DEFAULT_MEMBERS,
+                EnsembleSettings::default(),
+            ),
         )
     },
 };
@@ -205,7 +212,7 @@ fn study(progress: &dyn Progress) -> Result<Vec<ToleranceRow>> {
     // Per case, the members' (P-w, s-w) at the scenes' setting, the first tolerance.
     let mut scene_members: Vec<(&str, Vec<f64>, Vec<f64>)> = Vec::new();
     for rtol in RTOLS {
-        let integration = Integration::adaptive(Method::Dopri5, rtol);
+        let integration = Integration::adaptive(Method::Dopri5, rtol).with_control(SCENE.control);
         let runs = Runs::compute(&needs, ensemble, &|f| integration.apply(f), progress)?;
         for case in CASES.list() {
             let e: &SteadyEnsemble = runs.steady(case.scene)?;

@@ -3,7 +3,7 @@
 
 use super::work_precision::wp_max_step;
 use crate::ode::Method;
-use crate::scene::{MethodSpec, RunSpec, SceneFile};
+use crate::scene::{MethodSpec, RunSpec, SceneFile, StepControlSpec};
 
 /// `atol` over `rtol` of the adaptive settings the studies compare: one atol for every
 /// controlled state component (m, rad, m/s, rad/s).
@@ -20,18 +20,26 @@ pub struct Integration {
     pub atol: f64,
     /// Largest step (s).
     pub max_step: f64,
+    /// Step-size controller of an adaptive method (the I controller for a fixed step).
+    pub control: StepControlSpec,
 }
 
 impl Integration {
     /// Adaptive `method` at `rtol`, `atol = `[`ATOL_PER_RTOL`]`·rtol`, with the work-precision
-    /// step cap of the method ([`wp_max_step`]).
+    /// step cap of the method ([`wp_max_step`]) and the I controller.
     pub fn adaptive(method: Method, rtol: f64) -> Integration {
         Integration {
             method,
             rtol,
             atol: ATOL_PER_RTOL * rtol,
             max_step: wp_max_step(method),
+            control: StepControlSpec::I,
         }
+    }
+
+    /// This adaptive setting with the step control `control`.
+    pub const fn with_control(self, control: StepControlSpec) -> Integration {
+        Integration { control, ..self }
     }
 
     /// Classical RK4 with a fixed `step` (s); tolerances unused.
@@ -41,6 +49,7 @@ impl Integration {
             rtol: 1.0,
             atol: 1.0,
             max_step: step,
+            control: StepControlSpec::I,
         }
     }
 
@@ -58,6 +67,7 @@ impl Integration {
             rtol: run.rtol,
             atol: run.atol,
             max_step: run.max_step_s,
+            control: run.step_control,
         }
     }
 
@@ -75,6 +85,7 @@ impl Integration {
         run.rtol = self.rtol;
         run.atol = self.atol;
         run.max_step_s = self.max_step;
+        run.step_control = self.control;
     }
 
     /// Method name as in the CSV files.
@@ -86,11 +97,18 @@ impl Integration {
         }
     }
 
-    /// `"rtol=1e-6 max_step=1e-3"` or `"h=1e-5"`.
+    /// `"rtol=1e-6 max_step=1e-3"`, `"rtol=2.5e-7 max_step=1e-3 step_control=pi42"` (a
+    /// controller other than the I controller is named) or `"h=1e-5"`.
     pub fn setting(&self) -> String {
-        match self.method {
-            Method::Rk4 { step } => format!("h={step:e}"),
-            _ => format!("rtol={:e} max_step={:e}", self.rtol, self.max_step),
+        match (self.method, self.control) {
+            (Method::Rk4 { step }, _) => format!("h={step:e}"),
+            (_, StepControlSpec::I) => format!("rtol={:e} max_step={:e}", self.rtol, self.max_step),
+            (_, c) => format!(
+                "rtol={:e} max_step={:e} step_control={}",
+                self.rtol,
+                self.max_step,
+                c.name()
+            ),
         }
     }
 }

@@ -1,9 +1,10 @@
 //! The rule for the scenes' default tolerance, measured over ensemble members (section 5 of
-//! `paper.md`; `data/work_precision_members.csv`). The scenes run at its pick,
-//! [`super::work_precision::SCENE_RTOL`] (1.5e-7 since the rounding-level changes of
-//! 2026-11-27; 2e-7 from the onset search inside a step, 2026-11-26, to then; 1.5e-7 for one
-//! session before it); the report states the pick and that setting from the
-//! CSV, and says so plainly if a rerun's pick ever differs from the setting.
+//! `paper.md`; `data/work_precision_members.csv`). The scenes run at its pick for their step
+//! control, [`super::work_precision::SCENE`] (since 2026-11-28 the PI.4.2 filter at 2.5e-7;
+//! before, the I controller at 1.5e-7 since the rounding-level changes of 2026-11-27, at 2e-7
+//! from the onset search inside a step, 2026-11-26, to then, at 1.5e-7 for one session before
+//! it); the report states the picks and that setting from the CSV, and says so plainly if a
+//! rerun's pick ever differs from the setting.
 //!
 //! One trajectory's first-rotation orbit error is a random variable: the journal impacts within
 //! the first rotation, and rounding changes of 2 ulp in `sincos`, `atan` and `asin` moved the
@@ -18,7 +19,8 @@
 //!   the first-rotation orbit error (max journal-centre distance, µm) and the relative error of
 //!   the peak contact force over that rotation;
 //! * candidates: Dopri5 at [`RULE_RTOLS`] (atol 1e-3·rtol, maximum step 1e-3 s), in joint
-//!   coordinates as the scenes run;
+//!   coordinates as the scenes run, with each step control of [`RULE_CONTROLS`] (the I
+//!   controller and Söderlind's PI.4.2 filter, `paper.md` section 7); the rule picks per control;
 //! * bound: the same errors of the same members integrated as the scenes were before joint
 //!   coordinates, absolute coordinates at rtol 1e-7 and atol 1e-10 with the error norm over their
 //!   18 components ([`absolute_coordinates`]);
@@ -97,7 +99,7 @@ use crate::ode::Method;
 use crate::paper::cases::CASES;
 use crate::paper::figures::output_path;
 use crate::paper::provenance::{self, Inputs};
-use crate::scene::{BodySpec, RevoluteSpec, SceneFile};
+use crate::scene::{BodySpec, RevoluteSpec, SceneFile, StepControlSpec};
 use crate::simulation::ensemble::{run_member, EnsembleSettings, DEFAULT_SEED};
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -108,14 +110,22 @@ pub const RULE_MEMBERS: usize = 512;
 /// Seed of the members (the ensembles' default, so they are Table 3's first members).
 pub const RULE_SEED: u64 = DEFAULT_SEED;
 /// The candidate Dopri5 rtols, loosest first: around 2e-7 and 1e-7, the two settings the
-/// single-trajectory rule chose, and tighter ones for the walk to start from.
-pub const RULE_RTOLS: [f64; 9] = [1e-6, 5e-7, 3e-7, 2e-7, 1.5e-7, 1e-7, 5e-8, 3e-8, 1e-8];
+/// single-trajectory rule chose, 2.5e-7 where PI.4.2 was as accurate on 256 members
+/// (2026-11-28), and tighter ones for the walk to start from.
+pub const RULE_RTOLS: [f64; 10] = [
+    1e-6, 5e-7, 3e-7, 2.5e-7, 2e-7, 1.5e-7, 1e-7, 5e-8, 3e-8, 1e-8,
+];
+/// The step controls the candidates run with, each over every rtol of [`RULE_RTOLS`]: the I
+/// controller and Söderlind's PI.4.2 filter (`run.step_control`). The rule picks an rtol per
+/// controller; the bound runs with the I controller, as the scenes did before joint coordinates.
+pub const RULE_CONTROLS: [StepControlSpec; 2] = [StepControlSpec::I, StepControlSpec::Pi42];
 /// The bound's setting: the scenes' Dopri5 before joint coordinates, in absolute coordinates.
 pub const BOUND: Integration = Integration {
     method: Method::Dopri5,
     rtol: 1e-7,
     atol: 1e-10,
     max_step: 1e-3,
+    control: StepControlSpec::I,
 };
 
 /// Bodies [`absolute_coordinates`] adds to the standard scene: with two it has 5 bodies, more
@@ -244,7 +254,8 @@ const PAIRED_KEYS: [&str; 3] = ["q50", "ci_lo", "ci_hi"];
 /// One setting measured over the members.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RuleRow {
-    /// The setting (for the bound its nominal tolerances, [`BOUND`]).
+    /// The setting, its step control included (for the bound its nominal tolerances,
+    /// [`BOUND`]).
     pub integration: Integration,
     /// Absolute coordinates with the old norm (the bound), else joint coordinates.
     pub absolute: bool,
@@ -301,12 +312,15 @@ impl Reading {
     }
 }
 
-/// The rule on `rows` read as `reading`: the loosest joint-coordinate rtol at which, and at
-/// every tighter one, the orbit error passes and the median force error is at most
-/// [`FORCE_BOUND`]; `None` if the tightest fails or there is no bound row.
-pub fn pick(rows: &[RuleRow], reading: Reading) -> Option<f64> {
+/// The rule on `rows` read as `reading` for the candidates run with `control`: the loosest
+/// joint-coordinate rtol at which, and at every tighter one, the orbit error passes and the
+/// median force error is at most [`FORCE_BOUND`]; `None` if the tightest fails or there is no
+/// bound row.
+pub fn pick(rows: &[RuleRow], control: StepControlSpec, reading: Reading) -> Option<f64> {
     let bound = rows.iter().find(|r| r.absolute)?;
-    let mut sweep: Vec<&RuleRow> = rows.iter().filter(|r| !r.absolute).collect();
+    let mut sweep: Vec<&RuleRow> = (rows.iter())
+        .filter(|r| !r.absolute && r.integration.control == control)
+        .collect();
     sweep.sort_by(|a, b| a.integration.rtol.total_cmp(&b.integration.rtol));
     // tightest first: walk towards looser while the bounds hold
     sweep
@@ -329,7 +343,7 @@ struct Measured {
     onsets_differ: bool,
 }
 
-/// What one member measured: per setting, the candidates at [`RULE_RTOLS`], then the bound.
+/// What one member measured: per setting of [`rule_settings`], the candidates, then the bound.
 type MemberErrors = Vec<Measured>;
 
 /// First rotation of member `member` of the standard scene set by `set`.
@@ -365,27 +379,30 @@ fn member_errors(member: usize) -> Result<MemberErrors> {
             onsets_differ: first.onsets != reference.onsets,
         }
     };
-    let mut errors = Vec::with_capacity(RULE_RTOLS.len() + 1);
-    for rtol in RULE_RTOLS {
-        let int = Integration::adaptive(Method::Dopri5, rtol);
-        errors.push(measured(member_first_rotation(member, |f| {
-            int.apply(f);
-            Ok(())
-        })?));
-    }
-    let bound = member_first_rotation(member, |f| {
-        absolute_coordinates(f, &BOUND);
-        match f.build()?.mechanism.formulation() {
-            Formulation::Absolute => Ok(()),
-            other => Err(Error::invalid(
-                "bodies",
-                format!("the standard scene with {INERT_BODIES} inert bodies, in {other}"),
-                "a linkage integrated in absolute coordinates (the default-tolerance rule's bound)",
-            )),
-        }
-    })?;
-    errors.push(measured(bound));
-    Ok(errors)
+    rule_settings()
+        .map(|s| {
+            let first = if s.absolute {
+                member_first_rotation(member, |f| {
+                    absolute_coordinates(f, &s.integration);
+                    match f.build()?.mechanism.formulation() {
+                        Formulation::Absolute => Ok(()),
+                        other => Err(Error::invalid(
+                            "bodies",
+                            format!("the standard scene with {INERT_BODIES} inert bodies, in {other}"),
+                            "a linkage integrated in absolute coordinates (the default-tolerance rule's \
+                             bound)",
+                        )),
+                    }
+                })
+            } else {
+                member_first_rotation(member, |f| {
+                    s.integration.apply(f);
+                    Ok(())
+                })
+            };
+            first.map(measured)
+        })
+        .collect()
 }
 
 /// The rule's rows from every member's errors (`members[m]`: the settings of
@@ -422,7 +439,7 @@ fn rows_of(members: &[MemberErrors]) -> Result<Vec<RuleRow>> {
     let n = members.len() as f64;
     rule_settings()
         .enumerate()
-        .map(|(i, (integration, absolute))| {
+        .map(|(i, setting)| {
             let of = |k: fn(&Measured) -> f64| members.iter().map(move |m| k(&m[i]));
             let ratios = |k: fn(&Measured) -> f64| -> Vec<f64> {
                 members
@@ -431,8 +448,8 @@ fn rows_of(members: &[MemberErrors]) -> Result<Vec<RuleRow>> {
                     .collect()
             };
             Ok(RuleRow {
-                integration,
-                absolute,
+                integration: setting.integration,
+                absolute: setting.absolute,
                 evaluations: of(|e| e.evaluations as f64).sum::<f64>() / n,
                 orbit_um: Spread::of(of(|e| e.orbit_um)),
                 force_rel: Spread::of(of(|e| e.force_rel)),
@@ -444,12 +461,27 @@ fn rows_of(members: &[MemberErrors]) -> Result<Vec<RuleRow>> {
         .collect()
 }
 
-/// The rule's settings in the order of a member's errors: the candidates, then the bound.
-fn rule_settings() -> impl Iterator<Item = (Integration, bool)> {
-    RULE_RTOLS
-        .iter()
-        .map(|&r| (Integration::adaptive(Method::Dopri5, r), false))
-        .chain([(BOUND, true)])
+/// One setting the rule measures.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Setting {
+    integration: Integration,
+    /// The bound: absolute coordinates with the old norm.
+    absolute: bool,
+}
+
+/// The rule's settings in the order of a member's errors and of the CSV's rows: the candidates
+/// of each control of [`RULE_CONTROLS`] at every rtol of [`RULE_RTOLS`], then the bound.
+fn rule_settings() -> impl Iterator<Item = Setting> {
+    let candidates = RULE_CONTROLS.iter().flat_map(|&control| {
+        RULE_RTOLS.iter().map(move |&r| Setting {
+            integration: Integration::adaptive(Method::Dopri5, r).with_control(control),
+            absolute: false,
+        })
+    });
+    candidates.chain([Setting {
+        integration: BOUND,
+        absolute: true,
+    }])
 }
 
 /// The rule's measurement (module documentation): every candidate and the bound over the
@@ -486,7 +518,7 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
             vec![CASES.standard.scene],
             false,
             (
-                (RULE_MEMBERS, RULE_SEED, RULE_RTOLS),
+                (RULE_MEMBERS, RULE_SEED, RULE_RTOLS, RULE_CONTROLS),
                 (BOUND, INERT_BODIES, REFERENCE, CONFIDENCE),
                 EnsembleSettings::default(),
             ),
@@ -498,7 +530,14 @@ pub const PROVENANCE: provenance::Study = provenance::Study {
 pub const RULE_FILE: &str = "work_precision_members.csv";
 
 /// Columns of [`RULE_FILE`] before the spreads.
-const RULE_COLUMNS: [&str; 5] = ["formulation", "rtol", "atol", "members", "evaluations_mean"];
+const RULE_COLUMNS: [&str; 6] = [
+    "formulation",
+    "step_control",
+    "rtol",
+    "atol",
+    "members",
+    "evaluations_mean",
+];
 /// The two spreads' column prefixes.
 const SPREADS: [&str; 2] = ["orbit_err_um", "force_err_rel"];
 /// The two paired ratios' column prefixes.
@@ -540,6 +579,7 @@ fn rule_csv_rows(rows: &[RuleRow], members: usize) -> Vec<Vec<String>> {
         .map(|r| {
             let fixed = [
                 formulation(r.absolute).to_string(),
+                r.integration.control.name().to_string(),
                 num(r.integration.rtol),
                 num(r.integration.atol),
                 members.to_string(),
@@ -641,89 +681,92 @@ impl CsvRow<'_> {
 }
 
 /// The rows of a [`RULE_FILE`] with `header`, and their member count. They must be exactly
-/// what [`rule_rows`] writes: one row per candidate of [`RULE_RTOLS`] in that order, then the
-/// bound ([`rule_settings`]), finite numbers, the same member count in every row and at most
+/// what [`rule_rows`] writes: one row per candidate, each control of [`RULE_CONTROLS`] at every
+/// rtol of [`RULE_RTOLS`] in that order, then the bound ([`rule_settings`]), finite numbers, the same member count in every row and at most
 /// that many members with another onset count; else [`pick`] would walk across a missing
 /// candidate or the report would state a damaged number. Columns are found by their names.
 fn parse_rule_rows(header: &[String], rows: &[Vec<String>]) -> Result<(Vec<RuleRow>, usize)> {
-    let settings: Vec<(Integration, bool)> = rule_settings().collect();
+    let settings: Vec<Setting> = rule_settings().collect();
     if rows.len() != settings.len() {
         return Err(damaged(
             "rows",
             rows.len(),
             format!(
-                "{} rows: the candidates at rtol {RULE_RTOLS:?} in that order, then the bound",
-                settings.len()
+                "{} rows: the candidates of step controls {:?} each at rtol {RULE_RTOLS:?} in \
+                 that order, then the bound",
+                settings.len(),
+                RULE_CONTROLS.map(StepControlSpec::name)
             ),
         ));
     }
     let mut members = None;
-    let parsed =
-        (rows.iter().zip(settings).enumerate()).map(|(i, (row, (integration, absolute)))| {
-            let r = CsvRow {
-                header,
-                row,
-                line: i + 2,
-            };
-            let setting = [
-                (r.text(RULE_COLUMNS[0])? == formulation(absolute)),
-                (r.number(RULE_COLUMNS[1])? == integration.rtol),
-                (r.number(RULE_COLUMNS[2])? == integration.atol),
-            ];
-            if setting.contains(&false) {
-                return Err(damaged(
-                    format!("line {}", r.line),
-                    row[..3.min(row.len())].join(","),
-                    format!(
-                        "{},{:e},{:e} (row {} of the study's settings in order)",
-                        formulation(absolute),
-                        integration.rtol,
-                        integration.atol,
-                        i + 1
-                    ),
-                ));
-            }
-            let n = r.count(RULE_COLUMNS[3])?;
-            let first = *members.get_or_insert(n);
-            if n != first || n == 0 {
-                return Err(damaged(
-                    r.field(RULE_COLUMNS[3]),
-                    n,
-                    format!("the same positive member count in every row ({first} on line 2)"),
-                ));
-            }
-            let spread = |prefix| r.numbers(prefix, SPREAD_KEYS).map(Spread::from_values);
-            let coverage = r.number(COVERAGE)?;
-            let paired = |prefix| {
-                let [median, lower, upper] = r.numbers(prefix, PAIRED_KEYS)?;
-                Ok::<_, Error>(Paired {
-                    median,
-                    interval: MedianInterval {
-                        lower,
-                        upper,
-                        coverage,
-                    },
-                })
-            };
-            let onsets_differ = r.count(ONSETS_DIFFER)?;
-            if onsets_differ > n {
-                return Err(damaged(
-                    r.field(ONSETS_DIFFER),
-                    onsets_differ,
-                    format!("at most the {n} members"),
-                ));
-            }
-            Ok(RuleRow {
-                integration,
-                absolute,
-                evaluations: r.number(RULE_COLUMNS[4])?,
-                orbit_um: spread(SPREADS[0])?,
-                force_rel: spread(SPREADS[1])?,
-                orbit_ratio: paired(RATIOS[0])?,
-                force_ratio: paired(RATIOS[1])?,
-                onsets_differ,
+    let parsed = (rows.iter().zip(settings).enumerate()).map(|(i, (row, s))| {
+        let r = CsvRow {
+            header,
+            row,
+            line: i + 2,
+        };
+        let setting = [
+            (r.text(RULE_COLUMNS[0])? == formulation(s.absolute)),
+            (r.text(RULE_COLUMNS[1])? == s.integration.control.name()),
+            (r.number(RULE_COLUMNS[2])? == s.integration.rtol),
+            (r.number(RULE_COLUMNS[3])? == s.integration.atol),
+        ];
+        if setting.contains(&false) {
+            return Err(damaged(
+                format!("line {}", r.line),
+                row[..4.min(row.len())].join(","),
+                format!(
+                    "{},{},{:e},{:e} (row {} of the study's settings in order)",
+                    formulation(s.absolute),
+                    s.integration.control.name(),
+                    s.integration.rtol,
+                    s.integration.atol,
+                    i + 1
+                ),
+            ));
+        }
+        let n = r.count(RULE_COLUMNS[4])?;
+        let first = *members.get_or_insert(n);
+        if n != first || n == 0 {
+            return Err(damaged(
+                r.field(RULE_COLUMNS[4]),
+                n,
+                format!("the same positive member count in every row ({first} on line 2)"),
+            ));
+        }
+        let spread = |prefix| r.numbers(prefix, SPREAD_KEYS).map(Spread::from_values);
+        let coverage = r.number(COVERAGE)?;
+        let paired = |prefix| {
+            let [median, lower, upper] = r.numbers(prefix, PAIRED_KEYS)?;
+            Ok::<_, Error>(Paired {
+                median,
+                interval: MedianInterval {
+                    lower,
+                    upper,
+                    coverage,
+                },
             })
-        });
+        };
+        let onsets_differ = r.count(ONSETS_DIFFER)?;
+        if onsets_differ > n {
+            return Err(damaged(
+                r.field(ONSETS_DIFFER),
+                onsets_differ,
+                format!("at most the {n} members"),
+            ));
+        }
+        Ok(RuleRow {
+            integration: s.integration,
+            absolute: s.absolute,
+            evaluations: r.number(RULE_COLUMNS[5])?,
+            orbit_um: spread(SPREADS[0])?,
+            force_rel: spread(SPREADS[1])?,
+            orbit_ratio: paired(RATIOS[0])?,
+            force_ratio: paired(RATIOS[1])?,
+            onsets_differ,
+        })
+    });
     let parsed = parsed.collect::<Result<_>>()?;
     Ok((parsed, members.unwrap_or(0)))
 }
@@ -793,7 +836,8 @@ mod tests {
 
     // Checked to fail: continuing past a failing rtol (filter instead of take_while) picks 2e-7
     // by the paired ratio on the non-monotone table instead of 1e-8. 1e-7's median ratio of
-    // exactly 1 passes (at most 1).
+    // exactly 1 passes (at most 1). Without the filter on the control, the PI.4.2 rows below
+    // move the I controller's picks (its failing 1e-8 stops every walk).
     #[test]
     fn the_rule_walks_from_the_tightest_on_the_paired_ratios() {
         let bound = RuleRow {
@@ -810,10 +854,30 @@ mod tests {
             row(1e-8, 0.004, [0.3, 0.2, 0.5]),
             bound,
         ];
-        let picks = |rows: &[RuleRow]| Reading::ALL.map(|r| pick(rows, r));
+        let picks = |rows: &[RuleRow]| Reading::ALL.map(|r| pick(rows, StepControlSpec::I, r));
         assert_eq!(
             picks(&rows),
             [Some(2e-7), Some(5e-8), Some(3e-7), Some(1e-7)]
+        );
+        // each control is walked on its own rows
+        let pi42 = |r: RuleRow| RuleRow {
+            integration: r.integration.with_control(StepControlSpec::Pi42),
+            ..r
+        };
+        let mut both = rows.clone();
+        both.push(pi42(row(1e-8, 0.004, [2.0, 1.5, 2.5])));
+        both.push(pi42(row(1e-6, 0.004, [0.5, 0.4, 0.6])));
+        assert_eq!(
+            picks(&both),
+            [Some(2e-7), Some(5e-8), Some(3e-7), Some(1e-7)]
+        );
+        assert_eq!(pick(&both, StepControlSpec::Pi42, Reading::Paired), None);
+        both.pop();
+        both.pop();
+        both.push(pi42(row(1e-6, 0.004, [0.5, 0.4, 0.6])));
+        assert_eq!(
+            pick(&both, StepControlSpec::Pi42, Reading::Paired),
+            Some(1e-6)
         );
         // non-monotone: a failing 3e-8 stops the walk there, whatever passes beyond it
         let mut bumpy = rows.clone();
@@ -841,7 +905,7 @@ mod tests {
         };
         (candidate.iter().zip(bound))
             .map(|(&c, &b)| {
-                let mut m = vec![at(c, 1e-5); RULE_RTOLS.len()];
+                let mut m = vec![at(c, 1e-5); RULE_RTOLS.len() * RULE_CONTROLS.len()];
                 m.push(at(b, 2e-5));
                 m
             })
@@ -858,7 +922,7 @@ mod tests {
         let bound: Vec<f64> = (1..=8).map(f64::from).collect();
         let candidate: Vec<f64> = bound.iter().rev().map(|b| 0.5 * b).collect();
         let rows = rows_of(&members(&candidate, &bound)).unwrap();
-        assert_eq!(rows.len(), RULE_RTOLS.len() + 1);
+        assert_eq!(rows.len(), rule_settings().count());
         let first = &rows[0];
         approx::assert_relative_eq!(first.orbit_ratio.median, 0.5125, max_relative = 1e-15);
         assert_eq!(
@@ -913,7 +977,10 @@ mod tests {
     fn the_rule_file_reads_back_only_as_written() {
         // the committed measurement reads
         let (committed, n) = read_rule_rows().unwrap();
-        assert_eq!((committed.len(), n), (RULE_RTOLS.len() + 1, RULE_MEMBERS));
+        assert_eq!(
+            (committed.len(), n),
+            (rule_settings().count(), RULE_MEMBERS)
+        );
         let bound: Vec<f64> = (1..=8).map(f64::from).collect();
         let candidate: Vec<f64> = bound.iter().map(|b| 0.7 * b).collect();
         let rows = rows_of(&members(&candidate, &bound)).unwrap();
@@ -954,16 +1021,17 @@ mod tests {
         rejects(&edit(3, "formulation", "absolute_old_norm"), "line 3`");
         let mut gap = csv.clone();
         gap.remove(3);
-        rejects(&gap, "rows`: 9 (expected 10 rows");
+        rejects(&gap, "rows`: 20 (expected 21 rows");
         let mut order = csv.clone();
         order.swap(3, 4);
         rejects(
             &order,
-            "line 5`: joint,1.5e-7,1.5e-10 (expected joint,2e-7,2e-10",
+            "line 5`: joint,i,2e-7,2e-10 (expected joint,i,2.5e-7,2.5e-10",
         );
         let mut no_bound = csv.clone();
         no_bound.pop();
-        rejects(&no_bound, "rows`: 9");
+        rejects(&no_bound, "rows`: 20");
+        rejects(&edit(13, "step_control", "i"), "line 13`");
         let short = &header[..header.len() - 1];
         let cut: Vec<Vec<String>> = csv.iter().map(|r| r[..r.len() - 1].to_vec()).collect();
         let e = parse_rule_rows(short, &cut).unwrap_err().to_string();
