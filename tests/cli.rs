@@ -663,23 +663,24 @@ fn step_control_is_a_run_setting() {
     let (i, control) = counts(Some("run.step_control=i"));
     assert_eq!(control, "i");
     assert_ne!(i["rhs_evaluations"], default["rhs_evaluations"], "{i}");
-    // the four-bar's scene has no key: the I controller
-    let out = dir.join("fourbar");
-    let o = jointwear(&[
-        "run",
-        s(&scene_path("fourbar")),
-        "--rotations",
-        "1",
-        "--set",
-        "run.record_rotations=0",
-        "--out",
-        s(&out),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert_eq!(
-        json(&out.join("summary.json"))["settings"]["step_control"],
-        "i"
-    );
+    // the four-bar's scene has no key: the I controller, the same counts as naming it
+    let fourbar_scene = scene_path("fourbar");
+    let fourbar = |set: &str| {
+        let out = dir.join(format!("fourbar-{}", set.replace(['.', '='], "_")));
+        let mut args = vec!["run", s(&fourbar_scene), "--rotations", "1"];
+        args.extend(["--set", "run.record_rotations=0", "--set", set]);
+        args.extend(["--out", s(&out)]);
+        let o = jointwear(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let summary = json(&out.join("summary.json"));
+        (
+            summary["counts"].clone(),
+            summary["settings"]["step_control"].clone(),
+        )
+    };
+    let own = fourbar("run.rotations=1");
+    assert_eq!(own.1, "i");
+    assert_eq!(own, fourbar("run.step_control=i"));
     // rk4's fixed step has no controller: a filter would be named in summary.json and steer
     // nothing (accepted before, exit 0)
     let out = dir.join("rk4");
@@ -697,6 +698,11 @@ fn step_control_is_a_run_setting() {
     ]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("run.step_control") && stderr(&o).contains("rk4"));
+    assert!(
+        stderr(&o).contains("set run.step_control = \"i\" as well"),
+        "{}",
+        stderr(&o)
+    );
     assert!(!out.exists());
     fs::remove_dir_all(&dir).unwrap();
 }

@@ -18,9 +18,10 @@ fn tiny(f: &mut SceneFile) {
     f.clearance[0].clearance_mm = 0.004;
     f.run.rotations = 1;
     f.run.wear_snapshots.clear();
-    // The test's time budget: hertz with hu-guo takes about 4.9e4 steps a rotation here in
+    // The test's time budget: hertz with hu-guo took about 4.9e4 steps a rotation here in
     // continuous contact (joint coordinates at rtol 2e-7 with the I controller; about 10 % more
-    // at 1.5e-7, its setting until 2026-11-28), so five rotations need 2.5e5-2.7e5.
+    // at 1.5e-7), so five rotations needed 2.5e5-2.7e5; not measured again under the scenes'
+    // PI.4.2 at 2.5e-7, with which the test passes within it.
     f.run.max_steps = 300_000;
     if let Some(s) = f.run.steady_state.as_mut() {
         s.max_rotations = 4;

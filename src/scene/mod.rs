@@ -270,7 +270,8 @@ pub enum MethodSpec {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum StepControlSpec {
-    /// The I controller, the default: the scenes' tolerances were chosen with it.
+    /// The I controller, the default of a scene that names none (the standard scene names
+    /// PI.4.2, at the default-tolerance rule's pick for it).
     #[default]
     I,
     /// Söderlind's PI.4.2 digital filter ([`Filter::pi42`]).

@@ -319,14 +319,14 @@ fn default_tolerance(
          which, and at every tighter one, the median ratio over the members is at most 1 and the median \
          peak-force error at most {FORCE_BOUND:e}: {}. Pairing each member with its own bound removes what a \
          member's start does to both errors, so it asks more precisely on the same members than comparing the \
-         two medians, the rule before (which picks {}); the paired rule was announced (issue 22's closing note of 2026-11-26) before \
+         two medians, the rule before (which picks {} for {}); the paired rule was announced (issue 22's closing note of 2026-11-26) before \
          its result was known. It used 128 members until 2026-11-27, whose pick for the I controller (then the \
          scenes' only one) moved between 2e-7 and \
          1.5e-7 with rounding-level changes (their median ratio at 2e-7 0.953 before the contact evaluation's \
          shorter chains of that day, 1.028 after); the same rule over 512 members, raised after that move, \
          picks 1.5e-7 with either rounding (medians 1.039 and 1.054 at 2e-7, though both intervals still \
          contain 1): more members hold the pick still, they do not settle it. With the median ratio's distribution-free interval (sign test: order statistics of the members' \
-         ratios, exact coverage {:.1} %), the rule picks {} when the interval's upper end must be at most 1 \
+         ratios, exact coverage {:.1} %), the rule for {} picks {} when the interval's upper end must be at most 1 \
          (strict) and {} when its lower end must (lenient): {settled}. Per setting, the mean first-rotation \
          evaluations, the errors as median (quartiles; range), and the members' ratios to their own bound as \
          median (interval):\n\n",
@@ -340,7 +340,9 @@ fn default_tolerance(
         100.0 * bound.median * 1e-6 / scene.clearance_m,
         rule_verdict(rows, scene),
         choice(medians),
+        control_label(control),
         100.0 * rows[0].orbit_ratio.interval.coverage,
+        control_label(control),
         choice(strict),
         choice(lenient),
     );
@@ -564,7 +566,7 @@ fn finding_beside_ensemble(f: &Finding, ensemble: &[EnsembleCheck]) -> (String, 
 fn ensemble_tolerance(md: &mut String, scene: &SceneSetting) {
     let rows = read_ensemble_tolerance();
     let members = (rows.iter().flatten()).map(|r| r.members).max();
-    md.push_str(&ensemble_tolerance_intro(scene.integration.rtol, members));
+    md.push_str(&ensemble_tolerance_intro(&scene.integration, members));
     csv_table(
         md,
         ENSEMBLE_TOLERANCE_FILE,
@@ -582,14 +584,18 @@ fn ensemble_tolerance(md: &mut String, scene: &SceneSetting) {
 }
 
 /// What the ensemble-tolerance study compares: `members` per case (`None`: not run), Dopri5
-/// at [`RTOLS`] against its first, beside the scenes' `rtol`.
-fn ensemble_tolerance_intro(rtol: f64, members: Option<usize>) -> String {
-    let base = RTOLS[0];
+/// at [`RTOLS`] against its first ([`SCENE`]), beside the scenes' setting `scene`.
+fn ensemble_tolerance_intro(scene: &Integration, members: Option<usize>) -> String {
+    let (base, rtol) = (RTOLS[0], scene.rtol);
     let members = members.map_or("its".into(), |n| n.to_string());
-    let base_note = if base == rtol {
+    let base_note = if *scene == SCENE {
         "the scenes' setting".to_string()
     } else {
-        format!("the study's base setting, not the scenes' rtol {rtol:e}")
+        format!(
+            "the study's base setting, not the scenes' {}, with {}",
+            describe(scene),
+            control_label(scene.control)
+        )
     };
     format!(
         "**Does Table 3 need the scenes' tolerance?** The scenes' rtol {rtol:e} is chosen on first-rotation \
@@ -748,10 +754,12 @@ fn ensemble_tolerance_findings(rows: &[ToleranceRow], scene: &SceneSetting) -> S
             if largest.0.abs() <= ctol { "inside" } else { "outside" }
         );
     }
-    let costs = read_ensemble_wear_errors().unwrap_or_default();
-    let evaluations = |tol: f64| {
-        let int = Integration::adaptive(Method::Dopri5, tol).with_control(SCENE.control);
-        at_setting(&costs, &int).map(|c| c.evaluations as f64)
+    // The standard case's members at a tolerance: their mean evaluations with settling, as this
+    // study ran them (with the scenes' step control).
+    let standard = |tol: f64| {
+        (rows.iter())
+            .find(|r| r.case == CASES.standard.scene && r.rtol == tol)
+            .map(|r| r.evaluations)
     };
     const PROCESS: &str = "process/run_standard_40";
     let target = TARGETS
@@ -759,22 +767,23 @@ fn ensemble_tolerance_findings(rows: &[ToleranceRow], scene: &SceneSetting) -> S
         .find(|(name, _)| *name == PROCESS)
         .map(|t| t.1);
     let measured = bench_medians().and_then(|m| median_of(&m, PROCESS));
-    if let (Some(tol), Some(loose), Some(base_evaluations), Some(measured), Some(target_ns)) = (
-        loosest,
-        loosest.and_then(evaluations),
-        evaluations(RTOLS[0]),
-        measured,
-        target,
-    ) {
-        let needed = measured / target_ns;
+    if let (Some(tol), Some(loose), Some(base)) =
+        (loosest, loosest.and_then(standard), standard(RTOLS[0]))
+    {
         text += &format!(
-            "At rtol {tol:e} the default 40-rotation trajectory needs {:.0} % fewer evaluations than at {:e} \
-             (work-precision table; one chaotic draw at each setting, section 7 gives the spread over members), \
-             where the {} s target of section 7 needs that process {needed:.1}× faster. ",
-            100.0 * (1.0 - loose / base_evaluations),
+            "At rtol {tol:e} the standard case's members need {:.0} % fewer evaluations than at {:e} (their \
+             mean with settling in this study)",
+            100.0 * (1.0 - loose / base),
             RTOLS[0],
-            number(target_ns * 1e-9),
         );
+        text += &match (measured, target) {
+            (Some(measured), Some(target_ns)) => format!(
+                ", where the {} s target of section 7 needs that process {:.1}× faster. ",
+                number(target_ns * 1e-9),
+                measured / target_ns
+            ),
+            _ => ". ".into(),
+        };
     }
     let _ = write!(
         text,
@@ -985,8 +994,8 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
     ));
     md.push_str(
             " Over members 0-15 of seed 1 (`jointwear run data/scenes/standard.toml --set \
-             run.record_rotations=0 --member m --seed 1` with `--set run.rtol=…` and atol 1e-3·rtol) the \
-             40-rotation run takes on average 641 248 evaluations at 2e-7, 708 071 at 1.5e-7 (+10 %) and \
+             run.record_rotations=0 --member m --seed 1` with `--set run.rtol=…`, atol 1e-3·rtol and, since \
+             the scenes name PI.4.2, `--set run.step_control=i`) the 40-rotation run took on average 641 248 evaluations at 2e-7, 708 071 at 1.5e-7 (+10 %) and \
              785 903 at 1e-7 (+23 %); over members 0-7, 645 763 and 715 311 at 2e-7 and 1.5e-7 against 568 978 \
              for absolute coordinates with their old norm at 1e-7 (section 5's bound): 13 % and 26 % more \
              evaluations.\n\n\
@@ -1036,7 +1045,7 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              time (medians 0.508 and 0.509 s).\n\n\
              **On an idle host (2026-11-27).** The shared host of the measurements above ran up to twice as \
              slow as an idle one. On an idle 2-core AMD EPYC host, timed by hand (`/usr/bin/time`, 8-15 runs \
-             each, the program of this report's commit or one with bit-identical outputs): the no-record standard \
+             each, the program of that day's commit or one with bit-identical outputs): the no-record standard \
              process took 0.13 s (0.127-0.141 s; its one trajectory of 844 486 evaluations, 1 254 M \
              instructions), its 16-member ensemble 0.86-0.92 s (1.61-1.73 s of CPU), the default `report` \
              26.0 s (47.4 s of CPU; the 40 s target met), `scripts/test.sh` with its programs already built \
@@ -1125,7 +1134,7 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              its 2e-7 (4 alternating runs each): the cost per evaluation saved about pays for the tighter \
              tolerance, and the 0.6 s target stays missed. The unperturbed default trajectory was then an outlier \
              (diagnosed below, \"Where the rejections and the outlier come from\"; 29 % of its attempts rejected against 15 % before): 1 711 686 evaluations (221 589 steps, 63 695 rejected) against 844 486 before, more than any \
-             of the 32 members (largest 1 079 929), so its process takes 0.24 s (`process/run_standard_40`) and \
+             of the 32 members (largest 1 079 929), so its process took 0.24 s (`process/run_standard_40`) and \
              2 456 M instructions (`valgrind --tool=callgrind`), against 1 169 M for the median member (18, \
              773 423 evaluations).\n\n\
              **A body held by clearance joints only (2026-11-27).** two_clearance's rod hangs on its two \
@@ -1348,7 +1357,7 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              evaluation 0.979 (0.957-1.055), deepest wear 0.661 against 0.659 µm (mean). A 2 % gain \
              that changes the wear's quadrature and moves every trajectory does not pay, as the step \
              controller's single Newton step above did not.\n\n\
-             **Why the default trajectory is the outlier, and an L-stable method (2026-11-28, \
+             **Why the default trajectory was the outlier, and an L-stable method (2026-11-28, \
              measured, not kept).** Under the I controller at 1.5e-7, the scenes' setting until later \
              that day, the default trajectory's evaluations per rotation grew from about 14 000 in \
              rotations 1-10 to 60 000 in rotations 21-40 (the scaling table as it was then). `cargo run \
@@ -1368,7 +1377,7 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              Jacobian and time derivative at every step, kept over its rejected attempts, by \
              Richardson-extrapolated central differences, 20 evaluations) and with the library's \
              Dopri5, against Dopri5 at rtol 1e-13; the error is the largest distance of the \
-             journal's eccentricity from the reference at 20 instants. Dopri5 at the scenes' rtol \
+             journal's eccentricity from the reference at 20 instants. Dopri5 at the scenes' rtol then \
              1.5e-7: 7 528 steps, 59 972 evaluations, 3.1 nm. Rodas4 at rtol 3e-7: 14 801 steps (13 \
              346 rejected), 451 557 evaluations (155 537 without its Jacobians'), 3.1 nm; at rtol \
              1e-5, 4 938 steps (3 428 rejected) and 20 nm, against Dopri5's 5 285 (1 606) and 9.6 \
@@ -1547,7 +1556,7 @@ fn step_limit() -> String {
          The step is held by accuracy, resolving the contact vibration to the tolerance, not by stability: an \
          implicit or stabilised method, whose advantage is a step beyond that boundary, would need about the same \
          steps on the worn profile to follow the vibration as closely (Rodas4, measured above in \"Why the \
-         default trajectory is the outlier\", took no longer steps there; on an unworn bearing 35 % fewer at \
+         default trajectory was the outlier\", took no longer steps there; on an unworn bearing 35 % fewer at \
          the same accuracy, for about three times the evaluations with its Jacobians by differences). {} The Catmull-Rom wear profile is only C¹ (its second \
          derivative jumps at every sector centre the contact angle crosses, every few steps); with a C² profile \
          (a uniform cubic B-spline, tried at commit c7ad0dc and not kept; not rerun by the report) DOP853's \
@@ -1889,7 +1898,7 @@ mod tests {
                     "at most 1e-4: rtol 2e-7 for the I controller, the scenes' setting (Dopri5 at \
                      rtol 2e-7"
                 )
-                && same.contains("the rule before (which picks rtol 2e-7)")
+                && same.contains("the rule before (which picks rtol 2e-7 for the I controller)")
                 && same.contains("exact coverage 97.9 %")
                 && same.contains(
                     "picks rtol 2e-7 when the interval's upper end must be at most 1 (strict) and \
@@ -2047,18 +2056,28 @@ mod tests {
 
     #[test]
     fn the_ensemble_tolerance_intro_names_the_scene_and_study_settings() {
-        let same = ensemble_tolerance_intro(RTOLS[0], Some(32));
+        let same = ensemble_tolerance_intro(&SCENE, Some(32));
         assert!(
             same.contains(&format!("rtol {:e} rows (the scenes' setting)", RTOLS[0]))
                 && same.contains("(32 members of every case"),
             "{same}"
         );
-        let other = ensemble_tolerance_intro(RTOLS[0] * 10.0, None);
+        let other = ensemble_tolerance_intro(
+            &Integration {
+                rtol: RTOLS[0] * 10.0,
+                ..SCENE
+            },
+            None,
+        );
         assert!(
             other.contains(&format!("The scenes' rtol {:e} is chosen", RTOLS[0] * 10.0))
-                && other.contains("not the scenes' rtol")
+                && other.contains("not the scenes' Dopri5 at rtol")
                 && other.contains("(its members"),
             "{other}"
         );
+        // the same rtol under another controller is not the study's base either (checked to
+        // fail when only the rtol was compared)
+        let i = ensemble_tolerance_intro(&SCENE.with_control(StepControlSpec::I), None);
+        assert!(i.contains("with the I controller)"), "{i}");
     }
 }

@@ -1,6 +1,6 @@
 //! `figures/work_precision.png`: error against work of the work-precision study, on log-log
 //! axes, work as right-hand-side evaluations (wall time depends on the machine and its load;
-//! it stays in the CSV), one line per method (and step cap) joining its settings from the
+//! it stays in the CSV), one line per method (and step cap, and step control) joining its settings from the
 //! loosest to the tightest, the two ends of each line labelled with their tolerance (rtol, or
 //! the step h of RK4; labelling every point made them overlap), the loosest on its left and the
 //! tightest on its right, off the line. The three panels stand one
@@ -72,19 +72,23 @@ impl Point {
         }
     }
 
-    /// The series a point belongs to: the method, and its step cap when it is not the
-    /// method's usual one (one DOP853 setting runs at 1e-3 s instead of 1e-4 s, the
-    /// ode45-like Dopri5 at the paper's 1e-5 s instead of 1e-3 s).
+    /// The series a point belongs to: the method, its step cap when it is not the method's
+    /// usual one (one DOP853 setting runs at 1e-3 s instead of 1e-4 s, the ode45-like Dopri5
+    /// at the paper's 1e-5 s instead of 1e-3 s), and its step control when the setting names
+    /// one (the scenes' PI.4.2 row): a line joins one method under one controller only.
     fn group(&self) -> String {
-        let cap = self
-            .setting
-            .split(' ')
-            .find_map(|part| part.strip_prefix("max_step="));
-        match (self.method.as_str(), cap) {
+        let field = |key: &str| {
+            (self.setting.split(' ')).find_map(|part| part.strip_prefix(key).map(str::to_owned))
+        };
+        let series = match (self.method.as_str(), field("max_step=")) {
             ("dop853", Some(cap)) if cap != "1e-4" => format!("dop853, max step {cap} s"),
             // the ode45-like setting at the paper's maximum step
             ("dopri5", Some(cap)) if cap != "1e-3" => format!("dopri5, max step {cap} s"),
             (m, _) => m.to_owned(),
+        };
+        match field("step_control=") {
+            Some(control) => format!("{series}, step control {control}"),
+            None => series,
         }
     }
 }
@@ -283,4 +287,41 @@ pub(super) fn plot_work_precision(points: &[Point], floor: &Errors) -> Result<()
         })
         .collect();
     render_column(&output_path("figures", WORK_PRECISION_FIGURE), &panels)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ode::Method;
+    use crate::paper::studies::work_precision::{ODE45_PAPER, SCENE};
+    use crate::paper::studies::Integration;
+
+    // Checked to fail with the step control left out of the key: the scenes' PI.4.2 row
+    // joined the I controller's Dopri5 line.
+    #[test]
+    fn a_series_holds_one_method_under_one_controller() {
+        let point = |int: &Integration| Point {
+            method: int.method_name().into(),
+            setting: int.setting(),
+            reference: false,
+            evaluations: 1.0,
+            errors: None,
+            ensemble: None,
+            failure: None,
+        };
+        let groups = [
+            &Integration::adaptive(Method::Dopri5, 1e-7),
+            &SCENE,
+            &ODE45_PAPER,
+        ]
+        .map(|int| point(int).group());
+        assert_eq!(
+            groups,
+            [
+                "dopri5",
+                "dopri5, step control pi42",
+                "dopri5, max step 1e-5 s"
+            ]
+        );
+    }
 }
