@@ -1282,14 +1282,21 @@ pub(super) fn performance_section(md: &mut String, inputs: &ToleranceInputs) {
              (members 0-63 of seed 1, each run both ways with `--member m --set run.record_rotations=0`) \
              it takes a median 12.5 % fewer evaluations than the I controller at 1.5e-7 (658 041 against \
              751 876; paired ratio median 0.853, quartiles 0.800-1.012, 45 of 64 members fewer; 10.1 % of \
-             attempts rejected against 15.0 %), the members' deepest wear is 0.654 ± 0.051 against \
+             attempts rejected against 15.0 %; in total over the 64 members 8.7 % fewer, over members \
+             0-15, the benchmark's ensemble, 4.6 %: the gain is largest on the costly members and \
+             varies from draw to draw), the members' deepest wear is 0.654 ± 0.051 against \
              0.664 ± 0.041 µm (Welch t = −1.2), and the golden tests pass without re-recording. The \
              unperturbed default trajectory is another chaotic draw under it: 635 967 evaluations, 94 166 \
              steps and 1 018.6 M instructions of the whole process (`valgrind --tool=callgrind \
              target/release/jointwear run data/scenes/standard.toml --set run.record_rotations=0`) against \
              1 711 686, 221 589 and 2 479.6 M under the I controller, whose draw had landed near the \
              grazing floor (the paragraphs above on the outlier describe that draw); the 12.5 % of the \
-             members' median is the controller's gain, the rest the draw's. The energy quadratures are \
+             members' median is the controller's gain, the rest the draw's. The 16-member ensemble \
+             (`jointwear run data/scenes/standard.toml --ensemble 16 --set run.record_rotations=0`, 7 \
+             runs alternating with the I controller at 1.5e-7 on 2 otherwise idle cores) took a \
+             median paired ratio of 0.987 of the wall time (0.913-1.055) and 0.967 of the CPU time \
+             (2.91 against 3.00 s): its members' 4.6 % fewer evaluations, less PI.4.2's two `powf` \
+             per step. The energy quadratures are \
              outside error control, so their residual grows with rtol (section 6: grazing_floor 9.5×10⁻⁴ \
              → 1.6×10⁻³ of the driver work over 3 rotations); `tests/stability.rs` bounds a rotation's \
              residual by 10⁻³ instead of 5×10⁻⁴ (measured: 5.2×10⁻⁴ for restitution_0.1 at 2.5e-7 with \
