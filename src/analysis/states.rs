@@ -578,6 +578,13 @@ mod tests {
         assert_eq!(s.side_gap_ratio, 0.0);
     }
 
+    /// `k` members at `x` for each `(x, k)` of `counts`, in that order.
+    fn level(counts: &[(f64, usize)]) -> Vec<f64> {
+        (counts.iter())
+            .flat_map(|&(x, k)| std::iter::repeat_n(x, k))
+            .collect()
+    }
+
     /// A quantity of few levels is not split at one of them: contact onsets per rotation of
     /// the four-bar's 16 members over 2 recorded rotations (`run data/scenes/fourbar.toml
     /// --ensemble 16 --rotations 10 --seed 3`), in steps of 0.5, and a count of three levels.
@@ -586,11 +593,6 @@ mod tests {
     /// side had to have a spread ("low 4 of 16: 2.5 ± 0, high 12 of 16: 3.292 ± 0.334").
     #[test]
     fn a_quantity_of_few_levels_is_not_split_at_a_level() {
-        let level = |counts: &[(f64, usize)]| -> Vec<f64> {
-            (counts.iter())
-                .flat_map(|&(x, k)| std::iter::repeat_n(x, k))
-                .collect()
-        };
         for v in [
             level(&[(2.5, 4), (3.0, 6), (3.5, 5), (4.0, 1)]),
             level(&[(3.0, 4), (4.0, 5), (5.0, 3)]),
@@ -616,11 +618,6 @@ mod tests {
     /// flag of 12 and 4 members into its two values.
     #[test]
     fn a_count_splits_only_across_an_empty_level() {
-        let level = |counts: &[(f64, usize)]| -> Vec<f64> {
-            (counts.iter())
-                .flat_map(|&(x, k)| std::iter::repeat_n(x, k))
-                .collect()
-        };
         for (v, quantum) in [
             (level(&[(3.0, 9), (3.5, 6), (4.0, 1)]), 0.5),
             (level(&[(0.0, 14), (0.5, 1), (1.0, 1)]), 0.5),

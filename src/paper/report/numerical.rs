@@ -209,13 +209,12 @@ fn control_short(c: StepControlSpec) -> &'static str {
     }
 }
 
-/// The default-tolerance rule's pick from `rows` against the scenes' setting `ours`, in the
+/// The default-tolerance rule's pick from `rows` against the scenes' setting `int`, in the
 /// same words in sections 5 and 7 so that they cannot disagree: the pick for the scenes' step
 /// control, whether the scenes run at it, and if not what switching would cost in
 /// first-rotation evaluations (the members' means the rule measured); then the pick for each
 /// other control of the rule and its cost against the scenes' setting.
-fn rule_verdict(rows: &[RuleRow], ours: &SceneSetting) -> String {
-    let int = &ours.integration;
+fn rule_verdict(rows: &[RuleRow], int: &Integration) -> String {
     let candidate = |control: StepControlSpec, rtol: f64| {
         (rows.iter())
             .find(|r| !r.absolute && r.integration.control == control && r.integration.rtol == rtol)
@@ -338,7 +337,7 @@ fn default_tolerance(
         number(bound.min),
         number(bound.max),
         100.0 * bound.median * 1e-6 / scene.clearance_m,
-        rule_verdict(rows, scene),
+        rule_verdict(rows, &scene.integration),
         choice(medians),
         control_label(control),
         100.0 * rows[0].orbit_ratio.interval.coverage,
@@ -420,7 +419,7 @@ fn rule_sentence(scene: Option<&SceneSetting>, rule: Option<&[RuleRow]>) -> Stri
     match (scene, rule) {
         (Some(scene), Some(rows)) => format!(
             "Section 5 therefore chooses on the members' errors, each over its own bound's; the rule picks {}.",
-            rule_verdict(rows, scene)
+            rule_verdict(rows, &scene.integration)
         ),
         _ => "Section 5 therefore chooses on the members' errors; its measurement or the scenes' setting is \
               missing or damaged here."

@@ -58,13 +58,7 @@ impl Point {
 
     /// The tolerance a point is labelled with: `1e-7` (rtol) or `1e-5 s` (the step of RK4).
     fn tolerance(&self) -> String {
-        let value = |key: &str| {
-            self.setting
-                .split(' ')
-                .find_map(|part| part.strip_prefix(key))
-                .unwrap_or("")
-                .to_owned()
-        };
+        let value = |key: &str| self.field(key).unwrap_or("").to_owned();
         if self.method == "rk4" {
             format!("{} s", value("h="))
         } else {
@@ -72,21 +66,23 @@ impl Point {
         }
     }
 
+    /// The value of `key` (as `"rtol="`) in the setting, if it names one.
+    fn field(&self, key: &str) -> Option<&str> {
+        (self.setting.split(' ')).find_map(|part| part.strip_prefix(key))
+    }
+
     /// The series a point belongs to: the method, its step cap when it is not the method's
     /// usual one (one DOP853 setting runs at 1e-3 s instead of 1e-4 s, the ode45-like Dopri5
     /// at the paper's 1e-5 s instead of 1e-3 s), and its step control when the setting names
     /// one (the scenes' PI.4.2 row): a line joins one method under one controller only.
     fn group(&self) -> String {
-        let field = |key: &str| {
-            (self.setting.split(' ')).find_map(|part| part.strip_prefix(key).map(str::to_owned))
-        };
-        let series = match (self.method.as_str(), field("max_step=")) {
+        let series = match (self.method.as_str(), self.field("max_step=")) {
             ("dop853", Some(cap)) if cap != "1e-4" => format!("dop853, max step {cap} s"),
             // the ode45-like setting at the paper's maximum step
             ("dopri5", Some(cap)) if cap != "1e-3" => format!("dopri5, max step {cap} s"),
             (m, _) => m.to_owned(),
         };
-        match field("step_control=") {
+        match self.field("step_control=") {
             Some(control) => format!("{series}, step control {control}"),
             None => series,
         }
